@@ -1,0 +1,42 @@
+# Every dependency of docs/architecture.md, found from Debian 12 packages
+# (installed by scripts/setup.sh). Each is wrapped in an hfts::dep_* target
+# so that project targets link one name and get third-party headers as
+# SYSTEM includes (their warnings are not ours).
+
+find_package(Threads REQUIRED)
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(PCL 1.13 REQUIRED COMPONENTS common kdtree search features filters)
+find_package(CGAL 5.5 REQUIRED)
+find_package(embree 3.13 REQUIRED)
+find_package(assimp 5.2 REQUIRED)
+find_package(HDF5 1.10 REQUIRED COMPONENTS C)
+find_package(Qhull 8 REQUIRED)
+find_package(fcl 0.7 REQUIRED)
+find_package(ompl 1.5 REQUIRED)
+find_package(nlohmann_json 3.11 REQUIRED)
+find_package(CLI11 2.1 REQUIRED)
+find_package(OpenSSL 3 REQUIRED COMPONENTS Crypto)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(URDFDOM REQUIRED IMPORTED_TARGET urdfdom>=3.0)
+find_path(ASIO_INCLUDE_DIR asio.hpp REQUIRED)
+
+add_library(hfts_dep_pcl INTERFACE)
+target_include_directories(hfts_dep_pcl SYSTEM INTERFACE ${PCL_INCLUDE_DIRS})
+target_link_libraries(hfts_dep_pcl INTERFACE ${PCL_LIBRARIES})
+add_library(hfts::dep_pcl ALIAS hfts_dep_pcl)
+
+add_library(hfts_dep_hdf5 INTERFACE)
+target_include_directories(hfts_dep_hdf5 SYSTEM INTERFACE ${HDF5_INCLUDE_DIRS})
+target_link_libraries(hfts_dep_hdf5 INTERFACE ${HDF5_C_LIBRARIES})
+target_compile_definitions(hfts_dep_hdf5 INTERFACE ${HDF5_DEFINITIONS})
+add_library(hfts::dep_hdf5 ALIAS hfts_dep_hdf5)
+
+add_library(hfts_dep_asio INTERFACE)
+target_include_directories(hfts_dep_asio SYSTEM INTERFACE ${ASIO_INCLUDE_DIR})
+target_compile_definitions(hfts_dep_asio INTERFACE ASIO_STANDALONE)
+target_link_libraries(hfts_dep_asio INTERFACE Threads::Threads)
+add_library(hfts::dep_asio ALIAS hfts_dep_asio)
+
+message(STATUS "hfts: PCL ${PCL_VERSION}, CGAL ${CGAL_VERSION}, Embree ${embree_VERSION}, "
+               "assimp ${assimp_VERSION}, HDF5 ${HDF5_VERSION}, FCL ${fcl_VERSION}, "
+               "OMPL ${OMPL_VERSION}, urdfdom ${URDFDOM_VERSION}")

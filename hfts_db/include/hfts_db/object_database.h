@@ -1,0 +1,114 @@
+#pragma once
+// The object database: everything the planner needs to know about one
+// object, produced offline by hfts-preprocess and stored as one HDF5 file
+// (schema: docs/database.md).
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace hfts::db {
+
+/// Thrown when a database file cannot be read or written, or when its
+/// content violates the schema. The message names the file and the problem.
+class DatabaseError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Name and version of the file format written by this library.
+inline constexpr const char* kObjectFormatName = "hfts-object-database";
+inline constexpr std::uint32_t kObjectFormatVersion = 1;
+
+using Points3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+using Faces3 = Eigen::Matrix<std::uint32_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+/// Every parameter that shaped a database, stored with it so a database can
+/// be rebuilt and compared. Defaults are the documented defaults of
+/// hfts-preprocess (docs/preprocess.md).
+struct BuildParameters {
+  double scale = 1.0;                    ///< mesh units -> metres
+  double sample_density = 200000.0;      ///< contacts per square metre of mesh surface
+  std::uint32_t max_samples = 20000;     ///< cap on surface samples before filtering
+  std::uint32_t viewpoints = 64;         ///< directions of the visibility test
+  double patch_radius = 0.01;            ///< fingertip patch radius (m)
+  std::vector<std::string> filters = {"curvature", "concavity", "neighbours"};
+  double max_curvature = 0.03;           ///< PCL surface variation limit
+  double max_hull_distance = 0.01;       ///< concavity limit (m)
+  std::uint32_t min_neighbours = 10;     ///< within patch_radius
+  std::vector<std::uint32_t> branching = {20, 4, 4};
+  double length_scale = 0.0;             ///< k-means position scale (m); 0 = rho
+  double normal_weight = 0.5;            ///< k-means weight of the unit normal
+  std::uint32_t kmeans_iterations = 50;  ///< Lloyd iterations per partition
+  std::uint64_t seed = 1;                ///< seeds sampling and k-means
+};
+
+/// What the contact filters did: how many samples each removed, in order.
+struct FilterReport {
+  std::string name;
+  std::uint64_t removed = 0;
+};
+
+/// Geometry of the whole object (object frame, metres).
+struct ObjectGeometry {
+  Eigen::Vector3d center_of_mass = Eigen::Vector3d::Zero();
+  double rho = 0.0;     ///< largest distance from center_of_mass to the surface
+  double volume = 0.0;  ///< enclosed volume (m^3); 0 for open meshes
+  bool closed = false;  ///< mesh is closed and edge-manifold (volume centroid used)
+  Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero();
+  Eigen::Vector3d bbox_max = Eigen::Vector3d::Zero();
+  Points3 hull_vertices;  ///< convex hull (CGAL), vertices
+  Faces3 hull_faces;      ///< convex hull triangles, outward winding
+};
+
+/// One node of the Hierarchical Fingertip Space partition. Contacts are
+/// stored in hierarchy order, so every node is a contiguous index range and
+/// the children of a node are a contiguous range of the next level.
+struct HierarchyNode {
+  std::uint32_t contact_begin = 0;
+  std::uint32_t contact_count = 0;
+  std::uint32_t child_begin = 0;  ///< first child in the next level
+  std::uint32_t child_count = 0;  ///< 0 exactly on the last level
+  std::uint32_t representative = 0;  ///< contact nearest to the mean position
+  Eigen::Vector3d mean_normal = Eigen::Vector3d::UnitZ();  ///< normalised, outward
+};
+
+/// A complete object database.
+struct ObjectDatabase {
+  std::string name;             ///< object name (the mesh file stem)
+  std::string source_mesh;      ///< mesh file name the database was built from
+  std::string source_sha256;    ///< SHA-256 of the mesh file bytes (hex)
+  std::string producer;         ///< program and version that wrote it
+  BuildParameters parameters;
+  std::uint64_t num_samples = 0;  ///< surface samples before filtering
+  std::vector<FilterReport> filter_reports;
+  ObjectGeometry geometry;
+  Points3 positions;  ///< contact positions, hierarchy order
+  Points3 normals;    ///< unit normals pointing OUT of the object
+  Eigen::VectorXd curvature;  ///< PCL surface variation per contact
+  /// levels[0] is the top level (branching[0] nodes at most), levels.back()
+  /// the leaves. The root (all contacts) is implicit.
+  std::vector<std::vector<HierarchyNode>> levels;
+
+  std::size_t numContacts() const { return static_cast<std::size_t>(positions.rows()); }
+};
+
+/// Checks every invariant of the schema (shapes, finite values, unit
+/// normals, exact partition at every level, representatives inside their
+/// node). Throws DatabaseError naming `what` and the first violation.
+void validateObjectDatabase(const ObjectDatabase& db, const std::string& what);
+
+/// Writes `db` to `path` atomically (temporary file in the same directory,
+/// then rename). Validates first; throws DatabaseError on invalid content
+/// or I/O failure, leaving any existing file at `path` untouched.
+void saveObjectDatabase(const ObjectDatabase& db, const std::filesystem::path& path);
+
+/// Reads and validates a database. Throws DatabaseError for a missing,
+/// truncated, corrupt (checksum), foreign or newer-format file.
+ObjectDatabase loadObjectDatabase(const std::filesystem::path& path);
+
+}  // namespace hfts::db

@@ -1,0 +1,75 @@
+#pragma once
+// Thin RAII layer over the HDF5 C API, private to hfts_db. Every dataset is
+// chunked and Fletcher32-checksummed, no object carries a timestamp (so the
+// same content gives the same bytes), and every failure becomes a
+// DatabaseError naming the object that failed.
+
+#include <hdf5.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace hfts::db::h5 {
+
+/// The HDF5 library shipped by Debian is not built thread-safe: every use
+/// of it goes through this lock.
+std::mutex& libraryMutex();
+
+/// Owns one HDF5 identifier and closes it with the matching H5?close.
+class Handle {
+ public:
+  Handle() = default;
+  Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what);
+  Handle(Handle&& other) noexcept;
+  Handle& operator=(Handle&& other) noexcept;
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  ~Handle();
+  hid_t id() const { return id_; }
+
+ private:
+  hid_t id_ = H5I_INVALID_HID;
+  herr_t (*close_)(hid_t) = nullptr;
+};
+
+/// Creates a new file (truncating) with deterministic layout settings.
+Handle createFile(const std::filesystem::path& path);
+/// Opens an existing file read-only; throws if it is not an HDF5 file.
+Handle openFile(const std::filesystem::path& path);
+
+Handle createGroup(hid_t parent, const std::string& name);
+Handle openGroup(hid_t parent, const std::string& name);
+bool exists(hid_t parent, const std::string& name);
+
+/// A dataset's content with its shape; rank 1 or 2.
+template <typename T>
+struct Array {
+  std::vector<T> data;
+  std::vector<hsize_t> shape;
+};
+
+void writeDataset(hid_t parent, const std::string& name, const double* data,
+                  const std::vector<hsize_t>& shape);
+void writeDataset(hid_t parent, const std::string& name, const std::uint32_t* data,
+                  const std::vector<hsize_t>& shape);
+Array<double> readDoubles(hid_t parent, const std::string& name);
+Array<std::uint32_t> readUInt32s(hid_t parent, const std::string& name);
+
+void writeAttribute(hid_t object, const std::string& name, const std::string& value);
+/// Scalars are written as HDF5 scalars, vectors always as 1-D arrays.
+void writeAttribute(hid_t object, const std::string& name, double value);
+void writeAttribute(hid_t object, const std::string& name, std::uint64_t value);
+void writeAttribute(hid_t object, const std::string& name, const std::vector<double>& values);
+void writeAttribute(hid_t object, const std::string& name,
+                    const std::vector<std::uint64_t>& values);
+std::string readStringAttribute(hid_t object, const std::string& name);
+std::vector<double> readDoubleAttribute(hid_t object, const std::string& name);
+std::vector<std::uint64_t> readUInt64Attribute(hid_t object, const std::string& name);
+/// Reads an attribute that must hold exactly one value.
+double readDouble(hid_t object, const std::string& name);
+std::uint64_t readUInt64(hid_t object, const std::string& name);
+
+}  // namespace hfts::db::h5

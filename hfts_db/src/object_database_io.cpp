@@ -1,0 +1,294 @@
+// Reading and writing object databases (schema: docs/database.md).
+
+#include <sstream>
+
+#include "hdf5_file.h"
+#include "hfts_db/atomic_file.h"
+#include "hfts_db/object_database.h"
+
+namespace hfts::db {
+namespace {
+
+using h5::Handle;
+
+std::vector<hsize_t> shapeOf(Eigen::Index rows, Eigen::Index cols) {
+  return {static_cast<hsize_t>(rows), static_cast<hsize_t>(cols)};
+}
+
+std::string joined(const std::vector<std::string>& items) {
+  std::string out;
+  for (const std::string& item : items) out += (out.empty() ? "" : ",") + item;
+  return out;
+}
+
+std::vector<std::string> split(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream stream(text);
+  for (std::string item; std::getline(stream, item, ',');)
+    if (!item.empty()) items.push_back(item);
+  return items;
+}
+
+template <typename T>
+std::vector<std::uint64_t> widened(const std::vector<T>& values) {
+  return std::vector<std::uint64_t>(values.begin(), values.end());
+}
+
+std::uint32_t narrowed(std::uint64_t value, const std::string& name) {
+  if (value > 0xffffffffULL) throw DatabaseError("attribute '" + name + "' is out of range");
+  return static_cast<std::uint32_t>(value);
+}
+
+void writeParameters(hid_t file, const BuildParameters& p) {
+  Handle group = h5::createGroup(file, "parameters");
+  const hid_t g = group.id();
+  h5::writeAttribute(g, "scale", p.scale);
+  h5::writeAttribute(g, "sample_density", p.sample_density);
+  h5::writeAttribute(g, "max_samples", std::uint64_t{p.max_samples});
+  h5::writeAttribute(g, "viewpoints", std::uint64_t{p.viewpoints});
+  h5::writeAttribute(g, "patch_radius", p.patch_radius);
+  h5::writeAttribute(g, "filters", joined(p.filters));
+  h5::writeAttribute(g, "max_curvature", p.max_curvature);
+  h5::writeAttribute(g, "max_hull_distance", p.max_hull_distance);
+  h5::writeAttribute(g, "min_neighbours", std::uint64_t{p.min_neighbours});
+  h5::writeAttribute(g, "branching", widened(p.branching));
+  h5::writeAttribute(g, "length_scale", p.length_scale);
+  h5::writeAttribute(g, "normal_weight", p.normal_weight);
+  h5::writeAttribute(g, "kmeans_iterations", std::uint64_t{p.kmeans_iterations});
+  h5::writeAttribute(g, "seed", p.seed);
+}
+
+BuildParameters readParameters(hid_t file) {
+  Handle group = h5::openGroup(file, "parameters");
+  const hid_t g = group.id();
+  BuildParameters p;
+  p.scale = h5::readDouble(g, "scale");
+  p.sample_density = h5::readDouble(g, "sample_density");
+  p.max_samples = narrowed(h5::readUInt64(g, "max_samples"), "max_samples");
+  p.viewpoints = narrowed(h5::readUInt64(g, "viewpoints"), "viewpoints");
+  p.patch_radius = h5::readDouble(g, "patch_radius");
+  p.filters = split(h5::readStringAttribute(g, "filters"));
+  p.max_curvature = h5::readDouble(g, "max_curvature");
+  p.max_hull_distance = h5::readDouble(g, "max_hull_distance");
+  p.min_neighbours = narrowed(h5::readUInt64(g, "min_neighbours"), "min_neighbours");
+  p.branching.clear();
+  for (std::uint64_t b : h5::readUInt64Attribute(g, "branching"))
+    p.branching.push_back(narrowed(b, "branching"));
+  p.length_scale = h5::readDouble(g, "length_scale");
+  p.normal_weight = h5::readDouble(g, "normal_weight");
+  p.kmeans_iterations = narrowed(h5::readUInt64(g, "kmeans_iterations"), "kmeans_iterations");
+  p.seed = h5::readUInt64(g, "seed");
+  return p;
+}
+
+std::vector<double> asVector(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+Eigen::Vector3d asVector3(const std::vector<double>& v, const std::string& name) {
+  if (v.size() != 3) throw DatabaseError("attribute '" + name + "' must hold 3 values");
+  return {v[0], v[1], v[2]};
+}
+
+void writeGeometry(hid_t file, const ObjectGeometry& geometry) {
+  Handle group = h5::createGroup(file, "object");
+  const hid_t g = group.id();
+  h5::writeAttribute(g, "center_of_mass", asVector(geometry.center_of_mass));
+  h5::writeAttribute(g, "rho", geometry.rho);
+  h5::writeAttribute(g, "volume", geometry.volume);
+  h5::writeAttribute(g, "closed", std::uint64_t{geometry.closed ? 1u : 0u});
+  h5::writeAttribute(g, "bbox_min", asVector(geometry.bbox_min));
+  h5::writeAttribute(g, "bbox_max", asVector(geometry.bbox_max));
+  const Points3& v = geometry.hull_vertices;
+  const Faces3& f = geometry.hull_faces;
+  h5::writeDataset(g, "hull_vertices", v.data(), shapeOf(v.rows(), 3));
+  h5::writeDataset(g, "hull_faces", f.data(), shapeOf(f.rows(), 3));
+}
+
+template <typename Matrix, typename T>
+Matrix toMatrix(const h5::Array<T>& array, const std::string& name) {
+  if (array.shape.size() != 2 || array.shape[1] != 3)
+    throw DatabaseError("dataset '" + name + "' must have shape (n, 3)");
+  Matrix m(static_cast<Eigen::Index>(array.shape[0]), 3);
+  std::copy(array.data.begin(), array.data.end(), m.data());
+  return m;
+}
+
+ObjectGeometry readGeometry(hid_t file) {
+  Handle group = h5::openGroup(file, "object");
+  const hid_t g = group.id();
+  ObjectGeometry geometry;
+  geometry.center_of_mass = asVector3(h5::readDoubleAttribute(g, "center_of_mass"), "center_of_mass");
+  geometry.rho = h5::readDouble(g, "rho");
+  geometry.volume = h5::readDouble(g, "volume");
+  geometry.closed = h5::readUInt64(g, "closed") != 0;
+  geometry.bbox_min = asVector3(h5::readDoubleAttribute(g, "bbox_min"), "bbox_min");
+  geometry.bbox_max = asVector3(h5::readDoubleAttribute(g, "bbox_max"), "bbox_max");
+  geometry.hull_vertices = toMatrix<Points3>(h5::readDoubles(g, "hull_vertices"), "hull_vertices");
+  geometry.hull_faces = toMatrix<Faces3>(h5::readUInt32s(g, "hull_faces"), "hull_faces");
+  return geometry;
+}
+
+void writeContacts(hid_t file, const ObjectDatabase& db) {
+  Handle group = h5::createGroup(file, "contacts");
+  const auto n = db.positions.rows();
+  h5::writeDataset(group.id(), "positions", db.positions.data(), shapeOf(n, 3));
+  h5::writeDataset(group.id(), "normals", db.normals.data(), shapeOf(n, 3));
+  h5::writeDataset(group.id(), "curvature", db.curvature.data(), {static_cast<hsize_t>(n)});
+}
+
+void readContacts(hid_t file, ObjectDatabase& db) {
+  Handle group = h5::openGroup(file, "contacts");
+  db.positions = toMatrix<Points3>(h5::readDoubles(group.id(), "positions"), "positions");
+  db.normals = toMatrix<Points3>(h5::readDoubles(group.id(), "normals"), "normals");
+  const h5::Array<double> curvature = h5::readDoubles(group.id(), "curvature");
+  if (curvature.shape.size() != 1) throw DatabaseError("dataset 'curvature' must be 1-D");
+  db.curvature = Eigen::Map<const Eigen::VectorXd>(curvature.data.data(),
+                                                   static_cast<Eigen::Index>(curvature.data.size()));
+}
+
+std::string levelName(std::size_t level) { return "level_" + std::to_string(level + 1); }
+
+void writeLevel(hid_t hierarchy, std::size_t level, const std::vector<HierarchyNode>& nodes) {
+  Handle group = h5::createGroup(hierarchy, levelName(level));
+  const std::size_t n = nodes.size();
+  std::vector<std::uint32_t> columns[5];
+  Points3 normals(static_cast<Eigen::Index>(n), 3);
+  for (std::size_t i = 0; i < n; ++i) {
+    const HierarchyNode& node = nodes[i];
+    columns[0].push_back(node.contact_begin);
+    columns[1].push_back(node.contact_count);
+    columns[2].push_back(node.child_begin);
+    columns[3].push_back(node.child_count);
+    columns[4].push_back(node.representative);
+    normals.row(static_cast<Eigen::Index>(i)) = node.mean_normal.transpose();
+  }
+  const char* names[5] = {"contact_begin", "contact_count", "child_begin", "child_count",
+                          "representative"};
+  for (int c = 0; c < 5; ++c) h5::writeDataset(group.id(), names[c], columns[c].data(), {n});
+  h5::writeDataset(group.id(), "mean_normal", normals.data(), {n, 3});
+}
+
+std::vector<HierarchyNode> readLevel(hid_t hierarchy, std::size_t level) {
+  Handle group = h5::openGroup(hierarchy, levelName(level));
+  const char* names[5] = {"contact_begin", "contact_count", "child_begin", "child_count",
+                          "representative"};
+  std::vector<std::uint32_t> columns[5];
+  for (int c = 0; c < 5; ++c) {
+    h5::Array<std::uint32_t> column = h5::readUInt32s(group.id(), names[c]);
+    if (column.shape.size() != 1) throw DatabaseError(std::string(names[c]) + " must be 1-D");
+    columns[c] = std::move(column.data);
+    if (columns[c].size() != columns[0].size())
+      throw DatabaseError(levelName(level) + ": columns differ in length");
+  }
+  const Points3 normals = toMatrix<Points3>(h5::readDoubles(group.id(), "mean_normal"), "mean_normal");
+  if (static_cast<std::size_t>(normals.rows()) != columns[0].size())
+    throw DatabaseError(levelName(level) + ": mean_normal differs in length");
+  std::vector<HierarchyNode> nodes(columns[0].size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    nodes[i] = {columns[0][i], columns[1][i], columns[2][i], columns[3][i], columns[4][i],
+                normals.row(static_cast<Eigen::Index>(i)).transpose()};
+  }
+  return nodes;
+}
+
+void writeAll(hid_t file, const ObjectDatabase& db) {
+  h5::writeAttribute(file, "format", std::string(kObjectFormatName));
+  h5::writeAttribute(file, "format_version", std::uint64_t{kObjectFormatVersion});
+  h5::writeAttribute(file, "producer", db.producer);
+  h5::writeAttribute(file, "name", db.name);
+  h5::writeAttribute(file, "source_mesh", db.source_mesh);
+  h5::writeAttribute(file, "source_sha256", db.source_sha256);
+  h5::writeAttribute(file, "units", std::string("m"));
+  h5::writeAttribute(file, "normals", std::string("outward"));
+  writeParameters(file, db.parameters);
+  {
+    Handle group = h5::createGroup(file, "preprocess");
+    std::vector<std::string> names;
+    std::vector<std::uint64_t> removed;
+    for (const FilterReport& r : db.filter_reports) {
+      names.push_back(r.name);
+      removed.push_back(r.removed);
+    }
+    h5::writeAttribute(group.id(), "num_samples", db.num_samples);
+    h5::writeAttribute(group.id(), "filters", joined(names));
+    h5::writeAttribute(group.id(), "removed", removed);
+  }
+  writeGeometry(file, db.geometry);
+  writeContacts(file, db);
+  Handle hierarchy = h5::createGroup(file, "hierarchy");
+  h5::writeAttribute(hierarchy.id(), "branching", widened(db.parameters.branching));
+  for (std::size_t l = 0; l < db.levels.size(); ++l) writeLevel(hierarchy.id(), l, db.levels[l]);
+}
+
+void readHeader(hid_t file, ObjectDatabase& db) {
+  if (H5Aexists(file, "format") <= 0) throw DatabaseError("not an HFTS object database");
+  const std::string format = h5::readStringAttribute(file, "format");
+  if (format != kObjectFormatName)
+    throw DatabaseError("not an HFTS object database (format '" + format + "')");
+  const std::uint64_t version = h5::readUInt64(file, "format_version");
+  if (version != kObjectFormatVersion)
+    throw DatabaseError("format version " + std::to_string(version) + " is not supported (this "
+                        "program reads version " + std::to_string(kObjectFormatVersion) + ")");
+  db.producer = h5::readStringAttribute(file, "producer");
+  db.name = h5::readStringAttribute(file, "name");
+  db.source_mesh = h5::readStringAttribute(file, "source_mesh");
+  db.source_sha256 = h5::readStringAttribute(file, "source_sha256");
+}
+
+ObjectDatabase readAll(hid_t file) {
+  ObjectDatabase db;
+  readHeader(file, db);
+  db.parameters = readParameters(file);
+  {
+    Handle group = h5::openGroup(file, "preprocess");
+    db.num_samples = h5::readUInt64(group.id(), "num_samples");
+    const std::vector<std::string> names = split(h5::readStringAttribute(group.id(), "filters"));
+    const std::vector<std::uint64_t> removed = h5::readUInt64Attribute(group.id(), "removed");
+    if (names.size() != removed.size())
+      throw DatabaseError("preprocess: filters and removed differ in length");
+    for (std::size_t i = 0; i < names.size(); ++i) db.filter_reports.push_back({names[i], removed[i]});
+  }
+  db.geometry = readGeometry(file);
+  readContacts(file, db);
+  Handle hierarchy = h5::openGroup(file, "hierarchy");
+  const std::size_t numLevels = db.parameters.branching.size();
+  if (numLevels == 0 || numLevels > 16) throw DatabaseError("implausible number of levels");
+  for (std::size_t l = 0; l < numLevels; ++l) db.levels.push_back(readLevel(hierarchy.id(), l));
+  return db;
+}
+
+}  // namespace
+
+void saveObjectDatabase(const ObjectDatabase& db, const std::filesystem::path& path) {
+  const std::string what = "database '" + path.string() + "'";
+  validateObjectDatabase(db, what);
+  const std::filesystem::path tmp = temporarySibling(path);
+  try {
+    {
+      std::lock_guard<std::mutex> lock(h5::libraryMutex());
+      Handle file = h5::createFile(tmp);
+      writeAll(file.id(), db);
+      if (H5Fflush(file.id(), H5F_SCOPE_GLOBAL) < 0) throw DatabaseError("flushing failed");
+    }
+    std::filesystem::rename(tmp, path);
+  } catch (const std::exception& e) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw DatabaseError(what + ": " + e.what());
+  }
+}
+
+ObjectDatabase loadObjectDatabase(const std::filesystem::path& path) {
+  const std::string what = "database '" + path.string() + "'";
+  ObjectDatabase db;
+  try {
+    std::lock_guard<std::mutex> lock(h5::libraryMutex());
+    Handle file = h5::openFile(path);
+    db = readAll(file.id());
+  } catch (const std::exception& e) {
+    throw DatabaseError(what + ": " + e.what());
+  }
+  validateObjectDatabase(db, what);
+  return db;
+}
+
+}  // namespace hfts::db

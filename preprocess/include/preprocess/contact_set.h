@@ -1,0 +1,34 @@
+#pragma once
+// Candidate fingertip contacts while they are being filtered.
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <vector>
+
+#include "preprocess/triangle_mesh.h"
+
+namespace hfts::preprocess {
+
+/// Contacts in the object frame; normals are unit vectors pointing out of
+/// the object. All members have one row / entry per contact.
+struct ContactSet {
+  Vertices positions;
+  Vertices normals;
+  Eigen::VectorXd curvature;  ///< PCL surface variation, in [0, 1/3]
+
+  std::size_t size() const { return static_cast<std::size_t>(positions.rows()); }
+  /// Keeps the contacts whose mask entry is true, in order.
+  void keep(const std::vector<bool>& mask);
+};
+
+/// Smoothed normals and curvature by PCL's normal estimation
+/// (pcl::computePointNormal) over the points within `patch_radius` that were
+/// seen from the same side (side normals less than 120 degrees apart),
+/// oriented to agree with `sideNormals` (the outward side each sample was
+/// seen from). Points with fewer than three such neighbours keep their side
+/// normal and get the largest curvature, 1/3.
+ContactSet estimateNormals(const Vertices& positions, const Vertices& sideNormals,
+                           double patch_radius);
+
+}  // namespace hfts::preprocess

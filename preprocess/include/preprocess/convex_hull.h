@@ -1,0 +1,47 @@
+#pragma once
+// The object's convex hull (CGAL) and the geometry derived from it.
+
+#include <Eigen/Core>
+
+#include <vector>
+
+#include "hfts_db/object_database.h"
+#include "preprocess/triangle_mesh.h"
+
+namespace hfts::preprocess {
+
+/// A convex polytope as triangles plus one outward plane per triangle.
+class ConvexHull {
+ public:
+  /// CGAL's 3-D hull of the points. Throws MeshError (naming `what`) if the
+  /// points do not span a volume.
+  ConvexHull(const Vertices& points, const std::string& what);
+
+  const db::Points3& vertices() const { return vertices_; }
+  const db::Faces3& faces() const { return faces_; }
+  /// Distance from a point inside (or on) the hull to the hull's boundary;
+  /// negative outside.
+  double depth(const Eigen::Vector3d& p) const;
+  /// Centroid of the solid hull.
+  Eigen::Vector3d centroid() const;
+
+ private:
+  db::Points3 vertices_;
+  db::Faces3 faces_;
+  Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> planes_;  // n.x, n.y, n.z, d
+};
+
+/// Volume and centroid of the solid bounded by a closed mesh (divergence
+/// theorem over signed tetrahedra). The volume is returned positive.
+struct SolidProperties {
+  double volume = 0.0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+};
+SolidProperties solidProperties(const TriangleMesh& mesh);
+
+/// Hull, centre of mass (volume centroid of a closed mesh, hull centroid
+/// otherwise), rho (largest distance from the centre of mass to the
+/// surface) and bounding box.
+db::ObjectGeometry objectGeometry(const TriangleMesh& mesh, bool closed, const ConvexHull& hull);
+
+}  // namespace hfts::preprocess

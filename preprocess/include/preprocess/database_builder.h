@@ -1,0 +1,47 @@
+#pragma once
+// The offline pipeline: mesh -> visible surface samples -> normals ->
+// filtered contacts -> HFTS partition -> object database.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "hfts_db/object_database.h"
+#include "preprocess/triangle_mesh.h"
+
+namespace hfts::preprocess {
+
+/// Program name and version written into every database.
+std::string producerName();
+
+/// Wall time of each stage (seconds).
+struct StageTimes {
+  double load = 0, sample = 0, normals = 0, filter = 0, hierarchy = 0, total = 0;
+};
+
+struct BuildResult {
+  db::ObjectDatabase database;
+  std::vector<std::string> warnings;
+  StageTimes times;
+};
+
+/// Checks parameters that do not depend on the mesh; throws
+/// std::invalid_argument naming the offending parameter.
+void checkBuildParameters(const db::BuildParameters& params);
+
+/// Builds the database of an in-memory mesh (already scaled to metres).
+/// `closed` selects the volume centroid (true) or the hull centroid as the
+/// centre of mass. `what` names the object in errors. Throws MeshError if
+/// nothing graspable remains and std::invalid_argument for bad parameters.
+BuildResult buildObjectDatabase(const TriangleMesh& mesh, bool closed,
+                                const db::BuildParameters& params, const std::string& what);
+
+/// Loads `meshPath` (scaled by params.scale), builds its database and fills
+/// the name, source and checksum fields.
+BuildResult buildObjectDatabaseFromFile(const std::filesystem::path& meshPath,
+                                        const db::BuildParameters& params);
+
+/// SHA-256 of a file's bytes as lowercase hex (OpenSSL).
+std::string sha256File(const std::filesystem::path& path);
+
+}  // namespace hfts::preprocess

@@ -1,0 +1,100 @@
+#include "preprocess/contact_filters.h"
+
+#include <pcl/filters/radius_outlier_removal.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <algorithm>
+#include <functional>
+#include <stdexcept>
+
+namespace hfts::preprocess {
+namespace {
+
+using Mask = std::vector<bool>;
+using Filter = std::function<Mask(const ContactSet&, const db::BuildParameters&, const ConvexHull&)>;
+
+Mask curvatureFilter(const ContactSet& c, const db::BuildParameters& p, const ConvexHull&) {
+  Mask keep(c.size());
+  for (std::size_t i = 0; i < c.size(); ++i)
+    keep[i] = c.curvature(static_cast<Eigen::Index>(i)) <= p.max_curvature;
+  return keep;
+}
+
+Mask concavityFilter(const ContactSet& c, const db::BuildParameters& p, const ConvexHull& hull) {
+  Mask keep(c.size());
+  for (std::size_t i = 0; i < c.size(); ++i)
+    keep[i] = hull.depth(c.positions.row(static_cast<Eigen::Index>(i)).transpose()) <=
+              p.max_hull_distance;
+  return keep;
+}
+
+Mask neighboursFilter(const ContactSet& c, const db::BuildParameters& p, const ConvexHull&) {
+  Mask keep(c.size(), false);
+  if (c.size() == 0) return keep;
+  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
+  for (Eigen::Index i = 0; i < c.positions.rows(); ++i)
+    cloud->push_back(pcl::PointXYZ(static_cast<float>(c.positions(i, 0)),
+                                   static_cast<float>(c.positions(i, 1)),
+                                   static_cast<float>(c.positions(i, 2))));
+  pcl::RadiusOutlierRemoval<pcl::PointXYZ> removal;
+  removal.setInputCloud(cloud);
+  removal.setRadiusSearch(p.patch_radius);
+  // PCL counts the point itself among its neighbours.
+  removal.setMinNeighborsInRadius(static_cast<int>(p.min_neighbours) + 1);
+  pcl::Indices inliers;
+  removal.filter(inliers);
+  for (const auto i : inliers) keep[static_cast<std::size_t>(i)] = true;
+  return keep;
+}
+
+const std::vector<std::pair<std::string, Filter>>& registry() {
+  static const std::vector<std::pair<std::string, Filter>> filters = {
+      {"curvature", curvatureFilter},
+      {"concavity", concavityFilter},
+      {"neighbours", neighboursFilter}};
+  return filters;
+}
+
+const Filter& lookup(const std::string& name) {
+  for (const auto& [known, filter] : registry())
+    if (known == name) return filter;
+  std::string list;
+  for (const std::string& known : knownFilters()) list += (list.empty() ? "" : ", ") + known;
+  throw std::invalid_argument("unknown contact filter '" + name + "' (known: " + list + ")");
+}
+
+}  // namespace
+
+const std::vector<std::string>& knownFilters() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const auto& entry : registry()) out.push_back(entry.first);
+    return out;
+  }();
+  return names;
+}
+
+void checkFilterNames(const std::vector<std::string>& names) {
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    lookup(names[i]);
+    if (std::find(names.begin(), names.begin() + static_cast<std::ptrdiff_t>(i), names[i]) !=
+        names.begin() + static_cast<std::ptrdiff_t>(i))
+      throw std::invalid_argument("contact filter '" + names[i] + "' is listed twice");
+  }
+}
+
+std::vector<db::FilterReport> applyFilters(ContactSet& contacts, const db::BuildParameters& params,
+                                           const ConvexHull& hull) {
+  checkFilterNames(params.filters);
+  std::vector<db::FilterReport> reports;
+  for (const std::string& name : params.filters) {
+    const Mask keep = lookup(name)(contacts, params, hull);
+    const std::size_t before = contacts.size();
+    contacts.keep(keep);
+    reports.push_back({name, before - contacts.size()});
+  }
+  return reports;
+}
+
+}  // namespace hfts::preprocess

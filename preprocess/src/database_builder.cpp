@@ -1,0 +1,162 @@
+#include "preprocess/database_builder.h"
+
+#include <openssl/evp.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <memory>
+#include <stdexcept>
+
+#include "preprocess/contact_filters.h"
+#include "preprocess/contact_set.h"
+#include "preprocess/convex_hull.h"
+#include "preprocess/hierarchy_builder.h"
+#include "preprocess/surface_sampler.h"
+
+#ifndef HFTS_VERSION
+#define HFTS_VERSION "unknown"
+#endif
+
+namespace hfts::preprocess {
+namespace {
+
+class Stopwatch {
+ public:
+  double lap() {
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+    return seconds;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+void requirePositive(double value, const char* name) {
+  if (!(value > 0.0) || !std::isfinite(value))
+    throw std::invalid_argument(std::string(name) + " must be a positive number");
+}
+
+db::Points3 reordered(const Vertices& m, const std::vector<std::uint32_t>& order) {
+  db::Points3 out(m.rows(), 3);
+  for (std::size_t i = 0; i < order.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = m.row(order[i]);
+  return out;
+}
+
+}  // namespace
+
+std::string producerName() { return std::string("hfts-preprocess ") + HFTS_VERSION; }
+
+void checkBuildParameters(const db::BuildParameters& p) {
+  requirePositive(p.scale, "scale");
+  requirePositive(p.sample_density, "sample density");
+  requirePositive(p.patch_radius, "patch radius");
+  if (p.max_samples == 0) throw std::invalid_argument("max samples must be at least 1");
+  if (p.viewpoints < 8) throw std::invalid_argument("viewpoints must be at least 8");
+  if (!(p.max_curvature >= 0.0)) throw std::invalid_argument("max curvature must be >= 0");
+  if (!(p.max_hull_distance >= 0.0))
+    throw std::invalid_argument("max hull distance must be >= 0");
+  if (!(p.length_scale >= 0.0) || !std::isfinite(p.length_scale))
+    throw std::invalid_argument("length scale must be >= 0 (0 selects rho)");
+  if (!(p.normal_weight >= 0.0) || !std::isfinite(p.normal_weight))
+    throw std::invalid_argument("normal weight must be >= 0");
+  if (p.branching.empty() || p.branching.size() > 16)
+    throw std::invalid_argument("branching needs 1 to 16 levels");
+  for (std::uint32_t b : p.branching)
+    if (b == 0) throw std::invalid_argument("branching factors must be >= 1");
+  checkFilterNames(p.filters);
+}
+
+BuildResult buildObjectDatabase(const TriangleMesh& mesh, bool closed,
+                                const db::BuildParameters& params, const std::string& what) {
+  checkBuildParameters(params);
+  BuildResult result;
+  Stopwatch watch;
+  const ConvexHull hull(mesh.vertices, what);
+  db::ObjectDatabase& db = result.database;
+  db.producer = producerName();
+  db.parameters = params;
+  db.geometry = objectGeometry(mesh, closed, hull);
+
+  const SurfaceSamples samples = sampleVisibleSurface(
+      mesh, {params.sample_density, params.max_samples, params.viewpoints, params.seed});
+  db.num_samples = static_cast<std::uint64_t>(samples.positions.rows());
+  result.times.sample = watch.lap();
+
+  ContactSet contacts = estimateNormals(samples.positions, samples.normals, params.patch_radius);
+  result.times.normals = watch.lap();
+
+  db.filter_reports = applyFilters(contacts, params, hull);
+  result.times.filter = watch.lap();
+  if (contacts.size() == 0) {
+    std::string detail;
+    for (const db::FilterReport& r : db.filter_reports)
+      detail += (detail.empty() ? "" : ", ") + r.name + " removed " + std::to_string(r.removed);
+    throw MeshError(what + ": no contacts left after filtering " + std::to_string(db.num_samples) +
+                    " samples (" + detail + ")");
+  }
+
+  HierarchyOptions options;
+  options.branching = params.branching;
+  options.length_scale = params.length_scale > 0.0 ? params.length_scale : db.geometry.rho;
+  options.normal_weight = params.normal_weight;
+  options.iterations = params.kmeans_iterations;
+  options.seed = params.seed;
+  const Hierarchy hierarchy = buildHierarchy(contacts.positions, contacts.normals, options);
+  db.positions = reordered(contacts.positions, hierarchy.order);
+  db.normals = reordered(contacts.normals, hierarchy.order);
+  db.curvature.resize(static_cast<Eigen::Index>(hierarchy.order.size()));
+  for (std::size_t i = 0; i < hierarchy.order.size(); ++i)
+    db.curvature(static_cast<Eigen::Index>(i)) = contacts.curvature(hierarchy.order[i]);
+  db.levels = hierarchy.levels;
+  result.times.hierarchy = watch.lap();
+  result.times.total = result.times.sample + result.times.normals + result.times.filter +
+                       result.times.hierarchy;
+  db::validateObjectDatabase(db, what);
+  return result;
+}
+
+BuildResult buildObjectDatabaseFromFile(const std::filesystem::path& meshPath,
+                                        const db::BuildParameters& params) {
+  checkBuildParameters(params);
+  Stopwatch watch;
+  LoadedMesh loaded = loadMesh(meshPath, params.scale);
+  const double loadTime = watch.lap();
+  BuildResult result = buildObjectDatabase(loaded.mesh, loaded.topology.closed(), params,
+                                           "mesh '" + meshPath.string() + "'");
+  result.warnings.insert(result.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
+  result.times.load = loadTime;
+  result.times.total += loadTime;
+  db::ObjectDatabase& db = result.database;
+  db.name = meshPath.stem().string();
+  db.source_mesh = meshPath.filename().string();
+  db.source_sha256 = sha256File(meshPath);
+  return result;
+}
+
+std::string sha256File(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read '" + path.string() + "'");
+  std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> ctx(EVP_MD_CTX_new(), EVP_MD_CTX_free);
+  if (!ctx || EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) != 1)
+    throw std::runtime_error("OpenSSL: cannot start SHA-256");
+  std::vector<char> buffer(1 << 16);
+  while (in) {
+    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    if (in.gcount() > 0) EVP_DigestUpdate(ctx.get(), buffer.data(), static_cast<std::size_t>(in.gcount()));
+  }
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned length = 0;
+  EVP_DigestFinal_ex(ctx.get(), digest, &length);
+  static const char* hex = "0123456789abcdef";
+  std::string out;
+  for (unsigned i = 0; i < length; ++i) {
+    out += hex[digest[i] >> 4];
+    out += hex[digest[i] & 15];
+  }
+  return out;
+}
+
+}  // namespace hfts::preprocess

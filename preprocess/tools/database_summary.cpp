@@ -1,0 +1,84 @@
+#include "database_summary.h"
+
+#include <sstream>
+
+namespace hfts::preprocess {
+namespace {
+
+nlohmann::json vec3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+nlohmann::json parametersJson(const db::BuildParameters& p) {
+  return {{"scale", p.scale},
+          {"sample_density", p.sample_density},
+          {"max_samples", p.max_samples},
+          {"viewpoints", p.viewpoints},
+          {"patch_radius", p.patch_radius},
+          {"filters", p.filters},
+          {"max_curvature", p.max_curvature},
+          {"max_hull_distance", p.max_hull_distance},
+          {"min_neighbours", p.min_neighbours},
+          {"branching", p.branching},
+          {"length_scale", p.length_scale},
+          {"normal_weight", p.normal_weight},
+          {"kmeans_iterations", p.kmeans_iterations},
+          {"seed", p.seed}};
+}
+
+}  // namespace
+
+nlohmann::json databaseSummaryJson(const db::ObjectDatabase& db) {
+  nlohmann::json nodes = nlohmann::json::array();
+  for (const auto& level : db.levels) nodes.push_back(level.size());
+  nlohmann::json filters = nlohmann::json::array();
+  for (const db::FilterReport& r : db.filter_reports)
+    filters.push_back({{"name", r.name}, {"removed", r.removed}});
+  const db::ObjectGeometry& g = db.geometry;
+  return {{"name", db.name},
+          {"format", db::kObjectFormatName},
+          {"format_version", db::kObjectFormatVersion},
+          {"producer", db.producer},
+          {"source_mesh", db.source_mesh},
+          {"source_sha256", db.source_sha256},
+          {"branching", db.parameters.branching},
+          {"num_contacts", db.numContacts()},
+          {"num_samples", db.num_samples},
+          {"nodes_per_level", nodes},
+          {"filters", filters},
+          {"center_of_mass", vec3(g.center_of_mass)},
+          {"rho", g.rho},
+          {"volume", g.volume},
+          {"closed", g.closed},
+          {"bbox_min", vec3(g.bbox_min)},
+          {"bbox_max", vec3(g.bbox_max)},
+          {"hull_vertices", g.hull_vertices.rows()},
+          {"hull_faces", g.hull_faces.rows()},
+          {"parameters", parametersJson(db.parameters)}};
+}
+
+std::string databaseSummaryText(const db::ObjectDatabase& db) {
+  const db::ObjectGeometry& g = db.geometry;
+  std::ostringstream out;
+  out.precision(4);
+  out << "object          " << db.name << " (from " << db.source_mesh << ")\n"
+      << "format          " << db::kObjectFormatName << " v" << db::kObjectFormatVersion
+      << ", written by " << db.producer << "\n"
+      << "mesh sha256     " << db.source_sha256 << "\n"
+      << "contacts        " << db.numContacts() << " kept of " << db.num_samples << " samples";
+  for (const db::FilterReport& r : db.filter_reports) out << "; " << r.name << " -" << r.removed;
+  out << "\nbranching       ";
+  for (std::size_t l = 0; l < db.parameters.branching.size(); ++l)
+    out << (l ? "-" : "") << db.parameters.branching[l];
+  out << "\nnodes per level ";
+  for (std::size_t l = 0; l < db.levels.size(); ++l) out << (l ? " / " : "") << db.levels[l].size();
+  out << "\ncentre of mass  [" << g.center_of_mass.transpose() << "] m ("
+      << (g.closed ? "volume centroid" : "hull centroid, open mesh") << ")\n"
+      << "rho             " << g.rho << " m\n"
+      << "volume          " << g.volume * 1e6 << " cm^3\n"
+      << "bounding box    [" << g.bbox_min.transpose() << "] .. [" << g.bbox_max.transpose()
+      << "] m\n"
+      << "convex hull     " << g.hull_vertices.rows() << " vertices, " << g.hull_faces.rows()
+      << " triangles\n";
+  return out.str();
+}
+
+}  // namespace hfts::preprocess
