@@ -10,7 +10,9 @@ namespace {
 
 constexpr hsize_t kChunkRows = 4096;
 
-[[noreturn]] void fail(const std::string& what) { throw DatabaseError(what); }
+[[noreturn]] void fail(const std::string& what) {
+  throw DatabaseError(what);
+}
 
 void check(herr_t status, const std::string& what) {
   if (status < 0) fail(what);
@@ -39,9 +41,9 @@ void writeRaw(hid_t parent, const std::string& name, hid_t type, const void* dat
   Handle space(H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr), H5Sclose,
                "dataspace of " + name);
   Handle dcpl = datasetCreationList(shape);
-  Handle set(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, dcpl.id(),
-                        H5P_DEFAULT),
-             H5Dclose, "creating dataset '" + name + "'");
+  Handle set(
+      H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, dcpl.id(), H5P_DEFAULT),
+      H5Dclose, "creating dataset '" + name + "'");
   check(H5Dwrite(set.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
         "writing dataset '" + name + "'");
 }
@@ -65,8 +67,7 @@ Array<T> readRaw(hid_t parent, const std::string& name, hid_t memType, H5T_class
   constexpr hsize_t kMaxElements = hsize_t{1} << 31;
   if (count > kMaxElements) fail("dataset '" + name + "' is implausibly large");
   out.data.resize(static_cast<std::size_t>(count));
-  if (count > 0 &&
-      H5Dread(set.id(), memType, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data.data()) < 0)
+  if (count > 0 && H5Dread(set.id(), memType, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data.data()) < 0)
     fail("dataset '" + name + "' cannot be read (checksum mismatch or corrupt storage)");
   return out;
 }
@@ -89,8 +90,7 @@ std::vector<T> readAttributeRaw(hid_t object, const std::string& name, hid_t mem
   Handle attr(H5Aopen(object, name.c_str(), H5P_DEFAULT), H5Aclose,
               "opening attribute '" + name + "'");
   Handle type(H5Aget_type(attr.id()), H5Tclose, "attribute type");
-  if (H5Tget_class(type.id()) != expected)
-    fail("attribute '" + name + "' has the wrong type");
+  if (H5Tget_class(type.id()) != expected) fail("attribute '" + name + "' has the wrong type");
   Handle space(H5Aget_space(attr.id()), H5Sclose, "attribute space");
   const hssize_t n = H5Sget_simple_extent_npoints(space.id());
   if (n < 0 || n > 1024) fail("attribute '" + name + "' has an implausible size");
@@ -106,8 +106,7 @@ std::mutex& libraryMutex() {
   return mutex;
 }
 
-Handle::Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what)
-    : id_(id), close_(close) {
+Handle::Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what) : id_(id), close_(close) {
   if (id_ < 0) fail(what + " failed");
 }
 
@@ -219,6 +218,7 @@ std::string readStringAttribute(hid_t object, const std::string& name) {
     fail("attribute '" + name + "' is not a single string");
   Handle memType(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
   check(H5Tset_size(memType.id(), H5T_VARIABLE), "string size");
+  check(H5Tset_cset(memType.id(), H5Tget_cset(fileType.id())), "string charset");
   char* text = nullptr;
   check(H5Aread(attr.id(), memType.id(), &text), "reading attribute '" + name + "'");
   std::string value = text != nullptr ? std::string(text) : std::string();

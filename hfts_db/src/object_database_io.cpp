@@ -81,7 +81,9 @@ BuildParameters readParameters(hid_t file) {
   return p;
 }
 
-std::vector<double> asVector(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+std::vector<double> asVector(const Eigen::Vector3d& v) {
+  return {v.x(), v.y(), v.z()};
+}
 
 Eigen::Vector3d asVector3(const std::vector<double>& v, const std::string& name) {
   if (v.size() != 3) throw DatabaseError("attribute '" + name + "' must hold 3 values");
@@ -116,7 +118,8 @@ ObjectGeometry readGeometry(hid_t file) {
   Handle group = h5::openGroup(file, "object");
   const hid_t g = group.id();
   ObjectGeometry geometry;
-  geometry.center_of_mass = asVector3(h5::readDoubleAttribute(g, "center_of_mass"), "center_of_mass");
+  geometry.center_of_mass =
+      asVector3(h5::readDoubleAttribute(g, "center_of_mass"), "center_of_mass");
   geometry.rho = h5::readDouble(g, "rho");
   geometry.volume = h5::readDouble(g, "volume");
   geometry.closed = h5::readUInt64(g, "closed") != 0;
@@ -141,11 +144,13 @@ void readContacts(hid_t file, ObjectDatabase& db) {
   db.normals = toMatrix<Points3>(h5::readDoubles(group.id(), "normals"), "normals");
   const h5::Array<double> curvature = h5::readDoubles(group.id(), "curvature");
   if (curvature.shape.size() != 1) throw DatabaseError("dataset 'curvature' must be 1-D");
-  db.curvature = Eigen::Map<const Eigen::VectorXd>(curvature.data.data(),
-                                                   static_cast<Eigen::Index>(curvature.data.size()));
+  db.curvature = Eigen::Map<const Eigen::VectorXd>(
+      curvature.data.data(), static_cast<Eigen::Index>(curvature.data.size()));
 }
 
-std::string levelName(std::size_t level) { return "level_" + std::to_string(level + 1); }
+std::string levelName(std::size_t level) {
+  return "level_" + std::to_string(level + 1);
+}
 
 void writeLevel(hid_t hierarchy, std::size_t level, const std::vector<HierarchyNode>& nodes) {
   Handle group = h5::createGroup(hierarchy, levelName(level));
@@ -179,13 +184,15 @@ std::vector<HierarchyNode> readLevel(hid_t hierarchy, std::size_t level) {
     if (columns[c].size() != columns[0].size())
       throw DatabaseError(levelName(level) + ": columns differ in length");
   }
-  const Points3 normals = toMatrix<Points3>(h5::readDoubles(group.id(), "mean_normal"), "mean_normal");
+  const Points3 normals =
+      toMatrix<Points3>(h5::readDoubles(group.id(), "mean_normal"), "mean_normal");
   if (static_cast<std::size_t>(normals.rows()) != columns[0].size())
     throw DatabaseError(levelName(level) + ": mean_normal differs in length");
   std::vector<HierarchyNode> nodes(columns[0].size());
   for (std::size_t i = 0; i < nodes.size(); ++i) {
-    nodes[i] = {columns[0][i], columns[1][i], columns[2][i], columns[3][i], columns[4][i],
-                normals.row(static_cast<Eigen::Index>(i)).transpose()};
+    nodes[i] = {columns[0][i], columns[1][i],
+                columns[2][i], columns[3][i],
+                columns[4][i], normals.row(static_cast<Eigen::Index>(i)).transpose()};
   }
   return nodes;
 }
@@ -226,8 +233,10 @@ void readHeader(hid_t file, ObjectDatabase& db) {
     throw DatabaseError("not an HFTS object database (format '" + format + "')");
   const std::uint64_t version = h5::readUInt64(file, "format_version");
   if (version != kObjectFormatVersion)
-    throw DatabaseError("format version " + std::to_string(version) + " is not supported (this "
-                        "program reads version " + std::to_string(kObjectFormatVersion) + ")");
+    throw DatabaseError("format version " + std::to_string(version) +
+                        " is not supported (this "
+                        "program reads version " +
+                        std::to_string(kObjectFormatVersion) + ")");
   db.producer = h5::readStringAttribute(file, "producer");
   db.name = h5::readStringAttribute(file, "name");
   db.source_mesh = h5::readStringAttribute(file, "source_mesh");
@@ -245,7 +254,8 @@ ObjectDatabase readAll(hid_t file) {
     const std::vector<std::uint64_t> removed = h5::readUInt64Attribute(group.id(), "removed");
     if (names.size() != removed.size())
       throw DatabaseError("preprocess: filters and removed differ in length");
-    for (std::size_t i = 0; i < names.size(); ++i) db.filter_reports.push_back({names[i], removed[i]});
+    for (std::size_t i = 0; i < names.size(); ++i)
+      db.filter_reports.push_back({names[i], removed[i]});
   }
   db.geometry = readGeometry(file);
   readContacts(file, db);

@@ -116,8 +116,9 @@ void checkLevel(const Checker& c, const ObjectDatabase& db, std::size_t level) {
     c.require(cursor == std::uint64_t{node.contact_begin} + node.contact_count,
               name + ": children do not partition it");
   }
-  if (!last) c.require(expectedChild == nextSize, "level " + std::to_string(level + 2) +
-                                                      " holds nodes without a parent");
+  if (!last)
+    c.require(expectedChild == nextSize,
+              "level " + std::to_string(level + 2) + " holds nodes without a parent");
 }
 
 void checkHierarchy(const Checker& c, const ObjectDatabase& db) {

@@ -19,7 +19,8 @@ std::array<unsigned char, 3> clusterColour(std::size_t index) {
   const double rgb[6][3] = {{value, t, p}, {q, value, p}, {p, value, t},
                             {p, q, value}, {t, p, value}, {value, p, q}};
   std::array<unsigned char, 3> out{};
-  for (int c = 0; c < 3; ++c) out[c] = static_cast<unsigned char>(std::lround(255.0 * rgb[sector % 6][c]));
+  for (int c = 0; c < 3; ++c)
+    out[c] = static_cast<unsigned char>(std::lround(255.0 * rgb[sector % 6][c]));
   return out;
 }
 

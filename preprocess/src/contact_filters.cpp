@@ -12,7 +12,8 @@ namespace hfts::preprocess {
 namespace {
 
 using Mask = std::vector<bool>;
-using Filter = std::function<Mask(const ContactSet&, const db::BuildParameters&, const ConvexHull&)>;
+using Filter =
+    std::function<Mask(const ContactSet&, const db::BuildParameters&, const ConvexHull&)>;
 
 Mask curvatureFilter(const ContactSet& c, const db::BuildParameters& p, const ConvexHull&) {
   Mask keep(c.size());
@@ -40,8 +41,9 @@ Mask neighboursFilter(const ContactSet& c, const db::BuildParameters& p, const C
   pcl::RadiusOutlierRemoval<pcl::PointXYZ> removal;
   removal.setInputCloud(cloud);
   removal.setRadiusSearch(p.patch_radius);
-  // PCL counts the point itself among its neighbours.
-  removal.setMinNeighborsInRadius(static_cast<int>(p.min_neighbours) + 1);
+  // PCL keeps a point when its radius search, which includes the point
+  // itself, finds more than this many: i.e. at least this many others.
+  removal.setMinNeighborsInRadius(static_cast<int>(p.min_neighbours));
   pcl::Indices inliers;
   removal.filter(inliers);
   for (const auto i : inliers) keep[static_cast<std::size_t>(i)] = true;

@@ -8,7 +8,10 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
+#include <functional>
 #include <map>
+#include <set>
 
 namespace hfts::preprocess {
 namespace {
@@ -16,6 +19,115 @@ namespace {
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
 using HullMesh = CGAL::Surface_mesh<Point>;
+
+Eigen::Vector3d row(const db::Points3& v, std::uint32_t i) {
+  return v.row(i).transpose();
+}
+
+/// Sorts the vertices lexicographically and renumbers the faces.
+void sortVertices(db::Points3& vertices, db::Faces3& faces) {
+  std::vector<std::uint32_t> order(static_cast<std::size_t>(vertices.rows()));
+  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  auto key = [&](std::uint32_t i) {
+    return std::array<double, 3>{vertices(i, 0), vertices(i, 1), vertices(i, 2)};
+  };
+  std::sort(order.begin(), order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
+  std::vector<std::uint32_t> rank(order.size());
+  db::Points3 sorted(vertices.rows(), 3);
+  for (std::uint32_t i = 0; i < order.size(); ++i) {
+    rank[order[i]] = i;
+    sorted.row(i) = vertices.row(order[i]);
+  }
+  vertices = std::move(sorted);
+  for (Eigen::Index f = 0; f < faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) faces(f, k) = rank[faces(f, k)];
+}
+
+/// Groups edge-adjacent coplanar triangles (one polygonal hull facet each).
+std::vector<std::vector<Eigen::Index>> coplanarGroups(const db::Points3& v, const db::Faces3& f,
+                                                      double tolerance) {
+  std::vector<Eigen::Index> parent(static_cast<std::size_t>(f.rows()));
+  for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<Eigen::Index>(i);
+  std::function<Eigen::Index(Eigen::Index)> find = [&](Eigen::Index i) {
+    auto& p = parent[static_cast<std::size_t>(i)];
+    return p == i ? i : (p = find(p));
+  };
+  std::map<std::pair<std::uint32_t, std::uint32_t>, Eigen::Index> edgeOwner;
+  for (Eigen::Index t = 0; t < f.rows(); ++t) {
+    const Eigen::Vector3d a = row(v, f(t, 0));
+    const Eigen::Vector3d n = (row(v, f(t, 1)) - a).cross(row(v, f(t, 2)) - a).normalized();
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t p = f(t, k), q = f(t, (k + 1) % 3);
+      const auto other = edgeOwner.find({q, p});  // the neighbour runs the edge backwards
+      if (other == edgeOwner.end()) {
+        edgeOwner[{p, q}] = t;
+        continue;
+      }
+      bool coplanar = true;
+      for (int j = 0; j < 3; ++j)
+        coplanar &= std::abs(n.dot(row(v, f(other->second, j)) - a)) <= tolerance;
+      if (coplanar) parent[static_cast<std::size_t>(find(t))] = find(other->second);
+    }
+  }
+  std::map<Eigen::Index, std::vector<Eigen::Index>> groups;
+  for (Eigen::Index t = 0; t < f.rows(); ++t) groups[find(t)].push_back(t);
+  std::vector<std::vector<Eigen::Index>> out;
+  for (auto& [root, members] : groups) out.push_back(std::move(members));
+  return out;
+}
+
+/// The boundary of a coplanar group as a vertex cycle starting at its
+/// smallest index, or nothing if the boundary is not one simple cycle.
+std::vector<std::uint32_t> boundaryCycle(const db::Faces3& f,
+                                         const std::vector<Eigen::Index>& group) {
+  std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
+  for (Eigen::Index t : group)
+    for (int k = 0; k < 3; ++k) edges.insert({f(t, k), f(t, (k + 1) % 3)});
+  std::map<std::uint32_t, std::uint32_t> next;
+  for (const auto& [p, q] : edges)
+    if (!edges.count({q, p}) && !next.emplace(p, q).second) return {};
+  if (next.empty()) return {};
+  std::vector<std::uint32_t> cycle{next.begin()->first};
+  while (cycle.size() <= next.size()) {
+    const auto it = next.find(cycle.back());
+    if (it == next.end()) return {};
+    if (it->second == cycle.front()) break;
+    cycle.push_back(it->second);
+  }
+  return cycle.size() == next.size() ? cycle : std::vector<std::uint32_t>{};
+}
+
+/// CGAL's output order, and its triangulation of coplanar facets, depend
+/// on memory addresses. Sorting the vertices and re-triangulating every
+/// polygonal facet as a fan from its smallest vertex makes the stored hull
+/// a function of the input points alone (byte-identical databases).
+void canonicalize(db::Points3& vertices, db::Faces3& faces) {
+  sortVertices(vertices, faces);
+  const double extent = (vertices.colwise().maxCoeff() - vertices.colwise().minCoeff()).norm();
+  std::vector<std::array<std::uint32_t, 3>> list;
+  for (const auto& group : coplanarGroups(vertices, faces, 1e-9 * extent)) {
+    const std::vector<std::uint32_t> cycle =
+        group.size() > 1 ? boundaryCycle(faces, group) : std::vector<std::uint32_t>{};
+    if (cycle.empty()) {
+      for (Eigen::Index t : group) list.push_back({faces(t, 0), faces(t, 1), faces(t, 2)});
+      continue;
+    }
+    for (std::size_t i = 1; i + 1 < cycle.size(); ++i) {
+      const std::array<std::uint32_t, 3> t{cycle[0], cycle[i], cycle[i + 1]};
+      const double area = (row(vertices, t[1]) - row(vertices, t[0]))
+                              .cross(row(vertices, t[2]) - row(vertices, t[0]))
+                              .norm();
+      if (area > 1e-12 * extent * extent) list.push_back(t);  // skip collinear fan slivers
+    }
+  }
+  for (auto& t : list) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+  std::sort(list.begin(), list.end());
+  faces.resize(static_cast<Eigen::Index>(list.size()), 3);
+  for (std::size_t i = 0; i < list.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      faces(static_cast<Eigen::Index>(i), k) = list[i][static_cast<std::size_t>(k)];
+}
 
 }  // namespace
 
@@ -38,18 +150,21 @@ ConvexHull::ConvexHull(const Vertices& points, const std::string& what) {
     vertices_.row(row) << p.x(), p.y(), p.z();
   }
   faces_.resize(static_cast<Eigen::Index>(hull.number_of_faces()), 3);
-  planes_.resize(faces_.rows(), 4);
-  Eigen::Index row = 0;
+  Eigen::Index face = 0;
   for (HullMesh::Face_index f : hull.faces()) {
     int k = 0;
     for (HullMesh::Vertex_index v : CGAL::vertices_around_face(hull.halfedge(f), hull))
-      if (k < 3) faces_(row, k++) = index[v];
+      if (k < 3) faces_(face, k++) = index[v];
+    ++face;
+  }
+  canonicalize(vertices_, faces_);
+  planes_.resize(faces_.rows(), 4);
+  for (Eigen::Index row = 0; row < faces_.rows(); ++row) {
     const Eigen::Vector3d a = vertices_.row(faces_(row, 0)).transpose();
     const Eigen::Vector3d n = (vertices_.row(faces_(row, 1)).transpose() - a)
                                   .cross(vertices_.row(faces_(row, 2)).transpose() - a)
                                   .normalized();
     planes_.row(row) << n.transpose(), -n.dot(a);
-    ++row;
   }
 }
 

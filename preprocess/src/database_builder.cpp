@@ -41,13 +41,16 @@ void requirePositive(double value, const char* name) {
 
 db::Points3 reordered(const Vertices& m, const std::vector<std::uint32_t>& order) {
   db::Points3 out(m.rows(), 3);
-  for (std::size_t i = 0; i < order.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = m.row(order[i]);
+  for (std::size_t i = 0; i < order.size(); ++i)
+    out.row(static_cast<Eigen::Index>(i)) = m.row(order[i]);
   return out;
 }
 
 }  // namespace
 
-std::string producerName() { return std::string("hfts-preprocess ") + HFTS_VERSION; }
+std::string producerName() {
+  return std::string("hfts-preprocess ") + HFTS_VERSION;
+}
 
 void checkBuildParameters(const db::BuildParameters& p) {
   requirePositive(p.scale, "scale");
@@ -56,8 +59,7 @@ void checkBuildParameters(const db::BuildParameters& p) {
   if (p.max_samples == 0) throw std::invalid_argument("max samples must be at least 1");
   if (p.viewpoints < 8) throw std::invalid_argument("viewpoints must be at least 8");
   if (!(p.max_curvature >= 0.0)) throw std::invalid_argument("max curvature must be >= 0");
-  if (!(p.max_hull_distance >= 0.0))
-    throw std::invalid_argument("max hull distance must be >= 0");
+  if (!(p.max_hull_distance >= 0.0)) throw std::invalid_argument("max hull distance must be >= 0");
   if (!(p.length_scale >= 0.0) || !std::isfinite(p.length_scale))
     throw std::invalid_argument("length scale must be >= 0 (0 selects rho)");
   if (!(p.normal_weight >= 0.0) || !std::isfinite(p.normal_weight))
@@ -112,8 +114,8 @@ BuildResult buildObjectDatabase(const TriangleMesh& mesh, bool closed,
     db.curvature(static_cast<Eigen::Index>(i)) = contacts.curvature(hierarchy.order[i]);
   db.levels = hierarchy.levels;
   result.times.hierarchy = watch.lap();
-  result.times.total = result.times.sample + result.times.normals + result.times.filter +
-                       result.times.hierarchy;
+  result.times.total =
+      result.times.sample + result.times.normals + result.times.filter + result.times.hierarchy;
   db::validateObjectDatabase(db, what);
   return result;
 }
@@ -145,7 +147,8 @@ std::string sha256File(const std::filesystem::path& path) {
   std::vector<char> buffer(1 << 16);
   while (in) {
     in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-    if (in.gcount() > 0) EVP_DigestUpdate(ctx.get(), buffer.data(), static_cast<std::size_t>(in.gcount()));
+    if (in.gcount() > 0)
+      EVP_DigestUpdate(ctx.get(), buffer.data(), static_cast<std::size_t>(in.gcount()));
   }
   unsigned char digest[EVP_MAX_MD_SIZE];
   unsigned length = 0;

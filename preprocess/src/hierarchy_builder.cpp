@@ -85,7 +85,8 @@ Hierarchy buildHierarchy(const db::Points3& positions, const db::Points3& normal
   }
 
   Hierarchy out;
-  for (const Members& leaf : members.back()) out.order.insert(out.order.end(), leaf.begin(), leaf.end());
+  for (const Members& leaf : members.back())
+    out.order.insert(out.order.end(), leaf.begin(), leaf.end());
   db::Points3 sortedPositions(positions.rows(), 3), sortedNormals(positions.rows(), 3);
   for (std::size_t i = 0; i < out.order.size(); ++i) {
     sortedPositions.row(static_cast<Eigen::Index>(i)) = positions.row(out.order[i]);

@@ -16,7 +16,9 @@ Eigen::Vector3d corner(const TriangleMesh& mesh, Eigen::Index t, int k) {
 }
 
 double doubleArea(const TriangleMesh& mesh, Eigen::Index t) {
-  return (corner(mesh, t, 1) - corner(mesh, t, 0)).cross(corner(mesh, t, 2) - corner(mesh, t, 0)).norm();
+  return (corner(mesh, t, 1) - corner(mesh, t, 0))
+      .cross(corner(mesh, t, 2) - corner(mesh, t, 0))
+      .norm();
 }
 
 /// True when every vertex lies within `tolerance` of one plane.
@@ -38,7 +40,8 @@ std::size_t sanitizeMesh(TriangleMesh& mesh, const std::string& what) {
   if (mesh.triangles.maxCoeff() >= static_cast<std::uint32_t>(mesh.vertices.rows()))
     throw MeshError(what + ": a triangle indexes a vertex that does not exist");
 
-  const double extent = (mesh.vertices.colwise().maxCoeff() - mesh.vertices.colwise().minCoeff()).norm();
+  const double extent =
+      (mesh.vertices.colwise().maxCoeff() - mesh.vertices.colwise().minCoeff()).norm();
   const double minDoubleArea = 1e-12 * extent * extent;
   std::vector<Eigen::Index> kept;
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
@@ -75,9 +78,12 @@ MeshTopology analyzeTopology(const TriangleMesh& mesh) {
   MeshTopology topology;
   for (const auto& [key, use] : edges) {
     const int total = use.forward + use.backward;
-    if (total == 1) ++topology.boundary_edges;
-    else if (total > 2) ++topology.non_manifold_edges;
-    else if (use.forward != 1) ++topology.inconsistent_edges;
+    if (total == 1)
+      ++topology.boundary_edges;
+    else if (total > 2)
+      ++topology.non_manifold_edges;
+    else if (use.forward != 1)
+      ++topology.inconsistent_edges;
   }
   return topology;
 }

@@ -1,10 +1,10 @@
 // Mesh import through assimp.
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/Importer.hpp>
 
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <map>
 
 #include "preprocess/triangle_mesh.h"
@@ -62,7 +62,8 @@ LoadedMesh loadMesh(const std::filesystem::path& path, double scale) {
   if (std::filesystem::file_size(path, ec) == 0) throw MeshError(what + ": the file is empty");
 
   Assimp::Importer importer;
-  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   // PreTransformVertices applies node transforms (and DAE unit scales), so
   // every mesh lands in the file's root frame.
   const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
@@ -93,8 +94,8 @@ LoadedMesh loadMesh(const std::filesystem::path& path, double scale) {
     loaded.warnings.push_back(what + " is open (" + std::to_string(t.boundary_edges) +
                               " boundary edges): using the hull centroid as centre of mass");
   if (t.non_manifold_edges > 0)
-    loaded.warnings.push_back(what + " is non-manifold (" +
-                              std::to_string(t.non_manifold_edges) + " edges)");
+    loaded.warnings.push_back(what + " is non-manifold (" + std::to_string(t.non_manifold_edges) +
+                              " edges)");
   if (t.inconsistent_edges > 0)
     loaded.warnings.push_back(what + " has inconsistently wound triangles (" +
                               std::to_string(t.inconsistent_edges) + " edges)");

@@ -37,9 +37,9 @@ static pcl::PointCloud<pcl::PointXYZ>::Ptr toCloud(const Vertices& positions) {
   pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
   cloud->resize(static_cast<std::size_t>(positions.rows()));
   for (Eigen::Index i = 0; i < positions.rows(); ++i) {
-    (*cloud)[static_cast<std::size_t>(i)] = pcl::PointXYZ(static_cast<float>(positions(i, 0)),
-                                                          static_cast<float>(positions(i, 1)),
-                                                          static_cast<float>(positions(i, 2)));
+    (*cloud)[static_cast<std::size_t>(i)] =
+        pcl::PointXYZ(static_cast<float>(positions(i, 0)), static_cast<float>(positions(i, 1)),
+                      static_cast<float>(positions(i, 2)));
   }
   return cloud;
 }

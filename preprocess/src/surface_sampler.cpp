@@ -26,9 +26,9 @@ class EmbreeScene {
     if (device_ == nullptr) throw std::runtime_error("Embree: cannot create a device");
     scene_ = rtcNewScene(device_);
     RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-        static_cast<std::size_t>(mesh.vertices.rows())));
+    auto* vertices = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                3 * sizeof(float), static_cast<std::size_t>(mesh.vertices.rows())));
     auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
         geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
         static_cast<std::size_t>(mesh.triangles.rows())));
@@ -153,7 +153,7 @@ SurfaceSamples sampleVisibleSurface(const TriangleMesh& mesh, const SamplingOpti
   if (options.viewpoints < 8) throw std::invalid_argument("viewpoints must be at least 8");
 
   const double area = surfaceArea(mesh);
-  const auto wanted = static_cast<std::size_t>(std::ceil(options.density * area));
+  const auto wanted = static_cast<std::size_t>(std::llround(options.density * area));
   const std::size_t count = std::clamp<std::size_t>(wanted, 1, options.max_samples);
 
   std::mt19937_64 rng(options.seed);

@@ -65,7 +65,8 @@ BatchOutcome buildOne(const std::filesystem::path& mesh, const std::filesystem::
     outcome.warnings = result.warnings;
     outcome.samples = result.database.num_samples;
     outcome.contacts = result.database.numContacts();
-    for (const auto& level : result.database.levels) outcome.nodes_per_level.push_back(level.size());
+    for (const auto& level : result.database.levels)
+      outcome.nodes_per_level.push_back(level.size());
     outcome.ok = true;
   } catch (const std::exception& e) {
     outcome.error = e.what();
@@ -121,7 +122,8 @@ std::vector<BatchOutcome> runBatch(const std::vector<std::filesystem::path>& mes
       bar.done(outcomes[i]);
     }
   };
-  const unsigned threads = std::max(1u, std::min<unsigned>(jobs, static_cast<unsigned>(meshes.size())));
+  const unsigned threads =
+      std::max(1u, std::min<unsigned>(jobs, static_cast<unsigned>(meshes.size())));
   std::vector<std::thread> pool;
   for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
   worker();
@@ -133,8 +135,9 @@ void printSummaryTable(std::ostream& out, const std::vector<BatchOutcome>& outco
   std::size_t width = 6;
   for (const BatchOutcome& o : outcomes) width = std::max(width, o.name.size());
   out << std::left << std::setw(static_cast<int>(width) + 2) << "object" << std::right
-      << std::setw(10) << "contacts" << std::setw(10) << "samples" << "  " << std::left
-      << std::setw(18) << "nodes per level" << std::right << std::setw(9) << "time (s)"
+      << std::setw(10) << "contacts" << std::setw(10) << "samples"
+      << "  " << std::left << std::setw(18) << "nodes per level" << std::right << std::setw(9)
+      << "time (s)"
       << "  status\n";
   for (const BatchOutcome& o : outcomes) {
     std::ostringstream nodes;
@@ -146,8 +149,8 @@ void printSummaryTable(std::ostream& out, const std::vector<BatchOutcome>& outco
         << (o.ok ? nodes.str() : "-") << std::right << std::setw(9) << std::fixed
         << std::setprecision(2) << o.seconds << "  " << (o.ok ? "ok" : "FAILED") << "\n";
   }
-  const auto failed = std::count_if(outcomes.begin(), outcomes.end(),
-                                    [](const BatchOutcome& o) { return !o.ok; });
+  const auto failed =
+      std::count_if(outcomes.begin(), outcomes.end(), [](const BatchOutcome& o) { return !o.ok; });
   out << outcomes.size() - static_cast<std::size_t>(failed) << " built, " << failed << " failed\n";
 }
 

@@ -5,7 +5,9 @@
 namespace hfts::preprocess {
 namespace {
 
-nlohmann::json vec3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+nlohmann::json vec3(const Eigen::Vector3d& v) {
+  return {v.x(), v.y(), v.z()};
+}
 
 nlohmann::json parametersJson(const db::BuildParameters& p) {
   return {{"scale", p.scale},

@@ -1,7 +1,7 @@
 // hfts-preprocess: builds HFTS object databases from meshes, and inspects
 // or exports existing ones. See docs/preprocess.md.
-#include <CLI/CLI.hpp>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <iostream>
 #include <thread>
@@ -19,32 +19,44 @@ using hfts::db::BuildParameters;
 void addBuildOptions(CLI::App& app, BuildParameters& p) {
   const auto positive = CLI::PositiveNumber;
   app.add_option("--scale", p.scale, "Multiply mesh coordinates by this (0.001 for mm)")
-      ->check(positive)->capture_default_str();
+      ->check(positive)
+      ->capture_default_str();
   app.add_option("--density", p.sample_density, "Surface samples per square metre")
-      ->check(positive)->capture_default_str();
+      ->check(positive)
+      ->capture_default_str();
   app.add_option("--max-samples", p.max_samples, "Cap on surface samples per object")
-      ->check(CLI::Range(1u, 10000000u))->capture_default_str();
+      ->check(CLI::Range(1u, 10000000u))
+      ->capture_default_str();
   app.add_option("--viewpoints", p.viewpoints, "Directions of the visibility test")
-      ->check(CLI::Range(8u, 4096u))->capture_default_str();
+      ->check(CLI::Range(8u, 4096u))
+      ->capture_default_str();
   app.add_option("--patch-radius", p.patch_radius, "Fingertip patch radius (m)")
-      ->check(positive)->capture_default_str();
+      ->check(positive)
+      ->capture_default_str();
   app.add_option("--filters", p.filters,
                  "Contact filters in order (curvature, concavity, neighbours; 'none' for none)")
-      ->delimiter(',')->capture_default_str();
+      ->delimiter(',')
+      ->capture_default_str();
   app.add_option("--max-curvature", p.max_curvature, "Curvature filter: max surface variation")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--max-hull-distance", p.max_hull_distance,
                  "Concavity filter: max depth below the convex hull (m)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--min-neighbours", p.min_neighbours,
                  "Neighbours filter: min other contacts within the patch radius")
       ->capture_default_str();
   app.add_option("--branching", p.branching, "Branching factor per level, e.g. 20,4,4")
-      ->delimiter(',')->check(CLI::Range(1u, 100000u))->capture_default_str();
+      ->delimiter(',')
+      ->check(CLI::Range(1u, 100000u))
+      ->capture_default_str();
   app.add_option("--length-scale", p.length_scale, "k-means position scale (m); 0 = rho")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--normal-weight", p.normal_weight, "k-means weight of the normal")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--kmeans-iterations", p.kmeans_iterations, "Lloyd iterations per partition")
       ->capture_default_str();
   app.add_option("--seed", p.seed, "Seed of sampling and clustering")->capture_default_str();
@@ -76,9 +88,8 @@ int build(const std::string& input, const std::string& outDir, BuildParameters p
   std::filesystem::create_directories(outDir, ec);
   if (!std::filesystem::is_directory(outDir))
     throw std::runtime_error("cannot create output directory '" + outDir + "'");
-  const auto outcomes = hfts::preprocess::runBatch(meshes, outDir, params, jobs,
-                                                   quiet ? nullptr : &std::cerr,
-                                                   ::isatty(STDERR_FILENO) != 0);
+  const auto outcomes = hfts::preprocess::runBatch(
+      meshes, outDir, params, jobs, quiet ? nullptr : &std::cerr, ::isatty(STDERR_FILENO) != 0);
   hfts::preprocess::printSummaryTable(std::cout, outcomes);
   for (const auto& o : outcomes)
     if (!o.ok) return 1;
@@ -101,13 +112,15 @@ int main(int argc, char** argv) {
   BuildParameters params;
   app.add_option("input", input, "Mesh file or directory of meshes");
   app.add_option("-o,--output", outDir, "Directory for the <mesh stem>.h5 databases");
-  app.add_option("-j,--jobs", jobs, "Objects built in parallel")->check(CLI::Range(1u, 256u))
+  app.add_option("-j,--jobs", jobs, "Objects built in parallel")
+      ->check(CLI::Range(1u, 256u))
       ->capture_default_str();
   app.add_flag("-q,--quiet", quiet, "No progress output");
   auto* inspectOpt = app.add_option("--inspect", inspectFile, "Print a database's summary");
   app.add_flag("--json", json, "With --inspect: print JSON")->needs(inspectOpt);
   auto* plyOpt = app.add_option("--export-ply", plyArgs, "Write FILE.h5's contacts to OUT.ply")
-                     ->expected(2)->type_name("FILE.h5 OUT.ply");
+                     ->expected(2)
+                     ->type_name("FILE.h5 OUT.ply");
   addBuildOptions(app, params);
   inspectOpt->excludes(plyOpt);
   try {
@@ -123,6 +136,9 @@ int main(int argc, char** argv) {
       return 2;
     }
     return build(input, outDir, params, jobs, quiet);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "hfts-preprocess: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "hfts-preprocess: " << e.what() << "\n";
     return 1;

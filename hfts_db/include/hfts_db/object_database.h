@@ -31,15 +31,15 @@ using Faces3 = Eigen::Matrix<std::uint32_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
 /// be rebuilt and compared. Defaults are the documented defaults of
 /// hfts-preprocess (docs/preprocess.md).
 struct BuildParameters {
-  double scale = 1.0;                    ///< mesh units -> metres
-  double sample_density = 200000.0;      ///< contacts per square metre of mesh surface
-  std::uint32_t max_samples = 20000;     ///< cap on surface samples before filtering
-  std::uint32_t viewpoints = 64;         ///< directions of the visibility test
-  double patch_radius = 0.01;            ///< fingertip patch radius (m)
+  double scale = 1.0;                 ///< mesh units -> metres
+  double sample_density = 200000.0;   ///< contacts per square metre of mesh surface
+  std::uint32_t max_samples = 20000;  ///< cap on surface samples before filtering
+  std::uint32_t viewpoints = 64;      ///< directions of the visibility test
+  double patch_radius = 0.01;         ///< fingertip patch radius (m)
   std::vector<std::string> filters = {"curvature", "concavity", "neighbours"};
-  double max_curvature = 0.03;           ///< PCL surface variation limit
-  double max_hull_distance = 0.01;       ///< concavity limit (m)
-  std::uint32_t min_neighbours = 10;     ///< within patch_radius
+  double max_curvature = 0.03;        ///< PCL surface variation limit
+  double max_hull_distance = 0.01;    ///< concavity limit (m)
+  std::uint32_t min_neighbours = 10;  ///< within patch_radius
   std::vector<std::uint32_t> branching = {20, 4, 4};
   double length_scale = 0.0;             ///< k-means position scale (m); 0 = rho
   double normal_weight = 0.5;            ///< k-means weight of the unit normal
@@ -71,24 +71,24 @@ struct ObjectGeometry {
 struct HierarchyNode {
   std::uint32_t contact_begin = 0;
   std::uint32_t contact_count = 0;
-  std::uint32_t child_begin = 0;  ///< first child in the next level
-  std::uint32_t child_count = 0;  ///< 0 exactly on the last level
-  std::uint32_t representative = 0;  ///< contact nearest to the mean position
+  std::uint32_t child_begin = 0;                           ///< first child in the next level
+  std::uint32_t child_count = 0;                           ///< 0 exactly on the last level
+  std::uint32_t representative = 0;                        ///< contact nearest to the mean position
   Eigen::Vector3d mean_normal = Eigen::Vector3d::UnitZ();  ///< normalised, outward
 };
 
 /// A complete object database.
 struct ObjectDatabase {
-  std::string name;             ///< object name (the mesh file stem)
-  std::string source_mesh;      ///< mesh file name the database was built from
-  std::string source_sha256;    ///< SHA-256 of the mesh file bytes (hex)
-  std::string producer;         ///< program and version that wrote it
+  std::string name;           ///< object name (the mesh file stem)
+  std::string source_mesh;    ///< mesh file name the database was built from
+  std::string source_sha256;  ///< SHA-256 of the mesh file bytes (hex)
+  std::string producer;       ///< program and version that wrote it
   BuildParameters parameters;
   std::uint64_t num_samples = 0;  ///< surface samples before filtering
   std::vector<FilterReport> filter_reports;
   ObjectGeometry geometry;
-  Points3 positions;  ///< contact positions, hierarchy order
-  Points3 normals;    ///< unit normals pointing OUT of the object
+  Points3 positions;          ///< contact positions, hierarchy order
+  Points3 normals;            ///< unit normals pointing OUT of the object
   Eigen::VectorXd curvature;  ///< PCL surface variation per contact
   /// levels[0] is the top level (branching[0] nodes at most), levels.back()
   /// the leaves. The root (all contacts) is implicit.

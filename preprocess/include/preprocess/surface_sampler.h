@@ -8,7 +8,7 @@
 namespace hfts::preprocess {
 
 struct SamplingOptions {
-  double density = 200000.0;     ///< samples per square metre of mesh surface
+  double density = 200000.0;          ///< samples per square metre of mesh surface
   std::uint32_t max_samples = 20000;  ///< cap on the candidates drawn
   std::uint32_t viewpoints = 64;      ///< Fibonacci-sphere directions of the visibility test
   std::uint64_t seed = 1;

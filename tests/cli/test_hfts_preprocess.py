@@ -1,0 +1,127 @@
+#!/usr/bin/env python3
+"""End-to-end tests of the hfts-preprocess command line and of the h5py
+example in docs/database.md. Run by ctest with Debian's /usr/bin/python3."""
+
+import argparse
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+BINARY = None
+SOURCE_DIR = None
+
+
+def run(*args, check=None):
+    result = subprocess.run([BINARY, *map(str, args)], capture_output=True, text=True, timeout=240)
+    if check is not None:
+        assert result.returncode == check, (result.returncode, result.stdout, result.stderr)
+    return result
+
+
+class PreprocessCli(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="hfts-cli-")
+        cls.meshes = os.path.join(SOURCE_DIR, "objects", "meshes")
+        cls.out = os.path.join(cls.tmp, "db")
+        cls.build = run(cls.meshes, "-o", cls.out, "-j", "2")
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def test_directory_builds_every_bundled_object_with_a_summary(self):
+        self.assertEqual(self.build.returncode, 0, self.build.stderr)
+        names = sorted(os.path.splitext(f)[0] for f in os.listdir(self.meshes))
+        self.assertEqual(sorted(os.path.splitext(f)[0] for f in os.listdir(self.out)), names)
+        self.assertIn("nodes per level", self.build.stdout)
+        for name in names:
+            self.assertRegex(self.build.stdout, rf"{name}\s+\d+\s+\d+\s+20/80/\d+\s+[\d.]+\s+ok")
+        self.assertIn(f"{len(names)} built, 0 failed", self.build.stdout)
+
+    def test_inspect_json_has_the_documented_keys(self):
+        result = run("--inspect", os.path.join(self.out, "mug.h5"), "--json", check=0)
+        summary = json.loads(result.stdout)
+        self.assertEqual(summary["branching"], [20, 4, 4])
+        self.assertEqual(summary["format_version"], 1)
+        self.assertEqual(summary["nodes_per_level"][:2], [20, 80])
+        self.assertGreater(summary["num_contacts"], 1000)
+        self.assertEqual(len(summary["center_of_mass"]), 3)
+        self.assertGreater(summary["rho"], 0.04)
+        text = run("--inspect", os.path.join(self.out, "mug.h5"), check=0).stdout
+        self.assertIn("nodes per level 20 / 80 /", text)
+
+    def test_export_ply_writes_every_contact_coloured_by_cluster(self):
+        ply = os.path.join(self.tmp, "mug.ply")
+        run("--export-ply", os.path.join(self.out, "mug.h5"), ply, check=0)
+        with open(ply) as f:
+            lines = f.read().splitlines()
+        count = int(next(l for l in lines if l.startswith("element vertex")).split()[-1])
+        body = lines[lines.index("end_header") + 1:]
+        self.assertEqual(len(body), count)
+        colours = {tuple(l.split()[6:9]) for l in body}
+        self.assertEqual(len(colours), 20)
+
+    def test_failing_objects_are_reported_and_the_others_still_complete(self):
+        src = os.path.join(self.tmp, "mixed")
+        os.makedirs(src)
+        shutil.copy(os.path.join(self.meshes, "box.stl"), src)
+        with open(os.path.join(src, "broken.stl"), "wb") as f:
+            f.write(b"solid broken\nthis is not an stl\n")
+        with open(os.path.join(src, "empty.obj"), "w"):
+            pass
+        out = os.path.join(self.tmp, "mixed-out")
+        result = run(src, "-o", out)
+        self.assertEqual(result.returncode, 1)
+        self.assertTrue(os.path.exists(os.path.join(out, "box.h5")))
+        self.assertEqual(sorted(os.listdir(out)), ["box.h5"])  # no temporary leftovers
+        self.assertIn("broken.stl", result.stderr)
+        self.assertIn("empty.obj': the file is empty", result.stderr)
+        self.assertIn("1 built, 2 failed", result.stdout)
+
+    def test_bad_arguments_get_clear_errors(self):
+        result = run(self.meshes, "-o", self.tmp, "--filters", "curvature,magic")
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("unknown contact filter 'magic'", result.stderr)
+        self.assertNotEqual(run(self.meshes, "-o", self.tmp, "--branching", "20,0").returncode, 0)
+        self.assertNotEqual(run(self.meshes, "-o", self.tmp, "--density", "-3").returncode, 0)
+        result = run(os.path.join(self.tmp, "nothing-here"), "-o", self.tmp)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("neither a mesh file nor a directory", result.stderr)
+        result = run("--inspect", os.path.join(self.meshes, "box.stl"))
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("not an HDF5 file", result.stderr)
+        self.assertEqual(run().returncode, 2)
+
+    def test_same_input_gives_identical_bytes(self):
+        out2 = os.path.join(self.tmp, "again")
+        run(os.path.join(self.meshes, "torus.stl"), "-o", out2, "-q", check=0)
+        with open(os.path.join(self.out, "torus.h5"), "rb") as a, \
+                open(os.path.join(out2, "torus.h5"), "rb") as b:
+            self.assertEqual(a.read(), b.read())
+
+    def test_database_md_python_example_runs(self):
+        with open(os.path.join(SOURCE_DIR, "docs", "database.md")) as f:
+            blocks = re.findall(r"```python\n(.*?)```", f.read(), re.S)
+        self.assertTrue(blocks, "docs/database.md has no python example")
+        script = os.path.join(self.tmp, "example.py")
+        with open(script, "w") as f:
+            f.write(blocks[0])
+        result = subprocess.run([sys.executable, script, os.path.join(self.out, "mug.h5")],
+                                capture_output=True, text=True, timeout=60)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("mug", result.stdout)
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--binary", required=True)
+    parser.add_argument("--source-dir", required=True)
+    args, rest = parser.parse_known_args()
+    BINARY, SOURCE_DIR = args.binary, args.source_dir
+    unittest.main(argv=[sys.argv[0], *rest], verbosity=2)

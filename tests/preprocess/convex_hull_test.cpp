@@ -1,0 +1,62 @@
+#include <gtest/gtest.h>
+
+#include "preprocess/convex_hull.h"
+#include "test_meshes.h"
+
+namespace hfts::preprocess {
+namespace {
+
+TEST(ConvexHull, OfACubeHasEightVerticesAndOutwardPlanes) {
+  const Eigen::Vector3d centre(0.1, -0.2, 0.3);
+  const ConvexHull hull(test::cube(0.1, centre).vertices, "cube");
+  EXPECT_EQ(hull.vertices().rows(), 8);
+  EXPECT_EQ(hull.faces().rows(), 12);
+  EXPECT_NEAR(hull.depth(centre), 0.05, 1e-12);
+  EXPECT_NEAR(hull.depth(centre + Eigen::Vector3d(0.05, 0, 0)), 0.0, 1e-12);
+  EXPECT_NEAR(hull.depth(centre + Eigen::Vector3d(0.07, 0, 0)), -0.02, 1e-12);
+  EXPECT_TRUE(hull.centroid().isApprox(centre, 1e-12));
+}
+
+TEST(ConvexHull, InteriorPointsDoNotChangeIt) {
+  const TriangleMesh mesh = test::merged(test::cube(0.1), test::cube(0.05));
+  EXPECT_EQ(ConvexHull(mesh.vertices, "m").vertices().rows(), 8);
+}
+
+TEST(ConvexHull, FlatPointsAreRejected) {
+  EXPECT_THROW(ConvexHull(test::square(0.1, 0.0).vertices, "flat"), MeshError);
+}
+
+TEST(ObjectGeometry, ClosedMeshUsesTheVolumeCentroid) {
+  // An L of two cubes: the volume centroid differs from the hull centroid.
+  const TriangleMesh mesh =
+      test::merged(test::cube(0.1), test::cube(0.1, Eigen::Vector3d(0.1, 0, 0)));
+  const TriangleMesh l = test::merged(mesh, test::cube(0.1, Eigen::Vector3d(0, 0.1, 0)));
+  const ConvexHull hull(l.vertices, "L");
+  const db::ObjectGeometry g = objectGeometry(l, true, hull);
+  EXPECT_NEAR(g.volume, 3e-3, 1e-12);
+  EXPECT_TRUE(g.center_of_mass.isApprox(Eigen::Vector3d(0.1 / 3, 0.1 / 3, 0), 1e-9));
+  EXPECT_FALSE(g.center_of_mass.isApprox(hull.centroid(), 1e-3));
+  // rho: the farthest corner from the centroid.
+  const Eigen::Vector3d corner(0.15, -0.05, 0.05);
+  EXPECT_NEAR(g.rho, (corner - g.center_of_mass).norm(), 1e-9);
+}
+
+TEST(ObjectGeometry, OpenMeshUsesTheHullCentroid) {
+  TriangleMesh open = test::cube(0.1, Eigen::Vector3d(0.2, 0, 0));
+  open.triangles.conservativeResize(10, 3);
+  const ConvexHull hull(open.vertices, "open");
+  const db::ObjectGeometry g = objectGeometry(open, false, hull);
+  EXPECT_FALSE(g.closed);
+  EXPECT_EQ(g.volume, 0.0);
+  EXPECT_TRUE(g.center_of_mass.isApprox(Eigen::Vector3d(0.2, 0, 0), 1e-12));
+  EXPECT_NEAR(g.rho, std::sqrt(3.0) * 0.05, 1e-12);
+}
+
+TEST(SolidProperties, InvertedWindingGivesThePositiveVolume) {
+  const SolidProperties s = solidProperties(test::flipped(test::cube(0.2)));
+  EXPECT_NEAR(s.volume, 0.008, 1e-12);
+  EXPECT_LT(s.centroid.norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace hfts::preprocess

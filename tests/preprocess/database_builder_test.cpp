@@ -1,0 +1,116 @@
+#include <gtest/gtest.h>
+
+#include "preprocess/database_builder.h"
+#include "test_meshes.h"
+
+namespace hfts::preprocess {
+namespace {
+
+using test::TempDir;
+
+std::vector<std::filesystem::path> bundledMeshes() {
+  std::vector<std::filesystem::path> out;
+  for (const auto& entry : std::filesystem::directory_iterator(test::bundledMeshDir()))
+    out.push_back(entry.path());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(DatabaseBuilder, AtLeastEightObjectsAreBundled) {
+  EXPECT_GE(bundledMeshes().size(), 8u);
+}
+
+TEST(DatabaseBuilder, EveryBundledObjectGivesAValid20_4_4Hierarchy) {
+  for (const auto& mesh : bundledMeshes()) {
+    SCOPED_TRACE(mesh.filename().string());
+    const BuildResult r = buildObjectDatabaseFromFile(mesh, db::BuildParameters{});
+    const db::ObjectDatabase& db = r.database;
+    EXPECT_NO_THROW(db::validateObjectDatabase(db, mesh.string()));  // exact partition etc.
+    EXPECT_GT(db.numContacts(), 1000u);
+    EXPECT_EQ(db.levels[0].size(), 20u);
+    EXPECT_EQ(db.levels[1].size(), 80u);
+    EXPECT_GT(db.levels[2].size(), 250u);  // small clusters may split in fewer
+    EXPECT_TRUE(db.geometry.closed);
+    // Realistic sizes for the hand: 4-20 cm.
+    const double size = (db.geometry.bbox_max - db.geometry.bbox_min).maxCoeff();
+    EXPECT_GE(size, 0.04);
+    EXPECT_LE(size, 0.20 + 1e-6);
+    EXPECT_EQ(db.name, mesh.stem().string());
+    EXPECT_EQ(db.source_sha256.size(), 64u);
+    EXPECT_EQ(
+        db.num_samples, db.numContacts() + [&] {
+          std::uint64_t removed = 0;
+          for (const auto& f : db.filter_reports) removed += f.removed;
+          return removed;
+        }());
+  }
+}
+
+TEST(DatabaseBuilder, ConvexObjectsHaveOutwardNormals) {
+  for (const char* name : {"box.stl", "cylinder.stl"}) {
+    const BuildResult r =
+        buildObjectDatabaseFromFile(test::bundledMeshDir() / name, db::BuildParameters{});
+    const db::ObjectDatabase& db = r.database;
+    for (Eigen::Index i = 0; i < db.positions.rows(); ++i)
+      EXPECT_GT(db.normals.row(i).dot(db.positions.row(i) - db.geometry.center_of_mass.transpose()),
+                0.0);
+  }
+}
+
+TEST(DatabaseBuilder, SameInputAndParametersGiveIdenticalBytes) {
+  TempDir dir;
+  const auto mesh = test::bundledMeshDir() / "mug.ply";
+  db::saveObjectDatabase(buildObjectDatabaseFromFile(mesh, {}).database, dir / "a.h5");
+  db::saveObjectDatabase(buildObjectDatabaseFromFile(mesh, {}).database, dir / "b.h5");
+  const std::string a = test::readBytes(dir / "a.h5");
+  ASSERT_GT(a.size(), 1000u);
+  EXPECT_TRUE(a == test::readBytes(dir / "b.h5"));
+  db::BuildParameters other;
+  other.seed = 2;
+  db::saveObjectDatabase(buildObjectDatabaseFromFile(mesh, other).database, dir / "c.h5");
+  EXPECT_FALSE(a == test::readBytes(dir / "c.h5"));
+}
+
+TEST(DatabaseBuilder, InternalGeometryNeverProducesContacts) {
+  // Hollow cube with a floating inner face: only the outer surface counts.
+  const TriangleMesh mesh = test::merged(
+      test::merged(test::cube(0.1), test::flipped(test::cube(0.05))), test::square(0.03, 0.0));
+  const BuildResult r = buildObjectDatabase(mesh, false, {}, "hollow");
+  for (Eigen::Index i = 0; i < r.database.positions.rows(); ++i)
+    EXPECT_NEAR(r.database.positions.row(i).cwiseAbs().maxCoeff(), 0.05, 1e-9);
+}
+
+TEST(DatabaseBuilder, ExplainsWhenFiltersLeaveNothing) {
+  db::BuildParameters params;
+  params.max_curvature = 0.0;
+  params.filters = {"curvature"};
+  try {
+    buildObjectDatabase(test::merged(test::cube(0.01), test::cube(0.01, {0.03, 0, 0})), true,
+                        params, "tiny");
+    FAIL();
+  } catch (const MeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("no contacts left"), std::string::npos) << e.what();
+  }
+}
+
+TEST(DatabaseBuilder, RejectsBadParametersByName) {
+  db::BuildParameters params;
+  params.patch_radius = -1;
+  EXPECT_THROW(checkBuildParameters(params), std::invalid_argument);
+  params = {};
+  params.branching = {20, 0};
+  EXPECT_THROW(checkBuildParameters(params), std::invalid_argument);
+  params = {};
+  params.filters = {"magic"};
+  EXPECT_THROW(checkBuildParameters(params), std::invalid_argument);
+}
+
+TEST(Sha256, MatchesAKnownDigest) {
+  TempDir dir;
+  test::writeText(dir / "abc", "abc");
+  EXPECT_EQ(sha256File(dir / "abc"),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+}
+
+}  // namespace
+}  // namespace hfts::preprocess

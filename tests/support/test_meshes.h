@@ -1,0 +1,49 @@
+#pragma once
+// Small meshes and files for the tests.
+
+#include <filesystem>
+#include <string>
+
+#include "preprocess/triangle_mesh.h"
+
+namespace hfts::test {
+
+/// Axis-aligned cube of edge `size` centred at `center`, outward winding.
+preprocess::TriangleMesh cube(double size, const Eigen::Vector3d& center = Eigen::Vector3d::Zero());
+
+/// Concatenates two meshes.
+preprocess::TriangleMesh merged(const preprocess::TriangleMesh& a,
+                                const preprocess::TriangleMesh& b);
+
+/// The same mesh with every triangle's winding reversed.
+preprocess::TriangleMesh flipped(preprocess::TriangleMesh mesh);
+
+/// A horizontal square of edge `size` at height z (two triangles).
+preprocess::TriangleMesh square(double size, double z);
+
+/// A fresh empty directory under the system temp dir, removed on destruction.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+void writeText(const std::filesystem::path& path, const std::string& text);
+std::string readBytes(const std::filesystem::path& path);
+void writeBinaryStl(const std::filesystem::path& path, const preprocess::TriangleMesh& mesh);
+void writeAsciiStl(const std::filesystem::path& path, const preprocess::TriangleMesh& mesh);
+void writeObj(const std::filesystem::path& path, const preprocess::TriangleMesh& mesh);
+void writeAsciiPly(const std::filesystem::path& path, const preprocess::TriangleMesh& mesh);
+void writeCollada(const std::filesystem::path& path, const preprocess::TriangleMesh& mesh);
+
+/// The bundled object meshes (objects/meshes).
+std::filesystem::path bundledMeshDir();
+
+}  // namespace hfts::test
