@@ -76,11 +76,15 @@ template <typename T>
 void writeAttributeRaw(hid_t object, const std::string& name, hid_t type,
                        const std::vector<T>& values, bool scalar) {
   const hsize_t n = values.size();
-  Handle space(scalar ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &n, nullptr), H5Sclose,
-               "attribute space");
+  // An empty array needs HDF5's null dataspace: a simple one cannot be empty.
+  const hid_t spaceId = scalar   ? H5Screate(H5S_SCALAR)
+                        : n == 0 ? H5Screate(H5S_NULL)
+                                 : H5Screate_simple(1, &n, nullptr);
+  Handle space(spaceId, H5Sclose, "attribute space");
   Handle attr(H5Acreate2(object, name.c_str(), type, space.id(), H5P_DEFAULT, H5P_DEFAULT),
               H5Aclose, "creating attribute '" + name + "'");
-  check(H5Awrite(attr.id(), type, values.data()), "writing attribute '" + name + "'");
+  if (n > 0 || scalar)
+    check(H5Awrite(attr.id(), type, values.data()), "writing attribute '" + name + "'");
 }
 
 template <typename T>

@@ -25,8 +25,8 @@ Mask curvatureFilter(const ContactSet& c, const db::BuildParameters& p, const Co
 Mask concavityFilter(const ContactSet& c, const db::BuildParameters& p, const ConvexHull& hull) {
   Mask keep(c.size());
   for (std::size_t i = 0; i < c.size(); ++i)
-    keep[i] = hull.depth(c.positions.row(static_cast<Eigen::Index>(i)).transpose()) <=
-              p.max_hull_distance;
+    keep[i] = hull.isShallow(c.positions.row(static_cast<Eigen::Index>(i)).transpose(),
+                             p.max_hull_distance);
   return keep;
 }
 

@@ -106,7 +106,7 @@ void canonicalize(db::Points3& vertices, db::Faces3& faces) {
   sortVertices(vertices, faces);
   const double extent = (vertices.colwise().maxCoeff() - vertices.colwise().minCoeff()).norm();
   std::vector<std::array<std::uint32_t, 3>> list;
-  for (const auto& group : coplanarGroups(vertices, faces, 1e-9 * extent)) {
+  for (const auto& group : coplanarGroups(vertices, faces, 1e-7 * extent)) {
     const std::vector<std::uint32_t> cycle =
         group.size() > 1 ? boundaryCycle(faces, group) : std::vector<std::uint32_t>{};
     if (cycle.empty()) {
@@ -166,6 +166,16 @@ ConvexHull::ConvexHull(const Vertices& points, const std::string& what) {
                                   .normalized();
     planes_.row(row) << n.transpose(), -n.dot(a);
   }
+  bvh_ = std::make_unique<TriangleBvh>(TriangleMesh{vertices_, faces_});
+}
+
+ConvexHull::ConvexHull(ConvexHull&&) noexcept = default;
+ConvexHull::~ConvexHull() = default;
+
+bool ConvexHull::isShallow(const Eigen::Vector3d& p, double limit) const {
+  // Inside a convex polytope the distance to the boundary surface is the
+  // depth, and the BVH finds whether any hull triangle is that close.
+  return bvh_->isWithin(p, limit);
 }
 
 double ConvexHull::depth(const Eigen::Vector3d& p) const {

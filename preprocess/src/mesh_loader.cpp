@@ -90,15 +90,13 @@ LoadedMesh loadMesh(const std::filesystem::path& path, double scale) {
   loaded.dropped_degenerate = sanitizeMesh(mesh, what);
   loaded.topology = analyzeTopology(mesh);
   const MeshTopology& t = loaded.topology;
-  if (t.boundary_edges > 0)
-    loaded.warnings.push_back(what + " is open (" + std::to_string(t.boundary_edges) +
-                              " boundary edges): using the hull centroid as centre of mass");
-  if (t.non_manifold_edges > 0)
-    loaded.warnings.push_back(what + " is non-manifold (" + std::to_string(t.non_manifold_edges) +
-                              " edges)");
-  if (t.inconsistent_edges > 0)
-    loaded.warnings.push_back(what + " has inconsistently wound triangles (" +
-                              std::to_string(t.inconsistent_edges) + " edges)");
+  if (!t.closed())
+    loaded.warnings.push_back(what + " is not a closed manifold (" +
+                              std::to_string(t.boundary_edges) + " boundary, " +
+                              std::to_string(t.non_manifold_edges) + " non-manifold, " +
+                              std::to_string(t.inconsistent_edges) +
+                              " inconsistently wound edges): the centre of mass is the hull "
+                              "centroid, not the volume centroid");
   if (loaded.dropped_degenerate > 0)
     loaded.warnings.push_back(what + ": dropped " + std::to_string(loaded.dropped_degenerate) +
                               " zero-area triangles");

@@ -1,13 +1,12 @@
 // Visibility-tested surface sampling with Embree.
 #include "preprocess/surface_sampler.h"
 
-#include <embree3/rtcore.h>
+#include "preprocess/triangle_bvh.h"
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <random>
 #include <stdexcept>
 
@@ -17,71 +16,6 @@ namespace {
 /// Directions closer to the surface plane than this are not used: a
 /// grazing ray says little about visibility and is numerically fragile.
 constexpr double kMinCosine = 0.05;
-
-class EmbreeScene {
- public:
-  explicit EmbreeScene(const TriangleMesh& mesh) {
-    // One thread per scene: the batch tool parallelises over objects.
-    device_ = rtcNewDevice("threads=1");
-    if (device_ == nullptr) throw std::runtime_error("Embree: cannot create a device");
-    scene_ = rtcNewScene(device_);
-    RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vertices = static_cast<float*>(
-        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                3 * sizeof(float), static_cast<std::size_t>(mesh.vertices.rows())));
-    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-        static_cast<std::size_t>(mesh.triangles.rows())));
-    if (vertices == nullptr || indices == nullptr) {
-      rtcReleaseGeometry(geometry);
-      release();
-      throw std::runtime_error("Embree: cannot allocate geometry buffers");
-    }
-    for (Eigen::Index i = 0; i < mesh.vertices.size(); ++i)
-      vertices[i] = static_cast<float>(mesh.vertices.data()[i]);
-    std::copy(mesh.triangles.data(), mesh.triangles.data() + mesh.triangles.size(), indices);
-    rtcCommitGeometry(geometry);
-    rtcAttachGeometry(scene_, geometry);
-    rtcReleaseGeometry(geometry);
-    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
-    rtcCommitScene(scene_);
-    if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) {
-      release();
-      throw std::runtime_error("Embree: building the BVH failed");
-    }
-  }
-  EmbreeScene(const EmbreeScene&) = delete;
-  EmbreeScene& operator=(const EmbreeScene&) = delete;
-  ~EmbreeScene() { release(); }
-
-  /// True when a ray from `origin` along `direction` hits nothing.
-  bool escapes(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRay ray{};
-    ray.org_x = static_cast<float>(origin.x());
-    ray.org_y = static_cast<float>(origin.y());
-    ray.org_z = static_cast<float>(origin.z());
-    ray.dir_x = static_cast<float>(direction.x());
-    ray.dir_y = static_cast<float>(direction.y());
-    ray.dir_z = static_cast<float>(direction.z());
-    ray.tnear = 0.0f;
-    ray.tfar = std::numeric_limits<float>::infinity();
-    ray.mask = 0xffffffffu;
-    rtcOccluded1(scene_, &context, &ray);
-    return ray.tfar >= 0.0f;  // Embree sets tfar to -inf on a hit
-  }
-
- private:
-  void release() {
-    if (scene_ != nullptr) rtcReleaseScene(scene_);
-    if (device_ != nullptr) rtcReleaseDevice(device_);
-    scene_ = nullptr;
-    device_ = nullptr;
-  }
-  RTCDevice device_ = nullptr;
-  RTCScene scene_ = nullptr;
-};
 
 Eigen::Vector3d vertex(const TriangleMesh& mesh, std::uint32_t face, int k) {
   return mesh.vertices.row(mesh.triangles(face, k)).transpose();
@@ -122,7 +56,7 @@ void drawCandidates(const TriangleMesh& mesh, std::size_t count, std::mt19937_64
   }
 }
 
-bool visibleAlong(const EmbreeScene& scene, const Vertices& directions, const Eigen::Vector3d& p,
+bool visibleAlong(const TriangleBvh& scene, const Vertices& directions, const Eigen::Vector3d& p,
                   const Eigen::Vector3d& side, double offset) {
   const Eigen::Vector3d origin = p + offset * side;
   if (scene.escapes(origin, side)) return true;
@@ -161,7 +95,7 @@ SurfaceSamples sampleVisibleSurface(const TriangleMesh& mesh, const SamplingOpti
   Vertices candidates;
   drawCandidates(mesh, count, rng, faces, candidates);
 
-  const EmbreeScene scene(mesh);
+  const TriangleBvh scene(mesh);
   const Vertices directions = fibonacciSphere(options.viewpoints);
   const double extent =
       (mesh.vertices.colwise().maxCoeff() - mesh.vertices.colwise().minCoeff()).norm();

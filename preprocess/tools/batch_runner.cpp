@@ -19,15 +19,15 @@ namespace {
 
 class ProgressBar {
  public:
-  ProgressBar(std::ostream* out, bool terminal, std::size_t total)
-      : out_(out), terminal_(terminal), total_(total) {}
+  ProgressBar(std::ostream& out, bool terminal, bool show, std::size_t total)
+      : out_(&out), terminal_(terminal && show), show_(show), total_(total) {}
 
   void done(const BatchOutcome& outcome) {
     std::lock_guard<std::mutex> lock(mutex_);
     ++finished_;
-    if (out_ == nullptr) return;
     for (const std::string& w : outcome.warnings) line("warning: " + w);
     if (!outcome.ok) line("error: " + outcome.error);
+    if (!show_) return;
     const std::string status = outcome.name + (outcome.ok ? " ok" : " FAILED");
     if (!terminal_) {
       *out_ << "[" << finished_ << "/" << total_ << "] " << status << std::endl;
@@ -48,6 +48,7 @@ class ProgressBar {
   }
   std::ostream* out_;
   bool terminal_;
+  bool show_;
   std::size_t total_;
   std::size_t finished_ = 0;
   std::mutex mutex_;
@@ -98,7 +99,7 @@ std::vector<std::filesystem::path> collectMeshes(const std::filesystem::path& in
 std::vector<BatchOutcome> runBatch(const std::vector<std::filesystem::path>& meshes,
                                    const std::filesystem::path& outDir,
                                    const db::BuildParameters& params, unsigned jobs,
-                                   std::ostream* progress, bool progressIsTerminal) {
+                                   std::ostream& log, bool logIsTerminal, bool showProgress) {
   std::vector<BatchOutcome> outcomes(meshes.size());
   // Two meshes with one stem would write one database: the later ones fail.
   std::map<std::string, std::size_t> firstWithStem;
@@ -107,7 +108,7 @@ std::vector<BatchOutcome> runBatch(const std::vector<std::filesystem::path>& mes
     const auto [it, inserted] = firstWithStem.emplace(meshes[i].stem().string(), i);
     duplicate[i] = !inserted;
   }
-  ProgressBar bar(progress, progressIsTerminal, meshes.size());
+  ProgressBar bar(log, logIsTerminal, showProgress, meshes.size());
   std::atomic<std::size_t> next{0};
   auto worker = [&] {
     for (std::size_t i = next++; i < meshes.size(); i = next++) {

@@ -31,12 +31,12 @@ std::vector<std::filesystem::path> collectMeshes(const std::filesystem::path& in
 
 /// Builds OUTDIR/<stem>.h5 for every mesh with `jobs` worker threads.
 /// A failing mesh is reported in its outcome and does not stop the others.
-/// Progress goes to `progress` (a bar on a terminal, a line per object
-/// otherwise; nothing if null).
+/// Warnings and errors go to `log` as they happen; so does progress if
+/// `showProgress` (a bar on a terminal, a line per object otherwise).
 std::vector<BatchOutcome> runBatch(const std::vector<std::filesystem::path>& meshes,
                                    const std::filesystem::path& outDir,
                                    const db::BuildParameters& params, unsigned jobs,
-                                   std::ostream* progress, bool progressIsTerminal);
+                                   std::ostream& log, bool logIsTerminal, bool showProgress);
 
 /// The table printed at the end: object, contacts kept, nodes per level, time.
 void printSummaryTable(std::ostream& out, const std::vector<BatchOutcome>& outcomes);

@@ -46,6 +46,7 @@ void addBuildOptions(CLI::App& app, BuildParameters& p) {
       ->capture_default_str();
   app.add_option("--min-neighbours", p.min_neighbours,
                  "Neighbours filter: min other contacts within the patch radius")
+      ->check(CLI::Range(0u, 1000000u))
       ->capture_default_str();
   app.add_option("--branching", p.branching, "Branching factor per level, e.g. 20,4,4")
       ->delimiter(',')
@@ -58,6 +59,7 @@ void addBuildOptions(CLI::App& app, BuildParameters& p) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--kmeans-iterations", p.kmeans_iterations, "Lloyd iterations per partition")
+      ->check(CLI::Range(0u, 100000u))
       ->capture_default_str();
   app.add_option("--seed", p.seed, "Seed of sampling and clustering")->capture_default_str();
 }
@@ -88,8 +90,8 @@ int build(const std::string& input, const std::string& outDir, BuildParameters p
   std::filesystem::create_directories(outDir, ec);
   if (!std::filesystem::is_directory(outDir))
     throw std::runtime_error("cannot create output directory '" + outDir + "'");
-  const auto outcomes = hfts::preprocess::runBatch(
-      meshes, outDir, params, jobs, quiet ? nullptr : &std::cerr, ::isatty(STDERR_FILENO) != 0);
+  const auto outcomes = hfts::preprocess::runBatch(meshes, outDir, params, jobs, std::cerr,
+                                                   ::isatty(STDERR_FILENO) != 0, !quiet);
   hfts::preprocess::printSummaryTable(std::cout, outcomes);
   for (const auto& o : outcomes)
     if (!o.ok) return 1;
@@ -115,7 +117,7 @@ int main(int argc, char** argv) {
   app.add_option("-j,--jobs", jobs, "Objects built in parallel")
       ->check(CLI::Range(1u, 256u))
       ->capture_default_str();
-  app.add_flag("-q,--quiet", quiet, "No progress output");
+  app.add_flag("-q,--quiet", quiet, "No progress output (warnings and errors still print)");
   auto* inspectOpt = app.add_option("--inspect", inspectFile, "Print a database's summary");
   app.add_flag("--json", json, "With --inspect: print JSON")->needs(inspectOpt);
   auto* plyOpt = app.add_option("--export-ply", plyArgs, "Write FILE.h5's contacts to OUT.ply")
@@ -126,7 +128,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; every usage error exits 2.
+    return app.exit(e) == 0 ? 0 : 2;
   }
   try {
     if (!inspectFile.empty()) return inspect(inspectFile, json);

@@ -97,6 +97,26 @@ class PreprocessCli(unittest.TestCase):
         self.assertEqual(result.returncode, 1)
         self.assertIn("not an HDF5 file", result.stderr)
         self.assertEqual(run().returncode, 2)
+        self.assertEqual(run(self.meshes, "-o", self.tmp, "--no-such-option").returncode, 2)
+        self.assertEqual(run(self.meshes, "-o", self.tmp, "--min-neighbours", "-1").returncode, 2)
+        self.assertEqual(run("--help").returncode, 0)
+
+    def test_filters_can_be_switched_off(self):
+        out = os.path.join(self.tmp, "unfiltered")
+        run(os.path.join(self.meshes, "box.stl"), "-o", out, "--filters", "none", check=0)
+        summary = json.loads(run("--inspect", os.path.join(out, "box.h5"), "--json", check=0).stdout)
+        self.assertEqual(summary["filters"], [])
+        self.assertEqual(summary["num_contacts"], summary["num_samples"])
+
+    def test_quiet_still_reports_errors(self):
+        src = os.path.join(self.tmp, "quiet")
+        os.makedirs(src)
+        with open(os.path.join(src, "bad.obj"), "w") as f:
+            f.write("v 0 0 0\n")
+        result = run(src, "-o", os.path.join(self.tmp, "quiet-out"), "-q")
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("bad.obj", result.stderr)
+        self.assertNotIn("[1/1]", result.stderr)
 
     def test_same_input_gives_identical_bytes(self):
         out2 = os.path.join(self.tmp, "again")

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <thread>
+
 #include "preprocess/database_builder.h"
 #include "test_meshes.h"
 
@@ -58,17 +60,40 @@ TEST(DatabaseBuilder, ConvexObjectsHaveOutwardNormals) {
 }
 
 TEST(DatabaseBuilder, SameInputAndParametersGiveIdenticalBytes) {
+  // Sequential and concurrent builds of every bundled object, in one
+  // process, must write the same bytes (CGAL's hull order depends on
+  // memory addresses; the stored hull must not).
   TempDir dir;
-  const auto mesh = test::bundledMeshDir() / "mug.ply";
-  db::saveObjectDatabase(buildObjectDatabaseFromFile(mesh, {}).database, dir / "a.h5");
-  db::saveObjectDatabase(buildObjectDatabaseFromFile(mesh, {}).database, dir / "b.h5");
-  const std::string a = test::readBytes(dir / "a.h5");
-  ASSERT_GT(a.size(), 1000u);
-  EXPECT_TRUE(a == test::readBytes(dir / "b.h5"));
+  const auto meshes = bundledMeshes();
+  auto buildAll = [&](const std::string& suffix, bool concurrent) {
+    std::vector<std::thread> threads;
+    for (const auto& mesh : meshes) {
+      auto job = [&dir, mesh, suffix] {
+        db::saveObjectDatabase(buildObjectDatabaseFromFile(mesh, {}).database,
+                               dir / (mesh.stem().string() + suffix));
+      };
+      if (concurrent)
+        threads.emplace_back(job);
+      else
+        job();
+    }
+    for (auto& t : threads) t.join();
+  };
+  buildAll(".a.h5", false);
+  buildAll(".b.h5", false);
+  buildAll(".c.h5", true);
+  for (const auto& mesh : meshes) {
+    SCOPED_TRACE(mesh.filename().string());
+    const std::string a = test::readBytes(dir / (mesh.stem().string() + ".a.h5"));
+    ASSERT_GT(a.size(), 1000u);
+    EXPECT_TRUE(a == test::readBytes(dir / (mesh.stem().string() + ".b.h5")));
+    EXPECT_TRUE(a == test::readBytes(dir / (mesh.stem().string() + ".c.h5")));
+  }
   db::BuildParameters other;
   other.seed = 2;
-  db::saveObjectDatabase(buildObjectDatabaseFromFile(mesh, other).database, dir / "c.h5");
-  EXPECT_FALSE(a == test::readBytes(dir / "c.h5"));
+  db::saveObjectDatabase(buildObjectDatabaseFromFile(meshes[0], other).database, dir / "seed2.h5");
+  EXPECT_FALSE(test::readBytes(dir / (meshes[0].stem().string() + ".a.h5")) ==
+               test::readBytes(dir / "seed2.h5"));
 }
 
 TEST(DatabaseBuilder, InternalGeometryNeverProducesContacts) {
@@ -91,6 +116,17 @@ TEST(DatabaseBuilder, ExplainsWhenFiltersLeaveNothing) {
   } catch (const MeshError& e) {
     EXPECT_NE(std::string(e.what()).find("no contacts left"), std::string::npos) << e.what();
   }
+}
+
+TEST(DatabaseBuilder, AllFiltersCanBeSwitchedOff) {
+  db::BuildParameters params;
+  params.filters = {};
+  const BuildResult r = buildObjectDatabase(test::cube(0.1), true, params, "cube");
+  EXPECT_TRUE(r.database.filter_reports.empty());
+  EXPECT_EQ(r.database.numContacts(), r.database.num_samples);
+  TempDir dir;
+  db::saveObjectDatabase(r.database, dir / "cube.h5");
+  EXPECT_TRUE(db::loadObjectDatabase(dir / "cube.h5").filter_reports.empty());
 }
 
 TEST(DatabaseBuilder, RejectsBadParametersByName) {

@@ -33,7 +33,7 @@ using Faces3 = Eigen::Matrix<std::uint32_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
 struct BuildParameters {
   double scale = 1.0;                 ///< mesh units -> metres
   double sample_density = 200000.0;   ///< contacts per square metre of mesh surface
-  std::uint32_t max_samples = 20000;  ///< cap on surface samples before filtering
+  std::uint32_t max_samples = 20000;  ///< cap on the area-uniform candidates drawn
   std::uint32_t viewpoints = 64;      ///< directions of the visibility test
   double patch_radius = 0.01;         ///< fingertip patch radius (m)
   std::vector<std::string> filters = {"curvature", "concavity", "neighbours"};

@@ -3,9 +3,11 @@
 
 #include <Eigen/Core>
 
+#include <memory>
 #include <vector>
 
 #include "hfts_db/object_database.h"
+#include "preprocess/triangle_bvh.h"
 #include "preprocess/triangle_mesh.h"
 
 namespace hfts::preprocess {
@@ -19,9 +21,16 @@ class ConvexHull {
 
   const db::Points3& vertices() const { return vertices_; }
   const db::Faces3& faces() const { return faces_; }
+  ConvexHull(ConvexHull&&) noexcept;
+  ~ConvexHull();
   /// Distance from a point inside (or on) the hull to the hull's boundary;
-  /// negative outside.
+  /// negative outside. Linear in the number of hull faces.
   double depth(const Eigen::Vector3d& p) const;
+  /// Whether depth(p) <= limit for a point inside or on the hull (such as
+  /// a surface contact), answered through a BVH of the hull triangles in
+  /// logarithmic time (the concavity filter's query). Precondition: p is
+  /// not farther than `limit` outside the hull.
+  bool isShallow(const Eigen::Vector3d& p, double limit) const;
   /// Centroid of the solid hull.
   Eigen::Vector3d centroid() const;
 
@@ -29,6 +38,7 @@ class ConvexHull {
   db::Points3 vertices_;
   db::Faces3 faces_;
   Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> planes_;  // n.x, n.y, n.z, d
+  std::unique_ptr<TriangleBvh> bvh_;
 };
 
 /// Volume and centroid of the solid bounded by a closed mesh (divergence

@@ -1,0 +1,37 @@
+#pragma once
+// Embree's BVH over a triangle mesh: ray occlusion and nearest-surface
+// queries. Embree itself stays inside triangle_bvh.cpp.
+
+#include <Eigen/Core>
+
+#include <memory>
+
+#include "preprocess/triangle_mesh.h"
+
+namespace hfts::preprocess {
+
+class TriangleBvh {
+ public:
+  /// Builds the BVH (one thread). Keeps a copy of the mesh for distance
+  /// queries. Throws std::runtime_error if Embree fails.
+  explicit TriangleBvh(const TriangleMesh& mesh);
+  ~TriangleBvh();
+  TriangleBvh(const TriangleBvh&) = delete;
+  TriangleBvh& operator=(const TriangleBvh&) = delete;
+
+  /// True when a ray from `origin` along `direction` hits no triangle.
+  bool escapes(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
+
+  /// True when some triangle comes within `radius` of `point`.
+  bool isWithin(const Eigen::Vector3d& point, double radius) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The point of triangle (a, b, c) closest to p.
+Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                       const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
+}  // namespace hfts::preprocess
