@@ -64,14 +64,8 @@ void expectSame(const ObjectDatabase& a, const ObjectDatabase& b) {
 }
 
 void expectLoadError(const std::filesystem::path& path, const std::string& problem) {
-  try {
-    loadObjectDatabase(path);
-    FAIL() << "loaded " << path;
-  } catch (const DatabaseError& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find(path.string()), std::string::npos) << message;
-    EXPECT_NE(message.find(problem), std::string::npos) << message;
-  }
+  test::expectErrorMentioning<DatabaseError>([&] { loadObjectDatabase(path); },
+                                             {path.string(), problem});
 }
 
 TEST(ObjectDatabase, RoundTripKeepsEveryField) {

@@ -1,8 +1,11 @@
 #pragma once
 // Small meshes and files for the tests.
 
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "preprocess/triangle_mesh.h"
 
@@ -42,6 +45,20 @@ void writeAsciiStl(const std::filesystem::path& path, const preprocess::Triangle
 void writeObj(const std::filesystem::path& path, const preprocess::TriangleMesh& mesh);
 void writeAsciiPly(const std::filesystem::path& path, const preprocess::TriangleMesh& mesh);
 void writeCollada(const std::filesystem::path& path, const preprocess::TriangleMesh& mesh);
+
+/// Runs `action` and expects it to throw an `Error` whose message contains
+/// every one of `parts` (e.g. the file name and the problem).
+template <typename Error, typename Action>
+void expectErrorMentioning(Action&& action, const std::vector<std::string>& parts) {
+  try {
+    action();
+    ADD_FAILURE() << "no error; expected one mentioning '" << parts.front() << "'";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    for (const std::string& part : parts)
+      EXPECT_NE(message.find(part), std::string::npos) << "'" << part << "' not in: " << message;
+  }
+}
 
 /// The bundled object meshes (objects/meshes).
 std::filesystem::path bundledMeshDir();
