@@ -1,5 +1,5 @@
 // Speed of the offline stage (figures in docs/performance.md):
-//   build/bin/preprocess_benchmark --benchmark_min_time=2
+//   build/bin/preprocess_benchmark --benchmark_min_time=1
 // The pipeline is single-threaded (Embree runs with one thread), so every
 // figure is for one core.
 #include <benchmark/benchmark.h>

@@ -24,7 +24,8 @@ void addBuildOptions(CLI::App& app, BuildParameters& p) {
   app.add_option("--density", p.sample_density, "Surface samples per square metre")
       ->check(positive)
       ->capture_default_str();
-  app.add_option("--max-samples", p.max_samples, "Cap on surface samples per object")
+  app.add_option("--max-samples", p.max_samples,
+                 "Cap on the area-uniform candidates drawn per object")
       ->check(CLI::Range(1u, 10000000u))
       ->capture_default_str();
   app.add_option("--viewpoints", p.viewpoints, "Directions of the visibility test")
@@ -124,6 +125,7 @@ int main(int argc, char** argv) {
                      ->expected(2)
                      ->type_name("FILE.h5 OUT.ply");
   addBuildOptions(app, params);
+  app.set_version_flag("--version", hfts::preprocess::producerName());
   inspectOpt->excludes(plyOpt);
   try {
     app.parse(argc, argv);
