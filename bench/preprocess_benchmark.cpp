@@ -12,7 +12,7 @@
 
 namespace {
 
-using hfts::preprocess::TriangleMesh;
+using hfts::TriangleMesh;
 
 /// A torus (R 6 cm, r 2 cm) with 2 * nu * nv triangles.
 TriangleMesh torus(int nu, int nv) {

@@ -10,8 +10,6 @@
 
 namespace hfts::test {
 
-using preprocess::TriangleMesh;
-
 TriangleMesh cube(double size, const Eigen::Vector3d& center) {
   TriangleMesh mesh;
   mesh.vertices.resize(8, 3);
@@ -34,8 +32,7 @@ TriangleMesh merged(const TriangleMesh& a, const TriangleMesh& b) {
   out.vertices.resize(a.vertices.rows() + b.vertices.rows(), 3);
   out.vertices << a.vertices, b.vertices;
   out.triangles.resize(a.triangles.rows() + b.triangles.rows(), 3);
-  preprocess::Triangles shifted =
-      b.triangles.array() + static_cast<std::uint32_t>(a.vertices.rows());
+  Triangles shifted = b.triangles.array() + static_cast<std::uint32_t>(a.vertices.rows());
   out.triangles << a.triangles, shifted;
   return out;
 }

@@ -7,22 +7,21 @@
 #include <string>
 #include <vector>
 
-#include "preprocess/triangle_mesh.h"
+#include "hfts_db/triangle_mesh.h"
 
 namespace hfts::test {
 
 /// Axis-aligned cube of edge `size` centred at `center`, outward winding.
-preprocess::TriangleMesh cube(double size, const Eigen::Vector3d& center = Eigen::Vector3d::Zero());
+TriangleMesh cube(double size, const Eigen::Vector3d& center = Eigen::Vector3d::Zero());
 
 /// Concatenates two meshes.
-preprocess::TriangleMesh merged(const preprocess::TriangleMesh& a,
-                                const preprocess::TriangleMesh& b);
+TriangleMesh merged(const TriangleMesh& a, const TriangleMesh& b);
 
 /// The same mesh with every triangle's winding reversed.
-preprocess::TriangleMesh flipped(preprocess::TriangleMesh mesh);
+TriangleMesh flipped(TriangleMesh mesh);
 
 /// A horizontal square of edge `size` at height z (two triangles).
-preprocess::TriangleMesh square(double size, double z);
+TriangleMesh square(double size, double z);
 
 /// A fresh empty directory under the system temp dir, removed on destruction.
 class TempDir {
@@ -40,11 +39,11 @@ class TempDir {
 
 void writeText(const std::filesystem::path& path, const std::string& text);
 std::string readBytes(const std::filesystem::path& path);
-void writeBinaryStl(const std::filesystem::path& path, const preprocess::TriangleMesh& mesh);
-void writeAsciiStl(const std::filesystem::path& path, const preprocess::TriangleMesh& mesh);
-void writeObj(const std::filesystem::path& path, const preprocess::TriangleMesh& mesh);
-void writeAsciiPly(const std::filesystem::path& path, const preprocess::TriangleMesh& mesh);
-void writeCollada(const std::filesystem::path& path, const preprocess::TriangleMesh& mesh);
+void writeBinaryStl(const std::filesystem::path& path, const TriangleMesh& mesh);
+void writeAsciiStl(const std::filesystem::path& path, const TriangleMesh& mesh);
+void writeObj(const std::filesystem::path& path, const TriangleMesh& mesh);
+void writeAsciiPly(const std::filesystem::path& path, const TriangleMesh& mesh);
+void writeCollada(const std::filesystem::path& path, const TriangleMesh& mesh);
 
 /// Runs `action` and expects it to throw an `Error` whose message contains
 /// every one of `parts` (e.g. the file name and the problem).

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "preprocess/triangle_mesh.h"
+#include "hfts_db/triangle_mesh.h"
 
 namespace hfts::preprocess {
 

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "hfts_db/object_database.h"
+#include "hfts_db/triangle_mesh.h"
 #include "preprocess/triangle_bvh.h"
-#include "preprocess/triangle_mesh.h"
 
 namespace hfts::preprocess {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "hfts_db/object_database.h"
-#include "preprocess/triangle_mesh.h"
+#include "hfts_db/triangle_mesh.h"
 
 namespace hfts::preprocess {
 

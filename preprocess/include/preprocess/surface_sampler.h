@@ -3,7 +3,7 @@
 
 #include <cstdint>
 
-#include "preprocess/triangle_mesh.h"
+#include "hfts_db/triangle_mesh.h"
 
 namespace hfts::preprocess {
 

@@ -6,7 +6,7 @@
 
 #include <memory>
 
-#include "preprocess/triangle_mesh.h"
+#include "hfts_db/triangle_mesh.h"
 
 namespace hfts::preprocess {
 

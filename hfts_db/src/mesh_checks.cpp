@@ -6,9 +6,9 @@
 #include <cmath>
 #include <unordered_map>
 
-#include "preprocess/triangle_mesh.h"
+#include "hfts_db/triangle_mesh.h"
 
-namespace hfts::preprocess {
+namespace hfts {
 namespace {
 
 Eigen::Vector3d corner(const TriangleMesh& mesh, Eigen::Index t, int k) {
@@ -94,4 +94,4 @@ double surfaceArea(const TriangleMesh& mesh) {
   return 0.5 * twice;
 }
 
-}  // namespace hfts::preprocess
+}  // namespace hfts

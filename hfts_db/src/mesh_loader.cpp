@@ -7,9 +7,9 @@
 #include <cmath>
 #include <map>
 
-#include "preprocess/triangle_mesh.h"
+#include "hfts_db/triangle_mesh.h"
 
-namespace hfts::preprocess {
+namespace hfts {
 namespace {
 
 void appendNode(const aiScene& scene, const aiNode& node, TriangleMesh& out,
@@ -103,4 +103,4 @@ LoadedMesh loadMesh(const std::filesystem::path& path, double scale) {
   return loaded;
 }
 
-}  // namespace hfts::preprocess
+}  // namespace hfts

@@ -1,9 +1,9 @@
 #include <gtest/gtest.h>
 
-#include "preprocess/triangle_mesh.h"
+#include "hfts_db/triangle_mesh.h"
 #include "test_meshes.h"
 
-namespace hfts::preprocess {
+namespace hfts {
 namespace {
 
 using test::TempDir;
@@ -116,4 +116,4 @@ TEST(MeshChecks, InconsistentWindingIsDetected) {
 }
 
 }  // namespace
-}  // namespace hfts::preprocess
+}  // namespace hfts

@@ -1,5 +1,6 @@
 #pragma once
-// Triangle meshes as the offline stage sees them, and their loading.
+// Triangle meshes and their import (assimp), shared by the offline stage
+// (sampling objects) and the planner (mesh obstacles).
 
 #include <Eigen/Core>
 
@@ -9,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace hfts::preprocess {
+namespace hfts {
 
 /// Thrown for a mesh that cannot be used: unreadable, empty, degenerate or
 /// non-finite. The message names the file and the problem.
@@ -64,4 +65,4 @@ MeshTopology analyzeTopology(const TriangleMesh& mesh);
 /// Total surface area (m^2).
 double surfaceArea(const TriangleMesh& mesh);
 
-}  // namespace hfts::preprocess
+}  // namespace hfts
