@@ -103,6 +103,10 @@ void writeGeometry(hid_t file, const ObjectGeometry& geometry) {
   const Faces3& f = geometry.hull_faces;
   h5::writeDataset(g, "hull_vertices", v.data(), shapeOf(v.rows(), 3));
   h5::writeDataset(g, "hull_faces", f.data(), shapeOf(f.rows(), 3));
+  const Points3& mv = geometry.mesh_vertices;
+  const Faces3& mf = geometry.mesh_triangles;
+  h5::writeDataset(g, "mesh_vertices", mv.data(), shapeOf(mv.rows(), 3));
+  h5::writeDataset(g, "mesh_triangles", mf.data(), shapeOf(mf.rows(), 3));
 }
 
 template <typename Matrix, typename T>
@@ -127,6 +131,9 @@ ObjectGeometry readGeometry(hid_t file) {
   geometry.bbox_max = asVector3(h5::readDoubleAttribute(g, "bbox_max"), "bbox_max");
   geometry.hull_vertices = toMatrix<Points3>(h5::readDoubles(g, "hull_vertices"), "hull_vertices");
   geometry.hull_faces = toMatrix<Faces3>(h5::readUInt32s(g, "hull_faces"), "hull_faces");
+  geometry.mesh_vertices = toMatrix<Points3>(h5::readDoubles(g, "mesh_vertices"), "mesh_vertices");
+  geometry.mesh_triangles =
+      toMatrix<Faces3>(h5::readUInt32s(g, "mesh_triangles"), "mesh_triangles");
   return geometry;
 }
 

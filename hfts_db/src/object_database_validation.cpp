@@ -45,6 +45,11 @@ void checkGeometry(const Checker& c, const ObjectGeometry& g) {
   c.requireFinite(g.hull_vertices, "hull_vertices");
   c.require(g.hull_faces.maxCoeff() < static_cast<std::uint32_t>(g.hull_vertices.rows()),
             "hull_faces index a vertex that does not exist");
+  c.require(g.mesh_vertices.rows() >= 4 && g.mesh_triangles.rows() >= 4,
+            "the object mesh needs at least 4 vertices and 4 triangles");
+  c.requireFinite(g.mesh_vertices, "mesh_vertices");
+  c.require(g.mesh_triangles.maxCoeff() < static_cast<std::uint32_t>(g.mesh_vertices.rows()),
+            "mesh_triangles index a vertex that does not exist");
 }
 
 void checkContacts(const Checker& c, const ObjectDatabase& db) {

@@ -212,6 +212,8 @@ db::ObjectGeometry objectGeometry(const TriangleMesh& mesh, bool closed, const C
   db::ObjectGeometry g;
   g.hull_vertices = hull.vertices();
   g.hull_faces = hull.faces();
+  g.mesh_vertices = mesh.vertices;
+  g.mesh_triangles = mesh.triangles;
   g.closed = closed;
   if (closed) {
     const SolidProperties solid = solidProperties(mesh);

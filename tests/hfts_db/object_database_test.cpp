@@ -48,6 +48,8 @@ void expectSame(const ObjectDatabase& a, const ObjectDatabase& b) {
   EXPECT_EQ(a.geometry.closed, b.geometry.closed);
   EXPECT_EQ(a.geometry.hull_vertices, b.geometry.hull_vertices);
   EXPECT_EQ(a.geometry.hull_faces, b.geometry.hull_faces);
+  EXPECT_EQ(a.geometry.mesh_vertices, b.geometry.mesh_vertices);
+  EXPECT_EQ(a.geometry.mesh_triangles, b.geometry.mesh_triangles);
   ASSERT_EQ(a.levels.size(), b.levels.size());
   for (std::size_t l = 0; l < a.levels.size(); ++l) {
     ASSERT_EQ(a.levels[l].size(), b.levels[l].size());

@@ -63,6 +63,8 @@ struct ObjectGeometry {
   Eigen::Vector3d bbox_max = Eigen::Vector3d::Zero();
   Points3 hull_vertices;  ///< convex hull (CGAL), vertices
   Faces3 hull_faces;      ///< convex hull triangles, outward winding
+  Points3 mesh_vertices;  ///< the object's surface mesh (metres), for collision checking
+  Faces3 mesh_triangles;
 };
 
 /// One node of the Hierarchical Fingertip Space partition. Contacts are
