@@ -11,6 +11,7 @@
 #include "preprocess/contact_export.h"
 #include "preprocess/contact_filters.h"
 #include "preprocess/database_builder.h"
+#include "scene_export_command.h"
 
 namespace {
 
@@ -109,7 +110,8 @@ int main(int argc, char** argv) {
       "  hfts-preprocess --export-ply FILE.h5 OUT.ply",
       "hfts-preprocess"};
   std::string input, outDir, inspectFile;
-  std::vector<std::string> plyArgs;
+  std::vector<std::string> plyArgs, sceneArgs;
+  hfts::preprocess::SceneExportOptions sceneOptions;
   bool json = false, quiet = false;
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
   BuildParameters params;
@@ -124,6 +126,19 @@ int main(int argc, char** argv) {
   auto* plyOpt = app.add_option("--export-ply", plyArgs, "Write FILE.h5's contacts to OUT.ply")
                      ->expected(2)
                      ->type_name("FILE.h5 OUT.ply");
+  auto* sceneOpt = app.add_option("--export-scene", sceneArgs,
+                                  "Write SCENE.json with robot and object as binary glTF")
+                       ->expected(2)
+                       ->type_name("SCENE.json OUT.glb");
+  app.add_option("--config", sceneOptions.config,
+                 "With --export-scene: robot configuration (13 values, comma-separated)")
+      ->delimiter(',')
+      ->needs(sceneOpt);
+  app.add_option("--robot", sceneOptions.robot,
+                 "Robot config (default robots/kr5_sdh/kr5_sdh.json)");
+  app.add_option("--db", sceneOptions.databases,
+                 "With --export-scene: directory of object databases (default build/databases)")
+      ->needs(sceneOpt);
   addBuildOptions(app, params);
   app.set_version_flag("--version", hfts::preprocess::producerName());
   inspectOpt->excludes(plyOpt);
@@ -136,6 +151,8 @@ int main(int argc, char** argv) {
   try {
     if (!inspectFile.empty()) return inspect(inspectFile, json);
     if (!plyArgs.empty()) return exportPly(plyArgs);
+    if (!sceneArgs.empty())
+      return hfts::preprocess::exportSceneCommand(sceneArgs, sceneOptions, argv[0]);
     if (input.empty() || outDir.empty()) {
       std::cerr << "hfts-preprocess: give a mesh or directory and -o OUTDIR (see --help)\n";
       return 2;

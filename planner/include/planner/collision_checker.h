@@ -1,0 +1,63 @@
+#pragma once
+// Collision checking of the robot against a scene and itself (FCL 0.7).
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <string>
+
+#include "hfts_db/object_database.h"
+#include "planner/robot_model.h"
+#include "planner/scene.h"
+
+namespace hfts::planner {
+
+/// The first colliding pair found, for diagnostics.
+struct CollisionPair {
+  std::string first;
+  std::string second;
+};
+
+/// Checks configurations of one robot in one scene. Robot links are the
+/// URDF primitives, obstacles are FCL primitives or BVH meshes in a
+/// broadphase manager, the target object is its mesh from the database.
+/// Not thread-safe (queries move the robot's collision objects): give each
+/// planning thread its own checker.
+class CollisionChecker {
+ public:
+  /// `target` (may be null: no target object) is placed at
+  /// scene.target_pose. The model and target must outlive the checker.
+  CollisionChecker(const RobotModel& model, const Scene& scene, const db::ObjectGeometry* target);
+  ~CollisionChecker();
+  CollisionChecker(const CollisionChecker&) = delete;
+  CollisionChecker& operator=(const CollisionChecker&) = delete;
+
+  /// True when the robot at q touches an obstacle, the target object, or
+  /// itself (except disabled link pairs). q must be valid (numDofs values).
+  bool inCollision(const Eigen::VectorXd& q, CollisionPair* pair = nullptr);
+
+  /// The grasp-aware rule: like inCollision, but the fingertip links may
+  /// touch the target object.
+  bool inCollisionAllowingFingertipContact(const Eigen::VectorXd& q, CollisionPair* pair = nullptr);
+
+  /// Smallest distance between the robot and the environment including the
+  /// target object (m); 0 when in collision.
+  double clearance(const Eigen::VectorXd& q);
+
+  /// Checks the straight segment from a to b (a is assumed valid) at
+  /// `resolution` in the weighted metric of Eq. (3): every intermediate
+  /// state and b itself. `allowFingertipContact` selects the grasp rule.
+  bool isMotionValid(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution,
+                     bool allowFingertipContact = false, CollisionPair* pair = nullptr);
+
+  /// The weighted configuration distance of Eq. (3): sqrt(sum w_i (a_i - b_i)^2).
+  double distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
+
+  const RobotModel& model() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hfts::planner
