@@ -70,6 +70,24 @@ def triangles(doc, binary):
         yield from walk(root, np.eye(4))
 
 
+def subdivided(tris, max_edge):
+    """Splits triangles until no edge exceeds max_edge, so matplotlib's
+    per-polygon depth sort does not let a table top cover what stands on it."""
+    out = []
+    todo = list(tris)
+    while todo:
+        t = todo.pop()
+        edges = [np.linalg.norm(t[(k + 1) % 3] - t[k]) for k in range(3)]
+        k = int(np.argmax(edges))
+        if edges[k] <= max_edge:
+            out.append(t)
+            continue
+        a, b, c = t[k], t[(k + 1) % 3], t[(k + 2) % 3]
+        m = (a + b) / 2
+        todo.extend([np.array([a, m, c]), np.array([m, b, c])])
+    return out
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("glb")
@@ -89,13 +107,19 @@ def main():
         low, high = np.array(args.center) - args.radius, np.array(args.center) + args.radius
         parts = [(t[np.any((t >= low).all(axis=2) & (t <= high).all(axis=2), axis=1)], c)
                  for t, c in parts]
-    views = [(25, -60), (20, 30), (80, -90), (5, -90)][: args.views]
+    max_edge = 0.03 * np.linalg.norm(high - low)
+    faces, colours = [], []
+    for tris, rgb in parts:
+        for t in subdivided(tris, max_edge):
+            faces.append(t)
+            colours.append(rgb)
+    views = [(25, -60), (25, 210), (20, 30), (80, -90), (5, -90)][: args.views]
     fig = plt.figure(figsize=(6 * len(views), 6))
     for i, (elev, azim) in enumerate(views):
         ax = fig.add_subplot(1, len(views), i + 1, projection="3d")
-        for tris, rgb in parts:
-            ax.add_collection3d(Poly3DCollection(tris, facecolor=rgb, edgecolor=(0, 0, 0, 0.08),
-                                                 linewidth=0.2))
+        # One collection, so all faces are depth-sorted together.
+        ax.add_collection3d(Poly3DCollection(faces, facecolor=colours, edgecolor=(0, 0, 0, 0.05),
+                                             linewidth=0.1))
         ax.set_xlim(low[0], high[0]), ax.set_ylim(low[1], high[1]), ax.set_zlim(low[2], high[2])
         ax.set_box_aspect(high - low)
         ax.view_init(elev, azim)

@@ -98,6 +98,19 @@ bool distanceCallback(Object* o1, Object* o2, void* raw, double& minimum) {
   return data->distance <= 0.0;
 }
 
+bool targetCallback(Object* o1, Object* o2, void* raw) {
+  const Tag& a = *static_cast<const Tag*>(o1->getUserData());
+  const Tag& b = *static_cast<const Tag*>(o2->getUserData());
+  if (a.target == b.target) return false;
+  fcl::CollisionRequestd request;
+  fcl::CollisionResultd result;
+  if (fcl::collide(o1, o2, request, result) == 0) return false;
+  auto* data = static_cast<QueryData*>(raw);
+  data->collision = true;
+  data->pair = {a.name, b.name};
+  return true;
+}
+
 }  // namespace
 
 struct CollisionChecker::Impl {
@@ -194,6 +207,13 @@ bool CollisionChecker::inCollision(const Eigen::VectorXd& q, CollisionPair* pair
 bool CollisionChecker::inCollisionAllowingFingertipContact(const Eigen::VectorXd& q,
                                                            CollisionPair* pair) {
   return impl_->collide(q, true, pair);
+}
+
+bool CollisionChecker::targetTouchesObstacles(CollisionPair* pair) {
+  QueryData data;
+  impl_->environment.collide(&data, targetCallback);
+  if (data.collision && pair != nullptr) *pair = data.pair;
+  return data.collision;
 }
 
 double CollisionChecker::clearance(const Eigen::VectorXd& q) {

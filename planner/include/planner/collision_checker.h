@@ -40,6 +40,10 @@ class CollisionChecker {
   /// touch the target object.
   bool inCollisionAllowingFingertipContact(const Eigen::VectorXd& q, CollisionPair* pair = nullptr);
 
+  /// True when the target object intersects an obstacle (a scene that
+  /// places the object inside something).
+  bool targetTouchesObstacles(CollisionPair* pair = nullptr);
+
   /// Smallest distance between the robot and the environment including the
   /// target object (m); 0 when in collision.
   double clearance(const Eigen::VectorXd& q);
