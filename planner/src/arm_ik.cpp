@@ -68,13 +68,18 @@ struct ArmIk::Impl {
   IkOptions options;
   std::vector<int> armJoints;  // joint index of arm DoF 0..5
   Eigen::Isometry3d palmInFlange = Eigen::Isometry3d::Identity();
+  // Product of exponentials of the arm: axes and points at the zero
+  // configuration, and the flange pose there. Much cheaper than full FK.
+  Eigen::Vector3d axis[6], point[6];
+  Eigen::Isometry3d flange0 = Eigen::Isometry3d::Identity();
+  Eigen::Matrix3d frame4Zero = Eigen::Matrix3d::Identity();
 
   // Closed-form geometry (valid when analytic).
   bool analytic = false;
   Eigen::Vector3d o1, eh, er;  // axis-1 point, axis-1 direction, radial direction
   Vec2 o2, upper, fore;        // shoulder point and link vectors in the (r, h) plane
   double s2 = 1, s3 = 1;       // axes 2, 3 along +/- (eh x er)
-  Eigen::Vector3d wristInFlange;
+  Eigen::Vector3d wristInFlange, wrist0;
   Eigen::Vector3d w4, w5, w6;  // wrist axes in the joint-4 frame at zero
   Eigen::Matrix3d flangeInWrist0;
 
@@ -108,7 +113,20 @@ struct ArmIk::Impl {
                                          Eigen::VectorXd arm) const;
   bool reaches(const Eigen::VectorXd& arm, const Eigen::Isometry3d& flange) const;
   Eigen::Isometry3d flangePose(const Eigen::VectorXd& arm) const {
-    return forwardKinematics(model, full(arm))[static_cast<std::size_t>(model.flangeLink())];
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    for (int d = 0; d < 6; ++d) t = t * screw(d, arm(d));
+    return t * flange0;
+  }
+  /// Where joints 1-3 put the wrist centre (PoE on its zero position).
+  Eigen::Vector3d wristCentre(const Eigen::Vector3d& q123) const {
+    return screw(0, q123(0)) * (screw(1, q123(1)) * (screw(2, q123(2)) * wrist0));
+  }
+  /// exp(xi_d q): rotation about the zero-configuration axis through its point.
+  Eigen::Isometry3d screw(int d, double q) const {
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.linear() = rotation(axis[d], q);
+    t.translation() = point[d] - t.linear() * point[d];
+    return t;
   }
 };
 
@@ -145,6 +163,12 @@ void ArmIk::Impl::findChain() {
   const LinkPoses zero = forwardKinematics(model, Eigen::VectorXd::Zero(model.numDofs()));
   palmInFlange = zero[static_cast<std::size_t>(model.flangeLink())].inverse() *
                  zero[static_cast<std::size_t>(model.palmLink())];
+  for (int d = 0; d < 6; ++d) {
+    axis[d] = jointAxis(zero, d);
+    point[d] = jointFrame(zero, d).translation();
+  }
+  flange0 = zero[static_cast<std::size_t>(model.flangeLink())];
+  frame4Zero = jointFrame(zero, 3).linear();
 }
 
 void ArmIk::Impl::detectClosedForm() {
@@ -178,8 +202,8 @@ void ArmIk::Impl::detectClosedForm() {
   fore = planar(wrist) - planar(o[2]);
   s2 = u[1].dot(ey) > 0 ? 1.0 : -1.0;
   s3 = u[2].dot(ey) > 0 ? 1.0 : -1.0;
-  const Eigen::Isometry3d& flange0 = zero[static_cast<std::size_t>(model.flangeLink())];
   wristInFlange = flange0.inverse() * wrist;
+  wrist0 = wrist;
   const Eigen::Matrix3d frame4 = jointFrame(zero, 3).linear();
   w4 = frame4.transpose() * u[3];
   w5 = frame4.transpose() * u[4];
@@ -209,7 +233,8 @@ std::vector<Eigen::VectorXd> ArmIk::Impl::closedForm(const Eigen::Isometry3d& fl
       const double phi2 = angleOf(d) - angleOf(upper + rotated(fore, phi3));
       // A rotation by q about +ey turns the (r, h) plane by -q.
       const Eigen::Vector3d q123(q1, -s2 * phi2, -s3 * phi3);
-      appendWristSolutions(q123, flange.linear(), out);
+      if ((wristCentre(q123) - (o1 + v)).norm() <= options.tolerance)
+        appendWristSolutions(q123, flange.linear(), out);
       if (c >= 1.0 || c <= -1.0) break;
     }
   }
@@ -220,15 +245,20 @@ void ArmIk::Impl::appendWristSolutions(const Eigen::Vector3d& q123, const Eigen:
                                        std::vector<Eigen::VectorXd>& out) const {
   Eigen::VectorXd arm = Eigen::VectorXd::Zero(6);
   arm.head<3>() = q123;
-  const LinkPoses poses = forwardKinematics(model, full(arm));
-  const Eigen::Matrix3d m =
-      jointFrame(poses, 3).linear().transpose() * target * flangeInWrist0.transpose();
+  // The joint-4 frame turns with the first three rotations (PoE).
+  const Eigen::Matrix3d frame4 = rotation(axis[0], q123(0)) * rotation(axis[1], q123(1)) *
+                                 rotation(axis[2], q123(2)) * frame4Zero;
+  const Eigen::Matrix3d m = frame4.transpose() * target * flangeInWrist0.transpose();
   const Eigen::Vector3d probe = w6.unitOrthogonal();
   for (const auto& [q4, q5] : subproblem2(w4, w5, w6, m * w6)) {
     const Eigen::Matrix3d r45 = rotation(w4, q4) * rotation(w5, q5);
     const double q6 = subproblem1(w6, probe, r45.transpose() * m * probe);
+    // Verify: the wrist orientation must reproduce m (the position was
+    // checked with the wrist centre by the caller).
+    const double error = (r45 * rotation(w6, q6) - m).cwiseAbs().maxCoeff();
+    if (error > options.tolerance) continue;
     arm.tail<3>() << q4, q5, q6;
-    appendTurns(arm, out);
+    out.push_back(arm);
   }
 }
 
@@ -318,8 +348,9 @@ std::vector<Eigen::VectorXd> ArmIk::solveFlange(const Eigen::Isometry3d& flange,
                                                 std::mt19937_64& rng) const {
   if (!impl_->analytic) return solveNumerically(flange, rng);
   std::vector<Eigen::VectorXd> out;
-  for (const Eigen::VectorXd& arm : impl_->closedForm(flange))
-    if (impl_->reaches(arm, flange)) out.push_back(arm);
+  // The closed form verifies each branch (wrist centre and orientation);
+  // whole turns do not change the pose, so their variants are added as is.
+  for (const Eigen::VectorXd& arm : impl_->closedForm(flange)) impl_->appendTurns(arm, out);
   return out;
 }
 

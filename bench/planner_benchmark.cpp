@@ -1,0 +1,109 @@
+// Speed of the planner's inner loops (figures in docs/performance.md):
+//   build/bin/planner_benchmark --benchmark_min_time=1
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <random>
+
+#include "planner/arm_ik.h"
+#include "planner/collision_checker.h"
+#include "planner/kinematics.h"
+#include "preprocess/database_builder.h"
+
+namespace {
+
+using namespace hfts;
+
+const std::filesystem::path kSource = HFTS_SOURCE_DIR;
+
+const planner::RobotModel& robot() {
+  static const planner::RobotModel model =
+      planner::RobotModel::load(kSource / "robots/kr5_sdh/kr5_sdh.json");
+  return model;
+}
+
+Eigen::VectorXd randomConfiguration(std::mt19937_64& rng) {
+  Eigen::VectorXd q(robot().numDofs());
+  for (Eigen::Index d = 0; d < q.size(); ++d)
+    q(d) = std::uniform_real_distribution<double>(robot().lowerLimits()(d),
+                                                  robot().upperLimits()(d))(rng);
+  return q;
+}
+
+void BM_ForwardKinematicsAllLinks(benchmark::State& state) {
+  std::mt19937_64 rng(1);
+  const Eigen::VectorXd q = randomConfiguration(rng);
+  planner::LinkPoses poses;
+  for (auto _ : state) {
+    planner::forwardKinematics(robot(), q, poses);
+    benchmark::DoNotOptimize(poses.data());
+  }
+  state.counters["links"] = static_cast<double>(poses.size());
+}
+BENCHMARK(BM_ForwardKinematicsAllLinks);
+
+void BM_ClosedFormIkAllSolutions(benchmark::State& state) {
+  const planner::ArmIk ik(robot());
+  std::mt19937_64 rng(2);
+  std::vector<Eigen::Isometry3d> targets;
+  for (int i = 0; i < 256; ++i) targets.push_back(ik.flangePose(randomConfiguration(rng).head(6)));
+  std::size_t i = 0, solutions = 0;
+  for (auto _ : state) {
+    const auto found = ik.solveFlange(targets[i++ % targets.size()], rng);
+    solutions += found.size();
+    benchmark::DoNotOptimize(found.data());
+  }
+  state.counters["solutions_per_pose"] =
+      static_cast<double>(solutions) / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_ClosedFormIkAllSolutions);
+
+/// Full-robot collision checks (environment, target object, self) of
+/// configurations in a bundled scene. `freeOnly` keeps collision-free
+/// configurations only: no early exit, the worst case. The median and 90th
+/// percentile of single checks are reported as counters (microseconds).
+void BM_CollisionCheck(benchmark::State& state, const std::string& scene, bool freeOnly) {
+  const planner::Scene s = planner::loadScene(kSource / ("objects/scenes/" + scene + ".json"));
+  std::filesystem::path mesh;
+  for (const auto& entry : std::filesystem::directory_iterator(kSource / "objects/meshes"))
+    if (entry.path().stem() == s.target_object) mesh = entry.path();
+  const auto target = preprocess::buildObjectDatabaseFromFile(mesh, {}).database;
+  planner::CollisionChecker checker(robot(), s, &target.geometry);
+  std::mt19937_64 rng(3);
+  std::vector<Eigen::VectorXd> configurations;
+  while (configurations.size() < 1024) {
+    const Eigen::VectorXd q = randomConfiguration(rng);
+    if (!freeOnly || !checker.inCollision(q)) configurations.push_back(q);
+  }
+  std::vector<double> micros;
+  std::size_t i = 0, colliding = 0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    colliding += checker.inCollision(configurations[i++ % configurations.size()]);
+    micros.push_back(
+        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start)
+            .count());
+  }
+  std::sort(micros.begin(), micros.end());
+  state.counters["median_us"] = micros[micros.size() / 2];
+  state.counters["p90_us"] = micros[micros.size() * 9 / 10];
+  state.counters["colliding"] = static_cast<double>(colliding) / static_cast<double>(micros.size());
+}
+BENCHMARK_CAPTURE(BM_CollisionCheck, table_random, std::string("table"), false)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_CollisionCheck, table_free, std::string("table"), true)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_CollisionCheck, shelf_random, std::string("shelf"), false)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_CollisionCheck, shelf_free, std::string("shelf"), true)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_CollisionCheck, bin_random, std::string("bin"), false)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_CollisionCheck, bin_free, std::string("bin"), true)
+    ->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
