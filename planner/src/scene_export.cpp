@@ -180,13 +180,18 @@ void exportSceneGlb(const RobotModel& model, const Scene& scene, const db::Objec
   ai.mMaterials[kFingertip] = material("fingertip", 0.15f, 0.15f, 0.18f);
   ai.mMaterials[kObstacle] = material("obstacle", 0.55f, 0.42f, 0.3f);
   ai.mMaterials[kTarget] = material("target", 0.1f, 0.55f, 0.95f);
+  // One named node per part, so viewers list links and obstacles by name.
   ai.mNumMeshes = static_cast<unsigned>(parts.size());
   ai.mMeshes = new aiMesh*[ai.mNumMeshes];
-  ai.mRootNode->mNumMeshes = ai.mNumMeshes;
-  ai.mRootNode->mMeshes = new unsigned[ai.mNumMeshes];
+  ai.mRootNode->mNumChildren = ai.mNumMeshes;
+  ai.mRootNode->mChildren = new aiNode*[ai.mNumMeshes];
   for (unsigned i = 0; i < ai.mNumMeshes; ++i) {
     ai.mMeshes[i] = toAiMesh(parts[i]);
-    ai.mRootNode->mMeshes[i] = i;
+    auto* node = new aiNode(parts[i].name);
+    node->mParent = ai.mRootNode;
+    node->mNumMeshes = 1;
+    node->mMeshes = new unsigned[1]{i};
+    ai.mRootNode->mChildren[i] = node;
   }
   // glTF is y-up: turn the z-up world so viewers show it standing.
   ai.mRootNode->mTransformation = aiMatrix4x4(1, 0, 0, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1);

@@ -7,6 +7,7 @@ import json
 import os
 import re
 import shutil
+import struct
 import subprocess
 import sys
 import tempfile
@@ -124,6 +125,46 @@ class PreprocessCli(unittest.TestCase):
         with open(os.path.join(self.out, "torus.h5"), "rb") as a, \
                 open(os.path.join(out2, "torus.h5"), "rb") as b:
             self.assertEqual(a.read(), b.read())
+
+    def read_glb(self, path):
+        with open(path, "rb") as f:
+            data = f.read()
+        magic, version, length = struct.unpack_from("<4sII", data, 0)
+        self.assertEqual((magic, version, length), (b"glTF", 2, len(data)))
+        size, kind = struct.unpack_from("<I4s", data, 12)
+        self.assertEqual(kind, b"JSON")
+        return json.loads(data[20:20 + size])
+
+    def test_export_scene_writes_robot_obstacles_and_object_as_gltf(self):
+        for scene in ("table", "shelf", "bin"):
+            glb = os.path.join(self.tmp, scene + ".glb")
+            result = run("--export-scene", os.path.join(SOURCE_DIR, "objects", "scenes", scene + ".json"),
+                         glb, "--db", self.out, check=0)
+            self.assertIn("wrote scene '" + scene + "'", result.stdout)
+            doc = self.read_glb(glb)
+            names = {n.get("name", "") for n in doc["nodes"]}
+            self.assertTrue(any(n.startswith("palm") for n in names), names)
+            self.assertTrue(any(n.startswith("thumb_distal") for n in names), names)
+            self.assertGreaterEqual(len(doc["meshes"]), 40)
+            self.assertEqual(len(doc["materials"]), 5)
+
+    def test_export_scene_rejects_bad_configurations_and_missing_databases(self):
+        scene = os.path.join(SOURCE_DIR, "objects", "scenes", "table.json")
+        glb = os.path.join(self.tmp, "bad.glb")
+        result = run("--export-scene", scene, glb, "--db", self.out, "--config", "0,0,0")
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("has 3 values, expected 13", result.stderr)
+        result = run("--export-scene", scene, glb, "--db", self.out,
+                     "--config", "0,5,0,0,0,0,0,0,0,0,0,0,0")
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("'a2'", result.stderr)
+        result = run("--export-scene", scene, glb, "--db", os.path.join(self.tmp, "nowhere"))
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("no database for target object 'mug'", result.stderr)
+        result = run("--export-scene", scene, os.path.join(self.tmp, "scene.obj"), "--db", self.out)
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("must end in .glb", result.stderr)
+        self.assertFalse(os.path.exists(glb))
 
     def test_database_md_python_example_runs(self):
         with open(os.path.join(SOURCE_DIR, "docs", "database.md")) as f:
