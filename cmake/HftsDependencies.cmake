@@ -19,6 +19,7 @@ find_package(OpenSSL 3 REQUIRED COMPONENTS Crypto)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(URDFDOM REQUIRED IMPORTED_TARGET urdfdom>=3.0)
 find_path(ASIO_INCLUDE_DIR asio.hpp REQUIRED)
+find_path(NANOFLANN_INCLUDE_DIR nanoflann.hpp REQUIRED)
 
 add_library(hfts_dep_pcl INTERFACE)
 target_include_directories(hfts_dep_pcl SYSTEM INTERFACE ${PCL_INCLUDE_DIRS})
@@ -36,6 +37,11 @@ target_include_directories(hfts_dep_asio SYSTEM INTERFACE ${ASIO_INCLUDE_DIR})
 target_compile_definitions(hfts_dep_asio INTERFACE ASIO_STANDALONE)
 target_link_libraries(hfts_dep_asio INTERFACE Threads::Threads)
 add_library(hfts::dep_asio ALIAS hfts_dep_asio)
+
+# nanoflann (header-only k-d tree) for the hand reachability map.
+add_library(hfts_dep_nanoflann INTERFACE)
+target_include_directories(hfts_dep_nanoflann SYSTEM INTERFACE ${NANOFLANN_INCLUDE_DIR})
+add_library(hfts::dep_nanoflann ALIAS hfts_dep_nanoflann)
 
 message(STATUS "hfts: PCL ${PCL_VERSION}, CGAL ${CGAL_VERSION}, Embree ${embree_VERSION}, "
                "assimp ${assimp_VERSION}, HDF5 ${HDF5_VERSION}, FCL ${fcl_VERSION}, "

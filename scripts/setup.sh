@@ -11,7 +11,7 @@ PACKAGES=(
   libeigen3-dev libpcl-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libembree-dev libfcl-dev libompl-dev liburdfdom-dev liburdfdom-tools
   libassimp-dev libhdf5-dev hdf5-tools libqhull-dev nlohmann-json3-dev
-  libasio-dev libcli11-dev libssl-dev
+  libasio-dev libcli11-dev libssl-dev libnanoflann-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   # Python tooling (runs under /usr/bin/python3)

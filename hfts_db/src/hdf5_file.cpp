@@ -1,8 +1,10 @@
 #include "hdf5_file.h"
 
 #include <algorithm>
+#include <sstream>
 #include <utility>
 
+#include "hfts_db/atomic_file.h"
 #include "hfts_db/object_database.h"
 
 namespace hfts::db::h5 {
@@ -125,6 +127,64 @@ Handle& Handle::operator=(Handle&& other) noexcept {
 
 Handle::~Handle() {
   if (id_ >= 0 && close_ != nullptr) close_(id_);
+}
+
+void writeAtomically(const std::filesystem::path& path, const std::string& what,
+                     const std::function<void(hid_t file)>& fill) {
+  const std::filesystem::path tmp = temporarySibling(path);
+  try {
+    {
+      std::lock_guard<std::mutex> lock(libraryMutex());
+      Handle file = createFile(tmp);
+      fill(file.id());
+      if (H5Fflush(file.id(), H5F_SCOPE_GLOBAL) < 0) fail("flushing failed");
+    }
+    std::filesystem::rename(tmp, path);
+  } catch (const std::exception& e) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw DatabaseError(what + ": " + e.what());
+  }
+}
+
+void readFile(const std::filesystem::path& path, const std::string& what,
+              const std::function<void(hid_t file)>& read) {
+  try {
+    std::lock_guard<std::mutex> lock(libraryMutex());
+    Handle file = openFile(path);
+    read(file.id());
+  } catch (const std::exception& e) {
+    throw DatabaseError(what + ": " + e.what());
+  }
+}
+
+std::string joinNames(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& name : names) out += (out.empty() ? "" : ",") + name;
+  return out;
+}
+
+std::vector<std::string> splitNames(const std::string& text) {
+  std::vector<std::string> names;
+  std::stringstream stream(text);
+  for (std::string name; std::getline(stream, name, ',');) names.push_back(name);
+  return names;
+}
+
+void writeFormat(hid_t file, const std::string& name, std::uint64_t version) {
+  writeAttribute(file, "format", name);
+  writeAttribute(file, "format_version", version);
+}
+
+void checkFormat(hid_t file, const std::string& name, std::uint64_t version,
+                 const std::string& kind) {
+  if (H5Aexists(file, "format") <= 0) fail("not an HFTS " + kind);
+  const std::string format = readStringAttribute(file, "format");
+  if (format != name) fail("not an HFTS " + kind + " (format '" + format + "')");
+  const std::uint64_t found = readUInt64(file, "format_version");
+  if (found != version)
+    fail("format version " + std::to_string(found) +
+         " is not supported (this program reads version " + std::to_string(version) + ")");
 }
 
 Handle createFile(const std::filesystem::path& path) {

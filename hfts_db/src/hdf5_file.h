@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -34,6 +35,32 @@ class Handle {
   hid_t id_ = H5I_INVALID_HID;
   herr_t (*close_)(hid_t) = nullptr;
 };
+
+/// Writes a new HDF5 file at `path` atomically: `fill` writes its content
+/// into a temporary sibling (holding libraryMutex()), which is flushed,
+/// closed and renamed over `path`. On any failure the temporary file is
+/// removed, an existing file is left untouched and a DatabaseError
+/// "<what>: <problem>" is thrown.
+void writeAtomically(const std::filesystem::path& path, const std::string& what,
+                     const std::function<void(hid_t file)>& fill);
+
+/// Opens `path` read-only and calls `read` on it, holding libraryMutex().
+/// Every failure becomes a DatabaseError "<what>: <problem>".
+void readFile(const std::filesystem::path& path, const std::string& what,
+              const std::function<void(hid_t file)>& read);
+
+/// Lists of names are stored as one comma-separated string attribute.
+std::string joinNames(const std::vector<std::string>& names);
+/// The inverse; keeps empty items, so a reader can reject them.
+std::vector<std::string> splitNames(const std::string& text);
+
+/// Root attributes `format` (string) and `format_version` (u64) naming a
+/// file's schema.
+void writeFormat(hid_t file, const std::string& name, std::uint64_t version);
+/// Throws DatabaseError "not an HFTS <kind>" unless the root `format` is
+/// `name`, and names both versions unless `format_version` is `version`.
+void checkFormat(hid_t file, const std::string& name, std::uint64_t version,
+                 const std::string& kind);
 
 /// Creates a new file (truncating) with deterministic layout settings.
 Handle createFile(const std::filesystem::path& path);

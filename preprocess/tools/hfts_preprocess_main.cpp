@@ -8,6 +8,7 @@
 
 #include "batch_runner.h"
 #include "database_summary.h"
+#include "hand_map_command.h"
 #include "preprocess/contact_export.h"
 #include "preprocess/contact_filters.h"
 #include "preprocess/database_builder.h"
@@ -109,7 +110,7 @@ int main(int argc, char** argv) {
       "  hfts-preprocess --inspect FILE.h5 [--json]\n"
       "  hfts-preprocess --export-ply FILE.h5 OUT.ply",
       "hfts-preprocess"};
-  std::string input, outDir, inspectFile;
+  std::string input, outDir, inspectFile, handConfig;
   std::vector<std::string> plyArgs, sceneArgs;
   hfts::preprocess::SceneExportOptions sceneOptions;
   bool json = false, quiet = false;
@@ -126,6 +127,9 @@ int main(int argc, char** argv) {
   auto* plyOpt = app.add_option("--export-ply", plyArgs, "Write FILE.h5's contacts to OUT.ply")
                      ->expected(2)
                      ->type_name("FILE.h5 OUT.ply");
+  auto* handOpt = app.add_option("--hand", handConfig,
+                                 "Build the hand reachability map of ROBOT.json into -o DIR")
+                      ->type_name("ROBOT.json");
   auto* sceneOpt = app.add_option("--export-scene", sceneArgs,
                                   "Write SCENE.json with robot and object as binary glTF")
                        ->expected(2)
@@ -142,6 +146,7 @@ int main(int argc, char** argv) {
   addBuildOptions(app, params);
   app.set_version_flag("--version", hfts::preprocess::producerName());
   inspectOpt->excludes(plyOpt);
+  handOpt->excludes(inspectOpt)->excludes(plyOpt)->excludes(sceneOpt);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -151,6 +156,10 @@ int main(int argc, char** argv) {
   try {
     if (!inspectFile.empty()) return inspect(inspectFile, json);
     if (!plyArgs.empty()) return exportPly(plyArgs);
+    if (!handConfig.empty()) {
+      if (outDir.empty()) throw std::invalid_argument("--hand needs -o DIR");
+      return hfts::preprocess::handMapCommand(handConfig, outDir, params.seed);
+    }
     if (!sceneArgs.empty())
       return hfts::preprocess::exportSceneCommand(sceneArgs, sceneOptions, argv[0]);
     if (input.empty() || outDir.empty()) {

@@ -166,6 +166,20 @@ class PreprocessCli(unittest.TestCase):
         self.assertIn("must end in .glb", result.stderr)
         self.assertFalse(os.path.exists(glb))
 
+    def test_hand_map_is_built_deterministically(self):
+        robot = os.path.join(SOURCE_DIR, "robots", "kr5_sdh", "kr5_sdh.json")
+        first, second = os.path.join(self.tmp, "hand1"), os.path.join(self.tmp, "hand2")
+        result = run("--hand", robot, "-o", first, check=0)
+        self.assertIn("8192 grasp postures", result.stdout)
+        run("--hand", robot, "-o", second, check=0)
+        with open(os.path.join(first, "kr5_sdh_hand_map.h5"), "rb") as a, \
+                open(os.path.join(second, "kr5_sdh_hand_map.h5"), "rb") as b:
+            self.assertEqual(a.read(), b.read())
+        self.assertEqual(run("--hand", robot).returncode, 2)
+        result = run("--hand", os.path.join(self.tmp, "missing.json"), "-o", first)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("missing.json", result.stderr)
+
     def test_database_md_python_example_runs(self):
         with open(os.path.join(SOURCE_DIR, "docs", "database.md")) as f:
             blocks = re.findall(r"```python\n(.*?)```", f.read(), re.S)

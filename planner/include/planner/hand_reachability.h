@@ -1,0 +1,128 @@
+#pragma once
+// Hand reachability R(h) of the paper's Eq. (1): how well the hand alone
+// (any palm pose, the hand DoF within their limits) can put its three
+// fingertips onto a contact triple with the pads pushing into the surface.
+// Answered from a precomputed hand map (hfts_db/hand_map.h) through a k-d
+// tree and refined locally (docs/hand_reachability.md).
+
+#include <Eigen/Geometry>
+
+#include <memory>
+#include <vector>
+
+#include "hfts_db/hand_map.h"
+#include "planner/robot_model.h"
+
+namespace hfts::planner {
+
+/// Build options of a hand map, stored with it (defaults and meaning:
+/// docs/hand_reachability.md).
+using HandMapOptions = db::HandMapParameters;
+
+/// Name of the descriptor buildHandMap stores (12 values per sample).
+inline constexpr const char* kHandDescriptorName = "triangle-edges-normals-12";
+inline constexpr int kHandDescriptorSize = 12;
+
+/// The grasp-posture test of the map: true when (1) every two fingertips
+/// are at least `min_fingertip_distance` apart, (2) every pad normal points
+/// towards the centroid of the other fingertips (angle < 90 deg), and
+/// (3) the pads can squeeze: the point of the triangle spanned by the three
+/// unit pad normals nearest to the origin is at most sin(atan(friction))
+/// from it (exact for two opposing fingers: their friction cones can
+/// cancel). Rigid-motion invariant. Both matrices are 3 x 3, one column
+/// per finger; pad normals point out of the pads.
+bool isGraspPosture(const Eigen::Matrix3d& positions, const Eigen::Matrix3d& padNormals,
+                    const HandMapOptions& options);
+
+/// The rigid-motion-invariant descriptor of an ordered triple (one column
+/// per finger), 12 values: the edge lengths |p1-p0|, |p2-p1|, |p0-p2| (m),
+/// then for each i (j = i+1, k = i+2 mod 3) normalWeight times
+/// n_i.u_ij, n_i.u_ik and n_i.(u_ij x u_ik), with u the unit edge vectors.
+/// The last term is signed, so mirror images differ. It is zero apart
+/// exactly for rigid copies (non-degenerate triangles) and grows about
+/// linearly with position (m) and normal (rad, times normalWeight) errors,
+/// so close descriptors are promising starts for the alignment.
+Eigen::Matrix<double, kHandDescriptorSize, 1> handDescriptor(const Eigen::Matrix3d& positions,
+                                                             const Eigen::Matrix3d& padNormals,
+                                                             double normalWeight);
+
+/// Samples the hand joint space within the limits (a Halton sequence
+/// shifted by the seed: even coverage, no clusters) and keeps the
+/// configurations that pass isGraspPosture, until options.num_samples are
+/// kept or options.max_draws were drawn. Stores
+/// fingertip positions and pad normals in the palm frame and the
+/// descriptors. Deterministic for the same model and options. Throws
+/// std::invalid_argument for bad options, ModelError if the hand does not
+/// have exactly 3 fingertips below the palm or if no draw passes.
+db::HandMap buildHandMap(const RobotModel& model, const HandMapOptions& options = {});
+
+/// Search settings of HandReachability::query (docs/hand_reachability.md).
+/// The defaults answer in about 20 us and reach about three quarters of
+/// exactly reachable triples to R < 1 mm (the rest get a small, honest
+/// upper bound); thorough() reaches 99.5% in about 150 us.
+struct HandQueryOptions {
+  int neighbours = 8;             ///< (sample, finger order) pairs from the k-d tree, 1..256
+  double search_tolerance = 6.0;  ///< neighbours may be (1 + this) times farther than the true ones
+  int refined_candidates = 2;     ///< candidates tracked to the triple (best of each order first)
+  int tracking_stages = 2;        ///< continuation stages from a sample to the triple
+  int stage_iterations = 1;       ///< Levenberg-Marquardt iterations per stage
+  int finished_candidates = 1;    ///< best tracked candidates refined further, until one reaches
+  int refine_iterations = 8;      ///< iterations for each finished candidate
+
+  /// For the final grasp: searches much wider.
+  static HandQueryOptions thorough() { return {64, 3.0, 12, 3, 2, 6, 20}; }
+};
+
+/// The answer for one contact triple.
+struct HandQuery {
+  /// R(h) >= 0 (m): the root-mean-square over the fingers i of
+  /// sqrt(|T f_i(q) - c_i|^2 + lambda^2 |R_T a_i(q) + o_i|^2) for the
+  /// returned palm pose T and hand posture q; f_i, a_i fingertip and unit
+  /// pad normal, c_i, o_i contact and unit OUTWARD contact normal, lambda
+  /// the map's normal_weight (m). |R a + o|^2 = 2 (1 - cos) of the angle
+  /// between the pad and the inward normal. The query minimises it over
+  /// palm poses and grasp postures (within the limits, passing
+  /// isGraspPosture) by local search, so it is always achieved by the
+  /// answer and never below the true minimum; 0 means exactly reachable.
+  double residual = 0.0;
+  double position_error = 0.0;         ///< RMS fingertip-to-contact distance (m)
+  double normal_error = 0.0;           ///< largest pad-to-inward-normal angle (rad)
+  Eigen::VectorXd hand_configuration;  ///< hand DoF values (RobotModel order, within limits)
+  /// Palm pose in the contacts' frame: contact frame <- palm frame.
+  Eigen::Isometry3d palm_pose = Eigen::Isometry3d::Identity();
+  /// finger_of_contact[c]: index into RobotModel::fingertips() of the finger on contact c.
+  std::vector<int> finger_of_contact;
+  std::size_t map_sample = 0;  ///< the map sample the answer was refined from
+};
+
+/// Answers R(h) for contact triples from a hand map. Queries are const and
+/// thread-safe.
+class HandReachability {
+ public:
+  /// Throws ModelError when the map was built for another hand: different
+  /// robot name, hand DoF names, limits or fingers, another descriptor, or
+  /// fingertips that forward kinematics does not reproduce; DatabaseError
+  /// when the map itself is invalid. Throws std::invalid_argument naming
+  /// the option for options out of range.
+  HandReachability(const RobotModel& model, db::HandMap map, HandQueryOptions options = {});
+  ~HandReachability();
+  HandReachability(HandReachability&&) noexcept;
+  HandReachability& operator=(HandReachability&&) noexcept;
+
+  /// R(h) and the hand posture and palm pose achieving it for three
+  /// contacts (columns, any frame, metres) with unit outward normals. Tries
+  /// every assignment of contacts to fingers. Throws std::invalid_argument
+  /// naming the argument for a shape other than 3 x 3, non-finite values or
+  /// normals that are not unit vectors (+-1e-3).
+  HandQuery query(const Eigen::Matrix3Xd& contactPositions,
+                  const Eigen::Matrix3Xd& outwardContactNormals) const;
+
+  const db::HandMap& map() const;
+  const HandQueryOptions& options() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hfts::planner
