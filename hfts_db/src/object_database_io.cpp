@@ -1,9 +1,6 @@
 // Reading and writing object databases (schema: docs/database.md).
 
-#include <sstream>
-
 #include "hdf5_file.h"
-#include "hfts_db/atomic_file.h"
 #include "hfts_db/object_database.h"
 
 namespace hfts::db {
@@ -13,20 +10,6 @@ using h5::Handle;
 
 std::vector<hsize_t> shapeOf(Eigen::Index rows, Eigen::Index cols) {
   return {static_cast<hsize_t>(rows), static_cast<hsize_t>(cols)};
-}
-
-std::string joined(const std::vector<std::string>& items) {
-  std::string out;
-  for (const std::string& item : items) out += (out.empty() ? "" : ",") + item;
-  return out;
-}
-
-std::vector<std::string> split(const std::string& text) {
-  std::vector<std::string> items;
-  std::stringstream stream(text);
-  for (std::string item; std::getline(stream, item, ',');)
-    if (!item.empty()) items.push_back(item);
-  return items;
 }
 
 template <typename T>
@@ -47,7 +30,7 @@ void writeParameters(hid_t file, const BuildParameters& p) {
   h5::writeAttribute(g, "max_samples", std::uint64_t{p.max_samples});
   h5::writeAttribute(g, "viewpoints", std::uint64_t{p.viewpoints});
   h5::writeAttribute(g, "patch_radius", p.patch_radius);
-  h5::writeAttribute(g, "filters", joined(p.filters));
+  h5::writeAttribute(g, "filters", h5::joinNames(p.filters));
   h5::writeAttribute(g, "max_curvature", p.max_curvature);
   h5::writeAttribute(g, "max_hull_distance", p.max_hull_distance);
   h5::writeAttribute(g, "min_neighbours", std::uint64_t{p.min_neighbours});
@@ -67,7 +50,7 @@ BuildParameters readParameters(hid_t file) {
   p.max_samples = narrowed(h5::readUInt64(g, "max_samples"), "max_samples");
   p.viewpoints = narrowed(h5::readUInt64(g, "viewpoints"), "viewpoints");
   p.patch_radius = h5::readDouble(g, "patch_radius");
-  p.filters = split(h5::readStringAttribute(g, "filters"));
+  p.filters = h5::splitNames(h5::readStringAttribute(g, "filters"));
   p.max_curvature = h5::readDouble(g, "max_curvature");
   p.max_hull_distance = h5::readDouble(g, "max_hull_distance");
   p.min_neighbours = narrowed(h5::readUInt64(g, "min_neighbours"), "min_neighbours");
@@ -205,8 +188,7 @@ std::vector<HierarchyNode> readLevel(hid_t hierarchy, std::size_t level) {
 }
 
 void writeAll(hid_t file, const ObjectDatabase& db) {
-  h5::writeAttribute(file, "format", std::string(kObjectFormatName));
-  h5::writeAttribute(file, "format_version", std::uint64_t{kObjectFormatVersion});
+  h5::writeFormat(file, kObjectFormatName, kObjectFormatVersion);
   h5::writeAttribute(file, "producer", db.producer);
   h5::writeAttribute(file, "name", db.name);
   h5::writeAttribute(file, "source_mesh", db.source_mesh);
@@ -223,7 +205,7 @@ void writeAll(hid_t file, const ObjectDatabase& db) {
       removed.push_back(r.removed);
     }
     h5::writeAttribute(group.id(), "num_samples", db.num_samples);
-    h5::writeAttribute(group.id(), "filters", joined(names));
+    h5::writeAttribute(group.id(), "filters", h5::joinNames(names));
     h5::writeAttribute(group.id(), "removed", removed);
   }
   writeGeometry(file, db.geometry);
@@ -234,16 +216,7 @@ void writeAll(hid_t file, const ObjectDatabase& db) {
 }
 
 void readHeader(hid_t file, ObjectDatabase& db) {
-  if (H5Aexists(file, "format") <= 0) throw DatabaseError("not an HFTS object database");
-  const std::string format = h5::readStringAttribute(file, "format");
-  if (format != kObjectFormatName)
-    throw DatabaseError("not an HFTS object database (format '" + format + "')");
-  const std::uint64_t version = h5::readUInt64(file, "format_version");
-  if (version != kObjectFormatVersion)
-    throw DatabaseError("format version " + std::to_string(version) +
-                        " is not supported (this "
-                        "program reads version " +
-                        std::to_string(kObjectFormatVersion) + ")");
+  h5::checkFormat(file, kObjectFormatName, kObjectFormatVersion, "object database");
   db.producer = h5::readStringAttribute(file, "producer");
   db.name = h5::readStringAttribute(file, "name");
   db.source_mesh = h5::readStringAttribute(file, "source_mesh");
@@ -257,7 +230,8 @@ ObjectDatabase readAll(hid_t file) {
   {
     Handle group = h5::openGroup(file, "preprocess");
     db.num_samples = h5::readUInt64(group.id(), "num_samples");
-    const std::vector<std::string> names = split(h5::readStringAttribute(group.id(), "filters"));
+    const std::vector<std::string> names =
+        h5::splitNames(h5::readStringAttribute(group.id(), "filters"));
     const std::vector<std::uint64_t> removed = h5::readUInt64Attribute(group.id(), "removed");
     if (names.size() != removed.size())
       throw DatabaseError("preprocess: filters and removed differ in length");
@@ -278,32 +252,13 @@ ObjectDatabase readAll(hid_t file) {
 void saveObjectDatabase(const ObjectDatabase& db, const std::filesystem::path& path) {
   const std::string what = "database '" + path.string() + "'";
   validateObjectDatabase(db, what);
-  const std::filesystem::path tmp = temporarySibling(path);
-  try {
-    {
-      std::lock_guard<std::mutex> lock(h5::libraryMutex());
-      Handle file = h5::createFile(tmp);
-      writeAll(file.id(), db);
-      if (H5Fflush(file.id(), H5F_SCOPE_GLOBAL) < 0) throw DatabaseError("flushing failed");
-    }
-    std::filesystem::rename(tmp, path);
-  } catch (const std::exception& e) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw DatabaseError(what + ": " + e.what());
-  }
+  h5::writeAtomically(path, what, [&](hid_t file) { writeAll(file, db); });
 }
 
 ObjectDatabase loadObjectDatabase(const std::filesystem::path& path) {
   const std::string what = "database '" + path.string() + "'";
   ObjectDatabase db;
-  try {
-    std::lock_guard<std::mutex> lock(h5::libraryMutex());
-    Handle file = h5::openFile(path);
-    db = readAll(file.id());
-  } catch (const std::exception& e) {
-    throw DatabaseError(what + ": " + e.what());
-  }
+  h5::readFile(path, what, [&](hid_t file) { db = readAll(file); });
   validateObjectDatabase(db, what);
   return db;
 }

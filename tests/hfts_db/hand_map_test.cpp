@@ -5,6 +5,7 @@
 
 #include <functional>
 
+#include "file_corruption.h"
 #include "planner/hand_reachability.h"
 #include "test_meshes.h"
 
@@ -107,56 +108,31 @@ TEST(HandMap, MissingEmptyAndForeignFilesAreRejected) {
   expectLoadError(dir / "missing.h5", "no such file");
   test::writeText(dir / "text.h5", "this is not a hand map\n");
   expectLoadError(dir / "text.h5", "not an HDF5 file");
-  const hid_t file =
-      H5Fcreate((dir / "foreign.h5").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  H5Gclose(H5Gcreate2(file, "data", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-  H5Fclose(file);
+  test::writeForeignHdf5(dir / "foreign.h5");
   expectLoadError(dir / "foreign.h5", "not an HFTS hand map");
 }
 
 TEST(HandMap, OtherFormatVersionsAreRejected) {
   TempDir dir;
   saveHandMap(sample(), dir / "v.h5");
-  const hid_t file = H5Fopen((dir / "v.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  const hid_t attr = H5Aopen(file, "format_version", H5P_DEFAULT);
-  const std::uint64_t version = 2;
-  H5Awrite(attr, H5T_NATIVE_UINT64, &version);
-  H5Aclose(attr);
-  H5Fclose(file);
+  test::setFormatVersion(dir / "v.h5", 2);
   expectLoadError(dir / "v.h5", "format version 2 is not supported");
 }
 
 TEST(HandMap, TruncatedFilesAreRejected) {
   TempDir dir;
   saveHandMap(sample(), dir / "full.h5");
-  const std::string bytes = test::readBytes(dir / "full.h5");
-  for (const double fraction : {0.0001, 0.01, 0.3, 0.7, 0.99}) {
-    const auto length = static_cast<std::size_t>(fraction * static_cast<double>(bytes.size()));
-    test::writeText(dir / "cut.h5", bytes.substr(0, length));
-    SCOPED_TRACE(length);
-    EXPECT_THROW(loadHandMap(dir / "cut.h5"), DatabaseError);
-  }
+  test::expectTruncationIsRejected<DatabaseError>(
+      test::readBytes(dir / "full.h5"), dir / "cut.h5",
+      [](const std::filesystem::path& p) { loadHandMap(p); });
 }
 
 TEST(HandMap, BitFlipsAreDetectedOrHarmless) {
-  // Wherever a bit flips, loading either fails with a DatabaseError or
-  // yields exactly the original content (the flip hit unused bytes).
   TempDir dir;
   saveHandMap(sample(), dir / "full.h5");
-  const std::string bytes = test::readBytes(dir / "full.h5");
-  int detected = 0;
-  const std::size_t step = std::max<std::size_t>(1, bytes.size() / 200);
-  for (std::size_t offset = 0; offset < bytes.size(); offset += step) {
-    std::string flipped = bytes;
-    flipped[offset] = static_cast<char>(flipped[offset] ^ (1 << (offset % 8)));
-    test::writeText(dir / "flip.h5", flipped);
-    SCOPED_TRACE(offset);
-    try {
-      expectSame(loadHandMap(dir / "flip.h5"), sample());
-    } catch (const DatabaseError&) {
-      ++detected;
-    }
-  }
+  const int detected = test::countDetectedBitFlips<DatabaseError>(
+      test::readBytes(dir / "full.h5"), dir / "flip.h5", 200,
+      [](const std::filesystem::path& p) { expectSame(loadHandMap(p), sample()); });
   EXPECT_GT(detected, 150);  // nearly all of the file is checksummed data
 }
 

@@ -3,6 +3,7 @@
 
 #include <fstream>
 
+#include "file_corruption.h"
 #include "hfts_db/atomic_file.h"
 #include "hfts_db/object_database.h"
 #include "preprocess/database_builder.h"
@@ -121,60 +122,31 @@ TEST(ObjectDatabase, MissingEmptyAndForeignFilesAreRejected) {
   expectLoadError(dir / "empty.h5", "not an HDF5 file");
   test::writeText(dir / "text.h5", "this is not a database\n");
   expectLoadError(dir / "text.h5", "not an HDF5 file");
-  // A valid HDF5 file of someone else's.
-  const hid_t file =
-      H5Fcreate((dir / "foreign.h5").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  H5Gclose(H5Gcreate2(file, "data", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-  H5Fclose(file);
+  test::writeForeignHdf5(dir / "foreign.h5");
   expectLoadError(dir / "foreign.h5", "not an HFTS object database");
 }
 
 TEST(ObjectDatabase, NewerFormatVersionIsRejected) {
   TempDir dir;
   saveObjectDatabase(sample(), dir / "v.h5");
-  const hid_t file = H5Fopen((dir / "v.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  const hid_t attr = H5Aopen(file, "format_version", H5P_DEFAULT);
-  const std::uint64_t version = 99;
-  H5Awrite(attr, H5T_NATIVE_UINT64, &version);
-  H5Aclose(attr);
-  H5Fclose(file);
+  test::setFormatVersion(dir / "v.h5", 99);
   expectLoadError(dir / "v.h5", "format version 99 is not supported");
 }
 
 TEST(ObjectDatabase, TruncatedFilesAreRejected) {
   TempDir dir;
   saveObjectDatabase(sample(), dir / "full.h5");
-  const std::string bytes = test::readBytes(dir / "full.h5");
-  for (const double fraction : {0.0001, 0.01, 0.3, 0.7, 0.99}) {
-    const auto length = static_cast<std::size_t>(fraction * static_cast<double>(bytes.size()));
-    test::writeText(dir / "cut.h5", bytes.substr(0, length));
-    SCOPED_TRACE(length);
-    EXPECT_THROW(loadObjectDatabase(dir / "cut.h5"), DatabaseError);
-  }
+  test::expectTruncationIsRejected<DatabaseError>(
+      test::readBytes(dir / "full.h5"), dir / "cut.h5",
+      [](const std::filesystem::path& p) { loadObjectDatabase(p); });
 }
 
 TEST(ObjectDatabase, BitFlipsAreDetectedOrHarmless) {
-  // Wherever a bit flips, loading either fails with a DatabaseError or
-  // yields exactly the original content (the flip hit unused bytes).
   TempDir dir;
   saveObjectDatabase(sample(), dir / "full.h5");
-  const std::string bytes = test::readBytes(dir / "full.h5");
-  int detected = 0;
-  const std::size_t step = std::max<std::size_t>(1, bytes.size() / 400);
-  for (std::size_t offset = 0; offset < bytes.size(); offset += step) {
-    std::string flipped = bytes;
-    flipped[offset] = static_cast<char>(flipped[offset] ^ (1 << (offset % 8)));
-    test::writeText(dir / "flip.h5", flipped);
-    SCOPED_TRACE(offset);
-    try {
-      const ObjectDatabase db = loadObjectDatabase(dir / "flip.h5");
-      EXPECT_EQ(db.positions, sample().positions);
-      EXPECT_EQ(db.normals, sample().normals);
-      EXPECT_EQ(db.geometry.rho, sample().geometry.rho);
-    } catch (const DatabaseError&) {
-      ++detected;
-    }
-  }
+  const int detected = test::countDetectedBitFlips<DatabaseError>(
+      test::readBytes(dir / "full.h5"), dir / "flip.h5", 400,
+      [](const std::filesystem::path& p) { expectSame(loadObjectDatabase(p), sample()); });
   EXPECT_GT(detected, 100);  // most of the file is checksummed data
 }
 
