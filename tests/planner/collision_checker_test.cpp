@@ -111,22 +111,29 @@ TEST(CollisionChecker, EveryObjectIsWithinReachInEveryScene) {
   }
 }
 
-TEST(CollisionChecker, PalmInsideTheObjectCollides) {
-  const Scene scene = bundledScene("table");
-  const db::ObjectDatabase& mug = objects().at("mug");
-  CollisionChecker checker(m(), scene, &mug.geometry);
+TEST(CollisionChecker, PalmInsideTheTargetCollidesInEveryScene) {
   const ArmIk ik(m());
   std::mt19937_64 rng(2);
-  Eigen::Isometry3d palm = Eigen::Isometry3d::Identity();
-  palm.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();  // down
-  palm.translation() = scene.target_pose * Eigen::Vector3d(0, 0, 0.06);
-  const auto solutions = ik.solvePalm(palm, rng);
-  ASSERT_FALSE(solutions.empty());
-  Eigen::VectorXd q(13);
-  q << solutions[0], m().handOpen();
-  CollisionPair pair;
-  EXPECT_TRUE(checker.inCollision(q, &pair));
-  EXPECT_DOUBLE_EQ(checker.clearance(q), 0.0);
+  for (const char* name : kScenes) {
+    SCOPED_TRACE(name);
+    const Scene scene = bundledScene(name);
+    const db::ObjectDatabase& target = objects().at(scene.target_object);
+    CollisionChecker checker(m(), scene, &target.geometry);
+    // The palm, pointing down, at the middle of the object's bounding box.
+    Eigen::Isometry3d palm = Eigen::Isometry3d::Identity();
+    palm.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    palm.translation() = scene.robot_base.inverse() * scene.target_pose *
+                         (0.5 * (target.geometry.bbox_min + target.geometry.bbox_max));
+    const auto solutions = ik.solvePalm(palm, rng);
+    ASSERT_FALSE(solutions.empty());
+    for (const Eigen::VectorXd& arm : solutions) {
+      Eigen::VectorXd q(13);
+      q << arm, m().handOpen();
+      CollisionPair pair;
+      EXPECT_TRUE(checker.inCollision(q, &pair));
+      EXPECT_DOUBLE_EQ(checker.clearance(q), 0.0);
+    }
+  }
 }
 
 TEST(CollisionChecker, FoldedArmCollidesWithItself) {
