@@ -37,20 +37,30 @@ Scene bundledScene(const std::string& name) {
 
 const char* kScenes[] = {"table", "shelf", "bin"};
 
-TEST(CollisionChecker, EveryBundledObjectFitsEveryScene) {
+/// Calls check(scene, object database, checker) with every bundled object
+/// placed at the target pose of every bundled scene.
+template <typename Check>
+void forEveryObjectInEveryScene(Check check) {
   for (const char* name : kScenes) {
     Scene scene = bundledScene(name);
     for (const auto& [object, db] : objects()) {
       SCOPED_TRACE(std::string(name) + " / " + object);
       scene.target_object = object;
       CollisionChecker checker(m(), scene, &db.geometry);
-      CollisionPair pair;
-      EXPECT_FALSE(checker.targetTouchesObstacles(&pair)) << pair.first << " / " << pair.second;
-      const Eigen::VectorXd start = scene.start ? *scene.start : m().home();
-      EXPECT_FALSE(checker.inCollision(start, &pair)) << pair.first << " / " << pair.second;
-      EXPECT_GT(checker.clearance(start), 0.0);  // the base stands 1 mm above the table
+      check(scene, db, checker);
     }
   }
+}
+
+TEST(CollisionChecker, EveryBundledObjectFitsEveryScene) {
+  forEveryObjectInEveryScene(
+      [](const Scene& scene, const db::ObjectDatabase&, CollisionChecker& checker) {
+        CollisionPair pair;
+        EXPECT_FALSE(checker.targetTouchesObstacles(&pair)) << pair.first << " / " << pair.second;
+        const Eigen::VectorXd start = scene.start ? *scene.start : m().home();
+        EXPECT_FALSE(checker.inCollision(start, &pair)) << pair.first << " / " << pair.second;
+        EXPECT_GT(checker.clearance(start), 0.0);  // the base stands 1 mm above the table
+      });
 }
 
 /// Palm poses around the object: palm z pointing at the object's centre
@@ -82,33 +92,28 @@ std::vector<Eigen::Isometry3d> approaches(const Scene& scene, const db::ObjectGe
 TEST(CollisionChecker, EveryObjectIsWithinReachInEveryScene) {
   const ArmIk ik(m());
   std::mt19937_64 rng(1);
-  for (const char* name : kScenes) {
-    Scene scene = bundledScene(name);
-    for (const auto& [object, db] : objects()) {
-      SCOPED_TRACE(std::string(name) + " / " + object);
-      scene.target_object = object;
-      CollisionChecker checker(m(), scene, &db.geometry);
-      const double radius = 0.5 * (db.geometry.bbox_max - db.geometry.bbox_min).norm();
-      int free = 0, reachable = 0, tried = 0;
-      for (const Eigen::Isometry3d& palm : approaches(scene, db.geometry, radius + 0.24)) {
-        ++tried;
-        const auto solutions = ik.solvePalm(palm, rng);
-        reachable += !solutions.empty();
-        for (const Eigen::VectorXd& arm : solutions) {
-          Eigen::VectorXd q(13);
-          q << arm, m().handOpen();
-          if (!checker.inCollision(q)) {
-            ++free;
-            break;
+  forEveryObjectInEveryScene(
+      [&](const Scene& scene, const db::ObjectDatabase& db, CollisionChecker& checker) {
+        const double radius = 0.5 * (db.geometry.bbox_max - db.geometry.bbox_min).norm();
+        int free = 0, reachable = 0, tried = 0;
+        for (const Eigen::Isometry3d& palm : approaches(scene, db.geometry, radius + 0.24)) {
+          ++tried;
+          const auto solutions = ik.solvePalm(palm, rng);
+          reachable += !solutions.empty();
+          for (const Eigen::VectorXd& arm : solutions) {
+            Eigen::VectorXd q(13);
+            q << arm, m().handOpen();
+            if (!checker.inCollision(q)) {
+              ++free;
+              break;
+            }
           }
         }
-      }
-      EXPECT_GT(reachable, tried / 4);
-      EXPECT_GT(free, 0);
-      // Cluttered: many approaches are blocked.
-      EXPECT_LT(free, reachable);
-    }
-  }
+        EXPECT_GT(reachable, tried / 4);
+        EXPECT_GT(free, 0);
+        // Cluttered: many approaches are blocked.
+        EXPECT_LT(free, reachable);
+      });
 }
 
 TEST(CollisionChecker, PalmInsideTheTargetCollidesInEveryScene) {
