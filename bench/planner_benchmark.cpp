@@ -9,6 +9,7 @@
 
 #include "planner/arm_ik.h"
 #include "planner/collision_checker.h"
+#include "planner/grasp_quality.h"
 #include "planner/kinematics.h"
 #include "preprocess/database_builder.h"
 
@@ -59,6 +60,27 @@ void BM_ClosedFormIkAllSolutions(benchmark::State& state) {
       static_cast<double>(solutions) / static_cast<double>(state.iterations());
 }
 BENCHMARK(BM_ClosedFormIkAllSolutions);
+
+/// Epsilon of random 3-contact grasps on a 5 cm sphere (K = 8, mu = 0.5).
+void BM_GraspQuality3Contacts(benchmark::State& state) {
+  std::mt19937_64 rng(4);
+  std::normal_distribution<double> g;
+  std::vector<planner::GraspQualityRequest> requests(256);
+  for (auto& r : requests) {
+    r.positions.resize(3, 3);
+    r.normals.resize(3, 3);
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector3d p = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+      r.positions.col(i) = 0.05 * p;
+      r.normals.col(i) = (-p + 0.2 * Eigen::Vector3d(g(rng), g(rng), g(rng))).normalized();
+    }
+    r.torque_scale = 0.05;
+  }
+  std::size_t i = 0, stable = 0;
+  for (auto _ : state) stable += planner::graspQuality(requests[i++ % requests.size()]).epsilon > 0;
+  state.counters["stable"] = static_cast<double>(stable) / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_GraspQuality3Contacts);
 
 /// Full-robot collision checks (environment, target object, self) of
 /// configurations in a bundled scene. `freeOnly` keeps collision-free
