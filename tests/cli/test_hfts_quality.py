@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+"""End-to-end tests of hfts-quality (docs/grasp_quality.md)."""
+
+import argparse
+import json
+import math
+import subprocess
+import sys
+import unittest
+
+BINARY = None
+
+
+def quality(request):
+    text = request if isinstance(request, str) else json.dumps(request)
+    return subprocess.run([BINARY, "-"], input=text, capture_output=True, text=True, timeout=60)
+
+
+def equator(degrees, **extra):
+    contacts = []
+    for d in degrees:
+        a = math.radians(d)
+        p = [math.cos(a), math.sin(a), 0.0]
+        contacts.append({"position": p, "normal": [-v for v in p]})
+    return {"contacts": contacts, **extra}
+
+
+class HftsQuality(unittest.TestCase):
+    def test_stable_grasp_has_positive_epsilon(self):
+        result = quality(equator([0, 120, 240]))
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertGreater(json.loads(result.stdout)["epsilon"], 0.1)
+
+    def test_outward_normals_give_the_same_value(self):
+        inward = json.loads(quality(equator([0, 120, 240])).stdout)["epsilon"]
+        request = equator([0, 120, 240], normals="outward")
+        for c in request["contacts"]:
+            c["normal"] = [-v for v in c["normal"]]
+        self.assertAlmostEqual(json.loads(quality(request).stdout)["epsilon"], inward, places=12)
+
+    def test_two_contacts_and_more_friction(self):
+        self.assertEqual(json.loads(quality(equator([0, 180])).stdout)["epsilon"], 0.0)
+        low = json.loads(quality(equator([0, 100, 230], friction=0.3)).stdout)["epsilon"]
+        high = json.loads(quality(equator([0, 100, 230], friction=0.8)).stdout)["epsilon"]
+        self.assertGreater(high, low)
+
+    def test_bad_requests_name_the_field(self):
+        cases = [
+            ("{", "not valid JSON"),
+            ("[]", "JSON object"),
+            (json.dumps({"contacts": []}), "'contacts'"),
+            (json.dumps(equator([0, 120], friction=-1)), "'friction'"),
+            (json.dumps(equator([0, 120], cone_edges=2.5)), "'cone_edges'"),
+            (json.dumps(equator([0, 120], normals="sideways")), "'normals'"),
+            (json.dumps(equator([0, 120], weight=3)), "unknown field 'weight'"),
+            (json.dumps({"contacts": [{"position": [0, 0], "normal": [1, 0, 0]}]}),
+             "'contacts[0].position'"),
+            (json.dumps({"contacts": [{"position": [0, 0, 0], "normal": [2, 0, 0]}]}),
+             "unit vector"),
+        ]
+        for text, problem in cases:
+            result = quality(text)
+            self.assertEqual(result.returncode, 2, text)
+            self.assertIn(problem, result.stderr, text)
+        missing = subprocess.run([BINARY, "/nonexistent.json"], capture_output=True, text=True)
+        self.assertEqual(missing.returncode, 1)
+        self.assertEqual(subprocess.run([BINARY], capture_output=True).returncode, 2)
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--binary", required=True)
+    args, rest = parser.parse_known_args()
+    BINARY = args.binary
+    unittest.main(argv=[sys.argv[0], *rest], verbosity=2)
