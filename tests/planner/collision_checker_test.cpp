@@ -5,9 +5,9 @@
 #include <map>
 #include <random>
 
+#include "bundled_objects.h"
 #include "planner/arm_ik.h"
 #include "planner/kinematics.h"
-#include "preprocess/database_builder.h"
 #include "robot_fixture.h"
 #include "test_meshes.h"
 
@@ -18,17 +18,8 @@ const RobotModel& m() {
   return test::kr5Sdh();
 }
 
-/// Databases of the bundled objects, built once (about a second in all).
 const std::map<std::string, db::ObjectDatabase>& objects() {
-  static const std::map<std::string, db::ObjectDatabase> all = [] {
-    std::map<std::string, db::ObjectDatabase> out;
-    for (const auto& entry : std::filesystem::directory_iterator(test::bundledMeshDir())) {
-      auto db = preprocess::buildObjectDatabaseFromFile(entry.path(), {}).database;
-      out.emplace(db.name, std::move(db));
-    }
-    return out;
-  }();
-  return all;
+  return test::bundledObjects();
 }
 
 Scene bundledScene(const std::string& name) {

@@ -1,0 +1,75 @@
+#pragma once
+// The HFTS grasp objective of the paper's Eq. (1), Q(h) / (R(h) + alpha),
+// and its stochastic hill climbing (Sec. II-A).
+
+#include <memory>
+#include <random>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "planner/grasp_quality.h"
+#include "planner/hand_reachability.h"
+#include "planner/hfts_space.h"
+
+namespace hfts::planner {
+
+struct ObjectiveOptions {
+  double alpha = 1e-6;  ///< Eq. (1): keeps the ratio finite when R(h) = 0
+  double friction = 0.5;
+  int cone_edges = 8;
+};
+
+/// One evaluated node.
+struct GraspEvaluation {
+  double quality = 0.0;       ///< Q(h): Ferrari-Canny epsilon of the representative grasp
+  double reachability = 0.0;  ///< R(h) (m) from the hand map
+  /// Q / (R + alpha). With R = 0 the value is Q / alpha: an exactly
+  /// reachable grasp outranks any inexact one of similar quality, and
+  /// among exact ones quality decides.
+  double value = 0.0;
+  HandQuery hand;  ///< the posture and palm pose behind R(h)
+};
+
+/// Evaluates HFTS nodes on their representative grasps and caches the
+/// results (a node is evaluated once). Not thread-safe. The space and the
+/// reachability must outlive it.
+class GraspObjective {
+ public:
+  GraspObjective(const HftsSpace& space, const HandReachability& reachability,
+                 ObjectiveOptions options = {});
+  const GraspEvaluation& evaluate(const HftsNode& node);
+  const HftsSpace& space() const { return space_; }
+  std::size_t evaluations() const { return cache_.size(); }
+
+ private:
+  const HftsSpace& space_;
+  const HandReachability& reachability_;
+  ObjectiveOptions options_;
+  std::unordered_map<HftsNode, GraspEvaluation, HftsNodeHash> cache_;
+};
+
+/// The outcome of a hill climb on one level.
+struct ClimbResult {
+  HftsNode best;
+  GraspEvaluation evaluation;
+  /// The objective of the current node after each iteration: never
+  /// decreases.
+  std::vector<double> trace;
+  bool found = false;  ///< false when every child was excluded
+};
+
+/// Stochastic hill climbing among the children of `parent` for
+/// `iterations` steps: start at a random child, propose a neighbour that
+/// differs in one finger's partition, move when it is better. Children in
+/// `excluded` (e.g. sampled before) are never proposed.
+ClimbResult hillClimb(GraspObjective& objective, const HftsNode& parent, int iterations,
+                      std::mt19937_64& rng,
+                      const std::unordered_set<HftsNode, HftsNodeHash>* excluded = nullptr);
+
+/// The decoupled optimiser of Sec. II-A: hill climbing with a fixed number
+/// of iterations on every level, descending into the best node, from the
+/// root to a leaf. Returns the leaf.
+ClimbResult optimizeToLeaf(GraspObjective& objective, int iterationsPerLevel, std::mt19937_64& rng);
+
+}  // namespace hfts::planner
