@@ -2,13 +2,14 @@
 // stay in this file.
 #include "planner/grasp_quality.h"
 
+#include "wrench_hull.h"
+
 extern "C" {
 #include <libqhull_r/qhull_ra.h>
 }
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <Eigen/SVD>
 
 #include <cmath>
 #include <cstdio>
@@ -115,9 +116,10 @@ GraspQualityResult graspQuality(const GraspQualityRequest& request) {
   GraspQualityResult result;
   // The origin can only be strictly inside a full-dimensional hull.
   if (w.cols() < 7) return result;
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(w);
-  if (svd.singularValues()(5) <= 1e-12 * svd.singularValues()(0)) return result;
-  result.epsilon = originDepth(w);
+  // The specialised hull is exact and fast; Qhull is the fallback for
+  // the rare sets where rounding makes its bookkeeping inconsistent.
+  const std::optional<double> fast = originDepthIncremental(w);
+  result.epsilon = fast ? *fast : originDepth(w);
   return result;
 }
 

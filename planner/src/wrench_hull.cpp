@@ -1,0 +1,231 @@
+#include "wrench_hull.h"
+
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace hfts::planner {
+namespace {
+
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+constexpr int kDim = 6;
+
+struct Facet {
+  std::array<int, kDim> vertices{};    // wrench indices
+  std::array<int, kDim> neighbours{};  // facet across the ridge without vertices[k]
+  Vector6 normal = Vector6::Zero();    // unit, outward
+  double offset = 0.0;                 // normal . x = offset on the plane
+  bool alive = true;
+  bool visible = false;
+};
+
+class Hull {
+ public:
+  explicit Hull(const Eigen::Matrix<double, 6, Eigen::Dynamic>& w) : w_(w) {
+    scale_ = std::max(1e-300, w.cwiseAbs().maxCoeff());
+    facets_.reserve(1024);
+    eps_ = 1e-11 * scale_;
+  }
+
+  /// Returns false when the points do not span 6-D (the hull is flat).
+  bool initialSimplex(std::array<int, kDim + 1>& simplex) const {
+    const Vector6 mean = w_.rowwise().mean();
+    std::vector<Vector6> basis;
+    int first = 0;
+    (w_.colwise() - mean).colwise().squaredNorm().maxCoeff(&first);
+    simplex[0] = first;
+    for (int k = 1; k <= kDim; ++k) {
+      double best = -1.0;
+      for (int i = 0; i < w_.cols(); ++i) {
+        Vector6 v = w_.col(i) - w_.col(first);
+        for (const Vector6& b : basis) v -= b.dot(v) * b;
+        if (v.norm() > best) {
+          best = v.norm();
+          simplex[static_cast<std::size_t>(k)] = i;
+        }
+      }
+      if (best <= 1e-9 * scale_) return false;
+      Vector6 v = w_.col(simplex[static_cast<std::size_t>(k)]) - w_.col(first);
+      for (const Vector6& b : basis) v -= b.dot(v) * b;
+      basis.push_back(v.normalized());
+    }
+    return true;
+  }
+
+  void build(const std::array<int, kDim + 1>& simplex) {
+    Vector6 interior = Vector6::Zero();
+    for (const int v : simplex) interior += w_.col(v) / (kDim + 1);
+    for (int omit = 0; omit <= kDim; ++omit) {
+      Facet f;
+      int k = 0;
+      for (int j = 0; j <= kDim; ++j) {
+        if (j == omit) continue;
+        f.vertices[static_cast<std::size_t>(k)] = simplex[static_cast<std::size_t>(j)];
+        // Across the ridge without simplex[j] lies the facet omitting j.
+        f.neighbours[static_cast<std::size_t>(k)] = j;
+        ++k;
+      }
+      Eigen::Matrix<double, kDim - 1, kDim> edges;
+      for (int r = 1; r < kDim; ++r)
+        edges.row(r - 1) =
+            (w_.col(f.vertices[static_cast<std::size_t>(r)]) - w_.col(f.vertices[0])).transpose();
+      f.normal = Eigen::FullPivLU<Eigen::MatrixXd>(edges).kernel().col(0).normalized();
+      f.offset = f.normal.dot(w_.col(f.vertices[0]));
+      if (f.normal.dot(interior) > f.offset) {
+        f.normal = -f.normal;
+        f.offset = -f.offset;
+      }
+      facets_.push_back(f);
+      alive_.push_back(omit);
+    }
+  }
+
+  /// Adds point p; false on a combinatorial inconsistency.
+  bool insert(int p) {
+    const Vector6 x = w_.col(p);
+    visible_.clear();
+    for (const int fi : alive_) {
+      Facet& f = facets_[static_cast<std::size_t>(fi)];
+      f.visible = f.normal.dot(x) - f.offset > eps_;
+      if (f.visible) visible_.push_back(fi);
+    }
+    if (visible_.empty()) return true;
+    const std::size_t firstNew = facets_.size();
+    for (const int fi : visible_) {
+      for (int k = 0; k < kDim; ++k) {
+        const int ni =
+            facets_[static_cast<std::size_t>(fi)].neighbours[static_cast<std::size_t>(k)];
+        if (facets_[static_cast<std::size_t>(ni)].visible) continue;
+        if (!addHorizonFacet(fi, k, ni, p, x)) return false;
+      }
+    }
+    // Keep the alive list: drop the visible facets, add the new ones.
+    std::size_t kept = 0;
+    for (const int fi : alive_) {
+      Facet& f = facets_[static_cast<std::size_t>(fi)];
+      if (f.visible) {
+        f.alive = false;
+        f.visible = false;
+      } else {
+        alive_[kept++] = fi;
+      }
+    }
+    alive_.resize(kept);
+    for (std::size_t gi = firstNew; gi < facets_.size(); ++gi)
+      alive_.push_back(static_cast<int>(gi));
+    return linkNewFacets(firstNew, p);
+  }
+
+  double depth() const {
+    double best = std::numeric_limits<double>::infinity();
+    for (const int fi : alive_) best = std::min(best, facets_[static_cast<std::size_t>(fi)].offset);
+    return best > eps_ ? best : 0.0;
+  }
+
+ private:
+  /// The facet on the horizon ridge of visible facet `fi` (without its
+  /// vertex k) and point p. Its plane contains the ridge, so it is a
+  /// combination of the planes of fi and of the hidden neighbour ni.
+  bool addHorizonFacet(int fi, int k, int ni, int p, const Vector6& x) {
+    Facet g;
+    const Facet& f = facets_[static_cast<std::size_t>(fi)];
+    const Facet& n = facets_[static_cast<std::size_t>(ni)];
+    g.vertices = f.vertices;
+    g.vertices[static_cast<std::size_t>(k)] = p;
+    const double above = f.normal.dot(x) - f.offset;  // > 0: p sees f
+    const double below = n.offset - n.normal.dot(x);  // >= 0: p does not see n
+    Vector6 normal = below * f.normal + above * n.normal;
+    double offset = below * f.offset + above * n.offset;
+    const double length = normal.norm();
+    if (!(length > 0.0)) return false;
+    g.normal = normal / length;
+    g.offset = offset / length;
+    g.neighbours.fill(-1);
+    g.neighbours[static_cast<std::size_t>(k)] = ni;
+    const int gi = static_cast<int>(facets_.size());
+    Facet& hidden = facets_[static_cast<std::size_t>(ni)];
+    const auto it = std::find(hidden.neighbours.begin(), hidden.neighbours.end(), fi);
+    if (it == hidden.neighbours.end()) return false;
+    *it = gi;
+    facets_.push_back(g);
+    return true;
+  }
+
+  /// New facets meet each other across ridges that contain p: pair them
+  /// through a small open-addressing table keyed by the ridge's vertex set
+  /// (a bit mask: at most 64 wrenches, checked by the caller).
+  bool linkNewFacets(std::size_t firstNew, int p) {
+    const std::size_t ridges = (facets_.size() - firstNew) * (kDim - 1);
+    if (table_.size() < 2 * ridges) {
+      std::size_t capacity = 64;
+      while (capacity < 2 * ridges) capacity *= 2;
+      table_.assign(capacity, Slot{});
+    }
+    ++generation_;  // empties the table without touching it
+    const std::size_t mask = table_.size() - 1;
+    long unpaired = 0;
+    for (std::size_t gi = firstNew; gi < facets_.size(); ++gi) {
+      const Facet& g = facets_[gi];
+      std::uint64_t all = 0;
+      for (const int v : g.vertices) all |= std::uint64_t{1} << v;
+      for (int k = 0; k < kDim; ++k) {
+        const int v = g.vertices[static_cast<std::size_t>(k)];
+        if (v == p) continue;
+        const std::uint64_t key = all & ~(std::uint64_t{1} << v);
+        for (std::size_t h = (key * 0x9e3779b97f4a7c15ULL) >> 40;; ++h) {
+          Slot& slot = table_[h & mask];
+          if (slot.generation != generation_) {
+            slot = {key, generation_, static_cast<int>(gi), k};
+            ++unpaired;
+            break;
+          }
+          if (slot.key == key) {
+            if (slot.facet < 0) return false;  // a third facet on one ridge
+            facets_[gi].neighbours[static_cast<std::size_t>(k)] = slot.facet;
+            facets_[static_cast<std::size_t>(slot.facet)]
+                .neighbours[static_cast<std::size_t>(slot.slot)] = static_cast<int>(gi);
+            slot.facet = -1;
+            --unpaired;
+            break;
+          }
+        }
+      }
+    }
+    return unpaired == 0;
+  }
+
+  struct Slot {
+    std::uint64_t key = 0;
+    std::uint64_t generation = 0;
+    int facet = -1;
+    int slot = -1;
+  };
+  std::vector<Slot> table_;
+  std::uint64_t generation_ = 0;
+  std::vector<int> alive_, visible_;
+
+  const Eigen::Matrix<double, 6, Eigen::Dynamic>& w_;
+  std::vector<Facet> facets_;
+  double scale_ = 1.0, eps_ = 0.0;
+};
+
+}  // namespace
+
+std::optional<double> originDepthIncremental(const Eigen::Matrix<double, 6, Eigen::Dynamic>& w) {
+  Hull hull(w);
+  std::array<int, kDim + 1> simplex{};
+  if (w.cols() <= kDim || !hull.initialSimplex(simplex)) return 0.0;
+  if (w.cols() > 64) return std::nullopt;  // ridge keys are 64-bit masks
+  hull.build(simplex);
+  std::vector<int> order;
+  for (int i = 0; i < w.cols(); ++i)
+    if (std::find(simplex.begin(), simplex.end(), i) == simplex.end()) order.push_back(i);
+  for (const int i : order)
+    if (!hull.insert(i)) return std::nullopt;
+  return hull.depth();
+}
+
+}  // namespace hfts::planner
