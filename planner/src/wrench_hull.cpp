@@ -22,6 +22,18 @@ struct Facet {
   bool visible = false;
 };
 
+/// The generalised cross product: the vector orthogonal to the five rows,
+/// its components the signed 5 x 5 minors.
+Vector6 crossProduct(const Eigen::Matrix<double, kDim - 1, kDim>& rows) {
+  Vector6 out;
+  for (int j = 0; j < kDim; ++j) {
+    Eigen::Matrix<double, kDim - 1, kDim - 1> minor;
+    minor << rows.leftCols(j), rows.rightCols(kDim - 1 - j);
+    out(j) = (j % 2 == 0 ? 1.0 : -1.0) * minor.determinant();
+  }
+  return out;
+}
+
 class Hull {
  public:
   explicit Hull(const Eigen::Matrix<double, 6, Eigen::Dynamic>& w) : w_(w) {
@@ -72,27 +84,32 @@ class Hull {
       for (int r = 1; r < kDim; ++r)
         edges.row(r - 1) =
             (w_.col(f.vertices[static_cast<std::size_t>(r)]) - w_.col(f.vertices[0])).transpose();
-      f.normal = Eigen::FullPivLU<Eigen::MatrixXd>(edges).kernel().col(0).normalized();
+      f.normal = crossProduct(edges).normalized();
       f.offset = f.normal.dot(w_.col(f.vertices[0]));
       if (f.normal.dot(interior) > f.offset) {
         f.normal = -f.normal;
         f.offset = -f.offset;
       }
       facets_.push_back(f);
-      alive_.push_back(omit);
     }
   }
 
-  /// Adds point p; false on a combinatorial inconsistency.
+  /// Gives every point a facet it sees (its conflict), or -1 if it lies
+  /// inside the initial simplex.
+  void assignConflicts() {
+    conflict_.assign(static_cast<std::size_t>(w_.cols()), -1);
+    for (int i = 0; i < w_.cols(); ++i)
+      for (int fi = 0; fi <= kDim && conflict_[static_cast<std::size_t>(i)] < 0; ++fi)
+        if (sees(fi, i)) conflict_[static_cast<std::size_t>(i)] = fi;
+  }
+
+  /// Adds point p if it lies outside; false on a combinatorial inconsistency.
   bool insert(int p) {
+    const int start = conflict_[static_cast<std::size_t>(p)];
+    if (start < 0) return true;  // inside: the hull only grows, so for good
+    ++stamp_;
+    collectVisible(start, p);
     const Vector6 x = w_.col(p);
-    visible_.clear();
-    for (const int fi : alive_) {
-      Facet& f = facets_[static_cast<std::size_t>(fi)];
-      f.visible = f.normal.dot(x) - f.offset > eps_;
-      if (f.visible) visible_.push_back(fi);
-    }
-    if (visible_.empty()) return true;
     const std::size_t firstNew = facets_.size();
     for (const int fi : visible_) {
       for (int k = 0; k < kDim; ++k) {
@@ -102,30 +119,62 @@ class Hull {
         if (!addHorizonFacet(fi, k, ni, p, x)) return false;
       }
     }
-    // Keep the alive list: drop the visible facets, add the new ones.
-    std::size_t kept = 0;
-    for (const int fi : alive_) {
-      Facet& f = facets_[static_cast<std::size_t>(fi)];
-      if (f.visible) {
-        f.alive = false;
-        f.visible = false;
-      } else {
-        alive_[kept++] = fi;
-      }
+    for (const int fi : visible_) {
+      facets_[static_cast<std::size_t>(fi)].alive = false;
+      facets_[static_cast<std::size_t>(fi)].visible = false;
     }
-    alive_.resize(kept);
-    for (std::size_t gi = firstNew; gi < facets_.size(); ++gi)
-      alive_.push_back(static_cast<int>(gi));
-    return linkNewFacets(firstNew, p);
+    if (!linkNewFacets(firstNew, p)) return false;
+    reassignConflicts(firstNew, p);
+    return true;
   }
-
   double depth() const {
     double best = std::numeric_limits<double>::infinity();
-    for (const int fi : alive_) best = std::min(best, facets_[static_cast<std::size_t>(fi)].offset);
+    for (const Facet& f : facets_)
+      if (f.alive) best = std::min(best, f.offset);
     return best > eps_ ? best : 0.0;
   }
 
  private:
+  bool sees(int fi, int point) const {
+    const Facet& f = facets_[static_cast<std::size_t>(fi)];
+    return f.normal.dot(w_.col(point)) - f.offset > eps_;
+  }
+
+  /// The facets p sees form a connected region around `start`: walk it
+  /// over neighbours instead of testing every facet.
+  void collectVisible(int start, int p) {
+    visible_.clear();
+    queue_.assign(1, start);
+    tested_.resize(facets_.size(), 0);
+    tested_[static_cast<std::size_t>(start)] = stamp_;
+    while (!queue_.empty()) {
+      const int fi = queue_.back();
+      queue_.pop_back();
+      Facet& f = facets_[static_cast<std::size_t>(fi)];
+      f.visible = sees(fi, p);
+      if (!f.visible) continue;
+      visible_.push_back(fi);
+      for (const int ni : f.neighbours) {
+        if (tested_[static_cast<std::size_t>(ni)] == stamp_) continue;
+        tested_[static_cast<std::size_t>(ni)] = stamp_;
+        queue_.push_back(ni);
+      }
+    }
+  }
+
+  /// Points whose conflict facet was removed either see one of the new
+  /// facets (which replace the removed region) or now lie inside.
+  void reassignConflicts(std::size_t firstNew, int p) {
+    conflict_[static_cast<std::size_t>(p)] = -1;
+    for (std::size_t i = 0; i < conflict_.size(); ++i) {
+      int& c = conflict_[i];
+      if (c < 0 || facets_[static_cast<std::size_t>(c)].alive) continue;
+      c = -1;
+      for (std::size_t gi = firstNew; gi < facets_.size() && c < 0; ++gi)
+        if (sees(static_cast<int>(gi), static_cast<int>(i))) c = static_cast<int>(gi);
+    }
+  }
+
   /// The facet on the horizon ridge of visible facet `fi` (without its
   /// vertex k) and point p. Its plane contains the ridge, so it is a
   /// combination of the planes of fi and of the hidden neighbour ni.
@@ -205,7 +254,9 @@ class Hull {
   };
   std::vector<Slot> table_;
   std::uint64_t generation_ = 0;
-  std::vector<int> alive_, visible_;
+  std::vector<int> visible_, queue_, conflict_;
+  std::vector<std::uint64_t> tested_;
+  std::uint64_t stamp_ = 0;
 
   const Eigen::Matrix<double, 6, Eigen::Dynamic>& w_;
   std::vector<Facet> facets_;
@@ -220,6 +271,7 @@ std::optional<double> originDepthIncremental(const Eigen::Matrix<double, 6, Eige
   if (w.cols() <= kDim || !hull.initialSimplex(simplex)) return 0.0;
   if (w.cols() > 64) return std::nullopt;  // ridge keys are 64-bit masks
   hull.build(simplex);
+  hull.assignConflicts();
   std::vector<int> order;
   for (int i = 0; i < w.cols(); ++i)
     if (std::find(simplex.begin(), simplex.end(), i) == simplex.end()) order.push_back(i);
