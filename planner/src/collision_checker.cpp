@@ -28,6 +28,8 @@ struct Tag {
   std::string name;
 };
 
+/// `type`: a CollisionShape::Type or Obstacle::Type value (they agree, see
+/// scene.h) other than kMesh.
 Geometry primitive(int type, const Eigen::Vector3d& size) {
   switch (type) {
     case 0:

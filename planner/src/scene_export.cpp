@@ -25,6 +25,8 @@ TriangleMesh transformed(TriangleMesh mesh, const Eigen::Isometry3d& pose) {
   return mesh;
 }
 
+/// `type`: a CollisionShape::Type or Obstacle::Type value (they agree, see
+/// scene.h) other than kMesh.
 TriangleMesh primitiveMesh(int type, const Eigen::Vector3d& size) {
   if (type == 0) return boxMesh(size);
   if (type == 1) return cylinderMesh(size.x(), size.y());

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "hfts_db/triangle_mesh.h"
+#include "planner/robot_model.h"
 
 namespace hfts::planner {
 
@@ -22,6 +23,8 @@ class SceneError : public std::runtime_error {
 };
 
 struct Obstacle {
+  /// The first three match CollisionShape::Type value for value, so code
+  /// that handles primitives can treat robot links and obstacles alike.
   enum class Type { kBox, kCylinder, kSphere, kMesh };
   std::string name;
   Type type = Type::kBox;
@@ -31,6 +34,14 @@ struct Obstacle {
   TriangleMesh mesh;  ///< kMesh only: loaded and scaled to metres
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< in the world frame
 };
+
+static_assert(static_cast<int>(Obstacle::Type::kBox) ==
+                      static_cast<int>(CollisionShape::Type::kBox) &&
+                  static_cast<int>(Obstacle::Type::kCylinder) ==
+                      static_cast<int>(CollisionShape::Type::kCylinder) &&
+                  static_cast<int>(Obstacle::Type::kSphere) ==
+                      static_cast<int>(CollisionShape::Type::kSphere),
+              "obstacle and link primitive types must match");
 
 struct Scene {
   std::string name;
