@@ -61,7 +61,9 @@ double originDepth(Eigen::Matrix<double, 6, Eigen::Dynamic> points) {
       // Facet hyperplane: normal . x + offset = 0, inside where it is < 0.
       depth = std::min(depth, -facet->offset);
     }
-    if (!(depth > 0.0)) depth = 0.0;
+    // The same tolerance as the incremental hull: an origin within
+    // rounding of a facet is on the boundary, not strictly inside.
+    if (!(depth > 1e-11 * points.cwiseAbs().maxCoeff())) depth = 0.0;
   }
   qh_freeqhull(qh, !qh_ALL);
   int curlong = 0, totlong = 0;
@@ -118,7 +120,7 @@ GraspQualityResult graspQuality(const GraspQualityRequest& request) {
   if (w.cols() < 7) return result;
   // The specialised hull is exact and fast; Qhull is the fallback for
   // the rare sets where rounding makes its bookkeeping inconsistent.
-  const std::optional<double> fast = originDepthIncremental(w);
+  const std::optional<double> fast = request.use_qhull ? std::nullopt : originDepthIncremental(w);
   result.epsilon = fast ? *fast : originDepth(w);
   return result;
 }

@@ -137,6 +137,44 @@ TEST(GraspQuality, MatchesABruteForceReferenceOnRandomGrasps) {
   EXPECT_GT(positive, 10);  // the comparison covers stable grasps, not only zeros
 }
 
+TEST(GraspQuality, IncrementalHullAgreesWithQhull) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> g;
+  int positive = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    GraspQualityRequest r;
+    const int contacts = 3 + trial % 3;
+    r.positions.resize(3, contacts);
+    r.normals.resize(3, contacts);
+    for (int i = 0; i < contacts; ++i) {
+      const Eigen::Vector3d p = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+      r.positions.col(i) = 0.05 * p;
+      r.normals.col(i) = (-p + 0.3 * Eigen::Vector3d(g(rng), g(rng), g(rng))).normalized();
+    }
+    r.torque_scale = 0.05;
+    r.cone_edges = trial % 2 == 0 ? 8 : 12;
+    const double fast = graspQuality(r).epsilon;
+    r.use_qhull = true;
+    const double qhull = graspQuality(r).epsilon;
+    EXPECT_NEAR(fast, qhull, 1e-9 * std::max(qhull, 1e-12)) << "trial " << trial;
+    positive += qhull > 0;
+  }
+  EXPECT_GT(positive, 50);
+}
+
+TEST(GraspQuality, DegenerateGraspsGiveZeroWithoutErrors) {
+  // Four contacts in one plane: a well-defined, finite value.
+  GraspQualityRequest planar = equator({0, 90, 180, 270});
+  EXPECT_GE(graspQuality(planar).epsilon, 0.0);
+  // All contacts at one point: no torque can be resisted.
+  GraspQualityRequest point = equator({0, 120, 240});
+  for (Eigen::Index i = 0; i < 3; ++i) point.positions.col(i).setZero();
+  EXPECT_EQ(graspQuality(point).epsilon, 0.0);
+  // Many contacts (9 x 8 = 72 wrenches: the Qhull path).
+  GraspQualityRequest many = equator({0, 40, 80, 120, 160, 200, 240, 280, 320});
+  EXPECT_GT(graspQuality(many).epsilon, graspQuality(equator({0, 120, 240})).epsilon);
+}
+
 TEST(GraspQuality, RejectsInvalidRequestsByField) {
   GraspQualityRequest r = equator({0, 120, 240});
   r.normals(0, 0) = 2.0;

@@ -23,6 +23,9 @@ struct GraspQualityRequest {
   double torque_scale = 1.0;  ///< rho: largest distance from centre to surface (m), > 0
   double friction = 0.5;      ///< mu > 0
   int cone_edges = 8;         ///< K >= 3
+  /// Use Qhull instead of the project's incremental hull (slower; for
+  /// cross-checks). Sets of more than 64 wrenches always use Qhull.
+  bool use_qhull = false;
 };
 
 struct GraspQualityResult {
