@@ -74,9 +74,9 @@ def subdivided(tris, max_edge):
     """Splits triangles until no edge exceeds max_edge, so matplotlib's
     per-polygon depth sort does not let a table top cover what stands on it."""
     out = []
-    todo = list(tris)
-    while todo:
-        t = todo.pop()
+    pending = list(tris)
+    while pending:
+        t = pending.pop()
         edges = [np.linalg.norm(t[(k + 1) % 3] - t[k]) for k in range(3)]
         k = int(np.argmax(edges))
         if edges[k] <= max_edge:
@@ -84,7 +84,7 @@ def subdivided(tris, max_edge):
             continue
         a, b, c = t[k], t[(k + 1) % 3], t[(k + 2) % 3]
         m = (a + b) / 2
-        todo.extend([np.array([a, m, c]), np.array([m, b, c])])
+        pending.extend([np.array([a, m, c]), np.array([m, b, c])])
     return out
 
 

@@ -24,6 +24,21 @@ GraspQualityRequest equator(const std::vector<double>& degrees) {
   return r;
 }
 
+/// Contacts on a 5 cm sphere with roughly inward, perturbed normals.
+GraspQualityRequest randomGrasp(int contacts, std::mt19937_64& rng) {
+  std::normal_distribution<double> g;
+  GraspQualityRequest r;
+  r.positions.resize(3, contacts);
+  r.normals.resize(3, contacts);
+  for (int i = 0; i < contacts; ++i) {
+    const Eigen::Vector3d p = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+    r.positions.col(i) = 0.05 * p;
+    r.normals.col(i) = (-p + 0.3 * Eigen::Vector3d(g(rng), g(rng), g(rng))).normalized();
+  }
+  r.torque_scale = 0.05;
+  return r;
+}
+
 /// Reference epsilon by brute force: every hyperplane through 6 wrenches
 /// that supports the whole set is a facet plane; the origin is strictly
 /// inside when it lies strictly inside every one of them.
@@ -113,20 +128,10 @@ TEST(GraspQuality, OutwardNormalsAreTurnedAround) {
 
 TEST(GraspQuality, MatchesABruteForceReferenceOnRandomGrasps) {
   std::mt19937_64 rng(7);
-  std::normal_distribution<double> g;
   std::uniform_real_distribution<double> u(0.2, 1.0);
   int positive = 0;
   for (int trial = 0; trial < 40; ++trial) {
-    GraspQualityRequest r;
-    const int contacts = 3 + trial % 2;
-    r.positions.resize(3, contacts);
-    r.normals.resize(3, contacts);
-    for (int i = 0; i < contacts; ++i) {
-      const Eigen::Vector3d p = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
-      r.positions.col(i) = 0.05 * p;
-      r.normals.col(i) = (-p + 0.3 * Eigen::Vector3d(g(rng), g(rng), g(rng))).normalized();
-    }
-    r.torque_scale = 0.05;
+    GraspQualityRequest r = randomGrasp(3 + trial % 2, rng);
     r.friction = u(rng);
     r.cone_edges = 4;
     const double expected = bruteForceEpsilon(contactWrenches(r));
@@ -139,19 +144,9 @@ TEST(GraspQuality, MatchesABruteForceReferenceOnRandomGrasps) {
 
 TEST(GraspQuality, IncrementalHullAgreesWithQhull) {
   std::mt19937_64 rng(11);
-  std::normal_distribution<double> g;
   int positive = 0;
   for (int trial = 0; trial < 200; ++trial) {
-    GraspQualityRequest r;
-    const int contacts = 3 + trial % 3;
-    r.positions.resize(3, contacts);
-    r.normals.resize(3, contacts);
-    for (int i = 0; i < contacts; ++i) {
-      const Eigen::Vector3d p = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
-      r.positions.col(i) = 0.05 * p;
-      r.normals.col(i) = (-p + 0.3 * Eigen::Vector3d(g(rng), g(rng), g(rng))).normalized();
-    }
-    r.torque_scale = 0.05;
+    GraspQualityRequest r = randomGrasp(3 + trial % 3, rng);
     r.cone_edges = trial % 2 == 0 ? 8 : 12;
     const double fast = graspQuality(r).epsilon;
     r.use_qhull = true;
