@@ -36,23 +36,28 @@ Vector6 crossProduct(const Eigen::Matrix<double, kDim - 1, kDim>& rows) {
 
 class Hull {
  public:
-  explicit Hull(const Eigen::Matrix<double, 6, Eigen::Dynamic>& w) : w_(w) {
+  /// Starts over on a new wrench set, keeping the buffers of earlier
+  /// calls (no allocation in the common case).
+  void reset(const Eigen::Matrix<double, 6, Eigen::Dynamic>& w) {
+    w_ = &w;
     scale_ = std::max(1e-300, w.cwiseAbs().maxCoeff());
-    facets_.reserve(1024);
     eps_ = 1e-11 * scale_;
+    facets_.clear();
+    tested_.clear();
+    stamp_ = 0;
   }
 
   /// Returns false when the points do not span 6-D (the hull is flat).
   bool initialSimplex(std::array<int, kDim + 1>& simplex) const {
-    const Vector6 mean = w_.rowwise().mean();
+    const Vector6 mean = w_->rowwise().mean();
     std::vector<Vector6> basis;
     int first = 0;
-    (w_.colwise() - mean).colwise().squaredNorm().maxCoeff(&first);
+    (w_->colwise() - mean).colwise().squaredNorm().maxCoeff(&first);
     simplex[0] = first;
     for (int k = 1; k <= kDim; ++k) {
       double best = -1.0;
-      for (int i = 0; i < w_.cols(); ++i) {
-        Vector6 v = w_.col(i) - w_.col(first);
+      for (int i = 0; i < w_->cols(); ++i) {
+        Vector6 v = w_->col(i) - w_->col(first);
         for (const Vector6& b : basis) v -= b.dot(v) * b;
         if (v.norm() > best) {
           best = v.norm();
@@ -60,7 +65,7 @@ class Hull {
         }
       }
       if (best <= 1e-9 * scale_) return false;
-      Vector6 v = w_.col(simplex[static_cast<std::size_t>(k)]) - w_.col(first);
+      Vector6 v = w_->col(simplex[static_cast<std::size_t>(k)]) - w_->col(first);
       for (const Vector6& b : basis) v -= b.dot(v) * b;
       basis.push_back(v.normalized());
     }
@@ -69,7 +74,7 @@ class Hull {
 
   void build(const std::array<int, kDim + 1>& simplex) {
     Vector6 interior = Vector6::Zero();
-    for (const int v : simplex) interior += w_.col(v) / (kDim + 1);
+    for (const int v : simplex) interior += w_->col(v) / (kDim + 1);
     for (int omit = 0; omit <= kDim; ++omit) {
       Facet f;
       int k = 0;
@@ -83,9 +88,9 @@ class Hull {
       Eigen::Matrix<double, kDim - 1, kDim> edges;
       for (int r = 1; r < kDim; ++r)
         edges.row(r - 1) =
-            (w_.col(f.vertices[static_cast<std::size_t>(r)]) - w_.col(f.vertices[0])).transpose();
+            (w_->col(f.vertices[static_cast<std::size_t>(r)]) - w_->col(f.vertices[0])).transpose();
       f.normal = crossProduct(edges).normalized();
-      f.offset = f.normal.dot(w_.col(f.vertices[0]));
+      f.offset = f.normal.dot(w_->col(f.vertices[0]));
       if (f.normal.dot(interior) > f.offset) {
         f.normal = -f.normal;
         f.offset = -f.offset;
@@ -97,8 +102,8 @@ class Hull {
   /// Gives every point a facet it sees (its conflict), or -1 if it lies
   /// inside the initial simplex.
   void assignConflicts() {
-    conflict_.assign(static_cast<std::size_t>(w_.cols()), -1);
-    for (int i = 0; i < w_.cols(); ++i)
+    conflict_.assign(static_cast<std::size_t>(w_->cols()), -1);
+    for (int i = 0; i < w_->cols(); ++i)
       for (int fi = 0; fi <= kDim && conflict_[static_cast<std::size_t>(i)] < 0; ++fi)
         if (sees(fi, i)) conflict_[static_cast<std::size_t>(i)] = fi;
   }
@@ -109,7 +114,7 @@ class Hull {
     if (start < 0) return true;  // inside: the hull only grows, so for good
     ++stamp_;
     collectVisible(start, p);
-    const Vector6 x = w_.col(p);
+    const Vector6 x = w_->col(p);
     const std::size_t firstNew = facets_.size();
     for (const int fi : visible_) {
       for (int k = 0; k < kDim; ++k) {
@@ -137,7 +142,7 @@ class Hull {
  private:
   bool sees(int fi, int point) const {
     const Facet& f = facets_[static_cast<std::size_t>(fi)];
-    return f.normal.dot(w_.col(point)) - f.offset > eps_;
+    return f.normal.dot(w_->col(point)) - f.offset > eps_;
   }
 
   /// The facets p sees form a connected region around `start`: walk it
@@ -258,7 +263,7 @@ class Hull {
   std::vector<std::uint64_t> tested_;
   std::uint64_t stamp_ = 0;
 
-  const Eigen::Matrix<double, 6, Eigen::Dynamic>& w_;
+  const Eigen::Matrix<double, 6, Eigen::Dynamic>* w_ = nullptr;
   std::vector<Facet> facets_;
   double scale_ = 1.0, eps_ = 0.0;
 };
@@ -266,7 +271,9 @@ class Hull {
 }  // namespace
 
 std::optional<double> originDepthIncremental(const Eigen::Matrix<double, 6, Eigen::Dynamic>& w) {
-  Hull hull(w);
+  // One hull per thread, reused: its buffers outlive the call.
+  thread_local Hull hull;
+  hull.reset(w);
   std::array<int, kDim + 1> simplex{};
   if (w.cols() <= kDim || !hull.initialSimplex(simplex)) return 0.0;
   if (w.cols() > 64) return std::nullopt;  // ridge keys are 64-bit masks
