@@ -2,7 +2,6 @@
 // The HFTS grasp objective of the paper's Eq. (1), Q(h) / (R(h) + alpha),
 // and its stochastic hill climbing (Sec. II-A).
 
-#include <memory>
 #include <random>
 #include <unordered_map>
 #include <unordered_set>
