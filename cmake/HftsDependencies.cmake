@@ -38,6 +38,12 @@ target_compile_definitions(hfts_dep_asio INTERFACE ASIO_STANDALONE)
 target_link_libraries(hfts_dep_asio INTERFACE Threads::Threads)
 add_library(hfts::dep_asio ALIAS hfts_dep_asio)
 
+# OMPL (planner framework, nearest neighbours, path simplification).
+add_library(hfts_dep_ompl INTERFACE)
+target_include_directories(hfts_dep_ompl SYSTEM INTERFACE ${OMPL_INCLUDE_DIR})
+target_link_libraries(hfts_dep_ompl INTERFACE ${OMPL_LIBRARIES})
+add_library(hfts::dep_ompl ALIAS hfts_dep_ompl)
+
 # nanoflann (header-only k-d tree) for the hand reachability map.
 add_library(hfts_dep_nanoflann INTERFACE)
 target_include_directories(hfts_dep_nanoflann SYSTEM INTERFACE ${NANOFLANN_INCLUDE_DIR})

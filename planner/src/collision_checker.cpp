@@ -123,6 +123,7 @@ struct CollisionChecker::Impl {
   std::vector<std::pair<int, Eigen::Isometry3d>> robotShapes;  // link, shape origin
   fcl::DynamicAABBTreeCollisionManagerd robot, environment;
   LinkPoses poses;
+  std::uint64_t checks = 0;
 
   Impl(const RobotModel& m, const Scene& scene) : model(m), base(scene.robot_base) {}
 
@@ -167,6 +168,7 @@ struct CollisionChecker::Impl {
   }
 
   bool collide(const Eigen::VectorXd& q, bool allowFingertips, CollisionPair* pair) {
+    ++checks;
     place(q);
     QueryData data;
     data.model = &model;
@@ -216,6 +218,10 @@ bool CollisionChecker::targetTouchesObstacles(CollisionPair* pair) {
   impl_->environment.collide(&data, targetCallback);
   if (data.collision && pair != nullptr) *pair = data.pair;
   return data.collision;
+}
+
+std::uint64_t CollisionChecker::checkCount() const {
+  return impl_->checks;
 }
 
 double CollisionChecker::clearance(const Eigen::VectorXd& q) {

@@ -24,6 +24,33 @@ HftsSpace::HftsSpace(const db::ObjectDatabase& database, int fingers)
         parent_[l + 2][c] = p;
     }
   }
+  // leaves_[l][p]: leaf partitions below partition p of level l, bottom-up.
+  const std::size_t levels = database.levels.size();
+  leaves_.resize(levels + 1);
+  for (std::size_t l = levels; l >= 1; --l) {
+    leaves_[l].assign(database.levels[l - 1].size(), 1.0);
+    if (l == levels) continue;
+    for (std::size_t p = 0; p < leaves_[l].size(); ++p) {
+      const db::HierarchyNode& node = database.levels[l - 1][p];
+      double sum = 0.0;
+      for (std::uint32_t c = node.child_begin; c < node.child_begin + node.child_count; ++c)
+        sum += leaves_[l + 1][c];
+      leaves_[l][p] = sum;
+    }
+  }
+}
+
+double HftsSpace::numLeaves(const HftsNode& node) const {
+  double count = 1.0;
+  if (node.level == 0) {
+    double perFinger = 0.0;
+    for (const double n : leaves_[1]) perFinger += n;
+    for (int f = 0; f < fingers_; ++f) count *= perFinger;
+    return count;
+  }
+  for (int f = 0; f < fingers_; ++f)
+    count *= leaves_[static_cast<std::size_t>(node.level)][node.parts[static_cast<std::size_t>(f)]];
+  return count;
 }
 
 std::pair<std::uint32_t, std::uint32_t> HftsSpace::childRange(int level, std::uint32_t part) const {

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -58,6 +59,10 @@ class CollisionChecker {
   double distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
 
   const RobotModel& model() const;
+
+  /// Configurations checked so far (every query above counts each robot
+  /// placement it tests once).
+  std::uint64_t checkCount() const;
 
  private:
   struct Impl;

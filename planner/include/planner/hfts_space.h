@@ -56,6 +56,9 @@ class HftsSpace {
   /// The inverse of child(); the parent is implied by the child's partitions.
   std::uint64_t childIndex(const HftsNode& child) const;
   HftsNode parent(const HftsNode& node) const;
+  /// Number of leaves in the branch rooted at `node` (1 for a leaf): the
+  /// product over fingers of the leaf partitions below each partition.
+  double numLeaves(const HftsNode& node) const;
 
   /// The node's representative grasp: per finger, the representative
   /// contact of its partition, with the partition's normalised mean
@@ -70,6 +73,7 @@ class HftsSpace {
   const db::ObjectDatabase& database_;
   int fingers_;
   std::vector<std::vector<std::uint32_t>> parent_;  // parent partition per level (1-based)
+  std::vector<std::vector<double>> leaves_;         // leaf partitions below, per level (1-based)
 };
 
 }  // namespace hfts::planner

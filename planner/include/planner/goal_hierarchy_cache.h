@@ -1,0 +1,117 @@
+#pragma once
+// The goal hierarchy cache G of the paper (Sec. III-B): the local optima
+// the goal sampler found on each level of the HFTS, their robot
+// configurations, and the ratings that guide the search (Eq. 4 and 5,
+// Algorithms 3 and 4).
+
+#include <Eigen/Core>
+
+#include <limits>
+#include <random>
+#include <unordered_set>
+#include <vector>
+
+#include "planner/hfts_space.h"
+
+namespace hfts::planner {
+
+/// What the goal sampler knows about free space (paper Sec. III): the
+/// weighted distance of Eq. (3) from a configuration to the nearest known
+/// collision-free configuration that is not connected to the start
+/// (Omega: backward trees and approximate goals) and to the forward tree
+/// (Gamma). Infinity when the set is empty.
+class FreeSpaceDistances {
+ public:
+  virtual ~FreeSpaceDistances() = default;
+  virtual double toNonConnected(const Eigen::VectorXd& q) const = 0;
+  virtual double toConnected(const Eigen::VectorXd& q) const = 0;
+};
+
+/// The rating constants of Fig. 6.
+struct RatingWeights {
+  double w_f = 0.5;     ///< non-connected free space weight
+  double w_c = 4.0;     ///< connected free space weight
+  int max_active = 20;  ///< N_a: active children per node
+};
+
+/// A robot configuration stored for a cached node (the set C_n).
+struct CachedConfiguration {
+  Eigen::VectorXd pregrasp;      ///< the hand opened by the pre-grasp angle
+  Eigen::VectorXd grasp;         ///< the hand closed on the contacts
+  double fingertip_error = 0.0;  ///< m, see GraspConfiguration
+  bool collision_free = false;
+  bool goal = false;      ///< a valid goal (leaf, stable, free, fingertips on the contacts)
+  bool returned = false;  ///< already handed to the motion planner
+};
+
+struct CacheNode {
+  HftsNode hfts;
+  int parent = -1;                                     ///< index of p(n); -1 for the root
+  std::vector<int> children;                           ///< Ch(n)
+  std::vector<int> active;                             ///< Ch_a(n), a subset of children
+  std::unordered_set<HftsNode, HftsNodeHash> sampled;  ///< eta of the children
+  std::vector<CachedConfiguration> configurations;     ///< C_n
+  double cached_leaves = 0.0;  ///< |L(n)|: leaves of the branch that are cached
+  double possible_leaves = 0.0;
+  double quality = 0.0;  ///< epsilon of the node's representative grasp
+};
+
+/// The cache and its ratings. Node 0 is the root. Ratings depend on the
+/// free-space knowledge, which changes as the planner runs: they are
+/// memoised until invalidateRatings().
+class GoalHierarchyCache {
+ public:
+  /// The space must outlive the cache. Throws std::invalid_argument for
+  /// non-positive weights or N_a < 1.
+  GoalHierarchyCache(const HftsSpace& space, RatingWeights weights);
+
+  static constexpr int kNone = -1;  ///< the paper's "bottom": no node
+  int root() const { return 0; }
+  const CacheNode& node(int n) const { return nodes_[static_cast<std::size_t>(n)]; }
+  CacheNode& node(int n) { return nodes_[static_cast<std::size_t>(n)]; }
+  std::size_t size() const { return nodes_.size(); }
+  bool isLeaf(int n) const { return space_.isLeaf(node(n).hfts); }
+  const RatingWeights& weights() const { return weights_; }
+
+  /// Adds eta = `hfts` (a child of the parent's HFTS node not cached
+  /// before) to Ch(parent) and Ch_a(parent) (Alg. 2 lines 18-19).
+  int addChild(int parent, const HftsNode& hfts, std::vector<CachedConfiguration> configurations,
+               double quality);
+
+  /// cvr(n): cached children / possible children; 1 for a leaf.
+  double coverage(int n) const;
+
+  /// Eq. (4) with the given knowledge; the rating of one configuration is
+  /// w_f exp(-Omega) + w_c exp(-Gamma).
+  double rating(int n, const FreeSpaceDistances& knowledge);
+  /// Eq. (5): (t(n) + mean of T over the active children) / 2; t(n) for a
+  /// node without active children.
+  double branchRating(int n, const FreeSpaceDistances& knowledge);
+  /// T_p(n) = (1 - cvr(n)) T(n): the weight of staying at n.
+  double stayRating(int n, const FreeSpaceDistances& knowledge);
+  /// T_c(n) = (1 - |L(n)| / (|L_max(n)| + 1)) T(n): the weight of descending to n.
+  double descendRating(int n, const FreeSpaceDistances& knowledge);
+  void invalidateRatings();
+
+  /// Algorithm 4: re-activates a random child, down-samples Ch_a to N_a
+  /// children (removal probability proportional to 1 / T_c) and returns an
+  /// active child drawn with probability proportional to T_c; kNone when
+  /// n has no children.
+  int pickChild(int n, const FreeSpaceDistances& knowledge, std::mt19937_64& rng);
+  /// Algorithm 3.
+  bool shouldDescend(int parent, int child, const FreeSpaceDistances& knowledge,
+                     std::mt19937_64& rng);
+
+ private:
+  double configurationRating(const Eigen::VectorXd& q, const FreeSpaceDistances& knowledge) const;
+
+  const HftsSpace& space_;
+  RatingWeights weights_;
+  std::vector<CacheNode> nodes_;
+  std::vector<double> t_, T_;  // memoised ratings, NaN = not computed
+};
+
+/// Draws an index with probability proportional to weights[i] (all > 0).
+std::size_t sampleWeighted(const std::vector<double>& weights, std::mt19937_64& rng);
+
+}  // namespace hfts::planner

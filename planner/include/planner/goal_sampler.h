@@ -1,0 +1,142 @@
+#pragma once
+// Goal sampling for the multi-tree planner: the C_free-proximity-guided
+// HFTS sampler of the paper (Algorithm 2) and the decoupled optimiser it is
+// compared with (Sec. II-A / IV).
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <random>
+#include <unordered_set>
+#include <vector>
+
+#include "planner/goal_hierarchy_cache.h"
+#include "planner/grasp_configurations.h"
+#include "planner/grasp_optimizer.h"
+
+namespace hfts::planner {
+
+enum class GoalKind {
+  kNone,         ///< nothing new (the paper's "bottom")
+  kGoal,         ///< a stable leaf grasp with a collision-free pre-grasp
+  kApproximate,  ///< a collision-free configuration of an inner node or failed leaf
+};
+
+/// One answer of a goal sampler.
+struct GoalSample {
+  GoalKind kind = GoalKind::kNone;
+  Eigen::VectorXd configuration;  ///< the pre-grasp (goal) or the approximate goal
+  Eigen::VectorXd grasp;          ///< kGoal: the hand closed on the contacts
+  HftsNode node;                  ///< the grasp's HFTS node
+  GraspContacts contacts;         ///< object frame, outward normals
+  double epsilon = 0.0;
+  double reachability = 0.0;  ///< R(h) (m)
+  double fingertip_error = 0.0;
+};
+
+struct GoalSamplerStatistics {
+  std::uint64_t calls = 0;        ///< GS
+  std::uint64_t valid_goals = 0;  ///< VGS
+  std::uint64_t approximate_goals = 0;
+  /// GNS: distinct HFTS nodes the sampler settled on (the local optima of
+  /// each level it searched), the paper's "explored" nodes of Fig. 5 and 8.
+  std::uint64_t nodes_explored = 0;
+  std::uint64_t configured_nodes = 0;     ///< nodes whose grasp went through Phi(h)
+  std::uint64_t kinematic_solutions = 0;  ///< of those, nodes with at least one IK solution
+};
+
+/// What both samplers share: the object's HFTS, Eq. (1), Phi(h) and the
+/// collision checker (all outliving the sampler), the planner's random
+/// generator, and what makes a goal.
+struct GoalSamplingContext {
+  const HftsSpace* space = nullptr;
+  GraspObjective* objective = nullptr;
+  GraspConfigurator* configurator = nullptr;
+  CollisionChecker* checker = nullptr;
+  std::mt19937_64* rng = nullptr;
+  /// Resolution at which the closing motion (pre-grasp -> grasp) is checked
+  /// with the grasp-aware collision rule.
+  double approach_resolution = 0.0025;
+  /// Largest fingertip-to-contact distance of a goal (m).
+  double max_fingertip_error = 0.005;
+};
+
+class GoalSampler {
+ public:
+  explicit GoalSampler(GoalSamplingContext context);
+  virtual ~GoalSampler() = default;
+  GoalSampler(const GoalSampler&) = delete;
+  GoalSampler& operator=(const GoalSampler&) = delete;
+
+  /// One call of SAMPLEGOAL. `stop` is polled between expensive steps (time
+  /// limit, cancellation); the call then returns what it has.
+  virtual GoalSample sample(const FreeSpaceDistances& knowledge,
+                            const std::function<bool()>& stop) = 0;
+
+  const GoalSamplerStatistics& statistics() const { return stats_; }
+
+ protected:
+  /// Phi(h) for a node, each configuration marked collision-free and, for
+  /// a stable leaf whose fingertips reach the contacts and whose closing
+  /// motion is free, as a goal.
+  std::vector<CachedConfiguration> configurationsOf(const HftsNode& node, double epsilon);
+  GoalSample describe(const HftsNode& node, const CachedConfiguration& config, GoalKind kind);
+
+  GoalSamplingContext context_;
+  GoalSamplerStatistics stats_;
+};
+
+/// Settings of the coupled sampler (paper Fig. 6 and Sec. IV).
+struct HftsGoalSamplerOptions {
+  RatingWeights weights;
+  int samples = 4;           ///< kappa: new configurations per call
+  int min_iterations = 20;   ///< i_min
+  int max_iterations = 100;  ///< i_max
+};
+
+/// Algorithm 2 with the goal hierarchy cache (Algorithms 3 and 4).
+class HftsGoalSampler : public GoalSampler {
+ public:
+  /// Throws std::invalid_argument for kappa < 1 or i_min > i_max or i_min < 0.
+  HftsGoalSampler(GoalSamplingContext context, HftsGoalSamplerOptions options);
+
+  GoalSample sample(const FreeSpaceDistances& knowledge,
+                    const std::function<bool()>& stop) override;
+  const GoalHierarchyCache& cache() const { return cache_; }
+  /// The approximate-goal set A (part of the non-connected free space).
+  const std::vector<Eigen::VectorXd>& approximateGoals() const { return approximate_; }
+
+ private:
+  /// SAMPLENEWCHILD(n_p, i): hill climbing on the uncached children, then Phi.
+  int sampleNewChild(int parent, int iterations);
+  /// SAMPLENULLSPACE(n): a further goal configuration of the node's grasp
+  /// (another IK branch), or none.
+  const CachedConfiguration* sampleNullSpace(int node);
+  int iterationsFor(int parent, const FreeSpaceDistances& knowledge);
+
+  HftsGoalSamplerOptions options_;
+  GoalHierarchyCache cache_;
+  std::vector<Eigen::VectorXd> approximate_;
+  std::vector<HftsNode> approximateNodes_;  // the node of each approximate goal
+};
+
+/// The decoupled integration: every call runs the plain HFTS optimiser from
+/// the root to a leaf with a fixed number of iterations per level,
+/// ignoring reachability and connectability, and returns the leaf's goal
+/// configuration when it has one.
+class DecoupledGoalSampler : public GoalSampler {
+ public:
+  /// Throws std::invalid_argument for iterations < 1.
+  DecoupledGoalSampler(GoalSamplingContext context, int iterations);
+
+  GoalSample sample(const FreeSpaceDistances& knowledge,
+                    const std::function<bool()>& stop) override;
+
+ private:
+  int iterations_;
+  std::unordered_set<HftsNode, HftsNodeHash> explored_;
+};
+
+}  // namespace hfts::planner

@@ -1,0 +1,156 @@
+#pragma once
+// Grasp-and-motion planning as one call: PlanRequest -> PlanResult. Builds
+// the collision checker, the HFTS goal sampler (or the decoupled baseline)
+// and the multi-tree CBiRRT for a request and runs them. OMPL stays behind
+// this header (see multi_tree_cbirrt.h for the planner itself).
+
+#include <Eigen/Geometry>
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hfts_db/hand_map.h"
+#include "hfts_db/object_database.h"
+#include "planner/arm_ik.h"
+#include "planner/hand_reachability.h"
+#include "planner/hfts_space.h"
+#include "planner/robot_model.h"
+#include "planner/scene.h"
+
+namespace hfts::planner {
+
+/// What plans are made with: the robot, its hand reachability map and the
+/// object databases. Immutable once built; share it between threads.
+class PlanningWorld {
+ public:
+  /// Throws ModelError when the map does not belong to the robot.
+  PlanningWorld(RobotModel robot, db::HandMap handMap,
+                std::map<std::string, db::ObjectDatabase> objects);
+  PlanningWorld(const PlanningWorld&) = delete;
+  PlanningWorld& operator=(const PlanningWorld&) = delete;
+
+  /// Loads the robot config, `<robot name>_hand_map.h5` from `dbDir` and
+  /// every other `*.h5` there as an object database. An object database
+  /// that fails to load is skipped and its error appended to `skipped`
+  /// (when given); a missing directory, robot or hand map throws
+  /// (std::runtime_error naming the file).
+  static std::shared_ptr<const PlanningWorld> load(const std::filesystem::path& robotConfig,
+                                                   const std::filesystem::path& dbDir,
+                                                   std::vector<std::string>* skipped = nullptr);
+
+  const RobotModel& robot() const { return robot_; }
+  const ArmIk& ik() const { return ik_; }
+  /// The map's fast query (the HFTS objective) and thorough query (Phi(h)).
+  const HandReachability& handMap() const { return fast_; }
+  const HandReachability& thoroughHandMap() const { return thorough_; }
+  /// nullptr for an unknown name.
+  const db::ObjectDatabase* object(const std::string& name) const;
+  std::vector<std::string> objectNames() const;
+
+ private:
+  RobotModel robot_;
+  ArmIk ik_;
+  HandReachability fast_;
+  HandReachability thorough_;
+  std::map<std::string, db::ObjectDatabase> objects_;
+};
+
+enum class PlanAlgorithm {
+  kCoupled,    ///< the paper's goal sampler (Algorithms 2-4)
+  kDecoupled,  ///< the plain HFTS optimiser with a fixed number of iterations
+};
+
+struct PlanRequest {
+  Scene scene;         ///< obstacles, robot base, target pose and start
+  std::string object;  ///< object database name; empty: scene.target_object
+  std::optional<Eigen::Isometry3d> object_pose;  ///< overrides scene.target_pose
+  std::optional<Eigen::VectorXd> start;          ///< overrides the scene's start
+  PlanAlgorithm algorithm = PlanAlgorithm::kCoupled;
+  std::optional<int> iterations;  ///< decoupled: i per level (default 20)
+  std::uint64_t seed = 1;
+  std::optional<double> time_limit;  ///< s; default the planner's (60 s, Fig. 6)
+  /// Any declared planner parameter by name (see plannerParameters()),
+  /// value as text, e.g. {"p_max", "0.8"}.
+  std::map<std::string, std::string> parameters;
+};
+
+enum class PlanFailure {
+  kNone,
+  kTimeLimit,
+  kCancelled,
+  kStartInCollision,
+  kObjectInCollision,  ///< the target object intersects an obstacle
+  kObjectUnreachable,  ///< no sampled grasp had an arm IK solution
+  kUnknownObject,
+};
+
+/// Snake-case name used in JSON and CSV ("time_limit", ...).
+const char* toString(PlanFailure failure);
+
+struct PlannedGrasp {
+  HftsNode node;
+  Eigen::Matrix3Xd contacts_object;  ///< one column per finger
+  Eigen::Matrix3Xd contacts_world;
+  Eigen::Matrix3Xd inward_normals_object;
+  Eigen::Matrix3Xd inward_normals_world;
+  double epsilon = 0.0;
+  double reachability = 0.0;     ///< R(h) (m)
+  double fingertip_error = 0.0;  ///< m, at the final configuration
+  Eigen::VectorXd hand_configuration;
+};
+
+struct PlanStatistics {
+  double planning_time = 0.0;  ///< s, wall clock of the whole request
+  std::uint64_t iterations = 0;
+  std::uint64_t goal_sampling_calls = 0;  ///< GS
+  std::uint64_t valid_goal_samples = 0;   ///< VGS
+  std::uint64_t hfts_nodes_explored = 0;  ///< GNS
+  std::uint64_t objective_evaluations = 0;
+  std::uint64_t goal_trees = 0;
+  std::uint64_t approximate_trees = 0;
+  std::uint64_t merged_trees = 0;
+  std::uint64_t collision_checks = 0;
+  std::uint64_t forward_tree_size = 0;
+  std::uint64_t backward_tree_nodes = 0;
+  double path_length_raw = 0.0;  ///< Eq. (3) metric
+  double path_length_smoothed = 0.0;
+};
+
+struct PlanResult {
+  bool success = false;
+  PlanFailure failure = PlanFailure::kNone;
+  std::string message;  ///< human-readable reason when unsuccessful
+  /// Start, ..., pre-grasp, grasp (hand closed on the object): the last
+  /// segment was checked with the grasp-aware rule, all others with the
+  /// full rule at the planner's final resolution.
+  std::vector<Eigen::VectorXd> path;
+  std::vector<std::string> joint_names;
+  PlannedGrasp grasp;
+  PlanStatistics stats;
+};
+
+/// A declared planner parameter: name, default value and allowed range
+/// (OMPL's "low:step:high" notation).
+struct PlannerParameterInfo {
+  std::string name;
+  std::string default_value;
+  std::string range;
+};
+std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world);
+
+/// Plans a grasp and a path to it. Single-threaded; the same request and
+/// seed give the same result (unless the time limit cuts it short).
+/// `cancel` (may be null) stops it from another thread. Throws
+/// std::invalid_argument naming the field for a malformed request (wrong
+/// start size or start outside the joint limits, non-finite values,
+/// unknown parameter name or bad parameter value).
+PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
+                     const std::atomic<bool>* cancel = nullptr);
+
+}  // namespace hfts::planner

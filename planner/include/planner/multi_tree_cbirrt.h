@@ -1,0 +1,167 @@
+#pragma once
+// The multi-tree CBiRRT of the paper (Algorithm 1, Sec. III-A): a forward
+// tree from the start, backward trees rooted at goals (B_G) and at
+// approximate goals (B_A) that a goal sampler provides, the projection
+// heuristic for backward trees, path extraction, shortcut smoothing and a
+// dense final re-check. An ompl::base::Planner: every setting is a declared
+// parameter, settable by name. Include only where OMPL is used.
+
+#include <ompl/base/Goal.h>
+#include <ompl/base/Planner.h>
+#include <ompl/datastructures/NearestNeighbors.h>
+
+#include <Eigen/Core>
+
+#include <deque>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "planner/backward_projection.h"
+#include "planner/configuration_space.h"
+#include "planner/goal_sampler.h"
+
+namespace hfts::planner {
+
+/// The goal of a grasp planning problem: goal configurations are not known
+/// up front but produced by a GoalSampler while the planner runs.
+class GraspGoal : public ompl::base::Goal {
+ public:
+  /// The sampler must outlive the goal.
+  GraspGoal(const ompl::base::SpaceInformationPtr& si, GoalSampler& sampler);
+  /// Always false: a state is a goal only as the root of a goal tree.
+  bool isSatisfied(const ompl::base::State* state) const override;
+  GoalSampler& sampler() const { return sampler_; }
+
+ private:
+  GoalSampler& sampler_;
+};
+
+/// The settings the planner passes on to goal sampling (Fig. 6 and Sec. IV);
+/// declared as parameters of the planner so that a request can set them.
+struct GoalSamplingParameters {
+  RatingWeights weights;
+  int kappa = 4;
+  int i_min = 20;
+  int i_max = 100;
+  double alpha = 1e-6;
+  double friction = 0.5;
+  int cone_edges = 8;
+  int decoupled_iterations = 20;  ///< i of the decoupled baseline
+  double max_fingertip_error = 0.005;
+};
+
+struct TreeStatistics {
+  std::uint64_t iterations = 0;  ///< of Algorithm 1's loop
+  std::uint64_t goal_trees = 0;  ///< backward trees rooted at goals
+  std::uint64_t approximate_trees = 0;
+  std::uint64_t merged_trees = 0;    ///< approximate trees joined to T_f
+  std::uint64_t rejected_paths = 0;  ///< paths that failed the dense re-check
+  std::uint64_t projections = 0;     ///< backward steps bent by the heuristic
+  std::uint64_t forward_tree_size = 0;
+  std::uint64_t backward_tree_nodes = 0;  ///< in live backward trees
+  double path_length_raw = 0.0;           ///< Eq. (3) metric, before smoothing
+  double path_length_smoothed = 0.0;
+};
+
+class MultiTreeCBiRRT : public ompl::base::Planner {
+ public:
+  /// `si` must come from makeSpaceInformation().
+  explicit MultiTreeCBiRRT(const ompl::base::SpaceInformationPtr& si);
+  ~MultiTreeCBiRRT() override;
+
+  ompl::base::PlannerStatus solve(const ompl::base::PlannerTerminationCondition& ptc) override;
+  void clear() override;
+  void setup() override;
+  void getPlannerData(ompl::base::PlannerData& data) const override;
+
+  /// The heuristic of Sec. III-A.2 (none: backward trees grow plainly).
+  void setProjection(std::shared_ptr<BackwardProjection> projection);
+  /// Seeds every random decision of the next solve().
+  void setSeed(std::uint64_t seed) { seed_ = seed; }
+  std::mt19937_64& rng() { return rng_; }
+
+  // Parameters (declared under the names in parentheses).
+  double getRange() const { return range_; }  ///< step size Delta phi ("step_size")
+  void setRange(double range);
+  double getGoalProbabilityMax() const { return pMax_; }  ///< "p_max"
+  void setGoalProbabilityMax(double p);
+  double getGoalProbabilityMin() const { return pMin_; }  ///< "p_min"
+  void setGoalProbabilityMin(double p);
+  double getGoalProbabilityDecay() const { return pW_; }  ///< "p_w"
+  void setGoalProbabilityDecay(double w);
+  double getGoalTreeBias() const { return pGoalTree_; }  ///< "p_goal_tree"
+  void setGoalTreeBias(double p);
+  double getProjectionDistance() const { return dM_; }  ///< D_m ("d_m")
+  void setProjectionDistance(double d);
+  double getFinalCheckResolution() const { return finalResolution_; }  ///< "final_resolution"
+  void setFinalCheckResolution(double r);
+  unsigned getSmoothingSteps() const { return smoothingSteps_; }  ///< "smoothing_steps"
+  void setSmoothingSteps(unsigned steps) { smoothingSteps_ = steps; }
+  double getTimeLimit() const { return timeLimit_; }  ///< "time_limit" (s)
+  void setTimeLimit(double seconds);
+  GoalSamplingParameters& goalSampling() { return goalSampling_; }
+  const GoalSamplingParameters& goalSampling() const { return goalSampling_; }
+
+  /// After a successful solve(): the path from the start to the goal's
+  /// pre-grasp (smoothed and re-checked) and the goal it reaches.
+  const std::vector<Eigen::VectorXd>& solutionPath() const { return solution_; }
+  const GoalSample& reachedGoal() const { return reached_; }
+  const TreeStatistics& statistics() const { return stats_; }
+
+ private:
+  struct Motion;
+  struct Tree;
+  class Knowledge;
+  enum class GrowState { kTrapped, kAdvanced, kReached };
+  enum class TreeKind { kForward, kGoal, kApproximate };
+  enum class Direction { kForward, kBackward };
+
+  void declareParameters();
+  std::unique_ptr<ompl::NearestNeighbors<Motion*>> makeNearestNeighbors() const;
+  Motion* addMotion(int tree, const Eigen::VectorXd& q, Motion* parent);
+  int addTree(TreeKind kind, const Eigen::VectorXd& root);
+  bool sampleGoal(GoalSampler& sampler, const ompl::base::PlannerTerminationCondition& ptc);
+  /// Algorithm 1 line 16: returns the index of a connected backward tree,
+  /// or -1; the joining nodes land in `forwardEnd` / `backwardEnd`.
+  int extendTrees(const ompl::base::PlannerTerminationCondition& ptc, Motion*& forwardEnd,
+                  Motion*& backwardEnd);
+  /// ConstrainedExtend of CBiRRT: steps of range_ from the tree's nearest
+  /// node towards `target` until reached or trapped.
+  GrowState constrainedExtend(Tree& tree, const Eigen::VectorXd& target,
+                              const ompl::base::PlannerTerminationCondition& ptc, Motion*& last);
+  int pickBackwardTree();
+  void mergeIntoForward(int tree, Motion* forwardEnd, Motion* backwardEnd);
+  void dropTree(int tree);
+  bool extractAndShortcutPath(int tree, Motion* forwardEnd, Motion* backwardEnd,
+                              const ompl::base::PlannerTerminationCondition& ptc);
+  std::vector<Eigen::VectorXd> smooth(const std::vector<Eigen::VectorXd>& path,
+                                      const ompl::base::PlannerTerminationCondition& ptc);
+  bool denselyValid(const std::vector<Eigen::VectorXd>& path) const;
+  Eigen::VectorXd sampleUniform();
+  double distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
+
+  const WeightedStateSpace& space_;
+  std::shared_ptr<CollisionMotionValidator> validator_;
+  std::shared_ptr<BackwardProjection> projection_;
+  std::uint64_t seed_ = 1;
+  std::mt19937_64 rng_;
+
+  double range_ = 0.1;
+  double pMax_ = 0.9, pMin_ = 0.01, pW_ = 1.2, pGoalTree_ = 0.7;
+  double dM_ = 0.4;
+  double finalResolution_ = 0.0025;
+  unsigned smoothingSteps_ = 200;
+  double timeLimit_ = 60.0;
+  GoalSamplingParameters goalSampling_;
+
+  std::deque<Motion> motions_;                // every node of every tree (stable addresses)
+  std::vector<std::unique_ptr<Tree>> trees_;  // 0: T_f; others: backward (null once gone)
+  std::unique_ptr<ompl::NearestNeighbors<Motion*>> nonConnected_;  // all backward tree nodes
+  Direction direction_ = Direction::kForward;
+  std::vector<Eigen::VectorXd> solution_;
+  GoalSample reached_;
+  TreeStatistics stats_;
+};
+
+}  // namespace hfts::planner

@@ -1,0 +1,192 @@
+#include "planner/goal_sampler.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace hfts::planner {
+
+namespace {
+
+/// The planner's knowledge plus the approximate-goal set A, which belongs
+/// to the non-connected free space too (paper Sec. III).
+class WithApproximateGoals : public FreeSpaceDistances {
+ public:
+  WithApproximateGoals(const FreeSpaceDistances& planner, const std::vector<Eigen::VectorXd>& goals,
+                       const CollisionChecker& metric)
+      : planner_(planner), goals_(goals), metric_(metric) {}
+  double toNonConnected(const Eigen::VectorXd& q) const override {
+    double d = planner_.toNonConnected(q);
+    for (const Eigen::VectorXd& a : goals_) d = std::min(d, metric_.distance(q, a));
+    return d;
+  }
+  double toConnected(const Eigen::VectorXd& q) const override { return planner_.toConnected(q); }
+
+ private:
+  const FreeSpaceDistances& planner_;
+  const std::vector<Eigen::VectorXd>& goals_;
+  const CollisionChecker& metric_;
+};
+
+}  // namespace
+
+GoalSampler::GoalSampler(GoalSamplingContext context) : context_(context) {
+  if (context.space == nullptr || context.objective == nullptr || context.configurator == nullptr ||
+      context.checker == nullptr || context.rng == nullptr)
+    throw std::invalid_argument("goal sampler: incomplete context");
+  if (!(context.approach_resolution > 0.0))
+    throw std::invalid_argument("goal sampler: approach_resolution must be > 0");
+  if (!(context.max_fingertip_error > 0.0))
+    throw std::invalid_argument("goal sampler: max_fingertip_error must be > 0");
+}
+
+std::vector<CachedConfiguration> GoalSampler::configurationsOf(const HftsNode& node,
+                                                               double epsilon) {
+  const GraspConfigurations all =
+      context_.configurator->configure(*context_.space, node, *context_.rng);
+  ++stats_.configured_nodes;
+  std::vector<CachedConfiguration> free, colliding;
+  for (const GraspConfiguration& c : all.configurations) {
+    if (c.label == ConfigurationLabel::kNoKinematicSolution) continue;
+    CachedConfiguration out;
+    out.pregrasp = c.pregrasp;
+    out.grasp = c.grasp;
+    out.fingertip_error = c.fingertip_error;
+    out.collision_free = c.label == ConfigurationLabel::kCollisionFree;
+    (out.collision_free ? free : colliding).push_back(std::move(out));
+  }
+  if (!free.empty() || !colliding.empty()) ++stats_.kinematic_solutions;
+  const bool stableLeaf = context_.space->isLeaf(node) && epsilon > 0.0;
+  for (CachedConfiguration& c : free)
+    c.goal = stableLeaf && c.fingertip_error <= context_.max_fingertip_error &&
+             context_.checker->isMotionValid(c.pregrasp, c.grasp, context_.approach_resolution,
+                                             /*allowFingertipContact=*/true);
+  // C_n holds the free configurations, or the colliding ones when there is
+  // none (Sec. III-B.3): they still tell how close the grasp is to C_free.
+  return free.empty() ? colliding : free;
+}
+
+GoalSample GoalSampler::describe(const HftsNode& node, const CachedConfiguration& config,
+                                 GoalKind kind) {
+  GoalSample s;
+  s.kind = kind;
+  s.configuration = config.pregrasp;
+  if (kind == GoalKind::kGoal) s.grasp = config.grasp;
+  s.node = node;
+  s.contacts = context_.space->representative(node);
+  const GraspEvaluation& e = context_.objective->evaluate(node);
+  s.epsilon = e.quality;
+  s.reachability = e.reachability;
+  s.fingertip_error = config.fingertip_error;
+  if (kind == GoalKind::kGoal) ++stats_.valid_goals;
+  if (kind == GoalKind::kApproximate) ++stats_.approximate_goals;
+  return s;
+}
+
+HftsGoalSampler::HftsGoalSampler(GoalSamplingContext context, HftsGoalSamplerOptions options)
+    : GoalSampler(context), options_(options), cache_(*context.space, options.weights) {
+  if (options.samples < 1) throw std::invalid_argument("goal sampler: kappa must be >= 1");
+  if (options.min_iterations < 0 || options.max_iterations < options.min_iterations)
+    throw std::invalid_argument("goal sampler: need 0 <= i_min <= i_max");
+}
+
+GoalSample HftsGoalSampler::sample(const FreeSpaceDistances& planner,
+                                   const std::function<bool()>& stop) {
+  ++stats_.calls;
+  const WithApproximateGoals knowledge(planner, approximate_, *context_.checker);
+  cache_.invalidateRatings();  // the trees have grown since the last call
+  std::mt19937_64& rng = *context_.rng;
+  int parent = cache_.root();
+  for (int k = options_.samples; k > 0 && !stop();) {  // Alg. 2 line 3
+    int child = cache_.pickChild(parent, knowledge, rng);
+    if (cache_.shouldDescend(parent, child, knowledge, rng)) {
+      parent = child;
+    } else if (cache_.coverage(parent) >= 1.0) {  // lines 7-13
+      if (const CachedConfiguration* goal = sampleNullSpace(child))
+        return describe(cache_.node(child).hfts, *goal, GoalKind::kGoal);
+      --k;
+    } else {  // lines 14-27
+      child = sampleNewChild(parent, iterationsFor(parent, knowledge));
+      --k;
+      if (child == GoalHierarchyCache::kNone) continue;
+      CacheNode& created = cache_.node(child);
+      for (CachedConfiguration& c : created.configurations) {
+        if (!c.goal) continue;
+        c.returned = true;
+        return describe(created.hfts, c, GoalKind::kGoal);
+      }
+      if (!created.configurations.empty() && created.configurations.front().collision_free) {
+        approximate_.push_back(created.configurations.front().pregrasp);
+        approximateNodes_.push_back(created.hfts);
+        cache_.invalidateRatings();  // A is part of the non-connected free space
+      }
+    }
+  }
+  if (approximate_.empty()) return {};  // lines 28-32
+  const std::size_t pick =
+      std::uniform_int_distribution<std::size_t>(0, approximate_.size() - 1)(rng);
+  CachedConfiguration config;
+  config.pregrasp = approximate_[pick];
+  const HftsNode node = approximateNodes_[pick];
+  approximate_.erase(approximate_.begin() + static_cast<std::ptrdiff_t>(pick));
+  approximateNodes_.erase(approximateNodes_.begin() + static_cast<std::ptrdiff_t>(pick));
+  return describe(node, config, GoalKind::kApproximate);
+}
+
+int HftsGoalSampler::iterationsFor(int parent, const FreeSpaceDistances& knowledge) {
+  // Alg. 2 line 16: more effort for promising parents.
+  const RatingWeights& w = cache_.weights();
+  const double share = cache_.branchRating(parent, knowledge) / (w.w_f + w.w_c);
+  return options_.min_iterations +
+         static_cast<int>(std::lround(share * (options_.max_iterations - options_.min_iterations)));
+}
+
+int HftsGoalSampler::sampleNewChild(int parent, int iterations) {
+  const CacheNode& p = cache_.node(parent);
+  const ClimbResult best =
+      hillClimb(*context_.objective, p.hfts, iterations, *context_.rng, &p.sampled);
+  if (!best.found) return GoalHierarchyCache::kNone;
+  ++stats_.nodes_explored;
+  const double epsilon = best.evaluation.quality;
+  return cache_.addChild(parent, best.best, configurationsOf(best.best, epsilon), epsilon);
+}
+
+const CachedConfiguration* HftsGoalSampler::sampleNullSpace(int node) {
+  // The KR5 is not redundant and three contacts fix the palm for a hand
+  // posture, so the null space of a grasp is its other IK branches.
+  for (CachedConfiguration& c : cache_.node(node).configurations) {
+    if (!c.goal || c.returned) continue;
+    c.returned = true;
+    return &c;
+  }
+  return nullptr;
+}
+
+DecoupledGoalSampler::DecoupledGoalSampler(GoalSamplingContext context, int iterations)
+    : GoalSampler(context), iterations_(iterations) {
+  if (iterations < 1) throw std::invalid_argument("decoupled sampler: iterations must be >= 1");
+}
+
+GoalSample DecoupledGoalSampler::sample(const FreeSpaceDistances& /*knowledge*/,
+                                        const std::function<bool()>& stop) {
+  ++stats_.calls;
+  const HftsSpace& space = *context_.space;
+  HftsNode node = space.root();
+  ClimbResult climb;
+  while (!space.isLeaf(node)) {  // Sec. II-A: a restart from the root
+    if (stop()) return {};
+    climb = hillClimb(*context_.objective, node, iterations_, *context_.rng);
+    node = climb.best;
+    if (explored_.insert(node).second)
+      ++stats_.nodes_explored;
+    else if (space.isLeaf(node))
+      return {};  // this leaf was tried before
+  }
+  if (!(climb.evaluation.quality > 0.0) || stop()) return {};
+  for (const CachedConfiguration& c : configurationsOf(node, climb.evaluation.quality))
+    if (c.goal) return describe(node, c, GoalKind::kGoal);
+  return {};
+}
+
+}  // namespace hfts::planner

@@ -1,0 +1,512 @@
+#include "planner/multi_tree_cbirrt.h"
+
+#include <ompl/base/PlannerData.h>
+#include <ompl/datastructures/NearestNeighborsGNATNoThreadSafety.h>
+#include <ompl/geometric/PathGeometric.h>
+#include <ompl/geometric/PathSimplifier.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace hfts::planner {
+
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+
+GraspGoal::GraspGoal(const ob::SpaceInformationPtr& si, GoalSampler& sampler)
+    : ob::Goal(si), sampler_(sampler) {}
+
+bool GraspGoal::isSatisfied(const ob::State* /*state*/) const {
+  return false;
+}
+
+struct MultiTreeCBiRRT::Motion {
+  Eigen::VectorXd q;
+  ob::State* state = nullptr;  // the same configuration for OMPL (planner data, paths)
+  Motion* parent = nullptr;
+  int tree = 0;
+};
+
+struct MultiTreeCBiRRT::Tree {
+  TreeKind kind = TreeKind::kForward;
+  std::vector<Motion*> motions;
+  std::unique_ptr<ompl::NearestNeighbors<Motion*>> nn;
+  GoalSample root;  // what the goal sampler returned (backward trees)
+};
+
+/// Omega and Gamma for the goal sampler, from the live trees.
+class MultiTreeCBiRRT::Knowledge : public FreeSpaceDistances {
+ public:
+  explicit Knowledge(const MultiTreeCBiRRT& planner) : planner_(planner) {}
+  double toNonConnected(const Eigen::VectorXd& q) const override {
+    return nearest(*planner_.nonConnected_, q);
+  }
+  double toConnected(const Eigen::VectorXd& q) const override {
+    return nearest(*planner_.trees_.front()->nn, q);
+  }
+
+ private:
+  double nearest(const ompl::NearestNeighbors<Motion*>& nn, const Eigen::VectorXd& q) const {
+    if (nn.size() == 0) return std::numeric_limits<double>::infinity();
+    Motion probe;
+    probe.q = q;
+    return planner_.distance(nn.nearest(&probe)->q, q);
+  }
+  const MultiTreeCBiRRT& planner_;
+};
+
+namespace {
+
+/// OMPL's shortcutting with its random generator seeded from ours.
+class SeededSimplifier : public og::PathSimplifier {
+ public:
+  SeededSimplifier(const ob::SpaceInformationPtr& si, std::uint32_t seed) : PathSimplifier(si) {
+    rng_.setLocalSeed(seed);
+  }
+};
+
+const WeightedStateSpace& weighted(const ob::SpaceInformationPtr& si) {
+  const auto* space = dynamic_cast<const WeightedStateSpace*>(si->getStateSpace().get());
+  if (space == nullptr)
+    throw std::invalid_argument(
+        "MultiTreeCBiRRT needs a WeightedStateSpace (makeSpaceInformation)");
+  return *space;
+}
+
+void requireRange(const char* name, double value, double low, double high) {
+  if (!(value >= low && value <= high))
+    throw std::invalid_argument(std::string("parameter ") + name + " must be in [" +
+                                std::to_string(low) + ", " + std::to_string(high) + "], got " +
+                                std::to_string(value));
+}
+
+}  // namespace
+
+MultiTreeCBiRRT::MultiTreeCBiRRT(const ob::SpaceInformationPtr& si)
+    : ob::Planner(si, "MultiTreeCBiRRT"), space_(weighted(si)) {
+  validator_ = std::dynamic_pointer_cast<CollisionMotionValidator>(si->getMotionValidator());
+  if (!validator_) throw std::invalid_argument("MultiTreeCBiRRT needs a CollisionMotionValidator");
+  specs_.directed = true;
+  specs_.multithreaded = false;
+  declareParameters();
+}
+
+MultiTreeCBiRRT::~MultiTreeCBiRRT() {
+  clear();
+}
+
+void MultiTreeCBiRRT::declareParameters() {
+  GoalSamplingParameters& g = goalSampling_;
+  declareParam<double>("step_size", this, &MultiTreeCBiRRT::setRange, &MultiTreeCBiRRT::getRange,
+                       "0.01:0.01:1.0");
+  declareParam<double>("p_max", this, &MultiTreeCBiRRT::setGoalProbabilityMax,
+                       &MultiTreeCBiRRT::getGoalProbabilityMax, "0.:.05:1.");
+  declareParam<double>("p_min", this, &MultiTreeCBiRRT::setGoalProbabilityMin,
+                       &MultiTreeCBiRRT::getGoalProbabilityMin, "0.:.01:1.");
+  declareParam<double>("p_w", this, &MultiTreeCBiRRT::setGoalProbabilityDecay,
+                       &MultiTreeCBiRRT::getGoalProbabilityDecay, "0.:.1:10.");
+  declareParam<double>("p_goal_tree", this, &MultiTreeCBiRRT::setGoalTreeBias,
+                       &MultiTreeCBiRRT::getGoalTreeBias, "0.:.05:1.");
+  declareParam<double>("d_m", this, &MultiTreeCBiRRT::setProjectionDistance,
+                       &MultiTreeCBiRRT::getProjectionDistance, "0.:.05:2.");
+  declareParam<double>("final_resolution", this, &MultiTreeCBiRRT::setFinalCheckResolution,
+                       &MultiTreeCBiRRT::getFinalCheckResolution, "0.0005:0.0005:0.1");
+  declareParam<unsigned>("smoothing_steps", this, &MultiTreeCBiRRT::setSmoothingSteps,
+                         &MultiTreeCBiRRT::getSmoothingSteps, "0:10:10000");
+  declareParam<double>("time_limit", this, &MultiTreeCBiRRT::setTimeLimit,
+                       &MultiTreeCBiRRT::getTimeLimit, "0.:1.:3600.");
+  params().declareParam<double>(
+      "collision_resolution", [this](double r) { validator_->setResolution(r); },
+      [this] { return validator_->resolution(); });
+  params().declareParam<double>(
+      "weight_arm",
+      [this](double w) {
+        requireRange("weight_arm", w, 0.0, 100.0);
+        Eigen::VectorXd weights = space_.weights();
+        const int arm = static_cast<int>(weights.size()) - 7;
+        weights.head(arm).setConstant(w);
+        const_cast<WeightedStateSpace&>(space_).setWeights(weights);
+      },
+      [this] { return space_.weights()(0); });
+  params().declareParam<double>(
+      "weight_hand",
+      [this](double w) {
+        requireRange("weight_hand", w, 0.0, 100.0);
+        Eigen::VectorXd weights = space_.weights();
+        weights.tail(7).setConstant(w);
+        const_cast<WeightedStateSpace&>(space_).setWeights(weights);
+      },
+      [this] { return space_.weights()(space_.weights().size() - 1); });
+  auto positive = [](const char* name, double& field) {
+    return [name, &field](double v) {
+      requireRange(name, v, 1e-12, 1e12);
+      field = v;
+    };
+  };
+  auto count = [](const char* name, int& field, int low, int high) {
+    return [name, &field, low, high](int v) {
+      requireRange(name, v, low, high);
+      field = v;
+    };
+  };
+  params().declareParam<double>("w_f", positive("w_f", g.weights.w_f),
+                                [&g] { return g.weights.w_f; });
+  params().declareParam<double>("w_c", positive("w_c", g.weights.w_c),
+                                [&g] { return g.weights.w_c; });
+  params().declareParam<int>("n_a", count("n_a", g.weights.max_active, 1, 100000),
+                             [&g] { return g.weights.max_active; });
+  params().declareParam<int>("kappa", count("kappa", g.kappa, 1, 1000), [&g] { return g.kappa; });
+  params().declareParam<int>("i_min", count("i_min", g.i_min, 0, 100000), [&g] { return g.i_min; });
+  params().declareParam<int>("i_max", count("i_max", g.i_max, 0, 100000), [&g] { return g.i_max; });
+  params().declareParam<int>("iterations", count("iterations", g.decoupled_iterations, 1, 100000),
+                             [&g] { return g.decoupled_iterations; });
+  params().declareParam<double>("alpha", positive("alpha", g.alpha), [&g] { return g.alpha; });
+  params().declareParam<double>("friction", positive("friction", g.friction),
+                                [&g] { return g.friction; });
+  params().declareParam<int>("cone_edges", count("cone_edges", g.cone_edges, 3, 64),
+                             [&g] { return g.cone_edges; });
+  params().declareParam<double>("max_fingertip_error",
+                                positive("max_fingertip_error", g.max_fingertip_error),
+                                [&g] { return g.max_fingertip_error; });
+}
+
+void MultiTreeCBiRRT::setRange(double range) {
+  requireRange("step_size", range, 1e-4, 10.0);
+  range_ = range;
+}
+void MultiTreeCBiRRT::setGoalProbabilityMax(double p) {
+  requireRange("p_max", p, 0.0, 1.0);
+  pMax_ = p;
+}
+void MultiTreeCBiRRT::setGoalProbabilityMin(double p) {
+  requireRange("p_min", p, 0.0, 1.0);
+  pMin_ = p;
+}
+void MultiTreeCBiRRT::setGoalProbabilityDecay(double w) {
+  requireRange("p_w", w, 0.0, 1e6);
+  pW_ = w;
+}
+void MultiTreeCBiRRT::setGoalTreeBias(double p) {
+  requireRange("p_goal_tree", p, 0.0, 1.0);
+  pGoalTree_ = p;
+}
+void MultiTreeCBiRRT::setProjectionDistance(double d) {
+  requireRange("d_m", d, 0.0, 100.0);
+  dM_ = d;
+  if (projection_) projection_->setMaxDistance(d);
+}
+void MultiTreeCBiRRT::setFinalCheckResolution(double r) {
+  requireRange("final_resolution", r, 1e-5, 1.0);
+  finalResolution_ = r;
+}
+void MultiTreeCBiRRT::setTimeLimit(double seconds) {
+  requireRange("time_limit", seconds, 0.0, 86400.0);
+  timeLimit_ = seconds;
+}
+
+void MultiTreeCBiRRT::setProjection(std::shared_ptr<BackwardProjection> projection) {
+  projection_ = std::move(projection);
+  if (projection_) projection_->setMaxDistance(dM_);
+}
+
+void MultiTreeCBiRRT::setup() {
+  ob::Planner::setup();
+}
+
+void MultiTreeCBiRRT::clear() {
+  ob::Planner::clear();
+  for (Motion& m : motions_) si_->freeState(m.state);
+  motions_.clear();
+  trees_.clear();
+  nonConnected_.reset();
+  solution_.clear();
+  reached_ = {};
+  stats_ = {};
+  direction_ = Direction::kForward;
+}
+
+double MultiTreeCBiRRT::distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
+  return std::sqrt((space_.weights().array() * (a - b).array().square()).sum());
+}
+
+MultiTreeCBiRRT::Motion* MultiTreeCBiRRT::addMotion(int treeIndex, const Eigen::VectorXd& q,
+                                                    Motion* parent) {
+  Tree& tree = *trees_[static_cast<std::size_t>(treeIndex)];
+  Motion& m = motions_.emplace_back();
+  m.q = q;
+  m.state = si_->allocState();
+  space_.fromVector(q, m.state);
+  m.parent = parent;
+  m.tree = treeIndex;
+  tree.motions.push_back(&m);
+  tree.nn->add(&m);
+  if (tree.kind != TreeKind::kForward) nonConnected_->add(&m);
+  return &m;
+}
+
+std::unique_ptr<ompl::NearestNeighbors<MultiTreeCBiRRT::Motion*>>
+MultiTreeCBiRRT::makeNearestNeighbors() const {
+  auto nn = std::make_unique<ompl::NearestNeighborsGNATNoThreadSafety<Motion*>>();
+  nn->setDistanceFunction(
+      [this](const Motion* a, const Motion* b) { return distance(a->q, b->q); });
+  return nn;
+}
+
+int MultiTreeCBiRRT::addTree(TreeKind kind, const Eigen::VectorXd& root) {
+  auto tree = std::make_unique<Tree>();
+  tree->kind = kind;
+  tree->nn = makeNearestNeighbors();
+  trees_.push_back(std::move(tree));
+  const int index = static_cast<int>(trees_.size()) - 1;
+  addMotion(index, root, nullptr);
+  return index;
+}
+
+Eigen::VectorXd MultiTreeCBiRRT::sampleUniform() {
+  const auto& bounds = space_.getBounds();
+  Eigen::VectorXd q(static_cast<Eigen::Index>(bounds.low.size()));
+  for (std::size_t i = 0; i < bounds.low.size(); ++i)
+    q(static_cast<Eigen::Index>(i)) =
+        std::uniform_real_distribution<double>(bounds.low[i], bounds.high[i])(rng_);
+  return q;
+}
+
+bool MultiTreeCBiRRT::sampleGoal(GoalSampler& sampler, const ob::PlannerTerminationCondition& ptc) {
+  // Algorithm 1 lines 10-14.
+  const Knowledge knowledge(*this);
+  const GoalSample sample = sampler.sample(knowledge, [&ptc] { return ptc(); });
+  if (sample.kind == GoalKind::kNone) return false;
+  const bool goal = sample.kind == GoalKind::kGoal;
+  const int tree = addTree(goal ? TreeKind::kGoal : TreeKind::kApproximate, sample.configuration);
+  trees_[static_cast<std::size_t>(tree)]->root = sample;
+  ++(goal ? stats_.goal_trees : stats_.approximate_trees);
+  return true;
+}
+
+int MultiTreeCBiRRT::pickBackwardTree() {
+  std::vector<int> goals, approximate;
+  for (std::size_t t = 1; t < trees_.size(); ++t) {
+    if (!trees_[t]) continue;
+    (trees_[t]->kind == TreeKind::kGoal ? goals : approximate).push_back(static_cast<int>(t));
+  }
+  if (goals.empty() && approximate.empty()) return -1;
+  const bool useGoals =
+      approximate.empty() ||
+      (!goals.empty() && std::uniform_real_distribution<double>(0.0, 1.0)(rng_) < pGoalTree_);
+  const std::vector<int>& from = useGoals ? goals : approximate;
+  return from[std::uniform_int_distribution<std::size_t>(0, from.size() - 1)(rng_)];
+}
+
+MultiTreeCBiRRT::GrowState MultiTreeCBiRRT::constrainedExtend(
+    Tree& tree, const Eigen::VectorXd& target, const ob::PlannerTerminationCondition& ptc,
+    Motion*& last) {
+  Motion probe;
+  probe.q = target;
+  Motion* current = tree.nn->nearest(&probe);
+  last = current;
+  const bool backward = tree.kind != TreeKind::kForward;
+  GrowState state = GrowState::kTrapped;
+  while (!ptc()) {
+    const double d = distance(current->q, target);
+    if (d < 1e-9) return GrowState::kReached;
+    Eigen::VectorXd next = d <= range_ ? target : current->q + (target - current->q) * (range_ / d);
+    if (backward && projection_ && projection_->nearTarget(current->q) &&
+        !validator_->isValid(next)) {
+      next = projection_->project(current->q, next);
+      ++stats_.projections;
+      // CBiRRT: stop when the projected step no longer approaches the target.
+      if (distance(next, target) >= d) return state;
+    }
+    if (!validator_->checkMotion(current->q, next, validator_->resolution())) return state;
+    current = addMotion(current->tree, next, current);
+    last = current;
+    state = GrowState::kAdvanced;
+  }
+  return state;
+}
+
+int MultiTreeCBiRRT::extendTrees(const ob::PlannerTerminationCondition& ptc, Motion*& forwardEnd,
+                                 Motion*& backwardEnd) {
+  // Sec. III-A.1: forward extends T_f, then connects the nearest backward
+  // tree to the new node; backward extends a random backward tree, then
+  // connects T_f to it. The directions alternate.
+  const Eigen::VectorXd random = sampleUniform();
+  Tree& forward = *trees_.front();
+  const int picked = direction_ == Direction::kBackward ? pickBackwardTree() : -1;
+  const bool forwardFirst = picked < 0;
+  direction_ = direction_ == Direction::kForward ? Direction::kBackward : Direction::kForward;
+  Motion* grown = nullptr;
+  if (forwardFirst) {
+    if (constrainedExtend(forward, random, ptc, grown) == GrowState::kTrapped) return -1;
+    if (nonConnected_->size() == 0) return -1;
+    Motion probe;
+    probe.q = grown->q;
+    Tree& backward = *trees_[static_cast<std::size_t>(nonConnected_->nearest(&probe)->tree)];
+    Motion* reached = nullptr;
+    if (constrainedExtend(backward, grown->q, ptc, reached) != GrowState::kReached) return -1;
+    forwardEnd = grown;
+    backwardEnd = reached;
+    return reached->tree;
+  }
+  Tree& backward = *trees_[static_cast<std::size_t>(picked)];
+  if (constrainedExtend(backward, random, ptc, grown) == GrowState::kTrapped) return -1;
+  Motion* reached = nullptr;
+  if (constrainedExtend(forward, grown->q, ptc, reached) != GrowState::kReached) return -1;
+  forwardEnd = reached;
+  backwardEnd = grown;
+  return grown->tree;
+}
+
+void MultiTreeCBiRRT::dropTree(int index) {
+  for (Motion* m : trees_[static_cast<std::size_t>(index)]->motions) nonConnected_->remove(m);
+  trees_[static_cast<std::size_t>(index)].reset();
+}
+
+void MultiTreeCBiRRT::mergeIntoForward(int index, Motion* forwardEnd, Motion* backwardEnd) {
+  // Algorithm 1 line 18: reverse the parent chain from the meeting node to
+  // the backward root, hang it below the forward node it met; every node of
+  // the tree becomes connected free space.
+  Motion* previous = forwardEnd;
+  for (Motion* m = backwardEnd; m != nullptr;) {
+    Motion* next = m->parent;
+    m->parent = previous;
+    previous = m;
+    m = next;
+  }
+  Tree& forward = *trees_.front();
+  std::vector<Motion*> moved = trees_[static_cast<std::size_t>(index)]->motions;
+  dropTree(index);
+  for (Motion* m : moved) {
+    m->tree = 0;
+    forward.motions.push_back(m);
+    forward.nn->add(m);
+  }
+  ++stats_.merged_trees;
+}
+
+ob::PlannerStatus MultiTreeCBiRRT::solve(const ob::PlannerTerminationCondition& ptc) {
+  checkValidity();
+  auto* goal = dynamic_cast<GraspGoal*>(pdef_->getGoal().get());
+  if (goal == nullptr)
+    throw std::invalid_argument("MultiTreeCBiRRT solves GraspGoal problems only");
+  const ob::State* start = pis_.nextStart();
+  if (start == nullptr) return ob::PlannerStatus::INVALID_START;
+  clear();
+  rng_.seed(seed_);
+  nonConnected_ = makeNearestNeighbors();
+  addTree(TreeKind::kForward, space_.toVector(start));
+  GoalSampler& sampler = goal->sampler();
+  ob::PlannerStatus status = ob::PlannerStatus::TIMEOUT;
+  while (!ptc()) {  // Algorithm 1 line 6
+    ++stats_.iterations;
+    const double live = static_cast<double>(std::count_if(
+        trees_.begin() + 1, trees_.end(), [](const auto& t) { return t != nullptr; }));
+    const double pGoal = pMax_ * std::exp(-pW_ * live) + pMin_;  // line 8
+    if (std::uniform_real_distribution<double>(0.0, 1.0)(rng_) <= pGoal) {
+      sampleGoal(sampler, ptc);
+      continue;
+    }
+    Motion* forwardEnd = nullptr;
+    Motion* backwardEnd = nullptr;
+    const int connected = extendTrees(ptc, forwardEnd, backwardEnd);
+    if (connected < 0) continue;
+    if (trees_[static_cast<std::size_t>(connected)]->kind == TreeKind::kApproximate) {
+      mergeIntoForward(connected, forwardEnd, backwardEnd);  // lines 21-22
+    } else if (extractAndShortcutPath(connected, forwardEnd, backwardEnd, ptc)) {
+      status = ob::PlannerStatus::EXACT_SOLUTION;  // line 20
+      break;
+    }
+  }
+  stats_.forward_tree_size = trees_.front()->motions.size();
+  stats_.backward_tree_nodes = nonConnected_->size();
+  return status;
+}
+
+bool MultiTreeCBiRRT::extractAndShortcutPath(int index, Motion* forwardEnd, Motion* backwardEnd,
+                                             const ob::PlannerTerminationCondition& ptc) {
+  std::vector<Eigen::VectorXd> path;
+  for (Motion* m = forwardEnd; m != nullptr; m = m->parent) path.push_back(m->q);
+  std::reverse(path.begin(), path.end());
+  // backwardEnd repeats forwardEnd's configuration; continue from its parent.
+  for (Motion* m = backwardEnd->parent; m != nullptr; m = m->parent) path.push_back(m->q);
+  double raw = 0.0;
+  for (std::size_t i = 1; i < path.size(); ++i) raw += distance(path[i - 1], path[i]);
+  std::vector<Eigen::VectorXd> smoothed = smooth(path, ptc);
+  // The final re-check at a finer resolution than the trees used: a path
+  // that fails it is never returned (the unsmoothed one is tried instead).
+  if (!denselyValid(smoothed)) smoothed = path;
+  if (!denselyValid(smoothed)) {
+    ++stats_.rejected_paths;
+    dropTree(index);
+    return false;
+  }
+  stats_.path_length_raw = raw;
+  stats_.path_length_smoothed = 0.0;
+  for (std::size_t i = 1; i < smoothed.size(); ++i)
+    stats_.path_length_smoothed += distance(smoothed[i - 1], smoothed[i]);
+  solution_ = std::move(smoothed);
+  reached_ = trees_[static_cast<std::size_t>(index)]->root;
+  auto geometric = std::make_shared<og::PathGeometric>(si_);
+  for (const Eigen::VectorXd& q : solution_) {
+    ob::State* state = si_->allocState();
+    space_.fromVector(q, state);
+    geometric->append(state);
+    si_->freeState(state);
+  }
+  pdef_->addSolutionPath(geometric, false, 0.0, getName());
+  return true;
+}
+
+std::vector<Eigen::VectorXd> MultiTreeCBiRRT::smooth(const std::vector<Eigen::VectorXd>& path,
+                                                     const ob::PlannerTerminationCondition& ptc) {
+  if (path.size() < 3 || smoothingSteps_ == 0) return path;
+  og::PathGeometric geometric(si_);
+  ob::State* state = si_->allocState();
+  for (const Eigen::VectorXd& q : path) {
+    space_.fromVector(q, state);
+    geometric.append(state);
+  }
+  si_->freeState(state);
+  // Counted steps, not a time budget, so that a seed fixes the result; in
+  // batches so that the time limit still stops it.
+  SeededSimplifier simplifier(si_, static_cast<std::uint32_t>(rng_()));
+  constexpr unsigned kBatch = 20;
+  for (unsigned done = 0; done < smoothingSteps_ && !ptc(); done += kBatch)
+    simplifier.reduceVertices(geometric, kBatch, kBatch);
+  for (unsigned done = 0; done < smoothingSteps_ && !ptc(); done += kBatch)
+    simplifier.shortcutPath(geometric, kBatch, kBatch);
+  std::vector<Eigen::VectorXd> out;
+  for (const ob::State* s : geometric.getStates()) out.push_back(space_.toVector(s));
+  return out;
+}
+
+bool MultiTreeCBiRRT::denselyValid(const std::vector<Eigen::VectorXd>& path) const {
+  if (path.empty() || !validator_->isValid(path.front())) return false;
+  for (std::size_t i = 1; i < path.size(); ++i)
+    if (!validator_->checkMotion(path[i - 1], path[i], finalResolution_)) return false;
+  return true;
+}
+
+void MultiTreeCBiRRT::getPlannerData(ob::PlannerData& data) const {
+  ob::Planner::getPlannerData(data);
+  for (const auto& tree : trees_) {
+    if (!tree) continue;
+    for (const Motion* m : tree->motions) {
+      const unsigned tag = static_cast<unsigned>(m->tree);
+      if (m->parent == nullptr) {
+        if (m->tree == 0)
+          data.addStartVertex(ob::PlannerDataVertex(m->state, static_cast<int>(tag)));
+        else
+          data.addGoalVertex(ob::PlannerDataVertex(m->state, static_cast<int>(tag)));
+      } else {
+        data.addEdge(ob::PlannerDataVertex(m->parent->state, static_cast<int>(tag)),
+                     ob::PlannerDataVertex(m->state, static_cast<int>(tag)));
+      }
+    }
+  }
+}
+
+}  // namespace hfts::planner
