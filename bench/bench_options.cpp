@@ -1,0 +1,92 @@
+#include "bench_options.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+namespace hfts::bench {
+namespace {
+
+constexpr int kMaxIterations = 1000000;
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out.empty() ? "none" : out;
+}
+
+std::optional<int> positiveInteger(const std::string& digits) {
+  if (digits.empty() || digits.size() > 7) return std::nullopt;
+  if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return std::nullopt;
+  const int value = std::stoi(digits);
+  if (value < 1 || value > kMaxIterations) return std::nullopt;
+  return value;
+}
+
+}  // namespace
+
+Algorithm parseAlgorithm(const std::string& text) {
+  if (text == "coupled") return {text, planner::PlanAlgorithm::kCoupled, std::nullopt};
+  const std::string prefix = "decoupled";
+  if (text.rfind(prefix, 0) == 0) {
+    if (const auto n = positiveInteger(text.substr(prefix.size())))
+      return {text, planner::PlanAlgorithm::kDecoupled, n};
+  }
+  throw UsageError("unknown algorithm '" + text + "' (valid: coupled, decoupledN with N = 1.." +
+                   std::to_string(kMaxIterations) + " iterations per level, e.g. decoupled20)");
+}
+
+std::vector<Algorithm> parseAlgorithms(const std::vector<std::string>& names) {
+  if (names.empty()) throw UsageError("--algorithms: give at least one algorithm");
+  std::vector<Algorithm> out;
+  std::set<std::string> seen;
+  for (const std::string& name : names) {
+    out.push_back(parseAlgorithm(name));
+    if (!seen.insert(name).second)
+      throw UsageError("--algorithms lists '" + name + "' more than once");
+  }
+  return out;
+}
+
+std::filesystem::path resolveDefault(const std::string& given, const std::string& fallback) {
+  if (!given.empty()) return given;
+  std::error_code ec;
+  if (std::filesystem::exists(fallback, ec)) return fallback;
+  return std::filesystem::path(HFTS_SOURCE_DIR) / fallback;
+}
+
+std::vector<std::string> sceneNamesIn(const std::filesystem::path& dir) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    throw std::runtime_error("scene directory '" + dir.string() + "' does not exist");
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    if (entry.is_regular_file() && entry.path().extension() == ".json")
+      names.push_back(entry.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+void requireKnown(const std::vector<std::string>& wanted, const std::vector<std::string>& valid,
+                  const std::string& what) {
+  std::set<std::string> seen;
+  for (const std::string& name : wanted) {
+    if (std::find(valid.begin(), valid.end(), name) == valid.end())
+      throw UsageError("unknown " + what + " '" + name + "' (valid: " + joined(valid) + ")");
+    if (!seen.insert(name).second)
+      throw UsageError("the " + what + " '" + name + "' is listed more than once");
+  }
+}
+
+void checkRunsAndTimeLimit(int runs, double timeLimit) {
+  if (runs < 1) throw UsageError("--runs must be at least 1, got " + std::to_string(runs));
+  if (!std::isfinite(timeLimit) || timeLimit <= 0.0) {
+    std::ostringstream text;
+    text << "--time-limit must be a positive number of seconds, got " << timeLimit;
+    throw UsageError(text.str());
+  }
+}
+
+}  // namespace hfts::bench
