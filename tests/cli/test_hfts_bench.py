@@ -1,0 +1,160 @@
+#!/usr/bin/env python3
+"""End-to-end tests of the hfts-bench command line (docs/benchmarks.md).
+Run by ctest with Debian's /usr/bin/python3; standard library only."""
+
+import argparse
+import csv
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+BENCH = None
+PREPROCESS = None
+SOURCE_DIR = None
+HEADER = ["scene", "object", "algorithm", "seed", "success", "failure", "time", "gs", "vgs",
+          "gns", "epsilon", "path_length", "collision_checks"]
+TIME_LIMIT = 10
+
+
+def run(binary, *args, check=None):
+    result = subprocess.run([binary, *map(str, args)], capture_output=True, text=True,
+                            timeout=240, stdin=subprocess.DEVNULL)
+    if check is not None:
+        assert result.returncode == check, (result.returncode, result.stdout, result.stderr)
+    return result
+
+
+class BenchCli(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="hfts-bench-")
+        cls.db = os.path.join(cls.tmp, "db")
+        run(PREPROCESS, os.path.join(SOURCE_DIR, "objects", "meshes", "mug.ply"), "-o", cls.db,
+            "-q", check=0)
+        run(PREPROCESS, "--hand", os.path.join(SOURCE_DIR, "robots", "kr5_sdh", "kr5_sdh.json"),
+            "-o", cls.db, check=0)
+        cls.csv = os.path.join(cls.tmp, "results.csv")
+        cls.bench = cls.run_bench("--scenes", "table", "--objects", "mug",
+                                  "--algorithms", "coupled,decoupled20", "--runs", 2,
+                                  "--time-limit", TIME_LIMIT, "--out", cls.csv)
+        with open(cls.csv, newline="") as f:
+            cls.rows = list(csv.reader(f))
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    @classmethod
+    def run_bench(cls, *args, check=None):
+        return run(BENCH, "--db", cls.db, *args, check=check)
+
+    def usage_error(self, *args):
+        result = self.run_bench("--out", os.path.join(self.tmp, "bad.csv"), *args)
+        self.assertEqual(result.returncode, 2, (result.stdout, result.stderr))
+        self.assertFalse(os.path.exists(os.path.join(self.tmp, "bad.csv")))
+        return result.stderr
+
+    def test_benchmark_exits_cleanly_and_leaves_no_temporary_file(self):
+        self.assertEqual(self.bench.returncode, 0, self.bench.stderr)
+        self.assertFalse(os.path.exists(self.csv + ".tmp"))
+
+    def test_csv_has_one_row_per_run_in_order(self):
+        self.assertEqual(self.rows[0], HEADER)
+        body = self.rows[1:]
+        self.assertEqual([(r[0], r[1], r[2], r[3]) for r in body],
+                         [("table", "mug", a, s) for a in ("coupled", "decoupled20")
+                          for s in ("1", "2")])
+        self.assertTrue(all(len(r) == len(HEADER) for r in body))
+
+    def test_csv_values_are_consistent(self):
+        for row in self.rows[1:]:
+            r = dict(zip(HEADER, row))
+            self.assertIn(r["success"], ("0", "1"))
+            success = r["success"] == "1"
+            self.assertEqual(r["failure"] == "none", success, r)
+            self.assertLessEqual(float(r["time"]), TIME_LIMIT + 0.1, r)
+            self.assertGreater(float(r["time"]), 0.0)
+            gs, vgs, gns = int(r["gs"]), int(r["vgs"]), int(r["gns"])
+            self.assertLessEqual(vgs, gs)
+            self.assertGreaterEqual(gns, 0)
+            self.assertGreater(int(r["collision_checks"]), 0)
+            if success:
+                self.assertGreaterEqual(float(r["epsilon"]), 0.0)
+                self.assertGreater(float(r["path_length"]), 0.0)
+                self.assertGreaterEqual(vgs, 1)
+            else:
+                self.assertEqual((r["epsilon"], r["path_length"]), ("", ""))
+
+    def test_progress_is_one_line_per_run_when_stderr_is_not_a_terminal(self):
+        lines = [l for l in self.bench.stderr.splitlines() if l.startswith("[")]
+        self.assertEqual(len(lines), 4, self.bench.stderr)
+        self.assertRegex(lines[0], r"^\[1/4\] table mug coupled seed 1: "
+                                   r"(success|failure \w+) [\d.]+ s$")
+        self.assertTrue(lines[3].startswith("[4/4] table mug decoupled20 seed 2: "))
+
+    def test_summary_matches_the_csv(self):
+        out = self.bench.stdout
+        self.assertIn("algorithm", out)
+        self.assertIn("VGS/GS", out)
+        self.assertIn("4 runs written to", out)
+        for algorithm in ("coupled", "decoupled20"):
+            rows = [r for r in self.rows[1:] if r[2] == algorithm]
+            rate = 100.0 * sum(r[4] == "1" for r in rows) / len(rows)
+            mean = sum(float(r[6]) for r in rows) / len(rows)
+            match = re.search(rf"^{algorithm}\s+(\d+)\s+([\d.]+)%\s+([\d.]+)\s+([\d.]+)", out, re.M)
+            self.assertIsNotNone(match, out)
+            self.assertEqual(int(match.group(1)), 2)
+            self.assertAlmostEqual(float(match.group(2)), rate, places=1)
+            self.assertAlmostEqual(float(match.group(3)), mean, delta=0.001)
+
+    def test_unknown_scene_is_a_usage_error_naming_the_valid_ones(self):
+        err = self.usage_error("--scenes", "table,kitchen")
+        self.assertIn("unknown scene 'kitchen' (valid: bin, shelf, table)", err)
+
+    def test_unknown_algorithm_is_a_usage_error(self):
+        err = self.usage_error("--algorithms", "coupled,decoupledX")
+        self.assertIn("unknown algorithm 'decoupledX'", err)
+        self.assertIn("decoupled20", err)
+        self.assertIn("unknown algorithm 'decoupled0'", self.usage_error("--algorithms", "decoupled0"))
+
+    def test_bad_runs_and_time_limits_are_usage_errors(self):
+        self.assertIn("--runs must be at least 1, got 0", self.usage_error("--runs", "0"))
+        self.assertIn("--time-limit must be a positive number", self.usage_error("--time-limit", "-1"))
+        self.assertIn("--time-limit", self.usage_error("--time-limit", "soon"))
+        result = run(BENCH, "--db", self.db)
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("--out", result.stderr)
+
+    def test_unknown_object_is_a_usage_error_naming_the_databases(self):
+        err = self.usage_error("--scenes", "table", "--objects", "teapot")
+        self.assertIn("unknown object 'teapot' (valid: mug)", err)
+
+    def test_scene_target_without_database_is_a_runtime_error(self):
+        with open(os.path.join(SOURCE_DIR, "objects", "scenes", "bin.json")) as f:
+            target = json.load(f)["target"]["object"]
+        self.assertNotEqual(target, "mug")
+        result = self.run_bench("--scenes", "bin", "--out", os.path.join(self.tmp, "bin.csv"))
+        self.assertEqual(result.returncode, 1)
+        self.assertIn(f"scene 'bin' targets '{target}', which has no database", result.stderr)
+
+    def test_unwritable_output_fails_before_planning(self):
+        out = os.path.join(self.tmp, "no-such-dir", "results.csv")
+        result = self.run_bench("--scenes", "table", "--out", out)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("cannot write", result.stderr)
+        self.assertNotIn("[1/", result.stderr)
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--binary", required=True)
+    parser.add_argument("--preprocess", required=True)
+    parser.add_argument("--source-dir", required=True)
+    args, rest = parser.parse_known_args()
+    BENCH, PREPROCESS, SOURCE_DIR = args.binary, args.preprocess, args.source_dir
+    unittest.main(argv=[sys.argv[0], *rest], verbosity=2)
