@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <limits>
+#include <queue>
 
 #include "planner/kinematics.h"
 
@@ -241,9 +242,23 @@ bool CollisionChecker::isMotionValid(const Eigen::VectorXd& a, const Eigen::Vect
                                      CollisionPair* pair) {
   if (!(resolution > 0.0)) throw std::invalid_argument("motion check resolution must be > 0");
   const int steps = std::max(1, static_cast<int>(std::ceil(distance(a, b) / resolution)));
-  for (int s = 1; s <= steps; ++s) {
-    const Eigen::VectorXd q = a + (b - a) * (static_cast<double>(s) / steps);
-    if (impl_->collide(q, allowFingertipContact, pair)) return false;
+  auto collidesAt = [&](int s) {
+    return impl_->collide(a + (b - a) * (static_cast<double>(s) / steps), allowFingertipContact,
+                          pair);
+  };
+  if (collidesAt(steps)) return false;
+  // The same states in bisection order (as OMPL's DiscreteMotionValidator):
+  // a colliding segment is usually found after a few checks, not halfway.
+  std::queue<std::pair<int, int>> open;  // exclusive ranges (low, high) still unchecked
+  open.emplace(0, steps);
+  while (!open.empty()) {
+    const auto [low, high] = open.front();
+    open.pop();
+    if (high - low < 2) continue;
+    const int mid = (low + high) / 2;
+    if (collidesAt(mid)) return false;
+    open.emplace(low, mid);
+    open.emplace(mid, high);
   }
   return true;
 }

@@ -89,6 +89,11 @@ MultiTreeCBiRRT::MultiTreeCBiRRT(const ob::SpaceInformationPtr& si)
     : ob::Planner(si, "MultiTreeCBiRRT"), space_(weighted(si)) {
   validator_ = std::dynamic_pointer_cast<CollisionMotionValidator>(si->getMotionValidator());
   if (!validator_) throw std::invalid_argument("MultiTreeCBiRRT needs a CollisionMotionValidator");
+  const auto& bounds = space_.getBounds();
+  lower_ = Eigen::Map<const Eigen::VectorXd>(bounds.low.data(),
+                                             static_cast<Eigen::Index>(bounds.low.size()));
+  upper_ = Eigen::Map<const Eigen::VectorXd>(bounds.high.data(),
+                                             static_cast<Eigen::Index>(bounds.high.size()));
   specs_.directed = true;
   specs_.multithreaded = false;
   declareParameters();
@@ -266,11 +271,9 @@ int MultiTreeCBiRRT::addTree(TreeKind kind, const Eigen::VectorXd& root) {
 }
 
 Eigen::VectorXd MultiTreeCBiRRT::sampleUniform() {
-  const auto& bounds = space_.getBounds();
-  Eigen::VectorXd q(static_cast<Eigen::Index>(bounds.low.size()));
-  for (std::size_t i = 0; i < bounds.low.size(); ++i)
-    q(static_cast<Eigen::Index>(i)) =
-        std::uniform_real_distribution<double>(bounds.low[i], bounds.high[i])(rng_);
+  Eigen::VectorXd q(lower_.size());
+  for (Eigen::Index i = 0; i < q.size(); ++i)
+    q(i) = std::uniform_real_distribution<double>(lower_(i), upper_(i))(rng_);
   return q;
 }
 
@@ -316,6 +319,8 @@ MultiTreeCBiRRT::GrowState MultiTreeCBiRRT::constrainedExtend(
     if (backward && projection_ && projection_->nearTarget(current->q) &&
         !validator_->isValid(next)) {
       next = projection_->project(current->q, next);
+      // The projected step may leave the joint limits: clamp it back.
+      next = next.cwiseMax(lower_).cwiseMin(upper_);
       ++stats_.projections;
       // CBiRRT: stop when the projected step no longer approaches the target.
       if (distance(next, target) >= d) return state;
@@ -436,9 +441,14 @@ bool MultiTreeCBiRRT::extractAndShortcutPath(int index, Motion* forwardEnd, Moti
   for (std::size_t i = 1; i < path.size(); ++i) raw += distance(path[i - 1], path[i]);
   std::vector<Eigen::VectorXd> smoothed = smooth(path, ptc);
   // The final re-check at a finer resolution than the trees used: a path
-  // that fails it is never returned (the unsmoothed one is tried instead).
-  if (!denselyValid(smoothed)) smoothed = path;
-  if (!denselyValid(smoothed)) {
+  // that fails it is never returned (the unsmoothed one is tried instead
+  // while there is time; it is longer, so its check costs more).
+  bool valid = denselyValid(smoothed);
+  if (!valid && !ptc() && smoothed.size() != path.size()) {
+    smoothed = path;
+    valid = denselyValid(smoothed);
+  }
+  if (!valid) {
     ++stats_.rejected_paths;
     dropTree(index);
     return false;
@@ -473,8 +483,10 @@ std::vector<Eigen::VectorXd> MultiTreeCBiRRT::smooth(const std::vector<Eigen::Ve
   // Counted steps, not a time budget, so that a seed fixes the result; in
   // batches so that the time limit still stops it.
   SeededSimplifier simplifier(si_, static_cast<std::uint32_t>(rng_()));
+  // The first batch runs even at the time limit: a shorter path is also
+  // cheaper to re-check densely.
   constexpr unsigned kBatch = 20;
-  for (unsigned done = 0; done < smoothingSteps_ && !ptc(); done += kBatch)
+  for (unsigned done = 0; done < smoothingSteps_ && (done == 0 || !ptc()); done += kBatch)
     simplifier.reduceVertices(geometric, kBatch, kBatch);
   for (unsigned done = 0; done < smoothingSteps_ && !ptc(); done += kBatch)
     simplifier.shortcutPath(geometric, kBatch, kBatch);

@@ -51,7 +51,8 @@ class CollisionChecker {
 
   /// Checks the straight segment from a to b (a is assumed valid) at
   /// `resolution` in the weighted metric of Eq. (3): every intermediate
-  /// state and b itself. `allowFingertipContact` selects the grasp rule.
+  /// state and b itself (b first, then the others in bisection order). `allowFingertipContact`
+  /// selects the grasp rule.
   bool isMotionValid(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution,
                      bool allowFingertipContact = false, CollisionPair* pair = nullptr);
 

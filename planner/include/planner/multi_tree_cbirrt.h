@@ -142,6 +142,7 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   double distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
 
   const WeightedStateSpace& space_;
+  Eigen::VectorXd lower_, upper_;  // joint limits
   std::shared_ptr<CollisionMotionValidator> validator_;
   std::shared_ptr<BackwardProjection> projection_;
   std::uint64_t seed_ = 1;
