@@ -88,7 +88,7 @@ const char* toString(PlanFailure failure) {
 
 namespace {
 
-constexpr double kTreeResolution = 0.01;  // collision_resolution default (Eq. 3 metric)
+constexpr double kTreeResolution = 0.02;  // collision_resolution default (Eq. 3 metric)
 
 void quietOmpl() {
   static const bool once = [] {
