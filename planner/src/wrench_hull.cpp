@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace hfts::planner {
@@ -22,18 +24,6 @@ struct Facet {
   bool visible = false;
 };
 
-/// The generalised cross product: the vector orthogonal to the five rows,
-/// its components the signed 5 x 5 minors.
-Vector6 crossProduct(const Eigen::Matrix<double, kDim - 1, kDim>& rows) {
-  Vector6 out;
-  for (int j = 0; j < kDim; ++j) {
-    Eigen::Matrix<double, kDim - 1, kDim - 1> minor;
-    minor << rows.leftCols(j), rows.rightCols(kDim - 1 - j);
-    out(j) = (j % 2 == 0 ? 1.0 : -1.0) * minor.determinant();
-  }
-  return out;
-}
-
 class Hull {
  public:
   /// Starts over on a new wrench set, keeping the buffers of earlier
@@ -47,34 +37,32 @@ class Hull {
     stamp_ = 0;
   }
 
-  /// Returns false when the points do not span 6-D (the hull is flat).
-  bool initialSimplex(std::array<int, kDim + 1>& simplex) const {
-    const Vector6 mean = w_->rowwise().mean();
-    std::vector<Vector6> basis;
-    int first = 0;
-    (w_->colwise() - mean).colwise().squaredNorm().maxCoeff(&first);
-    simplex[0] = first;
-    for (int k = 1; k <= kDim; ++k) {
-      double best = -1.0;
-      for (int i = 0; i < w_->cols(); ++i) {
-        Vector6 v = w_->col(i) - w_->col(first);
-        for (const Vector6& b : basis) v -= b.dot(v) * b;
-        if (v.norm() > best) {
-          best = v.norm();
-          simplex[static_cast<std::size_t>(k)] = i;
-        }
-      }
-      if (best <= 1e-9 * scale_) return false;
-      Vector6 v = w_->col(simplex[static_cast<std::size_t>(k)]) - w_->col(first);
-      for (const Vector6& b : basis) v -= b.dot(v) * b;
-      basis.push_back(v.normalized());
+  /// Makes the first hull: the simplex of seven points spread wide, the
+  /// first farthest from the centroid, each next the farthest from the
+  /// affine span of those before. Returns false when the points do not
+  /// span 6-D (the hull is flat).
+  bool buildSimplex() {
+    std::array<int, kDim + 1> simplex{};
+    (w_->colwise() - w_->rowwise().mean()).colwise().squaredNorm().maxCoeff(&simplex[0]);
+    // Gram-Schmidt on all points at once: each column of residual_ is a
+    // point minus simplex[0], less its part in the directions chosen.
+    residual_ = w_->colwise() - w_->col(simplex[0]);
+    for (std::size_t k = 1; k <= kDim; ++k) {
+      const double norm2 = residual_.colwise().squaredNorm().maxCoeff(&simplex[k]);
+      if (!(norm2 > 1e-18 * scale_ * scale_)) return false;
+      const Vector6 direction = residual_.col(simplex[k]) / std::sqrt(norm2);
+      for (Eigen::Index i = 0; i < residual_.cols(); ++i)
+        residual_.col(i) -= direction.dot(residual_.col(i)) * direction;
     }
-    return true;
-  }
-
-  void build(const std::array<int, kDim + 1>& simplex) {
-    Vector6 interior = Vector6::Zero();
-    for (const int v : simplex) interior += w_->col(v) / (kDim + 1);
+    // Row k-1 of the inverse of the edge matrix is orthogonal to every edge
+    // but edge k, and has product 1 with it: the normal of the facet
+    // without simplex[k], pointing inwards. The sum of the rows is
+    // orthogonal to the differences of edges and has product 1 with each:
+    // the normal of the facet without simplex[0], pointing outwards.
+    Eigen::Matrix<double, kDim, kDim> edges;
+    for (int k = 1; k <= kDim; ++k)
+      edges.col(k - 1) = w_->col(simplex[static_cast<std::size_t>(k)]) - w_->col(simplex[0]);
+    const Eigen::Matrix<double, kDim, kDim> inverse = edges.inverse();
     for (int omit = 0; omit <= kDim; ++omit) {
       Facet f;
       int k = 0;
@@ -85,18 +73,13 @@ class Hull {
         f.neighbours[static_cast<std::size_t>(k)] = j;
         ++k;
       }
-      Eigen::Matrix<double, kDim - 1, kDim> edges;
-      for (int r = 1; r < kDim; ++r)
-        edges.row(r - 1) =
-            (w_->col(f.vertices[static_cast<std::size_t>(r)]) - w_->col(f.vertices[0])).transpose();
-      f.normal = crossProduct(edges).normalized();
-      f.offset = f.normal.dot(w_->col(f.vertices[0]));
-      if (f.normal.dot(interior) > f.offset) {
-        f.normal = -f.normal;
-        f.offset = -f.offset;
-      }
+      const Vector6 normal = omit == 0 ? Vector6(inverse.colwise().sum().transpose())
+                                       : Vector6(-inverse.row(omit - 1).transpose());
+      f.normal = normal.normalized();
+      f.offset = f.normal.dot(w_->col(simplex[omit == 0 ? 1 : 0]));
       facets_.push_back(f);
     }
+    return true;
   }
 
   /// Gives every point a facet it sees (its conflict), or -1 if it lies
@@ -132,17 +115,59 @@ class Hull {
     reassignConflicts(firstNew, p);
     return true;
   }
-  double depth() const {
-    double best = std::numeric_limits<double>::infinity();
-    for (const Facet& f : facets_)
-      if (f.alive) best = std::min(best, f.offset);
-    return best > eps_ ? best : 0.0;
+
+  /// The depth of the origin, inserting only the points that can change
+  /// it: while some pending point sees the facet nearest the origin (the
+  /// one with the smallest offset), insert the highest of them. Once none
+  /// does, that facet is on the final hull, so the depth is at most its
+  /// offset; and it is at least that, since the hull only grows. The
+  /// other points need not be inserted. nullopt on an inconsistency.
+  std::optional<double> depth() {
+    for (;;) {
+      const int nearest = nearestFacet();
+      const int p = highestOver(nearest);
+      if (p < 0) {
+        const double offset = facets_[static_cast<std::size_t>(nearest)].offset;
+        return offset > eps_ ? offset : 0.0;
+      }
+      if (!insert(p)) return std::nullopt;
+    }
   }
 
  private:
-  bool sees(int fi, int point) const {
+  /// Signed distance of a point above a facet's plane.
+  double height(int fi, int point) const {
     const Facet& f = facets_[static_cast<std::size_t>(fi)];
-    return f.normal.dot(w_->col(point)) - f.offset > eps_;
+    return f.normal.dot(w_->col(point)) - f.offset;
+  }
+  bool sees(int fi, int point) const { return height(fi, point) > eps_; }
+
+  int nearestFacet() const {
+    int nearest = -1;
+    double offset = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < facets_.size(); ++i) {
+      if (facets_[i].alive && facets_[i].offset < offset) {
+        offset = facets_[i].offset;
+        nearest = static_cast<int>(i);
+      }
+    }
+    return nearest;
+  }
+
+  /// The pending point highest over facet fi among those that see it, -1
+  /// if none does.
+  int highestOver(int fi) const {
+    int highest = -1;
+    double top = eps_;
+    for (std::size_t i = 0; i < conflict_.size(); ++i) {
+      if (conflict_[i] < 0) continue;
+      const double h = height(fi, static_cast<int>(i));
+      if (h > top) {
+        top = h;
+        highest = static_cast<int>(i);
+      }
+    }
+    return highest;
   }
 
   /// The facets p sees form a connected region around `start`: walk it
@@ -265,6 +290,7 @@ class Hull {
 
   const Eigen::Matrix<double, 6, Eigen::Dynamic>* w_ = nullptr;
   std::vector<Facet> facets_;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> residual_;  // buildSimplex's
   double scale_ = 1.0, eps_ = 0.0;
 };
 
@@ -274,16 +300,9 @@ std::optional<double> originDepthIncremental(const Eigen::Matrix<double, 6, Eige
   // One hull per thread, reused: its buffers outlive the call.
   thread_local Hull hull;
   hull.reset(w);
-  std::array<int, kDim + 1> simplex{};
-  if (w.cols() <= kDim || !hull.initialSimplex(simplex)) return 0.0;
+  if (w.cols() <= kDim || !hull.buildSimplex()) return 0.0;
   if (w.cols() > 64) return std::nullopt;  // ridge keys are 64-bit masks
-  hull.build(simplex);
   hull.assignConflicts();
-  std::vector<int> order;
-  for (int i = 0; i < w.cols(); ++i)
-    if (std::find(simplex.begin(), simplex.end(), i) == simplex.end()) order.push_back(i);
-  for (const int i : order)
-    if (!hull.insert(i)) return std::nullopt;
   return hull.depth();
 }
 

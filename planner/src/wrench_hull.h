@@ -2,7 +2,9 @@
 // A 6-D convex hull specialised for grasp wrench sets (private to the
 // planner): beneath-beyond insertion on a triangulated hull, where every
 // new facet's plane is a combination of the two planes meeting at its
-// horizon ridge, so no facet ever needs a determinant.
+// horizon ridge, so no facet ever needs a determinant. Only the part of
+// the hull that decides the origin's depth is built: points go in while
+// they see the facet nearest the origin, the highest first.
 
 #include <Eigen/Core>
 
