@@ -71,17 +71,27 @@ double originDepth(Eigen::Matrix<double, 6, Eigen::Dynamic> points) {
   return depth;
 }
 
+/// The contacts' centroid and the normal of their best-fit plane.
+struct ContactPlane {
+  Eigen::Vector3d mean;
+  Eigen::Vector3d normal;
+};
+
+ContactPlane contactPlane(const Eigen::Matrix3Xd& positions) {
+  const Eigen::Vector3d mean = positions.rowwise().mean();
+  const Eigen::Matrix3Xd centered = positions.colwise() - mean;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> pca(centered * centered.transpose());
+  return {mean, pca.eigenvectors().col(0)};
+}
+
 /// Where the first cone edge of each contact points: the tangent part of a
 /// direction defined by the grasp itself (normal of the contacts' best-fit
 /// plane, then towards their centroid, then towards the centre), so that
 /// epsilon does not change when the grasp and its centre move rigidly or
 /// the contacts are reordered. World axes are the last resort.
-Eigen::Vector3d firstTangent(const GraspQualityRequest& r, Eigen::Index i,
-                             const Eigen::Vector3d& normal) {
-  const Eigen::Vector3d mean = r.positions.rowwise().mean();
-  const Eigen::Matrix3Xd centered = r.positions.colwise() - mean;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> pca(centered * centered.transpose());
-  const Eigen::Vector3d candidates[] = {pca.eigenvectors().col(0), mean - r.positions.col(i),
+Eigen::Vector3d firstTangent(const GraspQualityRequest& r, const ContactPlane& plane,
+                             Eigen::Index i, const Eigen::Vector3d& normal) {
+  const Eigen::Vector3d candidates[] = {plane.normal, plane.mean - r.positions.col(i),
                                         r.center - r.positions.col(i), Eigen::Vector3d::UnitX(),
                                         Eigen::Vector3d::UnitY()};
   for (const Eigen::Vector3d& e : candidates) {
@@ -99,9 +109,10 @@ Eigen::Matrix<double, 6, Eigen::Dynamic> contactWrenches(const GraspQualityReque
   const int k = r.cone_edges;
   const double sign = r.direction == NormalDirection::kInward ? 1.0 : -1.0;
   Eigen::Matrix<double, 6, Eigen::Dynamic> w(6, n * k);
+  const ContactPlane plane = contactPlane(r.positions);
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Vector3d normal = sign * r.normals.col(i).normalized();
-    const Eigen::Vector3d t1 = firstTangent(r, i, normal);
+    const Eigen::Vector3d t1 = firstTangent(r, plane, i, normal);
     const Eigen::Vector3d t2 = normal.cross(t1);
     const Eigen::Vector3d arm = (r.positions.col(i) - r.center) / r.torque_scale;
     for (int e = 0; e < k; ++e) {
