@@ -142,6 +142,37 @@ TEST(GraspQuality, MatchesABruteForceReferenceOnRandomGrasps) {
   EXPECT_GT(positive, 10);  // the comparison covers stable grasps, not only zeros
 }
 
+// The incremental hull stops once no remaining wrench sees the facet
+// nearest the origin; at the force-closure boundary that facet passes
+// within a hair of the origin. Friction just below and just above the
+// boundary (found by bisection) must give what brute force gives.
+TEST(GraspQuality, MatchesABruteForceReferenceAcrossTheForceClosureBoundary) {
+  std::mt19937_64 rng(5);
+  int positive = 0, zero = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    GraspQualityRequest r = randomGrasp(3, rng);
+    r.cone_edges = 4;
+    double unstable = 0.01, stable = 2.0;
+    r.friction = stable;
+    if (graspQuality(r).epsilon == 0.0) continue;
+    for (int step = 0; step < 30; ++step) {
+      r.friction = 0.5 * (unstable + stable);
+      (graspQuality(r).epsilon > 0.0 ? stable : unstable) = r.friction;
+    }
+    for (const double mu : {unstable * (1 - 1e-4), stable * (1 + 1e-4)}) {
+      r.friction = mu;
+      const double expected = bruteForceEpsilon(contactWrenches(r));
+      const double actual = graspQuality(r).epsilon;
+      EXPECT_NEAR(actual, expected, 1e-9 * std::max(expected, 1e-12))
+          << "trial " << trial << ", mu " << mu;
+      positive += expected > 0;
+      zero += expected == 0;
+    }
+  }
+  EXPECT_GT(positive, 5);
+  EXPECT_GT(zero, 5);
+}
+
 TEST(GraspQuality, IncrementalHullAgreesWithQhull) {
   std::mt19937_64 rng(11);
   int positive = 0;
@@ -155,6 +186,21 @@ TEST(GraspQuality, IncrementalHullAgreesWithQhull) {
     positive += qhull > 0;
   }
   EXPECT_GT(positive, 50);
+}
+
+// Many contacts: most wrenches never enter the incremental hull.
+TEST(GraspQuality, IncrementalHullAgreesWithQhullForUpTo64Wrenches) {
+  std::mt19937_64 rng(13);
+  int positive = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    GraspQualityRequest r = randomGrasp(6 + trial % 3, rng);
+    const double fast = graspQuality(r).epsilon;
+    r.use_qhull = true;
+    const double qhull = graspQuality(r).epsilon;
+    EXPECT_NEAR(fast, qhull, 1e-9 * std::max(qhull, 1e-12)) << "trial " << trial;
+    positive += qhull > 0;
+  }
+  EXPECT_GT(positive, 20);
 }
 
 TEST(GraspQuality, DegenerateGraspsGiveZeroWithoutErrors) {
