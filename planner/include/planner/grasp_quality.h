@@ -34,7 +34,9 @@ struct GraspQualityResult {
   double epsilon = 0.0;
 };
 
-/// Computes epsilon with a 6-D convex hull (Qhull). Degenerate wrench sets
+/// Computes epsilon from the 6-D convex hull of the wrenches: the project's
+/// incremental hull, built only as far as the facet nearest the origin
+/// needs (Qhull for more than 64 wrenches or as a fallback). Degenerate wrench sets
 /// (fewer than 7 wrenches, rank below 6, coplanar contacts that cannot
 /// resist every wrench, duplicates) give exactly 0 or the correct positive
 /// value, never an exception. Throws std::invalid_argument naming the field
