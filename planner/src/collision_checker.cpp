@@ -125,8 +125,10 @@ struct CollisionChecker::Impl {
   fcl::DynamicAABBTreeCollisionManagerd robot, environment;
   LinkPoses poses;
   std::uint64_t checks = 0;
+  Eigen::VectorXd weights;  // Eq. (3)
 
-  Impl(const RobotModel& m, const Scene& scene) : model(m), base(scene.robot_base) {}
+  Impl(const RobotModel& m, const Scene& scene)
+      : model(m), base(scene.robot_base), weights(m.dofWeights()) {}
 
   Tag* tag(Tag value) {
     tags.push_back(std::make_unique<Tag>(std::move(value)));
@@ -234,7 +236,20 @@ double CollisionChecker::clearance(const Eigen::VectorXd& q) {
 }
 
 double CollisionChecker::distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
-  return std::sqrt((impl_->model.dofWeights().array() * (a - b).array().square()).sum());
+  return std::sqrt((impl_->weights.array() * (a - b).array().square()).sum());
+}
+
+const Eigen::VectorXd& CollisionChecker::dofWeights() const {
+  return impl_->weights;
+}
+
+void CollisionChecker::setDofWeights(const Eigen::VectorXd& weights) {
+  if (weights.size() != impl_->model.numDofs())
+    throw std::invalid_argument("DoF weights: " + std::to_string(impl_->model.numDofs()) +
+                                " values expected, got " + std::to_string(weights.size()));
+  if (!weights.allFinite() || (weights.array() < 0.0).any())
+    throw std::invalid_argument("DoF weights must be finite and >= 0");
+  impl_->weights = weights;
 }
 
 bool CollisionChecker::isMotionValid(const Eigen::VectorXd& a, const Eigen::VectorXd& b,

@@ -9,7 +9,8 @@ namespace hfts::planner {
 namespace ob = ompl::base;
 
 WeightedStateSpace::WeightedStateSpace(const RobotModel& model)
-    : ob::RealVectorStateSpace(static_cast<unsigned int>(model.numDofs())) {
+    : ob::RealVectorStateSpace(static_cast<unsigned int>(model.numDofs())),
+      armDofs_(model.numArmDofs()) {
   ob::RealVectorBounds bounds(static_cast<unsigned int>(model.numDofs()));
   for (int i = 0; i < model.numDofs(); ++i) {
     bounds.setLow(static_cast<unsigned int>(i), model.lowerLimits()(i));
@@ -31,14 +32,14 @@ void WeightedStateSpace::setWeights(const Eigen::VectorXd& weights) {
 }
 
 double WeightedStateSpace::distance(const ob::State* a, const ob::State* b) const {
-  const double* x = a->as<StateType>()->values;
-  const double* y = b->as<StateType>()->values;
-  double sum = 0.0;
-  for (unsigned int i = 0; i < dimension_; ++i) {
-    const double d = x[i] - y[i];
-    sum += weights_(i) * d * d;
-  }
-  return std::sqrt(sum);
+  using Values = Eigen::Map<const Eigen::VectorXd>;
+  const Values x(a->as<StateType>()->values, dimension_);
+  const Values y(b->as<StateType>()->values, dimension_);
+  return std::sqrt((weights_.array() * (x - y).array().square()).sum());
+}
+
+double WeightedStateSpace::distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
+  return std::sqrt((weights_.array() * (a - b).array().square()).sum());
 }
 
 double WeightedStateSpace::getMaximumExtent() const {
@@ -118,7 +119,9 @@ bool CollisionMotionValidator::checkMotion(const ob::State* a, const ob::State* 
 
 ob::SpaceInformationPtr makeSpaceInformation(const RobotModel& model, CollisionChecker& checker,
                                              double resolution) {
-  auto si = std::make_shared<ob::SpaceInformation>(std::make_shared<WeightedStateSpace>(model));
+  auto space = std::make_shared<WeightedStateSpace>(model);
+  space->setWeights(checker.dofWeights());
+  auto si = std::make_shared<ob::SpaceInformation>(space);
   si->setStateValidityChecker(std::make_shared<CollisionValidityChecker>(si, checker));
   si->setMotionValidator(std::make_shared<CollisionMotionValidator>(si, checker, resolution));
   si->setup();

@@ -102,17 +102,15 @@ std::shared_ptr<MultiTreeCBiRRT> makePlanner(const ob::SpaceInformationPtr& si,
                                              const PlanRequest& request) {
   auto planner = std::make_shared<MultiTreeCBiRRT>(si);
   if (request.time_limit) planner->setTimeLimit(*request.time_limit);
-  if (request.iterations)
-    planner->params().setParam("iterations", std::to_string(*request.iterations));
-  for (const auto& [name, value] : request.parameters) {
+  std::map<std::string, std::string> parameters = request.parameters;
+  if (request.iterations) parameters["iterations"] = std::to_string(*request.iterations);
+  for (const auto& [name, value] : parameters) {
     if (!planner->params().hasParam(name))
       throw std::invalid_argument("parameters: unknown planner parameter '" + name + "'");
     if (!planner->params().setParam(name, value))
       throw std::invalid_argument("parameters: '" + value + "' is not a valid value for '" + name +
-                                  "'");
+                                  "' (range " + planner->params()[name].getRangeSuggestion() + ")");
   }
-  if (request.iterations && *request.iterations < 1)
-    throw std::invalid_argument("iterations must be >= 1");
   return planner;
 }
 

@@ -68,8 +68,8 @@ class SeededSimplifier : public og::PathSimplifier {
   }
 };
 
-const WeightedStateSpace& weighted(const ob::SpaceInformationPtr& si) {
-  const auto* space = dynamic_cast<const WeightedStateSpace*>(si->getStateSpace().get());
+WeightedStateSpace& weighted(const ob::SpaceInformationPtr& si) {
+  auto* space = dynamic_cast<WeightedStateSpace*>(si->getStateSpace().get());
   if (space == nullptr)
     throw std::invalid_argument(
         "MultiTreeCBiRRT needs a WeightedStateSpace (makeSpaceInformation)");
@@ -127,23 +127,10 @@ void MultiTreeCBiRRT::declareParameters() {
       "collision_resolution", [this](double r) { validator_->setResolution(r); },
       [this] { return validator_->resolution(); });
   params().declareParam<double>(
-      "weight_arm",
-      [this](double w) {
-        requireRange("weight_arm", w, 0.0, 100.0);
-        Eigen::VectorXd weights = space_.weights();
-        const int arm = static_cast<int>(weights.size()) - 7;
-        weights.head(arm).setConstant(w);
-        const_cast<WeightedStateSpace&>(space_).setWeights(weights);
-      },
+      "weight_arm", [this](double w) { setGroupWeight("weight_arm", true, w); },
       [this] { return space_.weights()(0); });
   params().declareParam<double>(
-      "weight_hand",
-      [this](double w) {
-        requireRange("weight_hand", w, 0.0, 100.0);
-        Eigen::VectorXd weights = space_.weights();
-        weights.tail(7).setConstant(w);
-        const_cast<WeightedStateSpace&>(space_).setWeights(weights);
-      },
+      "weight_hand", [this](double w) { setGroupWeight("weight_hand", false, w); },
       [this] { return space_.weights()(space_.weights().size() - 1); });
   auto positive = [](const char* name, double& field) {
     return [name, &field](double v) {
@@ -176,6 +163,19 @@ void MultiTreeCBiRRT::declareParameters() {
   params().declareParam<double>("max_fingertip_error",
                                 positive("max_fingertip_error", g.max_fingertip_error),
                                 [&g] { return g.max_fingertip_error; });
+}
+
+void MultiTreeCBiRRT::setGroupWeight(const char* name, bool arm, double weight) {
+  requireRange(name, weight, 0.0, 100.0);
+  Eigen::VectorXd weights = space_.weights();
+  const int armDofs = space_.armDofs();
+  if (arm)
+    weights.head(armDofs).setConstant(weight);
+  else
+    weights.tail(weights.size() - armDofs).setConstant(weight);
+  // One metric for trees, motion checks and goal-sampler ratings.
+  space_.setWeights(weights);
+  validator_->checker().setDofWeights(weights);
 }
 
 void MultiTreeCBiRRT::setRange(double range) {
@@ -217,10 +217,6 @@ void MultiTreeCBiRRT::setProjection(std::shared_ptr<BackwardProjection> projecti
   if (projection_) projection_->setMaxDistance(dM_);
 }
 
-void MultiTreeCBiRRT::setup() {
-  ob::Planner::setup();
-}
-
 void MultiTreeCBiRRT::clear() {
   ob::Planner::clear();
   for (Motion& m : motions_) si_->freeState(m.state);
@@ -234,7 +230,7 @@ void MultiTreeCBiRRT::clear() {
 }
 
 double MultiTreeCBiRRT::distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
-  return std::sqrt((space_.weights().array() * (a - b).array().square()).sum());
+  return space_.distance(a, b);
 }
 
 MultiTreeCBiRRT::Motion* MultiTreeCBiRRT::addMotion(int treeIndex, const Eigen::VectorXd& q,
@@ -277,16 +273,15 @@ Eigen::VectorXd MultiTreeCBiRRT::sampleUniform() {
   return q;
 }
 
-bool MultiTreeCBiRRT::sampleGoal(GoalSampler& sampler, const ob::PlannerTerminationCondition& ptc) {
+void MultiTreeCBiRRT::sampleGoal(GoalSampler& sampler, const ob::PlannerTerminationCondition& ptc) {
   // Algorithm 1 lines 10-14.
   const Knowledge knowledge(*this);
   const GoalSample sample = sampler.sample(knowledge, [&ptc] { return ptc(); });
-  if (sample.kind == GoalKind::kNone) return false;
+  if (sample.kind == GoalKind::kNone) return;
   const bool goal = sample.kind == GoalKind::kGoal;
   const int tree = addTree(goal ? TreeKind::kGoal : TreeKind::kApproximate, sample.configuration);
   trees_[static_cast<std::size_t>(tree)]->root = sample;
   ++(goal ? stats_.goal_trees : stats_.approximate_trees);
-  return true;
 }
 
 int MultiTreeCBiRRT::pickBackwardTree() {

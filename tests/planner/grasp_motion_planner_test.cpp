@@ -183,6 +183,10 @@ TEST(GraspMotionPlanner, MalformedRequestsThrowNamingTheField) {
   test::expectErrorMentioning<std::invalid_argument>([&] { planGrasp(world(), r); }, {"p_max"});
   r.parameters = {{"kappa", "many"}};
   test::expectErrorMentioning<std::invalid_argument>([&] { planGrasp(world(), r); }, {"kappa"});
+  r.parameters.clear();
+  r.iterations = 0;
+  test::expectErrorMentioning<std::invalid_argument>([&] { planGrasp(world(), r); },
+                                                     {"iterations"});
 }
 
 TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {

@@ -56,8 +56,13 @@ class CollisionChecker {
   bool isMotionValid(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution,
                      bool allowFingertipContact = false, CollisionPair* pair = nullptr);
 
-  /// The weighted configuration distance of Eq. (3): sqrt(sum w_i (a_i - b_i)^2).
+  /// The weighted configuration distance of Eq. (3): sqrt(sum w_i (a_i - b_i)^2),
+  /// with the robot's DoF weights unless setDofWeights() changed them.
   double distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
+  const Eigen::VectorXd& dofWeights() const;
+  /// Throws std::invalid_argument for a wrong size or a negative or
+  /// non-finite weight.
+  void setDofWeights(const Eigen::VectorXd& weights);
 
   const RobotModel& model() const;
 

@@ -22,8 +22,10 @@ class WeightedStateSpace : public ompl::base::RealVectorStateSpace {
 
   /// Eq. (3): sqrt(sum_i w_i (a_i - b_i)^2).
   double distance(const ompl::base::State* a, const ompl::base::State* b) const override;
+  double distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
   double getMaximumExtent() const override;
 
+  int armDofs() const { return armDofs_; }
   const Eigen::VectorXd& weights() const { return weights_; }
   /// Throws std::invalid_argument for a wrong size or a negative weight.
   void setWeights(const Eigen::VectorXd& weights);
@@ -32,6 +34,7 @@ class WeightedStateSpace : public ompl::base::RealVectorStateSpace {
   void fromVector(const Eigen::VectorXd& q, ompl::base::State* state) const;
 
  private:
+  int armDofs_ = 0;
   Eigen::VectorXd weights_;
 };
 
@@ -58,6 +61,7 @@ class CollisionMotionValidator : public ompl::base::MotionValidator {
   /// The same check at another resolution (the planner's final re-check).
   bool checkMotion(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution) const;
 
+  CollisionChecker& checker() const { return checker_; }
   /// A single configuration under the full rule.
   bool isValid(const Eigen::VectorXd& q) const { return !checker_.inCollision(q); }
 
@@ -71,7 +75,9 @@ class CollisionMotionValidator : public ompl::base::MotionValidator {
   double resolution_;
 };
 
-/// Space, validity checker and motion validator, set up.
+/// Space, validity checker and motion validator, set up. The space's
+/// weights start as the checker's (they must stay equal: the planner's
+/// weight parameters set both).
 ompl::base::SpaceInformationPtr makeSpaceInformation(const RobotModel& model,
                                                      CollisionChecker& checker, double resolution);
 

@@ -72,7 +72,6 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
 
   ompl::base::PlannerStatus solve(const ompl::base::PlannerTerminationCondition& ptc) override;
   void clear() override;
-  void setup() override;
   void getPlannerData(ompl::base::PlannerData& data) const override;
 
   /// The heuristic of Sec. III-A.2 (none: backward trees grow plainly).
@@ -121,7 +120,9 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   std::unique_ptr<ompl::NearestNeighbors<Motion*>> makeNearestNeighbors() const;
   Motion* addMotion(int tree, const Eigen::VectorXd& q, Motion* parent);
   int addTree(TreeKind kind, const Eigen::VectorXd& root);
-  bool sampleGoal(GoalSampler& sampler, const ompl::base::PlannerTerminationCondition& ptc);
+  void sampleGoal(GoalSampler& sampler, const ompl::base::PlannerTerminationCondition& ptc);
+  /// The Eq. (3) weight of all arm (or all hand) DoF, in the space and the checker.
+  void setGroupWeight(const char* name, bool arm, double weight);
   /// Algorithm 1 line 16: returns the index of a connected backward tree,
   /// or -1; the joining nodes land in `forwardEnd` / `backwardEnd`.
   int extendTrees(const ompl::base::PlannerTerminationCondition& ptc, Motion*& forwardEnd,
@@ -141,7 +142,7 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   Eigen::VectorXd sampleUniform();
   double distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
 
-  const WeightedStateSpace& space_;
+  WeightedStateSpace& space_;
   Eigen::VectorXd lower_, upper_;  // joint limits
   std::shared_ptr<CollisionMotionValidator> validator_;
   std::shared_ptr<BackwardProjection> projection_;
