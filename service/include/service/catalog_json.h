@@ -1,0 +1,34 @@
+#pragma once
+// The read-only methods of the service as JSON: what the catalog holds
+// (robot, objects, scenes, planner parameters) and grasp quality.
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "service/planning_catalog.h"
+
+namespace hfts::service {
+
+/// {"name", "joint_names", "arm_joint_names", "hand_joint_names",
+/// "lower_limits", "upper_limits", "home", "fingertips"}.
+nlohmann::json robotJson(const planner::RobotModel& robot);
+
+/// [{"name", "default", "range"}, ...], the parameters a plan may set.
+nlohmann::json plannerParametersJson(const PlanningCatalog& catalog);
+
+/// Result of `objects.list`: {"objects": [{"name", "contacts",
+/// "nodes_per_level", "center_of_mass", "rho", "source_mesh"}], "skipped"}.
+nlohmann::json objectsJson(const PlanningCatalog& catalog);
+
+/// Result of `scenes.list`: {"scenes": [{"name", "description",
+/// "target_object", "target_pose", "obstacles": [{"name", "type"}],
+/// "start"}]}; "start" is null when the scene starts at the robot's home.
+nlohmann::json scenesJson(const PlanningCatalog& catalog);
+
+/// Result of `grasp.quality`: {"epsilon"}. The params are those of
+/// hfts-quality (docs/grasp_quality.md); with "object" (a database name)
+/// the centre and torque scale default to the object's centre of mass and
+/// rho, so contacts are given in the object frame. Throws
+/// RpcError(kInvalidParams) naming the field.
+nlohmann::json graspQualityJson(const nlohmann::json& params, const PlanningCatalog& catalog);
+
+}  // namespace hfts::service

@@ -1,0 +1,30 @@
+#pragma once
+// The params of the `plan` method as a planner request (docs/protocol.md).
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "planner/grasp_motion_planner.h"
+#include "service/planning_catalog.h"
+
+namespace hfts::service {
+
+/// What the server allows a plan request.
+struct PlanLimits {
+  /// s; a larger `time_limit` is capped to it, and it is the default.
+  double max_time_limit = 60.0;
+};
+
+/// Maps the params of a `plan` call onto a PlanRequest, checking every
+/// field against the catalog: `scene` (a scene name or an inline scene of
+/// primitives), `object`, `object_pose`, `start`, `time_limit`, `algorithm`,
+/// `iterations`, `seed` and `parameters`. The result always has
+/// `object` and `time_limit` set. Throws RpcError(kInvalidParams) whose
+/// message and field name the offending member ("start[3]",
+/// "object_pose.orientation", "parameters.p_max") for unknown fields and
+/// names, names with path characters, wrong types and lengths, non-finite
+/// numbers, zero-norm quaternions and start configurations outside the
+/// joint limits. Parameter values are checked by planGrasp.
+planner::PlanRequest planRequestFromJson(const nlohmann::json& params,
+                                         const PlanningCatalog& catalog, const PlanLimits& limits);
+
+}  // namespace hfts::service

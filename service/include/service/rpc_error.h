@@ -1,0 +1,48 @@
+#pragma once
+// The error codes of the planning service (docs/protocol.md): the JSON-RPC
+// 2.0 codes and the service's own application codes, and the exception that
+// carries one from a method to the reply.
+
+#include <stdexcept>
+#include <string>
+
+namespace hfts::service {
+
+/// JSON-RPC 2.0 error codes (-32700 .. -32600) and the application codes of
+/// the service (the implementation-defined range -32099 .. -32000).
+enum class ErrorCode : int {
+  kParseError = -32700,      ///< not valid JSON (also: an empty line)
+  kInvalidRequest = -32600,  ///< valid JSON but not a JSON-RPC 2.0 request
+  kMethodNotFound = -32601,
+  kInvalidParams = -32602,  ///< the message names the offending field
+  kInternalError = -32603,
+  kBusy = -32001,             ///< the plan queue is full; try again later
+  kShuttingDown = -32002,     ///< the server is stopping and takes no new work
+  kForbidden = -32003,        ///< e.g. shutdown from a non-loopback peer
+  kMessageTooLarge = -32004,  ///< over the size limit; the connection is closed
+  kReloadFailed = -32005,     ///< reload could not read the robot, map or scenes
+};
+
+/// Thrown by method handlers; becomes the reply's "error" member.
+/// `field` (may be empty) names the offending parameter, e.g.
+/// "object_pose.orientation"; it is also part of the message.
+class RpcError : public std::runtime_error {
+ public:
+  RpcError(ErrorCode code, const std::string& message, std::string field = {})
+      : std::runtime_error(message), code_(code), field_(std::move(field)) {}
+
+  ErrorCode code() const { return code_; }
+  const std::string& field() const { return field_; }
+
+ private:
+  ErrorCode code_;
+  std::string field_;
+};
+
+/// Snake-case name of a code, for log lines ("invalid_params", "busy").
+const char* toString(ErrorCode code);
+
+/// Throws RpcError(kInvalidParams) with the message "<field>: <problem>".
+[[noreturn]] void throwInvalidParam(const std::string& field, const std::string& problem);
+
+}  // namespace hfts::service

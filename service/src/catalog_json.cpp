@@ -1,0 +1,111 @@
+#include "service/catalog_json.h"
+
+#include <nlohmann/json.hpp>
+
+#include "json_fields.h"
+#include "json_geometry.h"
+#include "planner/grasp_quality_json.h"
+#include "service/rpc_error.h"
+
+namespace hfts::service {
+namespace {
+
+using nlohmann::json;
+
+const char* typeName(planner::Obstacle::Type type) {
+  switch (type) {
+    case planner::Obstacle::Type::kBox:
+      return "box";
+    case planner::Obstacle::Type::kCylinder:
+      return "cylinder";
+    case planner::Obstacle::Type::kSphere:
+      return "sphere";
+    case planner::Obstacle::Type::kMesh:
+      return "mesh";
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+json robotJson(const planner::RobotModel& robot) {
+  const std::vector<std::string>& names = robot.dofNames();
+  const auto arm = names.begin() + robot.numArmDofs();
+  json tips = json::array();
+  for (const planner::Fingertip& f : robot.fingertips()) tips.push_back(f.name);
+  return {{"name", robot.name()},
+          {"joint_names", names},
+          {"arm_joint_names", std::vector<std::string>(names.begin(), arm)},
+          {"hand_joint_names", std::vector<std::string>(arm, names.end())},
+          {"lower_limits", vectorJson(robot.lowerLimits())},
+          {"upper_limits", vectorJson(robot.upperLimits())},
+          {"home", vectorJson(robot.home())},
+          {"fingertips", std::move(tips)}};
+}
+
+json plannerParametersJson(const PlanningCatalog& catalog) {
+  json out = json::array();
+  for (const planner::PlannerParameterInfo& p : catalog.plannerParameters())
+    out.push_back({{"name", p.name}, {"default", p.default_value}, {"range", p.range}});
+  return out;
+}
+
+json objectsJson(const PlanningCatalog& catalog) {
+  json objects = json::array();
+  for (const std::string& name : catalog.world().objectNames()) {
+    const db::ObjectDatabase& o = *catalog.world().object(name);
+    std::vector<std::size_t> nodes;
+    for (const auto& level : o.levels) nodes.push_back(level.size());
+    objects.push_back({{"name", name},
+                       {"contacts", o.numContacts()},
+                       {"nodes_per_level", nodes},
+                       {"center_of_mass", vectorJson(o.geometry.center_of_mass)},
+                       {"rho", o.geometry.rho},
+                       {"source_mesh", o.source_mesh}});
+  }
+  return {{"objects", std::move(objects)}, {"skipped", catalog.skipped()}};
+}
+
+json scenesJson(const PlanningCatalog& catalog) {
+  json scenes = json::array();
+  for (const auto& [name, scene] : catalog.scenes()) {
+    json obstacles = json::array();
+    for (const planner::Obstacle& o : scene.obstacles)
+      obstacles.push_back({{"name", o.name}, {"type", typeName(o.type)}});
+    scenes.push_back({{"name", name},
+                      {"description", scene.description},
+                      {"target_object", scene.target_object},
+                      {"target_pose", poseJson(scene.target_pose)},
+                      {"obstacles", std::move(obstacles)},
+                      {"start", scene.start ? vectorJson(*scene.start) : json()}});
+  }
+  return {{"scenes", std::move(scenes)}};
+}
+
+json graspQualityJson(const json& params, const PlanningCatalog& catalog) {
+  const JsonFields f(params, "");
+  json request = params;
+  if (f.has("object")) {
+    const std::string name = f.name("object");
+    const db::ObjectDatabase* object = catalog.world().object(name);
+    if (object == nullptr) f.fail("object", "unknown object '" + name + "'");
+    request.erase("object");
+    if (!request.contains("center"))
+      request["center"] = vectorJson(object->geometry.center_of_mass);
+    if (!request.contains("torque_scale")) request["torque_scale"] = object->geometry.rho;
+  }
+  try {
+    const planner::GraspQualityRequest r = planner::graspQualityRequestFromJson(request.dump());
+    return {{"epsilon", planner::graspQuality(r).epsilon}};
+  } catch (const std::invalid_argument& e) {
+    // The planner's messages quote the field: "'contacts[0].normal' must be a unit vector".
+    const std::string message = e.what();
+    const auto open = message.find('\'');
+    const auto close = message.find('\'', open + 1);
+    const std::string field =
+        open == 0 && close != std::string::npos ? message.substr(1, close - 1) : std::string();
+    throw RpcError(ErrorCode::kInvalidParams, message, field);
+  }
+}
+
+}  // namespace hfts::service

@@ -1,0 +1,213 @@
+#include "connection.h"
+
+#include <asio/write.hpp>
+
+namespace hfts::service {
+
+using asio::ip::tcp;
+using nlohmann::json;
+
+namespace {
+
+constexpr std::size_t kMaxUnsentBytes = 64u << 20;  // stop reading while this much is unsent
+constexpr auto kLinger = std::chrono::seconds(2);
+
+bool isLoopback(const asio::ip::address& a) {
+  if (a.is_v6() && a.to_v6().is_v4_mapped())
+    return asio::ip::make_address_v4(asio::ip::v4_mapped, a.to_v6()).is_loopback();
+  return a.is_loopback();
+}
+
+}  // namespace
+
+Connection::Connection(tcp::socket socket, MethodDispatcher& dispatcher,
+                       std::size_t maxMessageBytes)
+    : socket_(std::move(socket)),
+      dispatcher_(dispatcher),
+      framer_(maxMessageBytes),
+      linger_timer_(socket_.get_executor()) {
+  asio::error_code ec;
+  const tcp::endpoint remote = socket_.remote_endpoint(ec);
+  if (ec) {
+    caller_.peer = "unknown";
+  } else {
+    const std::string address = remote.address().to_string();
+    caller_.peer = (remote.address().is_v6() ? "[" + address + "]" : address) + ":" +
+                   std::to_string(remote.port());
+    caller_.loopback = isLoopback(remote.address());
+  }
+  caller_.plans = std::make_shared<CancelRegistry>();
+  socket_.set_option(tcp::no_delay(true), ec);  // replies are small: do not wait to fill a segment
+}
+
+void Connection::start() {
+  readMore();
+}
+
+void Connection::finish() {
+  input_done_ = true;
+  closeWhenDone();
+}
+
+void Connection::readMore() {
+  if (reading_ || input_done_ || closed_ || outbox_bytes_ > kMaxUnsentBytes) return;
+  reading_ = true;
+  socket_.async_read_some(
+      asio::buffer(buffer_),
+      [self = shared_from_this()](const asio::error_code& error, std::size_t bytes) {
+        self->reading_ = false;
+        self->onRead(error, bytes);
+      });
+}
+
+void Connection::onRead(const asio::error_code& error, std::size_t bytes) {
+  if (closed_) return;
+  if (input_done_) {  // shutting down: what arrives now is not served
+    closeWhenDone();
+    return;
+  }
+  if (error) {
+    const std::string rest = framer_.takeRemainder();
+    if (!rest.empty()) handleMessage(rest);  // a last text without newline
+    endInput(/*cancelPlans=*/true);
+    return;
+  }
+  std::vector<std::string> messages;
+  const bool withinLimit = framer_.feed({buffer_.data(), bytes}, messages);
+  for (const std::string& text : messages) handleMessage(text);
+  if (!withinLimit) {
+    rejectOversized();
+    return;
+  }
+  readMore();
+}
+
+Responder Connection::responder(std::function<void(json)> deliver) {
+  ++outstanding_;
+  return [self = shared_from_this(), deliver = std::move(deliver)](json response) {
+    deliver(std::move(response));
+    --self->outstanding_;
+    self->closeWhenDone();
+  };
+}
+
+void Connection::handleMessage(const std::string& text) {
+  Message message = parseMessage(text);
+  for (const MessageItem& item : message.items)
+    if (!item.call) dispatcher_.logRejected(caller_, item.error);
+  if (!message.batch) {
+    MessageItem& item = message.items.front();
+    if (!item.call)
+      send(item.error);
+    else
+      dispatcher_.dispatch(*item.call, caller_, responder([this](json r) { send(r); }));
+    return;
+  }
+  // A batch is answered with one array once all its calls are answered.
+  struct Batch {
+    json responses = json::array();
+    std::size_t pending = 0;
+  };
+  auto batch = std::make_shared<Batch>();
+  for (const MessageItem& item : message.items) {
+    if (item.call)
+      ++batch->pending;
+    else
+      batch->responses.push_back(item.error);
+  }
+  if (batch->pending == 0) send(batch->responses);
+  for (const MessageItem& item : message.items) {
+    if (!item.call) continue;
+    dispatcher_.dispatch(*item.call, caller_, responder([this, batch](json r) {
+      if (!r.is_null()) batch->responses.push_back(std::move(r));
+      if (--batch->pending == 0 && !batch->responses.empty()) send(batch->responses);
+    }));
+  }
+}
+
+void Connection::send(const json& response) {
+  if (closed_ || response.is_null()) return;
+  outbox_.push_back(serialize(response));
+  outbox_bytes_ += outbox_.back().size();
+  writeMore();
+}
+
+void Connection::writeMore() {
+  if (writing_ || outbox_.empty() || closed_) return;
+  writing_ = true;
+  in_flight_.assign(std::make_move_iterator(outbox_.begin()),
+                    std::make_move_iterator(outbox_.end()));
+  outbox_.clear();
+  std::vector<asio::const_buffer> buffers;
+  for (const std::string& line : in_flight_) buffers.push_back(asio::buffer(line));
+  asio::async_write(socket_, buffers,
+                    [self = shared_from_this()](const asio::error_code& error, std::size_t bytes) {
+                      self->writing_ = false;
+                      self->outbox_bytes_ -= bytes;
+                      self->in_flight_.clear();
+                      if (error) {  // the peer is gone
+                        self->caller_.plans->cancelAll();
+                        self->input_done_ = true;
+                        self->close();
+                        return;
+                      }
+                      self->writeMore();
+                      self->readMore();
+                      self->closeWhenDone();
+                    });
+}
+
+void Connection::rejectOversized() {
+  const RpcError error(ErrorCode::kMessageTooLarge, "message too large: over the limit of " +
+                                                        std::to_string(framer_.maxMessageBytes()) +
+                                                        " bytes; closing the connection");
+  const json response = errorResponse(nullptr, error);
+  dispatcher_.logRejected(caller_, response);
+  send(response);
+  linger_ = true;
+  endInput(/*cancelPlans=*/true);
+}
+
+void Connection::endInput(bool cancelPlans) {
+  input_done_ = true;
+  if (cancelPlans) caller_.plans->cancelAll();
+  closeWhenDone();
+}
+
+void Connection::closeWhenDone() {
+  if (closed_ || !input_done_ || outstanding_ > 0 || writing_ || !outbox_.empty()) return;
+  if (linger_)
+    drainThenClose();
+  else
+    close();
+}
+
+void Connection::drainThenClose() {
+  linger_ = false;
+  asio::error_code ec;
+  socket_.shutdown(tcp::socket::shutdown_send, ec);
+  linger_timer_.expires_after(kLinger);
+  linger_timer_.async_wait([self = shared_from_this()](const asio::error_code& error) {
+    if (!error) self->close();
+  });
+  struct Drain {
+    std::shared_ptr<Connection> self;
+    void operator()(const asio::error_code& error, std::size_t) {
+      if (error || self->closed_) return self->close();
+      self->socket_.async_read_some(asio::buffer(self->buffer_), std::move(*this));
+    }
+  };
+  Drain{shared_from_this()}(asio::error_code(), 0);
+}
+
+void Connection::close() {
+  if (closed_) return;
+  closed_ = true;
+  linger_timer_.cancel();
+  asio::error_code ec;
+  socket_.close(ec);
+  outbox_.clear();
+  outbox_bytes_ = 0;
+}
+
+}  // namespace hfts::service

@@ -1,0 +1,88 @@
+#include "service/message_framer.h"
+
+namespace hfts::service {
+namespace {
+
+bool isJsonWhitespace(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\n';
+}
+
+}  // namespace
+
+MessageFramer::MessageFramer(std::size_t maxMessageBytes) : max_bytes_(maxMessageBytes) {}
+
+bool MessageFramer::feed(std::string_view bytes, std::vector<std::string>& out) {
+  if (spent_) return false;
+  const std::size_t first = pending_.size();
+  pending_.append(bytes);
+  for (std::size_t i = first; i < pending_.size(); ++i) {
+    scan(pending_[i], i, out);
+    if (i + 1 - begin_ > max_bytes_) {
+      spent_ = true;
+      pending_.clear();
+      return false;
+    }
+  }
+  pending_.erase(0, begin_);
+  begin_ = 0;
+  return true;
+}
+
+void MessageFramer::scan(char c, std::size_t at, std::vector<std::string>& out) {
+  if (c == '\n') {
+    const bool blank = !started_;
+    if (blank && after_text_) {
+      begin_ = at + 1;  // only whitespace followed a complete text
+    } else {
+      emit(blank ? begin_ : at, out);
+      begin_ = at + 1;
+    }
+    after_text_ = false;
+    started_ = structured_ = in_string_ = escaped_ = false;
+    depth_ = 0;
+    return;
+  }
+  if (!started_) {
+    if (isJsonWhitespace(c)) return;
+    started_ = true;
+    after_text_ = false;
+    structured_ = c == '{' || c == '[';
+    depth_ = structured_ ? 1 : 0;
+    return;
+  }
+  if (!structured_ || depth_ == 0) return;  // a scalar or garbage: wait for the newline
+  if (in_string_) {
+    if (escaped_)
+      escaped_ = false;
+    else if (c == '\\')
+      escaped_ = true;
+    else if (c == '"')
+      in_string_ = false;
+    return;
+  }
+  if (c == '"') {
+    in_string_ = true;
+  } else if (c == '{' || c == '[') {
+    ++depth_;
+  } else if ((c == '}' || c == ']') && --depth_ == 0) {
+    emit(at + 1, out);
+    begin_ = at + 1;
+    started_ = structured_ = false;
+    after_text_ = true;
+  }
+}
+
+void MessageFramer::emit(std::size_t end, std::vector<std::string>& out) {
+  out.emplace_back(pending_, begin_, end - begin_);
+}
+
+std::string MessageFramer::takeRemainder() {
+  std::string rest = started_ ? pending_.substr(begin_) : std::string();
+  pending_.clear();
+  begin_ = 0;
+  started_ = structured_ = after_text_ = in_string_ = escaped_ = false;
+  depth_ = 0;
+  return rest;
+}
+
+}  // namespace hfts::service

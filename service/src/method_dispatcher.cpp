@@ -1,0 +1,236 @@
+#include "method_dispatcher.h"
+
+#include <thread>
+
+#include "json_fields.h"
+#include "service/catalog_json.h"
+#include "service/plan_result_json.h"
+
+namespace hfts::service {
+
+using nlohmann::json;
+
+namespace {
+
+int workerCount(int requested) {
+  if (requested < 0) throw std::invalid_argument("workers must be >= 0 (0: one per core)");
+  if (requested > 0) return requested;
+  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
+void noParams(const Call& call) {
+  JsonFields(call.params, "").allowOnly({});
+}
+
+}  // namespace
+
+MethodDispatcher::MethodDispatcher(const ServerOptions& options,
+                                   std::shared_ptr<const PlanningCatalog> catalog, PostToIo post,
+                                   std::function<void()> onShutdown)
+    : options_(options),
+      limits_{options.max_time_limit},
+      catalog_(std::move(catalog)),
+      post_(std::move(post)),
+      on_shutdown_(std::move(onShutdown)),
+      log_(options.log),
+      pool_(workerCount(options.workers), options.queue_capacity),
+      methods_{
+          {"server.info", &MethodDispatcher::info},   {"objects.list", &MethodDispatcher::objects},
+          {"scenes.list", &MethodDispatcher::scenes}, {"grasp.quality", &MethodDispatcher::quality},
+          {"plan", &MethodDispatcher::plan},          {"cancel", &MethodDispatcher::cancel},
+          {"shutdown", &MethodDispatcher::shutdown},  {"reload", &MethodDispatcher::reload}} {
+  if (!(options.max_time_limit > 0)) throw std::invalid_argument("max time limit must be > 0");
+}
+
+MethodDispatcher::~MethodDispatcher() {
+  if (reload_thread_.joinable()) reload_thread_.join();
+}
+
+void MethodDispatcher::dispatch(const Call& call, const Caller& caller, Responder respond) {
+  ++calls_;
+  const auto began = std::chrono::steady_clock::now();
+  const std::string id = call.notification ? "-" : call.id.dump();
+  Finish finish = [this, call, peer = caller.peer, id, began,
+                   respond = std::move(respond)](Outcome o) {
+    const std::string outcome = o.error ? std::string("error ") +
+                                              std::to_string(static_cast<int>(o.error->code())) +
+                                              " " + o.error->what()
+                                        : "ok" + (o.note.empty() ? "" : " " + o.note);
+    log_.write(peer, id, call.method, std::chrono::steady_clock::now() - began, outcome);
+    if (call.notification)
+      respond(json());
+    else
+      respond(o.error ? errorResponse(call.id, *o.error) : resultResponse(call.id, o.result));
+  };
+  try {
+    const auto method = methods_.find(call.method);
+    if (method == methods_.end())
+      throw RpcError(ErrorCode::kMethodNotFound, "method not found: '" + call.method + "'");
+    if (stopping_ && call.method != "cancel")
+      throw RpcError(ErrorCode::kShuttingDown, "the server is shutting down");
+    (this->*(method->second))(call, caller, finish);
+  } catch (const RpcError& e) {
+    finish({json(), e, ""});
+  } catch (const std::exception& e) {
+    finish({json(), RpcError(ErrorCode::kInternalError, std::string("internal error: ") + e.what()),
+            ""});
+  }
+}
+
+void MethodDispatcher::logRejected(const Caller& caller, const json& errorResponse) const {
+  const json& error = errorResponse.at("error");
+  log_.write(caller.peer, errorResponse.at("id").dump(), "-",
+             std::chrono::steady_clock::duration::zero(),
+             "error " + error.at("code").dump() + " " + error.at("message").get<std::string>());
+}
+
+void MethodDispatcher::stop() {
+  stopping_ = true;
+  pool_.cancelAll();
+}
+
+bool MethodDispatcher::idle() const {
+  return pool_.idle() && !reloading_;
+}
+
+void MethodDispatcher::info(const Call& call, const Caller&, const Finish& finish) {
+  noParams(call);
+  const double uptime =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+  finish({{{"name", "hfts-server"},
+           {"version", HFTS_VERSION},
+           {"protocol", "JSON-RPC 2.0, one message per line"},
+           {"methods",
+            {"server.info", "objects.list", "scenes.list", "plan", "grasp.quality", "cancel",
+             "shutdown", "reload"}},
+           {"robot", robotJson(catalog_->robot())},
+           {"objects", catalog_->world().objectNames().size()},
+           {"scenes", catalog_->scenes().size()},
+           {"planner_parameters", plannerParametersJson(*catalog_)},
+           {"limits",
+            {{"max_time_limit", limits_.max_time_limit},
+             {"max_message_bytes", options_.max_message_bytes},
+             {"queue_capacity", pool_.capacity()},
+             {"max_batch_calls", kMaxBatchCalls},
+             {"max_nesting_depth", kMaxNestingDepth}}},
+           {"load",
+            {{"workers", pool_.threads()},
+             {"running", pool_.running()},
+             {"queued", pool_.queued()},
+             {"calls", calls_},
+             {"uptime", uptime}}}},
+          std::nullopt,
+          ""});
+}
+
+void MethodDispatcher::objects(const Call& call, const Caller&, const Finish& finish) {
+  noParams(call);
+  finish({objectsJson(*catalog_), std::nullopt, ""});
+}
+
+void MethodDispatcher::scenes(const Call& call, const Caller&, const Finish& finish) {
+  noParams(call);
+  finish({scenesJson(*catalog_), std::nullopt, ""});
+}
+
+void MethodDispatcher::quality(const Call& call, const Caller&, const Finish& finish) {
+  json result = graspQualityJson(call.params, *catalog_);
+  const std::string note = "epsilon " + result["epsilon"].dump();
+  finish({std::move(result), std::nullopt, note});
+}
+
+void MethodDispatcher::plan(const Call& call, const Caller& caller, const Finish& finish) {
+  auto request = std::make_shared<const planner::PlanRequest>(
+      planRequestFromJson(call.params, *catalog_, limits_));
+  auto flag = std::make_shared<std::atomic<bool>>(false);
+  const std::string key = call.id.dump();
+  Finish done = [plans = caller.plans, key, flag, finish](Outcome o) {
+    plans->remove(key, flag);
+    finish(std::move(o));
+  };
+  auto job = [catalog = catalog_, request, flag, done, post = post_] {
+    auto outcome = std::make_shared<Outcome>(runPlan(*catalog, *request, *flag));
+    post([done, outcome] { done(std::move(*outcome)); });
+  };
+  if (!pool_.trySubmit(flag, std::move(job)))
+    throw RpcError(ErrorCode::kBusy,
+                   "busy: " + std::to_string(pool_.threads()) + " workers are planning and " +
+                       std::to_string(pool_.capacity()) + " plans are waiting; try again later");
+  caller.plans->add(key, flag);
+}
+
+MethodDispatcher::Outcome MethodDispatcher::runPlan(const PlanningCatalog& catalog,
+                                                    const planner::PlanRequest& request,
+                                                    const std::atomic<bool>& cancel) {
+  try {
+    planner::PlanResult result;
+    if (cancel.load()) {  // cancelled while queued: no need to set anything up
+      result.failure = planner::PlanFailure::kCancelled;
+      result.message = "cancelled before it started";
+      result.joint_names = catalog.robot().dofNames();
+    } else {
+      result = planner::planGrasp(catalog.world(), request, &cancel);
+    }
+    return {planResultToJson(result, request), std::nullopt, planner::toString(result.failure)};
+  } catch (const std::invalid_argument& e) {
+    // planGrasp checks parameter values: "parameters: '-5' is not a valid value for 'p_max' ...".
+    const std::string message = e.what();
+    const std::size_t colon = message.find(':');
+    std::string field = colon == std::string::npos ? "" : message.substr(0, colon);
+    const std::size_t name = message.find("for '");
+    if (field == "parameters" && name != std::string::npos)
+      field += "." + message.substr(name + 5, message.find('\'', name + 5) - name - 5);
+    return {json(), RpcError(ErrorCode::kInvalidParams, message, field), ""};
+  } catch (const std::exception& e) {
+    return {json(), RpcError(ErrorCode::kInternalError, std::string("internal error: ") + e.what()),
+            ""};
+  }
+}
+
+void MethodDispatcher::cancel(const Call& call, const Caller& caller, const Finish& finish) {
+  const JsonFields f(call.params, "");
+  f.allowOnly({"id"});
+  const json& id = f.at("id");
+  if (!id.is_string() && !id.is_number() && !id.is_null())
+    f.fail("id", "must be the string or number id of a plan request");
+  const bool found = caller.plans->cancel(id.dump());
+  finish({{{"id", id}, {"cancelled", found}}, std::nullopt, found ? "cancelled" : "no such plan"});
+}
+
+void MethodDispatcher::shutdown(const Call& call, const Caller& caller, const Finish& finish) {
+  noParams(call);
+  if (!caller.loopback)
+    throw RpcError(ErrorCode::kForbidden, "shutdown is only accepted from the local machine");
+  finish({{{"shutting_down", true}}, std::nullopt, ""});
+  post_(on_shutdown_);
+}
+
+void MethodDispatcher::reload(const Call& call, const Caller&, const Finish& finish) {
+  noParams(call);
+  if (reloading_) throw RpcError(ErrorCode::kBusy, "busy: a reload is already running");
+  reloading_ = true;
+  if (reload_thread_.joinable()) reload_thread_.join();
+  reload_thread_ = std::thread([this, finish] {
+    auto fresh = std::make_shared<Outcome>();
+    std::shared_ptr<const PlanningCatalog> catalog;
+    try {
+      catalog = PlanningCatalog::load(options_.sources);
+      std::vector<std::string> scenes;
+      for (const auto& entry : catalog->scenes()) scenes.push_back(entry.first);
+      fresh->result = {{"objects", catalog->world().objectNames()},
+                       {"scenes", scenes},
+                       {"skipped", catalog->skipped()}};
+    } catch (const std::exception& e) {
+      fresh->error =
+          RpcError(ErrorCode::kReloadFailed,
+                   std::string("reload failed, still serving the old data: ") + e.what());
+    }
+    post_([this, fresh, catalog, finish] {
+      if (catalog) catalog_ = catalog;
+      reloading_ = false;
+      finish(std::move(*fresh));
+    });
+  });
+}
+
+}  // namespace hfts::service

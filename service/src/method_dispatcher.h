@@ -1,0 +1,99 @@
+#pragma once
+// Runs the calls of every connection: validates them, answers the quick
+// methods at once, queues plans on the worker pool, and logs one line per
+// call. Used only on the server's I/O thread.
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "cancel_registry.h"
+#include "json_rpc.h"
+#include "request_log.h"
+#include "service/plan_request_json.h"
+#include "service/planning_catalog.h"
+#include "service/server.h"
+#include "worker_pool.h"
+
+namespace hfts::service {
+
+/// The connection a call came from.
+struct Caller {
+  std::string peer;                       ///< "address:port", for the log
+  bool loopback = false;                  ///< shutdown is only accepted from loopback peers
+  std::shared_ptr<CancelRegistry> plans;  ///< the connection's cancellable plans
+};
+
+/// Receives the response of one call (null for a notification). Always
+/// called exactly once, on the I/O thread.
+using Responder = std::function<void(nlohmann::json response)>;
+
+/// Runs a function on the I/O thread (asio::post).
+using PostToIo = std::function<void(std::function<void()>)>;
+
+class MethodDispatcher {
+ public:
+  /// `onShutdown` is called (on the I/O thread) after a `shutdown` call
+  /// has been answered.
+  MethodDispatcher(const ServerOptions& options, std::shared_ptr<const PlanningCatalog> catalog,
+                   PostToIo post, std::function<void()> onShutdown);
+  ~MethodDispatcher();
+  MethodDispatcher(const MethodDispatcher&) = delete;
+  MethodDispatcher& operator=(const MethodDispatcher&) = delete;
+
+  void dispatch(const Call& call, const Caller& caller, Responder respond);
+  /// Logs the error response to a message or batch element that held no
+  /// valid call (parse error, invalid request, oversized message).
+  void logRejected(const Caller& caller, const nlohmann::json& errorResponse) const;
+
+  /// From now on new calls are refused; queued and running plans are cancelled.
+  void stop();
+  /// No plan queued or running and no reload running.
+  bool idle() const;
+  const PlanningCatalog& catalog() const { return *catalog_; }
+  int workers() const { return pool_.threads(); }
+
+ private:
+  /// A method's answer: a result, or an error; `note` goes to the log.
+  struct Outcome {
+    nlohmann::json result;
+    std::optional<RpcError> error;
+    std::string note;
+  };
+  using Finish = std::function<void(Outcome)>;
+  using Handler = void (MethodDispatcher::*)(const Call&, const Caller&, const Finish&);
+
+  void info(const Call& call, const Caller& caller, const Finish& finish);
+  void objects(const Call& call, const Caller& caller, const Finish& finish);
+  void scenes(const Call& call, const Caller& caller, const Finish& finish);
+  void quality(const Call& call, const Caller& caller, const Finish& finish);
+  void plan(const Call& call, const Caller& caller, const Finish& finish);
+  void cancel(const Call& call, const Caller& caller, const Finish& finish);
+  void shutdown(const Call& call, const Caller& caller, const Finish& finish);
+  void reload(const Call& call, const Caller& caller, const Finish& finish);
+
+  static Outcome runPlan(const PlanningCatalog& catalog, const planner::PlanRequest& request,
+                         const std::atomic<bool>& cancel);
+
+  ServerOptions options_;
+  PlanLimits limits_;
+  std::shared_ptr<const PlanningCatalog> catalog_;
+  PostToIo post_;
+  std::function<void()> on_shutdown_;
+  RequestLog log_;
+  WorkerPool pool_;
+  std::map<std::string, Handler> methods_;
+  bool stopping_ = false;
+  bool reloading_ = false;
+  std::thread reload_thread_;
+  std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
+  std::uint64_t calls_ = 0;
+};
+
+}  // namespace hfts::service

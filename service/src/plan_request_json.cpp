@@ -1,0 +1,126 @@
+#include "service/plan_request_json.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+
+#include "json_fields.h"
+#include "service/rpc_error.h"
+
+namespace hfts::service {
+namespace {
+
+using nlohmann::json;
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+planner::Scene inlineScene(const JsonFields& f, const PlanningCatalog& catalog) {
+  const json& scene = f.at("scene");
+  const auto obstacles = scene.find("obstacles");
+  if (obstacles != scene.end() && obstacles->is_array())
+    for (std::size_t i = 0; i < obstacles->size(); ++i)
+      if ((*obstacles)[i].is_object() && (*obstacles)[i].contains("type") &&
+          (*obstacles)[i]["type"] == "mesh")
+        f.fail("scene.obstacles[" + std::to_string(i) + "]",
+               "inline scenes may not load mesh files (use box, cylinder or sphere)");
+  try {
+    return planner::parseScene(scene.dump(), catalog.sceneDir(), "inline scene");
+  } catch (const planner::SceneError& e) {
+    f.fail("scene", e.what());
+  }
+}
+
+planner::Scene sceneOf(const JsonFields& f, const PlanningCatalog& catalog) {
+  if (f.at("scene").is_object()) return inlineScene(f, catalog);
+  if (!f.at("scene").is_string()) f.fail("scene", "must be a scene name or an inline scene object");
+  const std::string name = f.name("scene");
+  const planner::Scene* scene = catalog.scene(name);
+  if (scene == nullptr) {
+    std::vector<std::string> known;
+    for (const auto& entry : catalog.scenes()) known.push_back(entry.first);
+    f.fail("scene", "unknown scene '" + name + "' (known: " + joined(known) + ")");
+  }
+  return *scene;
+}
+
+std::string objectOf(const JsonFields& f, const PlanningCatalog& catalog,
+                     const planner::Scene& scene) {
+  const std::string name = f.has("object") ? f.name("object") : scene.target_object;
+  if (catalog.world().object(name) == nullptr)
+    f.fail(f.has("object") ? "object" : "scene",
+           "unknown object '" + name + "' (known: " + joined(catalog.world().objectNames()) + ")");
+  return name;
+}
+
+void checkStart(const JsonFields& f, const planner::RobotModel& robot,
+                const planner::PlanRequest& r) {
+  const char* field = r.start ? "start" : "scene.start";
+  const Eigen::VectorXd start = r.start ? *r.start : r.scene.start.value_or(robot.home());
+  if (start.size() != robot.numDofs())
+    f.fail(field, "must hold " + std::to_string(robot.numDofs()) + " values, got " +
+                      std::to_string(start.size()));
+  std::string why;
+  if (!robot.withinLimits(start, 1e-9, &why)) f.fail(field, "outside the joint limits: " + why);
+}
+
+std::map<std::string, std::string> parametersOf(const JsonFields& f,
+                                                const PlanningCatalog& catalog) {
+  const JsonFields p(f.at("parameters"), "parameters");
+  std::map<std::string, std::string> out;
+  for (const auto& item : f.at("parameters").items()) {
+    const std::string& name = item.key();
+    if (name == "time_limit" || name == "iterations")
+      p.fail(name, "set it with the top-level '" + name + "' field");
+    const auto& declared = catalog.plannerParameters();
+    if (std::none_of(declared.begin(), declared.end(),
+                     [&](const planner::PlannerParameterInfo& i) { return i.name == name; }))
+      p.fail(name, "unknown planner parameter (see server.info)");
+    const json& v = item.value();
+    if (v.is_number_integer())
+      out[name] = v.dump();
+    else if (v.is_number())
+      out[name] = json(p.finite(name.c_str())).dump();
+    else if (v.is_string())
+      out[name] = v.get<std::string>();
+    else
+      p.fail(name, "must be a number or a string");
+  }
+  return out;
+}
+
+}  // namespace
+
+planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatalog& catalog,
+                                         const PlanLimits& limits) {
+  const JsonFields f(params, "");
+  f.allowOnly({"scene", "object", "object_pose", "start", "time_limit", "algorithm", "iterations",
+               "seed", "parameters"});
+  planner::PlanRequest r;
+  r.scene = sceneOf(f, catalog);
+  r.object = objectOf(f, catalog, r.scene);
+  if (f.has("object_pose")) r.object_pose = f.pose("object_pose");
+  const planner::RobotModel& robot = catalog.robot();
+  if (f.has("start")) r.start = f.numbers("start", robot.numDofs());
+  checkStart(f, robot, r);
+  r.time_limit = std::min(f.has("time_limit") ? f.positive("time_limit") : limits.max_time_limit,
+                          limits.max_time_limit);
+  const std::string algorithm = f.has("algorithm") ? f.string("algorithm") : "coupled";
+  if (algorithm == "decoupled")
+    r.algorithm = planner::PlanAlgorithm::kDecoupled;
+  else if (algorithm != "coupled")
+    f.fail("algorithm", "must be \"coupled\" or \"decoupled\", got \"" + algorithm + "\"");
+  if (f.has("iterations")) {
+    if (r.algorithm != planner::PlanAlgorithm::kDecoupled)
+      f.fail("iterations", "only the decoupled algorithm takes iterations");
+    r.iterations = f.positiveInt("iterations");
+  }
+  if (f.has("seed")) r.seed = f.unsignedInteger("seed");
+  if (f.has("parameters")) r.parameters = parametersOf(f, catalog);
+  return r;
+}
+
+}  // namespace hfts::service

@@ -1,0 +1,75 @@
+#include "service/plan_result_json.h"
+
+#include "json_geometry.h"
+
+namespace hfts::service {
+namespace {
+
+using nlohmann::json;
+
+json contacts(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& normals) {
+  json out = json::array();
+  for (Eigen::Index i = 0; i < positions.cols(); ++i)
+    out.push_back(
+        {{"position", vectorJson(positions.col(i))}, {"normal", vectorJson(normals.col(i))}});
+  return out;
+}
+
+json graspJson(const planner::PlannedGrasp& g, const std::vector<std::string>& jointNames) {
+  const auto fingers = static_cast<std::size_t>(g.contacts_world.cols());
+  const auto handDofs = static_cast<std::size_t>(g.hand_configuration.size());
+  return {{"node",
+           {{"level", g.node.level},
+            {"partitions",
+             std::vector<std::uint32_t>(g.node.parts.begin(), g.node.parts.begin() + fingers)}}},
+          {"contacts_world", contacts(g.contacts_world, g.inward_normals_world)},
+          {"contacts_object", contacts(g.contacts_object, g.inward_normals_object)},
+          {"normals", "inward"},
+          {"epsilon", g.epsilon},
+          {"reachability", g.reachability},
+          {"fingertip_error", g.fingertip_error},
+          {"hand_joint_names",
+           std::vector<std::string>(jointNames.end() - static_cast<std::ptrdiff_t>(handDofs),
+                                    jointNames.end())},
+          {"hand_configuration", vectorJson(g.hand_configuration)}};
+}
+
+json statsJson(const planner::PlanStatistics& s) {
+  return {{"planning_time", s.planning_time},
+          {"iterations", s.iterations},
+          {"goal_sampling_calls", s.goal_sampling_calls},
+          {"valid_goal_samples", s.valid_goal_samples},
+          {"hfts_nodes_explored", s.hfts_nodes_explored},
+          {"objective_evaluations", s.objective_evaluations},
+          {"goal_trees", s.goal_trees},
+          {"approximate_trees", s.approximate_trees},
+          {"merged_trees", s.merged_trees},
+          {"collision_checks", s.collision_checks},
+          {"forward_tree_size", s.forward_tree_size},
+          {"backward_tree_nodes", s.backward_tree_nodes},
+          {"path_length_raw", s.path_length_raw},
+          {"path_length_smoothed", s.path_length_smoothed}};
+}
+
+}  // namespace
+
+json planResultToJson(const planner::PlanResult& result, const planner::PlanRequest& request) {
+  json path = json::array();
+  for (const Eigen::VectorXd& q : result.path) path.push_back(vectorJson(q));
+  const bool coupled = request.algorithm == planner::PlanAlgorithm::kCoupled;
+  return {{"success", result.success},
+          {"reason", planner::toString(result.failure)},
+          {"message", result.message},
+          {"scene", request.scene.name},
+          {"object", request.object},
+          {"object_pose", poseJson(request.object_pose.value_or(request.scene.target_pose))},
+          {"algorithm", coupled ? "coupled" : "decoupled"},
+          {"seed", request.seed},
+          {"time_limit", request.time_limit.value_or(0.0)},
+          {"joint_names", result.joint_names},
+          {"path", std::move(path)},
+          {"grasp", result.success ? graspJson(result.grasp, result.joint_names) : json()},
+          {"stats", statsJson(result.stats)}};
+}
+
+}  // namespace hfts::service

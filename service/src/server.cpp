@@ -1,0 +1,176 @@
+#include "service/server.h"
+
+#include <asio/io_context.hpp>
+#include <asio/ip/tcp.hpp>
+#include <asio/post.hpp>
+#include <asio/signal_set.hpp>
+#include <asio/steady_timer.hpp>
+
+#include <csignal>
+#include <stdexcept>
+
+#include "connection.h"
+#include "method_dispatcher.h"
+
+namespace hfts::service {
+
+using asio::ip::tcp;
+
+namespace {
+
+constexpr auto kShutdownPoll = std::chrono::milliseconds(10);
+constexpr auto kAcceptRetry = std::chrono::milliseconds(100);
+
+tcp::endpoint endpointOf(const ServerOptions& options) {
+  asio::error_code ec;
+  const asio::ip::address address = asio::ip::make_address(options.bind_address, ec);
+  if (ec)
+    throw std::invalid_argument("bind address '" + options.bind_address +
+                                "' is not an IPv4 or IPv6 address");
+  return {address, options.port};
+}
+
+}  // namespace
+
+class Server::Impl {
+ public:
+  Impl(ServerOptions options, std::shared_ptr<const PlanningCatalog> catalog)
+      : options_(std::move(options)),
+        initial_(catalog),
+        dispatcher_(
+            options_, std::move(catalog),
+            [this](std::function<void()> f) { asio::post(io_, std::move(f)); },
+            [this] { beginShutdown("shutdown requested"); }),
+        acceptor_(io_),
+        signals_(io_),
+        timer_(io_),
+        log_(options_.log) {
+    if (options_.max_message_bytes < 1024)
+      throw std::invalid_argument("the message size limit must be at least 1024 bytes");
+    listen(endpointOf(options_));
+    log_.captureOmplMessages();
+    if (options_.handle_signals) {
+      signals_.add(SIGINT);
+      signals_.add(SIGTERM);
+      signals_.async_wait([this](const asio::error_code& error, int signal) {
+        if (!error) beginShutdown("signal " + std::to_string(signal));
+      });
+    }
+  }
+
+  std::uint16_t port() const { return acceptor_.local_endpoint().port(); }
+  int workers() const { return dispatcher_.workers(); }
+  const PlanningCatalog& initialCatalog() const { return *initial_; }
+
+  void run() {
+    log_.event("listening on " + options_.bind_address + ":" + std::to_string(port()) + " with " +
+               std::to_string(workers()) + " workers");
+    accept();
+    io_.run();
+    log_.event("stopped");
+  }
+
+  void stop() {
+    asio::post(io_, [this] { beginShutdown("stop requested"); });
+  }
+
+ private:
+  void listen(const tcp::endpoint& endpoint) {
+    asio::error_code ec;
+    acceptor_.open(endpoint.protocol(), ec);
+    if (!ec) acceptor_.set_option(tcp::acceptor::reuse_address(true), ec);
+    if (!ec) acceptor_.bind(endpoint, ec);
+    if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
+    if (ec)
+      throw std::runtime_error("cannot listen on " + options_.bind_address + ":" +
+                               std::to_string(endpoint.port()) + ": " + ec.message());
+  }
+
+  void accept() {
+    acceptor_.async_accept([this](const asio::error_code& error, tcp::socket socket) {
+      if (stopping_ || error == asio::error::operation_aborted) return;
+      if (error) {  // e.g. out of file descriptors: wait a little, then accept again
+        log_.event("accept failed: " + error.message());
+        timer_.expires_after(kAcceptRetry);
+        timer_.async_wait([this](const asio::error_code& e) {
+          if (!e) accept();
+        });
+        return;
+      }
+      auto connection =
+          std::make_shared<Connection>(std::move(socket), dispatcher_, options_.max_message_bytes);
+      connections_.push_back(connection);
+      connection->start();
+      prune();
+      accept();
+    });
+  }
+
+  void prune() {
+    std::vector<std::weak_ptr<Connection>> open;
+    for (const auto& weak : connections_)
+      if (const auto c = weak.lock(); c && c->isOpen()) open.push_back(weak);
+    connections_.swap(open);
+  }
+
+  /// Stops accepting, cancels every plan, lets the connections send their
+  /// replies and close; run() returns when all are closed.
+  void beginShutdown(const std::string& why) {
+    if (stopping_) return;
+    stopping_ = true;
+    log_.event("shutting down (" + why + ")");
+    asio::error_code ec;
+    acceptor_.close(ec);
+    timer_.cancel();
+    dispatcher_.stop();
+    for (const auto& weak : connections_)
+      if (const auto c = weak.lock()) c->finish();
+    waitForConnections();
+  }
+
+  void waitForConnections() {
+    prune();
+    if (connections_.empty() && dispatcher_.idle()) {
+      signals_.cancel();
+      return;  // nothing is left to run: io_.run() returns
+    }
+    timer_.expires_after(kShutdownPoll);
+    timer_.async_wait([this](const asio::error_code&) { waitForConnections(); });
+  }
+
+  ServerOptions options_;
+  asio::io_context io_{1};
+  std::shared_ptr<const PlanningCatalog> initial_;
+  MethodDispatcher dispatcher_;  // after io_: its threads post to io_ until joined
+  tcp::acceptor acceptor_;
+  asio::signal_set signals_;
+  asio::steady_timer timer_;
+  RequestLog log_;
+  std::vector<std::weak_ptr<Connection>> connections_;
+  bool stopping_ = false;
+};
+
+Server::Server(ServerOptions options) : Server(options, PlanningCatalog::load(options.sources)) {}
+
+Server::Server(ServerOptions options, std::shared_ptr<const PlanningCatalog> catalog)
+    : impl_(std::make_unique<Impl>(std::move(options), std::move(catalog))) {}
+
+Server::~Server() = default;
+
+std::uint16_t Server::port() const {
+  return impl_->port();
+}
+int Server::workers() const {
+  return impl_->workers();
+}
+const PlanningCatalog& Server::initialCatalog() const {
+  return impl_->initialCatalog();
+}
+void Server::run() {
+  impl_->run();
+}
+void Server::stop() {
+  impl_->stop();
+}
+
+}  // namespace hfts::service

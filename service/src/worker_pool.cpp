@@ -1,0 +1,69 @@
+#include "worker_pool.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace hfts::service {
+
+WorkerPool::WorkerPool(int threads, std::size_t queueCapacity) : capacity_(queueCapacity) {
+  if (threads < 1) throw std::invalid_argument("workers: at least 1 thread expected");
+  for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { work(); });
+}
+
+WorkerPool::~WorkerPool() {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  for (std::thread& t : threads_) t.join();
+}
+
+bool WorkerPool::trySubmit(CancelFlag cancel, std::function<void()> job) {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (queue_.size() >= capacity_) return false;
+    queue_.push_back({std::move(cancel), std::move(job)});
+  }
+  wake_.notify_one();
+  return true;
+}
+
+void WorkerPool::cancelAll() {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  for (const Job& job : queue_) job.cancel->store(true);
+  for (const CancelFlag& flag : running_) flag->store(true);
+}
+
+std::size_t WorkerPool::queued() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return queue_.size();
+}
+
+std::size_t WorkerPool::running() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return running_.size();
+}
+
+bool WorkerPool::idle() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return queue_.empty() && running_.empty();
+}
+
+void WorkerPool::work() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  for (;;) {
+    wake_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+    if (queue_.empty()) return;  // stopping, and nothing left to run
+    Job job = std::move(queue_.front());
+    queue_.pop_front();
+    running_.push_back(job.cancel);
+    lock.unlock();
+    job.run();
+    job.run = nullptr;  // release what the job holds before it counts as done
+    lock.lock();
+    running_.erase(std::find(running_.begin(), running_.end(), job.cancel));
+  }
+}
+
+}  // namespace hfts::service

@@ -1,0 +1,53 @@
+// hfts-server: the planning service (docs/protocol.md). Loads the robot,
+// the hand map, the object databases and the scenes, prints
+// "hfts-server listening on ADDRESS:PORT" on standard output and serves
+// until a shutdown call, SIGINT or SIGTERM. One log line per request on
+// standard error.
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "service/server.h"
+
+int main(int argc, char** argv) {
+  hfts::service::ServerOptions o;
+  o.sources.database_dir = "build/databases";
+  std::string robot = o.sources.robot_config.string(), db = o.sources.database_dir.string(),
+              scenes = o.sources.scene_dir.string();
+  double maxMessageMiB = static_cast<double>(o.max_message_bytes) / (1 << 20);
+  bool quiet = false;
+  CLI::App app{"hfts-server: grasp and motion planning over TCP JSON-RPC 2.0 (docs/protocol.md)"};
+  app.add_option("--robot", robot, "Robot config")->capture_default_str();
+  app.add_option("--db", db, "Object databases and the robot's hand map")->capture_default_str();
+  app.add_option("--scenes", scenes, "Scene files (*.json)")->capture_default_str();
+  app.add_option("--bind", o.bind_address, "Address to listen on")->capture_default_str();
+  app.add_option("--port", o.port, "TCP port; 0 picks a free one")->capture_default_str();
+  app.add_option("--workers", o.workers, "Planning threads; 0: one per core")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--queue", o.queue_capacity, "Plans that may wait for a worker")
+      ->capture_default_str();
+  app.add_option("--max-time-limit", o.max_time_limit, "Largest plan time_limit (s)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--max-message-mib", maxMessageMiB, "Largest message (MiB)")
+      ->check(CLI::Range(0.001, 1024.0))
+      ->capture_default_str();
+  app.add_flag("--quiet", quiet, "No request log on standard error");
+  CLI11_PARSE(app, argc, argv);
+
+  o.sources = {robot, db, scenes};
+  o.max_message_bytes = static_cast<std::size_t>(maxMessageMiB * (1 << 20));
+  o.log = quiet ? nullptr : &std::cerr;
+  try {
+    hfts::service::Server server(o);
+    for (const std::string& why : server.initialCatalog().skipped())
+      std::cerr << "hfts-server: skipped " << why << "\n";
+    std::cout << "hfts-server listening on " << o.bind_address << ":" << server.port() << std::endl;
+    server.run();
+  } catch (const std::exception& e) {
+    std::cerr << "hfts-server: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
