@@ -1,0 +1,54 @@
+#pragma once
+// A blocking client of the planning service (docs/protocol.md): one TCP
+// connection, one JSON-RPC 2.0 call at a time. Knows the protocol only,
+// no planner code. Asio stays behind this header.
+
+#include <nlohmann/json_fwd.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+namespace hfts::client {
+
+/// The server answered with an error: its code (docs/protocol.md) and
+/// message; `field` names the offending parameter when the server did.
+class RpcCallError : public std::runtime_error {
+ public:
+  RpcCallError(int code, const std::string& message, std::string field)
+      : std::runtime_error(message), code_(code), field_(std::move(field)) {}
+  int code() const { return code_; }
+  const std::string& field() const { return field_; }
+
+ private:
+  int code_;
+  std::string field_;
+};
+
+/// The server could not be reached, closed the connection, or sent
+/// something that is not a JSON-RPC response.
+class ConnectionError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class RpcClient {
+ public:
+  /// Connects; throws ConnectionError naming host and port.
+  RpcClient(const std::string& host, std::uint16_t port);
+  ~RpcClient();
+  RpcClient(const RpcClient&) = delete;
+  RpcClient& operator=(const RpcClient&) = delete;
+
+  /// Sends {"jsonrpc": "2.0", "id": n, "method", "params"} and waits for
+  /// the response with that id. Returns its result; throws RpcCallError
+  /// for an error response and ConnectionError for a transport failure.
+  nlohmann::json call(const std::string& method, const nlohmann::json& params);
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hfts::client

@@ -1,0 +1,150 @@
+#!/usr/bin/env python3
+"""Client of the hfts planning service (hfts-server, docs/protocol.md).
+
+Standard library only. One TCP connection, JSON-RPC 2.0, one message per
+line. Calls block until their answer arrives; send() and receive() let a
+caller pipeline requests (and cancel a plan while it runs).
+
+    from hfts_client import HftsClient
+
+    with HftsClient("127.0.0.1", 7450) as client:
+        plan = client.plan(scene="table", time_limit=10, seed=1)
+        if plan["success"]:
+            print(plan["grasp"]["epsilon"], len(plan["path"]), plan["joint_names"])
+
+As a program: hfts_client.py [--host H] [--port P] info|objects|scenes|shutdown
+or hfts_client.py plan SCENE [--object NAME] [--time-limit S] [--seed N];
+it prints the JSON result.
+"""
+
+import argparse
+import itertools
+import json
+import socket
+import sys
+
+DEFAULT_PORT = 7450
+
+
+class RpcError(Exception):
+    """An error response: code (docs/protocol.md), message and the offending field (or None)."""
+
+    def __init__(self, code, message, field=None):
+        super().__init__(f"{message} (error {code})")
+        self.code = code
+        self.message = message
+        self.field = field
+
+
+class HftsClient:
+    def __init__(self, host="127.0.0.1", port=DEFAULT_PORT, timeout=None):
+        self._socket = socket.create_connection((host, port), timeout=timeout)
+        self._socket.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        self._reader = self._socket.makefile("rb")
+        self._ids = itertools.count(1)
+        self._waiting = {}  # responses that arrived for other ids
+
+    def close(self):
+        self._reader.close()
+        self._socket.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def send(self, method, params=None):
+        """Sends a request without waiting; returns its id (for receive() and cancel())."""
+        request_id = next(self._ids)
+        message = {"jsonrpc": "2.0", "id": request_id, "method": method, "params": params or {}}
+        self._socket.sendall(json.dumps(message).encode() + b"\n")
+        return request_id
+
+    def receive(self, request_id):
+        """Waits for the response to request_id; returns its result or raises RpcError."""
+        while request_id not in self._waiting:
+            line = self._reader.readline()
+            if not line:
+                raise ConnectionError("the server closed the connection")
+            response = json.loads(line)
+            key = response.get("id")
+            self._waiting[request_id if key is None else key] = response
+        response = self._waiting.pop(request_id)
+        if "error" in response:
+            error = response["error"]
+            raise RpcError(error["code"], error["message"], error.get("data", {}).get("field"))
+        return response["result"]
+
+    def call(self, method, params=None):
+        return self.receive(self.send(method, params))
+
+    def info(self):
+        return self.call("server.info")
+
+    def objects(self):
+        return self.call("objects.list")
+
+    def scenes(self):
+        return self.call("scenes.list")
+
+    def plan(self, scene, **options):
+        """Plans a grasp and a path. scene: a scene name or an inline scene (dict);
+        options: object, object_pose, start, time_limit, algorithm, iterations, seed,
+        parameters (docs/protocol.md)."""
+        return self.call("plan", plan_params(scene, **options))
+
+    def plan_async(self, scene, **options):
+        """Sends a plan request and returns its id; receive(id) gets the result."""
+        return self.send("plan", plan_params(scene, **options))
+
+    def cancel(self, request_id):
+        """Cancels a plan sent on this connection; True when it was still queued or running."""
+        return self.call("cancel", {"id": request_id})["cancelled"]
+
+    def quality(self, contacts, **options):
+        """Ferrari-Canny epsilon; contacts: [{"position": [..], "normal": [..]}, ...];
+        options: normals, center, torque_scale, friction, cone_edges, object."""
+        return self.call("grasp.quality", {"contacts": contacts, **options})["epsilon"]
+
+    def reload(self):
+        return self.call("reload")
+
+    def shutdown(self):
+        return self.call("shutdown")
+
+
+def plan_params(scene, **options):
+    params = {"scene": scene}
+    params.update({k: v for k, v in options.items() if v is not None})
+    return params
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description="hfts-server client (prints JSON results)")
+    parser.add_argument("--host", default="127.0.0.1")
+    parser.add_argument("--port", type=int, default=DEFAULT_PORT)
+    parser.add_argument("command", choices=["info", "objects", "scenes", "plan", "shutdown"])
+    parser.add_argument("scene", nargs="?", help="plan: the scene name")
+    parser.add_argument("--object")
+    parser.add_argument("--time-limit", type=float)
+    parser.add_argument("--seed", type=int)
+    args = parser.parse_args(argv)
+    try:
+        with HftsClient(args.host, args.port) as client:
+            if args.command == "plan":
+                if not args.scene:
+                    parser.error("plan needs a scene")
+                result = client.plan(args.scene, object=args.object, time_limit=args.time_limit,
+                                     seed=args.seed)
+            else:
+                result = getattr(client, args.command)()
+    except (RpcError, OSError) as e:
+        print(f"hfts_client: {e}", file=sys.stderr)
+        return 1
+    print(json.dumps(result, indent=2))
+    return 0 if args.command != "plan" or result["success"] else 3
+
+
+if __name__ == "__main__":
+    sys.exit(main())

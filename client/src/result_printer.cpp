@@ -1,0 +1,123 @@
+#include "result_printer.h"
+
+#include <nlohmann/json.hpp>
+
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+
+namespace hfts::client {
+
+using nlohmann::json;
+
+namespace {
+
+std::string numbers(const json& values, int precision) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(precision) << "(";
+  for (std::size_t i = 0; i < values.size(); ++i) s << (i ? ", " : "") << values[i].get<double>();
+  s << ")";
+  return s.str();
+}
+
+std::string names(const json& values) {
+  std::string out;
+  for (const json& v : values) out += (out.empty() ? "" : " ") + v.get<std::string>();
+  return out;
+}
+
+void printGrasp(const json& grasp, std::ostream& out) {
+  out << "grasp: epsilon " << grasp.at("epsilon").get<double>() << ", reachability "
+      << grasp.at("reachability").get<double>() << " m, fingertip error "
+      << grasp.at("fingertip_error").get<double>() << " m, HFTS node on level "
+      << grasp.at("node").at("level").get<int>() << "\n";
+  int finger = 1;
+  for (const json& c : grasp.at("contacts_world"))
+    out << "  contact " << finger++ << ": position " << numbers(c.at("position"), 4)
+        << " m, inward normal " << numbers(c.at("normal"), 3) << " (world frame)\n";
+  out << "  hand (" << names(grasp.at("hand_joint_names"))
+      << "): " << numbers(grasp.at("hand_configuration"), 3) << " rad\n";
+}
+
+void printStats(const json& s, std::ostream& out) {
+  out << "stats: " << s.at("iterations").get<std::uint64_t>() << " iterations, "
+      << s.at("goal_sampling_calls").get<std::uint64_t>() << " goal sampling calls ("
+      << s.at("valid_goal_samples").get<std::uint64_t>() << " valid), "
+      << s.at("hfts_nodes_explored").get<std::uint64_t>() << " HFTS nodes, "
+      << s.at("collision_checks").get<std::uint64_t>() << " collision checks, trees: forward "
+      << s.at("forward_tree_size").get<std::uint64_t>() << " nodes, backward "
+      << s.at("backward_tree_nodes").get<std::uint64_t>() << " nodes in "
+      << s.at("goal_trees").get<std::uint64_t>() << " goal and "
+      << s.at("approximate_trees").get<std::uint64_t>() << " approximate trees\n";
+}
+
+}  // namespace
+
+void printInfo(const json& info, std::ostream& out) {
+  const json& robot = info.at("robot");
+  const json& limits = info.at("limits");
+  const json& load = info.at("load");
+  out << info.at("name").get<std::string>() << " " << info.at("version").get<std::string>() << " ("
+      << info.at("protocol").get<std::string>() << ")\n"
+      << "robot: " << robot.at("name").get<std::string>() << ", " << robot.at("joint_names").size()
+      << " DoF: " << names(robot.at("joint_names")) << "\n"
+      << "objects: " << info.at("objects").get<int>()
+      << ", scenes: " << info.at("scenes").get<int>() << "\n"
+      << "workers: " << load.at("workers").get<int>() << " (" << load.at("running").get<int>()
+      << " planning, " << load.at("queued").get<int>() << " queued, queue capacity "
+      << limits.at("queue_capacity").get<int>() << ")\n"
+      << "limits: time_limit <= " << limits.at("max_time_limit").get<double>()
+      << " s, messages <= " << limits.at("max_message_bytes").get<std::uint64_t>() << " bytes\n";
+}
+
+void printObjects(const json& objects, std::ostream& out) {
+  out << std::left << std::setw(16) << "object" << std::right << std::setw(10) << "contacts"
+      << "  nodes per level   rho (m)\n";
+  for (const json& o : objects.at("objects")) {
+    std::string levels;
+    for (const json& n : o.at("nodes_per_level"))
+      levels += (levels.empty() ? "" : "/") + std::to_string(n.get<int>());
+    out << std::left << std::setw(16) << o.at("name").get<std::string>() << std::right
+        << std::setw(10) << o.at("contacts").get<int>() << "  " << std::left << std::setw(16)
+        << levels << std::right << std::fixed << std::setprecision(4) << std::setw(9)
+        << o.at("rho").get<double>() << "\n";
+  }
+  out.unsetf(std::ios::floatfield);
+  for (const json& why : objects.at("skipped"))
+    out << "skipped: " << why.get<std::string>() << "\n";
+}
+
+void printScenes(const json& scenes, std::ostream& out) {
+  for (const json& s : scenes.at("scenes"))
+    out << std::left << std::setw(10) << s.at("name").get<std::string>() << " target "
+        << std::setw(10) << s.at("target_object").get<std::string>() << " at "
+        << numbers(s.at("target_pose").at("position"), 3) << ", " << s.at("obstacles").size()
+        << " obstacles: " << s.at("description").get<std::string>() << "\n";
+}
+
+void printPlan(const json& plan, std::ostream& out) {
+  const json& stats = plan.at("stats");
+  const std::string what =
+      plan.at("scene").get<std::string>() + ", " + plan.at("object").get<std::string>() + ", " +
+      plan.at("algorithm").get<std::string>() + ", seed " + plan.at("seed").dump();
+  out << std::setprecision(4);
+  if (plan.at("success").get<bool>()) {
+    out << "plan: success (" << what << ") in " << stats.at("planning_time").get<double>()
+        << " s\n";
+    printGrasp(plan.at("grasp"), out);
+    out << "path: " << plan.at("path").size() << " waypoints (start ... pre-grasp, grasp), length "
+        << stats.at("path_length_smoothed").get<double>() << " (Eq. 3 metric; "
+        << stats.at("path_length_raw").get<double>() << " before smoothing)\n";
+  } else {
+    out << "plan: no plan, " << plan.at("reason").get<std::string>() << ": "
+        << plan.at("message").get<std::string>() << " (" << what << ") after "
+        << stats.at("planning_time").get<double>() << " s\n";
+  }
+  printStats(stats, out);
+}
+
+void printQuality(const json& quality, std::ostream& out) {
+  out << "epsilon " << std::setprecision(10) << quality.at("epsilon").get<double>() << "\n";
+}
+
+}  // namespace hfts::client

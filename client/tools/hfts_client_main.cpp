@@ -1,0 +1,178 @@
+// hfts-client: the planning service from the command line (docs/protocol.md).
+// Subcommands info, objects, scenes, plan, quality, shutdown. Prints a
+// human-readable summary, or the raw result with --json; --out FILE saves
+// the result (JSON). Exit codes: 0 done, 1 the server or the connection
+// failed (message on standard error), 3 the plan found no solution.
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "client/rpc_client.h"
+#include "hfts_db/atomic_file.h"
+#include "result_printer.h"
+
+namespace {
+
+using nlohmann::json;
+
+struct Options {
+  std::string host = "127.0.0.1";
+  std::uint16_t port = 7450;
+  bool json = false;
+  std::string out;
+};
+
+struct PlanOptions {
+  std::string scene, scene_file, object, algorithm;
+  std::vector<double> object_pose, start;
+  std::vector<std::string> parameters;
+  double time_limit = 0.0;
+  int iterations = 0;
+  std::uint64_t seed = 1;
+};
+
+struct QualityOptions {
+  std::string file, object;
+};
+
+json readJsonFile(const std::string& path) {
+  std::ostringstream text;
+  if (path == "-") {
+    text << std::cin.rdbuf();
+  } else {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot read '" + path + "'");
+    text << in.rdbuf();
+  }
+  try {
+    return json::parse(text.str());
+  } catch (const json::exception& e) {
+    throw std::runtime_error("'" + path + "' is not valid JSON: " + e.what());
+  }
+}
+
+/// "name=value": a number when the value reads as one, else text.
+void addParameter(json& parameters, const std::string& assignment) {
+  const std::size_t eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw std::runtime_error("--param expects NAME=VALUE, got '" + assignment + "'");
+  const std::string value = assignment.substr(eq + 1);
+  std::istringstream in(value);
+  double number = 0.0;
+  in >> number;
+  parameters[assignment.substr(0, eq)] =
+      !value.empty() && in.eof() && !in.fail() ? json(number) : json(value);
+}
+
+json planParams(const PlanOptions& p, const CLI::App& cmd) {
+  json params = {{"seed", p.seed}};
+  params["scene"] = p.scene_file.empty() ? json(p.scene) : readJsonFile(p.scene_file);
+  if (!p.object.empty()) params["object"] = p.object;
+  if (!p.object_pose.empty())
+    params["object_pose"] = {
+        {"position", {p.object_pose[0], p.object_pose[1], p.object_pose[2]}},
+        {"orientation", {p.object_pose[3], p.object_pose[4], p.object_pose[5], p.object_pose[6]}}};
+  if (!p.start.empty()) params["start"] = p.start;
+  if (cmd.count("--time-limit")) params["time_limit"] = p.time_limit;
+  if (!p.algorithm.empty()) params["algorithm"] = p.algorithm;
+  if (cmd.count("--iterations")) params["iterations"] = p.iterations;
+  if (!p.parameters.empty()) {
+    params["parameters"] = json::object();
+    for (const std::string& a : p.parameters) addParameter(params["parameters"], a);
+  }
+  return params;
+}
+
+void addPlanOptions(CLI::App& cmd, PlanOptions& p) {
+  auto* scene = cmd.add_option("--scene", p.scene, "A scene of the server (scenes lists them)");
+  cmd.add_option("--scene-file", p.scene_file, "An inline scene: a scene file of primitives")
+      ->check(CLI::ExistingFile)
+      ->excludes(scene);
+  cmd.add_option("--object", p.object, "Object database (default: the scene's target)");
+  cmd.add_option("--object-pose", p.object_pose, "x,y,z,qx,qy,qz,qw (default: the scene's)")
+      ->delimiter(',')
+      ->expected(7);
+  cmd.add_option("--start", p.start, "Start configuration, 13 values (default: the scene's)")
+      ->delimiter(',');
+  cmd.add_option("--time-limit", p.time_limit, "Seconds (default and maximum: the server's)");
+  cmd.add_option("--algorithm", p.algorithm, "coupled (default) or decoupled");
+  cmd.add_option("--iterations", p.iterations, "Decoupled: iterations per level");
+  cmd.add_option("--seed", p.seed, "Random seed")->capture_default_str();
+  cmd.add_option("--param", p.parameters, "Planner parameter NAME=VALUE (repeatable)");
+}
+
+int output(const Options& o, const std::string& method, const json& result) {
+  if (!o.out.empty()) hfts::db::writeFileAtomically(o.out, result.dump(2) + "\n");
+  if (o.json) {
+    std::cout << result.dump(2) << "\n";
+  } else if (method == "server.info") {
+    hfts::client::printInfo(result, std::cout);
+  } else if (method == "objects.list") {
+    hfts::client::printObjects(result, std::cout);
+  } else if (method == "scenes.list") {
+    hfts::client::printScenes(result, std::cout);
+  } else if (method == "plan") {
+    hfts::client::printPlan(result, std::cout);
+  } else if (method == "grasp.quality") {
+    hfts::client::printQuality(result, std::cout);
+  } else if (method == "shutdown") {
+    std::cout << "the server is shutting down\n";
+  }
+  const bool noPlan = method == "plan" && !result.at("success").get<bool>();
+  return noPlan ? 3 : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  PlanOptions plan;
+  QualityOptions quality;
+  CLI::App app{"hfts-client: talks to hfts-server (docs/protocol.md)"};
+  app.require_subcommand(1);
+  app.add_option("--host", o.host, "Server address")->capture_default_str();
+  app.add_option("--port", o.port, "Server port")->capture_default_str();
+  app.add_flag("--json", o.json, "Print the raw JSON result");
+  app.add_option("--out", o.out, "Also save the JSON result to FILE")->type_name("FILE");
+  app.add_subcommand("info", "Server version, robot, limits and load");
+  app.add_subcommand("objects", "The object databases");
+  app.add_subcommand("scenes", "The scenes");
+  CLI::App* planCmd = app.add_subcommand("plan", "Plan a grasp and a path to it");
+  addPlanOptions(*planCmd, plan);
+  CLI::App* qualityCmd = app.add_subcommand("quality", "Ferrari-Canny epsilon of a grasp");
+  qualityCmd
+      ->add_option("request", quality.file, "Request JSON (docs/grasp_quality.md); - reads stdin")
+      ->required();
+  qualityCmd->add_option("--object", quality.object,
+                         "Contacts are in this object's frame: centre and rho from its database");
+  app.add_subcommand("shutdown", "Stop the server (from the same machine only)");
+  CLI11_PARSE(app, argc, argv);
+
+  const std::string command = app.get_subcommands().front()->get_name();
+  const std::map<std::string, std::string> methods = {
+      {"info", "server.info"}, {"objects", "objects.list"},  {"scenes", "scenes.list"},
+      {"plan", "plan"},        {"quality", "grasp.quality"}, {"shutdown", "shutdown"}};
+  const std::string& method = methods.at(command);
+  try {
+    json params = json::object();
+    if (command == "plan") {
+      if (plan.scene.empty() && plan.scene_file.empty())
+        throw std::runtime_error("plan needs --scene NAME or --scene-file FILE");
+      params = planParams(plan, *planCmd);
+    } else if (command == "quality") {
+      params = readJsonFile(quality.file);
+      if (!quality.object.empty() && params.is_object()) params["object"] = quality.object;
+    }
+    hfts::client::RpcClient client(o.host, o.port);
+    return output(o, method, client.call(method, params));
+  } catch (const hfts::client::RpcCallError& e) {
+    std::cerr << "hfts-client: " << method << " failed: " << e.what() << " (error " << e.code()
+              << ")\n";
+  } catch (const std::exception& e) {
+    std::cerr << "hfts-client: " << e.what() << "\n";
+  }
+  return 1;
+}
