@@ -25,6 +25,11 @@ std::size_t sampleWeighted(const std::vector<double>& weights, std::mt19937_64& 
   return weights.size() - 1;  // rounding at the upper end
 }
 
+FreeSpaceDistance FreeSpaceDistances::distances(const Eigen::VectorXd& q,
+                                                FreeSpaceMemo& /*memo*/) const {
+  return {toNonConnected(q), toConnected(q)};
+}
+
 GoalHierarchyCache::GoalHierarchyCache(const HftsSpace& space, RatingWeights weights)
     : space_(space), weights_(weights) {
   if (!(weights.w_f > 0.0) || !(weights.w_c > 0.0))
@@ -65,24 +70,24 @@ double GoalHierarchyCache::coverage(int n) const {
   return static_cast<double>(node(n).children.size()) / possible;
 }
 
-double GoalHierarchyCache::configurationRating(const Eigen::VectorXd& q,
+double GoalHierarchyCache::configurationRating(CachedConfiguration& config,
                                                const FreeSpaceDistances& knowledge) const {
-  return weights_.w_f * std::exp(-knowledge.toNonConnected(q)) +
-         weights_.w_c * std::exp(-knowledge.toConnected(q));
+  const FreeSpaceDistance d = knowledge.distances(config.pregrasp, config.memo);
+  return weights_.w_f * std::exp(-d.to_non_connected) + weights_.w_c * std::exp(-d.to_connected);
 }
 
 double GoalHierarchyCache::rating(int n, const FreeSpaceDistances& knowledge) {
   double& memo = t_[static_cast<std::size_t>(n)];
   if (!std::isnan(memo)) return memo;
-  const CacheNode& c = node(n);
+  CacheNode& c = node(n);
   if (c.parent == kNone) {
     memo = weights_.w_f;  // Eq. (4), root
   } else if (c.configurations.empty()) {
     memo = coverage(c.parent) * rating(c.parent, knowledge);
   } else {
     memo = 0.0;
-    for (const CachedConfiguration& config : c.configurations)
-      memo = std::max(memo, configurationRating(config.pregrasp, knowledge));
+    for (CachedConfiguration& config : c.configurations)
+      memo = std::max(memo, configurationRating(config, knowledge));
   }
   memo = std::max(memo, kSmallestRating);
   return memo;

@@ -17,13 +17,22 @@ class WithApproximateGoals : public FreeSpaceDistances {
                        const CollisionChecker& metric)
       : planner_(planner), goals_(goals), metric_(metric) {}
   double toNonConnected(const Eigen::VectorXd& q) const override {
-    double d = planner_.toNonConnected(q);
+    return orApproximateGoal(planner_.toNonConnected(q), q);
+  }
+  double toConnected(const Eigen::VectorXd& q) const override { return planner_.toConnected(q); }
+  FreeSpaceDistance distances(const Eigen::VectorXd& q, FreeSpaceMemo& memo) const override {
+    // The memo is the planner's; A changes both ways and is small.
+    FreeSpaceDistance d = planner_.distances(q, memo);
+    d.to_non_connected = orApproximateGoal(d.to_non_connected, q);
+    return d;
+  }
+
+ private:
+  double orApproximateGoal(double d, const Eigen::VectorXd& q) const {
     for (const Eigen::VectorXd& a : goals_) d = std::min(d, metric_.distance(q, a));
     return d;
   }
-  double toConnected(const Eigen::VectorXd& q) const override { return planner_.toConnected(q); }
 
- private:
   const FreeSpaceDistances& planner_;
   const std::vector<Eigen::VectorXd>& goals_;
   const CollisionChecker& metric_;
@@ -62,9 +71,16 @@ std::vector<CachedConfiguration> GoalSampler::configurationsOf(const HftsNode& n
     c.goal = stableLeaf && c.fingertip_error <= context_.max_fingertip_error &&
              context_.checker->isMotionValid(c.pregrasp, c.grasp, context_.approach_resolution,
                                              /*allowFingertipContact=*/true);
-  // C_n holds the free configurations, or the colliding ones when there is
-  // none (Sec. III-B.3): they still tell how close the grasp is to C_free.
-  return free.empty() ? colliding : free;
+  // C_n holds the free configurations, or else one colliding configuration
+  // (Sec. III-B.3): it still tells how close the grasp is to C_free. One,
+  // as in the paper: the best of all IK branches would rate a grasp that
+  // collides everywhere by its luckiest branch, steering the search into
+  // colliding branches (measured: 1-5 % of leaves collision-free instead
+  // of 10-25 %, docs/results.md).
+  if (!free.empty() || colliding.empty()) return free;
+  const std::size_t pick =
+      std::uniform_int_distribution<std::size_t>(0, colliding.size() - 1)(*context_.rng);
+  return {std::move(colliding[pick])};
 }
 
 GoalSample GoalSampler::describe(const HftsNode& node, const CachedConfiguration& config,

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <limits>
 #include <random>
 #include <unordered_set>
@@ -14,6 +15,22 @@
 #include "planner/hfts_space.h"
 
 namespace hfts::planner {
+
+/// Omega and Gamma of one configuration (see FreeSpaceDistances).
+struct FreeSpaceDistance {
+  double to_non_connected = std::numeric_limits<double>::infinity();
+  double to_connected = std::numeric_limits<double>::infinity();
+};
+
+/// What a FreeSpaceDistances remembered of one configuration at its last
+/// look, so that the next look only has to consider what was added since.
+/// Opaque to its owner: keep one per configuration, default-constructed.
+struct FreeSpaceMemo {
+  FreeSpaceDistance known;
+  std::uint64_t non_connected_seen = 0;
+  std::uint64_t connected_seen = 0;
+  std::uint64_t generation = std::numeric_limits<std::uint64_t>::max();
+};
 
 /// What the goal sampler knows about free space (paper Sec. III): the
 /// weighted distance of Eq. (3) from a configuration to the nearest known
@@ -25,6 +42,10 @@ class FreeSpaceDistances {
   virtual ~FreeSpaceDistances() = default;
   virtual double toNonConnected(const Eigen::VectorXd& q) const = 0;
   virtual double toConnected(const Eigen::VectorXd& q) const = 0;
+  /// Both distances of q, the same values as the two calls above; an
+  /// implementation may use `memo` (kept by the caller for this q between
+  /// calls) to avoid searching everything again. This one ignores it.
+  virtual FreeSpaceDistance distances(const Eigen::VectorXd& q, FreeSpaceMemo& memo) const;
 };
 
 /// The rating constants of Fig. 6.
@@ -42,6 +63,7 @@ struct CachedConfiguration {
   bool collision_free = false;
   bool goal = false;      ///< a valid goal (leaf, stable, free, fingertips on the contacts)
   bool returned = false;  ///< already handed to the motion planner
+  FreeSpaceMemo memo;     ///< Omega and Gamma of the pre-grasp at the last rating
 };
 
 struct CacheNode {
@@ -103,7 +125,8 @@ class GoalHierarchyCache {
                      std::mt19937_64& rng);
 
  private:
-  double configurationRating(const Eigen::VectorXd& q, const FreeSpaceDistances& knowledge) const;
+  double configurationRating(CachedConfiguration& config,
+                             const FreeSpaceDistances& knowledge) const;
 
   const HftsSpace& space_;
   RatingWeights weights_;

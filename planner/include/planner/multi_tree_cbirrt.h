@@ -160,6 +160,11 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   std::deque<Motion> motions_;                // every node of every tree (stable addresses)
   std::vector<std::unique_ptr<Tree>> trees_;  // 0: T_f; others: backward (null once gone)
   std::unique_ptr<ompl::NearestNeighbors<Motion*>> nonConnected_;  // all backward tree nodes
+  // Every node that joined T_f or the non-connected set, in order, so that
+  // the goal sampler's distances only look at what is new (Knowledge). The
+  // generation changes whenever a node leaves a set (merge, dropped tree).
+  std::vector<const Motion*> connectedLog_, nonConnectedLog_;
+  std::uint64_t generation_ = 0;
   Direction direction_ = Direction::kForward;
   std::vector<Eigen::VectorXd> solution_;
   GoalSample reached_;
