@@ -84,6 +84,8 @@ json scenesJson(const PlanningCatalog& catalog) {
 
 json graspQualityJson(const json& params, const PlanningCatalog& catalog) {
   const JsonFields f(params, "");
+  f.allowOnly(
+      {"contacts", "normals", "center", "torque_scale", "friction", "cone_edges", "object"});
   json request = params;
   if (f.has("object")) {
     const std::string name = f.name("object");
@@ -98,13 +100,7 @@ json graspQualityJson(const json& params, const PlanningCatalog& catalog) {
     const planner::GraspQualityRequest r = planner::graspQualityRequestFromJson(request.dump());
     return {{"epsilon", planner::graspQuality(r).epsilon}};
   } catch (const std::invalid_argument& e) {
-    // The planner's messages quote the field: "'contacts[0].normal' must be a unit vector".
-    const std::string message = e.what();
-    const auto open = message.find('\'');
-    const auto close = message.find('\'', open + 1);
-    const std::string field =
-        open == 0 && close != std::string::npos ? message.substr(1, close - 1) : std::string();
-    throw RpcError(ErrorCode::kInvalidParams, message, field);
+    throw invalidParamFromPlanner(e.what());
   }
 }
 

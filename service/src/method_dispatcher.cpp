@@ -172,15 +172,8 @@ MethodDispatcher::Outcome MethodDispatcher::runPlan(const PlanningCatalog& catal
       result = planner::planGrasp(catalog.world(), request, &cancel);
     }
     return {planResultToJson(result, request), std::nullopt, planner::toString(result.failure)};
-  } catch (const std::invalid_argument& e) {
-    // planGrasp checks parameter values: "parameters: '-5' is not a valid value for 'p_max' ...".
-    const std::string message = e.what();
-    const std::size_t colon = message.find(':');
-    std::string field = colon == std::string::npos ? "" : message.substr(0, colon);
-    const std::size_t name = message.find("for '");
-    if (field == "parameters" && name != std::string::npos)
-      field += "." + message.substr(name + 5, message.find('\'', name + 5) - name - 5);
-    return {json(), RpcError(ErrorCode::kInvalidParams, message, field), ""};
+  } catch (const std::invalid_argument& e) {  // planGrasp checks parameter values
+    return {json(), invalidParamFromPlanner(e.what()), ""};
   } catch (const std::exception& e) {
     return {json(), RpcError(ErrorCode::kInternalError, std::string("internal error: ") + e.what()),
             ""};

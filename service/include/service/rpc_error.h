@@ -45,4 +45,10 @@ const char* toString(ErrorCode code);
 /// Throws RpcError(kInvalidParams) with the message "<field>: <problem>".
 [[noreturn]] void throwInvalidParam(const std::string& field, const std::string& problem);
 
+/// The planner's std::invalid_argument messages ("'contacts[0].normal' must
+/// be a unit vector", "parameters: '5' is not a valid value for 'p_max' ...")
+/// as RpcError(kInvalidParams) in the service's form "<field>: <problem>"
+/// (field "parameters.p_max" for a parameter value).
+RpcError invalidParamFromPlanner(const std::string& plannerMessage);
+
 }  // namespace hfts::service
