@@ -1,0 +1,245 @@
+#!/usr/bin/env python3
+"""Tests of hfts-client (the C++ command line) and client/python/hfts_client.py
+against a real hfts-server on an ephemeral port. Run by ctest with Debian's
+/usr/bin/python3; standard library only."""
+
+import argparse
+import contextlib
+import io
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+from hfts_server_fixture import RunningServer, build_databases, wait_until
+
+CLIENT = SERVER = PREPROCESS = SOURCE_DIR = None
+hfts_client = None  # the Python client module, imported from client/python
+QUALITY = {"contacts": [
+    {"position": [1, 0, 0], "normal": [-1, 0, 0]},
+    {"position": [-0.5, 0.8660254037844386, 0], "normal": [0.5, -0.8660254037844386, 0]},
+    {"position": [-0.5, -0.8660254037844386, 0], "normal": [0.5, 0.8660254037844386, 0]}]}
+FAR_AWAY = {"position": [3, 0, 0], "orientation": [0, 0, 0, 1]}
+
+
+class ClientTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="hfts-client-")
+        cls.db = os.path.join(cls.tmp, "db")
+        build_databases(PREPROCESS, SOURCE_DIR, cls.db)
+        cls.server = RunningServer(SERVER, SOURCE_DIR, cls.db, os.path.join(cls.tmp, "log"),
+                                   "--workers", "2")
+
+    @classmethod
+    def tearDownClass(cls):
+        code = cls.server.stop()
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+        assert code == 0, code
+
+    def client(self, *args, port=None, stdin=None):
+        return subprocess.run([CLIENT, "--port", str(port or self.server.port), *map(str, args)],
+                              capture_output=True, text=True, timeout=120, input=stdin)
+
+    def ok(self, *args, **kw):
+        result = self.client(*args, **kw)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        return result.stdout
+
+
+class CommandLine(ClientTest):
+    def test_info_is_readable_and_json_is_the_raw_result(self):
+        text = self.ok("info")
+        self.assertRegex(text, r"^hfts-server \d+\.\d+\.\d+ ")
+        self.assertIn("robot: kr5_sdh, 13 DoF: a1 a2 a3 a4 a5 a6 knuckle", text)
+        self.assertIn("objects: 2, scenes: 3", text)
+        self.assertIn("workers: 2 (0 planning, 0 queued, queue capacity 64)", text)
+        info = json.loads(self.ok("--json", "info"))
+        self.assertEqual(info["robot"]["name"], "kr5_sdh")
+
+    def test_objects_and_scenes(self):
+        objects = self.ok("objects").splitlines()
+        self.assertEqual(objects[0].split()[:2], ["object", "contacts"])
+        self.assertEqual([l.split()[0] for l in objects[1:]], ["blob", "mug"])
+        self.assertIn("20/80/320", objects[2])
+        scenes = self.ok("scenes").splitlines()
+        self.assertEqual([l.split()[0] for l in scenes], ["bin", "shelf", "table"])
+        self.assertRegex(scenes[2], r"^table +target mug +at \(0\.550, 0\.000, 0\.000\), "
+                                    r"7 obstacles: ")
+        self.assertEqual(len(json.loads(self.ok("--json", "scenes"))["scenes"]), 3)
+
+    def test_plan_prints_grasp_path_timing_and_stats(self):
+        text = self.ok("plan", "--scene", "bin", "--seed", "1", "--time-limit", "20")
+        lines = text.splitlines()
+        self.assertRegex(lines[0], r"^plan: success \(bin, blob, coupled, seed 1\) in [\d.]+ s$")
+        self.assertRegex(lines[1], r"^grasp: epsilon [\d.e-]+, reachability [\d.e-]+ m, "
+                                   r"fingertip error [\d.e-]+ m, HFTS node on level 3$")
+        self.assertEqual(sum(l.startswith("  contact ") for l in lines), 3)
+        self.assertTrue(any(l.startswith("  hand (knuckle ") for l in lines))
+        self.assertRegex(text, r"\npath: \d+ waypoints \(start \.\.\. pre-grasp, grasp\), length ")
+        self.assertRegex(text, r"\nstats: \d+ iterations, \d+ goal sampling calls \(\d+ valid\)")
+
+    def test_json_and_out_give_the_same_result_as_the_protocol(self):
+        out = os.path.join(self.tmp, "plan.json")
+        printed = json.loads(self.ok("--json", "--out", out, "plan", "--scene", "bin",
+                                     "--seed", "1", "--time-limit", "20"))
+        with open(out) as f:
+            saved = json.load(f)
+        self.assertEqual(saved, printed)
+        self.assertEqual([f for f in os.listdir(self.tmp) if ".tmp" in f], [])
+        raw = self.server.call("plan", {"scene": "bin", "seed": 1, "time_limit": 20})["result"]
+        self.assertEqual(saved["path"], raw["path"])
+        self.assertEqual(saved["grasp"], raw["grasp"])
+
+    def test_plan_options_reach_the_server(self):
+        start = "0,-1.5,1.5,0,1.5,0,0,-0.2,0.2,-0.2,0.2,-0.2,0.2"
+        plan = json.loads(self.ok(
+            "--json", "plan", "--scene", "bin", "--object", "mug",
+            "--object-pose", "0.55,0.05,0.02,0,0,0,1", "--start", start, "--algorithm",
+            "decoupled", "--iterations", "40", "--seed", "3", "--time-limit", "20",
+            "--param", "step_size=0.12", "--param", "kappa=4"))
+        self.assertEqual((plan["object"], plan["algorithm"], plan["seed"], plan["time_limit"]),
+                         ("mug", "decoupled", 3, 20))
+        self.assertEqual(plan["object_pose"]["position"], [0.55, 0.05, 0.02])
+        self.assertTrue(plan["success"], plan["message"])
+        self.assertEqual(plan["path"][0], [float(v) for v in start.split(",")])
+
+    def test_an_inline_scene_file(self):
+        scene = os.path.join(self.tmp, "my_bin.json")
+        with open(os.path.join(SOURCE_DIR, "objects", "scenes", "bin.json")) as f:
+            data = json.load(f)
+        data["name"] = "my_bin"
+        with open(scene, "w") as f:
+            json.dump(data, f)
+        text = self.ok("plan", "--scene-file", scene, "--time-limit", "20")
+        self.assertIn("plan: success (my_bin, blob, coupled, seed 1)", text)
+
+    def test_a_plan_without_solution_exits_with_3(self):
+        result = self.client("plan", "--scene", "table", "--object-pose",
+                             "3,0,0,0,0,0,1", "--time-limit", "0.3")
+        self.assertEqual(result.returncode, 3, result.stderr)
+        self.assertRegex(result.stdout, r"^plan: no plan, (object_unreachable|time_limit): ")
+
+    def test_quality_from_a_file_and_from_stdin(self):
+        request = os.path.join(self.tmp, "quality.json")
+        with open(request, "w") as f:
+            json.dump(QUALITY, f)
+        self.assertEqual(self.ok("quality", request), "epsilon 0.2759251557\n")
+        result = json.loads(self.ok("--json", "quality", "-", stdin=json.dumps(QUALITY)))
+        self.assertAlmostEqual(result["epsilon"], 0.275925155686099, places=12)
+        by_object = json.loads(self.ok("--json", "quality", request, "--object", "mug"))
+        self.assertGreaterEqual(by_object["epsilon"], 0.0)
+
+    def test_server_errors_exit_with_1_and_the_servers_message(self):
+        result = self.client("plan", "--scene", "table", "--object", "teapot")
+        self.assertEqual(result.returncode, 1)
+        self.assertEqual(result.stdout, "")
+        self.assertIn("plan failed: object: unknown object 'teapot'", result.stderr)
+        self.assertIn("(error -32602)", result.stderr)
+        bad = self.client("plan", "--scene", "table", "--start", "1,2,3")
+        self.assertIn("start: must be an array of 13 numbers, got 3", bad.stderr)
+        quality = self.client("quality", "-", stdin='{"contacts": []}')
+        self.assertEqual(quality.returncode, 1)
+        self.assertIn("contacts: must be a non-empty array", quality.stderr)
+
+    def test_usage_and_connection_errors(self):
+        refused = self.client("info", port=1)
+        self.assertEqual(refused.returncode, 1)
+        self.assertIn("cannot connect to 127.0.0.1:1", refused.stderr)
+        no_scene = self.client("plan")
+        self.assertEqual(no_scene.returncode, 1)
+        self.assertIn("plan needs --scene NAME or --scene-file FILE", no_scene.stderr)
+        self.assertNotEqual(self.client("teleport").returncode, 0)
+        unreadable = self.client("quality", os.path.join(self.tmp, "missing.json"))
+        self.assertEqual(unreadable.returncode, 1)
+        self.assertIn("cannot read", unreadable.stderr)
+
+
+class PythonClient(ClientTest):
+    def connect(self):
+        return hfts_client.HftsClient(self.server.host, self.server.port, timeout=120)
+
+    def test_every_call(self):
+        with self.connect() as client:
+            self.assertEqual(client.info()["robot"]["name"], "kr5_sdh")
+            self.assertEqual([o["name"] for o in client.objects()["objects"]], ["blob", "mug"])
+            self.assertEqual(len(client.scenes()["scenes"]), 3)
+            plan = client.plan("bin", seed=1, time_limit=20)
+            self.assertTrue(plan["success"], plan["message"])
+            self.assertEqual(len(plan["path"][0]), len(plan["joint_names"]))
+            self.assertAlmostEqual(client.quality(QUALITY["contacts"]), 0.275925155686099,
+                                   places=12)
+            self.assertEqual(client.reload()["objects"], ["blob", "mug"])
+
+    def test_errors_raise_with_code_and_field(self):
+        with self.connect() as client:
+            with self.assertRaises(hfts_client.RpcError) as caught:
+                client.plan("table", object_pose={"position": [0, 0, 0],
+                                                  "orientation": [0, 0, 0, 0]})
+            self.assertEqual(caught.exception.code, -32602)
+            self.assertEqual(caught.exception.field, "object_pose.orientation")
+            self.assertIn("zero norm", caught.exception.message)
+            with self.assertRaises(hfts_client.RpcError) as unknown:
+                client.call("teleport")
+            self.assertEqual(unknown.exception.code, -32601)
+            self.assertEqual(client.info()["name"], "hfts-server")
+
+    def test_a_plan_can_be_cancelled_while_it_runs(self):
+        with self.connect() as client:
+            request = client.plan_async("table", object_pose=FAR_AWAY, time_limit=30)
+            self.assertTrue(wait_until(lambda: self.server.call("server.info")["result"]
+                                       ["load"]["running"] >= 1))
+            began = time.monotonic()
+            self.assertTrue(client.cancel(request))
+            plan = client.receive(request)
+            self.assertEqual(plan["reason"], "cancelled")
+            self.assertLess(time.monotonic() - began, 2.0)
+            self.assertFalse(client.cancel(request), "it is no longer running")
+
+    def test_the_module_runs_as_a_program(self):
+        buffer = io.StringIO()
+        with contextlib.redirect_stdout(buffer):
+            code = hfts_client.main(["--port", str(self.server.port), "plan", "bin",
+                                     "--time-limit", "20"])
+        self.assertEqual(code, 0)
+        self.assertTrue(json.loads(buffer.getvalue())["success"])
+
+
+class Shutdown(unittest.TestCase):
+    def test_shutdown_stops_the_server_with_exit_code_0(self):
+        tmp = tempfile.mkdtemp(prefix="hfts-client-shutdown-")
+        try:
+            db = os.path.join(tmp, "db")
+            build_databases(PREPROCESS, SOURCE_DIR, db, objects=("mug",))
+            server = RunningServer(SERVER, SOURCE_DIR, db, os.path.join(tmp, "log"))
+            result = subprocess.run([CLIENT, "--port", str(server.port), "shutdown"],
+                                    capture_output=True, text=True, timeout=60)
+            self.assertEqual(result.returncode, 0, result.stderr)
+            self.assertEqual(result.stdout, "the server is shutting down\n")
+            self.assertEqual(server.process.wait(timeout=30), 0)
+            server.stop()
+            python = RunningServer(SERVER, SOURCE_DIR, db, os.path.join(tmp, "log2"))
+            with hfts_client.HftsClient(python.host, python.port) as client:
+                self.assertEqual(client.shutdown(), {"shutting_down": True})
+            self.assertEqual(python.process.wait(timeout=30), 0)
+            python.stop()
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--client", required=True)
+    parser.add_argument("--server", required=True)
+    parser.add_argument("--preprocess", required=True)
+    parser.add_argument("--source-dir", required=True)
+    args, rest = parser.parse_known_args()
+    CLIENT, SERVER, PREPROCESS, SOURCE_DIR = map(
+        os.path.abspath, (args.client, args.server, args.preprocess, args.source_dir))
+    sys.path.insert(0, os.path.join(SOURCE_DIR, "client", "python"))
+    import hfts_client  # noqa: E402  (the module under test)
+    unittest.main(argv=[sys.argv[0], *rest], verbosity=2)

@@ -1,0 +1,83 @@
+#include "service/message_framer.h"
+
+#include <gtest/gtest.h>
+
+namespace hfts::service {
+namespace {
+
+std::vector<std::string> frame(MessageFramer& framer, std::string_view bytes) {
+  std::vector<std::string> out;
+  EXPECT_TRUE(framer.feed(bytes, out));
+  return out;
+}
+
+using Messages = std::vector<std::string>;
+
+TEST(MessageFramer, SplitsLines) {
+  MessageFramer f(1024);
+  EXPECT_EQ(frame(f, "abc\ndef\r\n"), (Messages{"abc", "def\r"}));
+}
+
+TEST(MessageFramer, JoinsAMessageSplitAcrossReads) {
+  MessageFramer f(1024);
+  EXPECT_TRUE(frame(f, "{\"a\": [1, ").empty());
+  EXPECT_TRUE(frame(f, "2").empty());
+  EXPECT_EQ(frame(f, "]}\n"), Messages{"{\"a\": [1, 2]}"});
+}
+
+TEST(MessageFramer, HandsOnACompleteTextWithoutNewline) {
+  MessageFramer f(1024);
+  EXPECT_EQ(frame(f, "{\"m\": \"x\"}"), Messages{"{\"m\": \"x\"}"});
+  EXPECT_TRUE(frame(f, "  \r\n").empty()) << "the rest of its line is not an empty message";
+  EXPECT_EQ(frame(f, "[1,[2]][3]"), (Messages{"[1,[2]]", "[3]"}));
+}
+
+TEST(MessageFramer, IgnoresBracketsInStrings) {
+  MessageFramer f(1024);
+  EXPECT_TRUE(frame(f, R"({"s": "}]\"}")").empty());
+  EXPECT_EQ(frame(f, "}"), Messages{R"({"s": "}]\"}"})"});
+}
+
+TEST(MessageFramer, HandsOnEmptyAndBlankLines) {
+  MessageFramer f(1024);
+  EXPECT_EQ(frame(f, "\n \t\r\n"), (Messages{"", ""}));
+}
+
+TEST(MessageFramer, ANewlineEndsATruncatedText) {
+  MessageFramer f(1024);
+  EXPECT_EQ(frame(f, "{\"a\": \n{}"), (Messages{"{\"a\": ", "{}"}));
+}
+
+TEST(MessageFramer, ScalarsAndGarbageWaitForTheNewline) {
+  MessageFramer f(1024);
+  EXPECT_TRUE(frame(f, std::string("12 \x01\xff", 5)).empty());
+  EXPECT_EQ(frame(f, "}\n"), Messages{std::string("12 \x01\xff}", 6)});
+}
+
+TEST(MessageFramer, RejectsAMessageOverTheLimit) {
+  MessageFramer f(8);
+  std::vector<std::string> out;
+  EXPECT_TRUE(f.feed("12345678\n", out)) << "exactly the limit is fine";
+  EXPECT_FALSE(f.feed("123456789", out));
+  EXPECT_FALSE(f.feed("\n", out)) << "the framer stays spent";
+  EXPECT_EQ(out, Messages{"12345678"});
+}
+
+TEST(MessageFramer, CountsBytesNotYetFramedAgainstTheLimit) {
+  MessageFramer f(10);
+  std::vector<std::string> out;
+  EXPECT_TRUE(f.feed("[[[[[", out));
+  EXPECT_FALSE(f.feed("[[[[[[", out));
+}
+
+TEST(MessageFramer, ReturnsTheIncompleteRemainder) {
+  MessageFramer f(1024);
+  EXPECT_TRUE(frame(f, "{}\n  {\"a\":").size() == 1);
+  EXPECT_EQ(f.takeRemainder(), "  {\"a\":");
+  EXPECT_EQ(f.takeRemainder(), "");
+  EXPECT_TRUE(frame(f, "  \t").empty());
+  EXPECT_EQ(f.takeRemainder(), "") << "whitespace is no message";
+}
+
+}  // namespace
+}  // namespace hfts::service

@@ -1,0 +1,160 @@
+#include "service/plan_request_json.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "service/rpc_error.h"
+#include "service_catalog.h"
+
+namespace hfts::service {
+namespace {
+
+using nlohmann::json;
+
+planner::PlanRequest parse(const json& params, double maxTimeLimit = 60.0) {
+  return planRequestFromJson(params, test::serviceCatalog(), PlanLimits{maxTimeLimit});
+}
+
+/// Expects an invalid-params error naming `field` whose message contains `words`.
+void expectRejected(const json& params, const std::string& field, const std::string& words) {
+  try {
+    parse(params);
+    ADD_FAILURE() << "accepted " << params.dump();
+  } catch (const RpcError& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidParams);
+    EXPECT_EQ(e.field(), field) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind(field + ": ", 0), 0u) << e.what();
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  }
+}
+
+json start() {
+  return {0, -1.5, 1.5, 0, 1.5, 0, 0, -0.2, 0.2, -0.2, 0.2, -0.2, 0.2};
+}
+
+TEST(PlanRequestJson, ASceneNameGivesTheSceneAndItsTarget) {
+  const planner::PlanRequest r = parse({{"scene", "bin"}});
+  EXPECT_EQ(r.scene.name, "bin");
+  EXPECT_EQ(r.object, "blob");
+  EXPECT_EQ(r.scene.obstacles.size(), 7u);
+  EXPECT_FALSE(r.object_pose.has_value());
+  EXPECT_FALSE(r.start.has_value());
+  EXPECT_EQ(r.algorithm, planner::PlanAlgorithm::kCoupled);
+  EXPECT_EQ(r.seed, 1u);
+  EXPECT_EQ(r.time_limit, 60.0) << "the default is the server's maximum";
+  EXPECT_TRUE(r.parameters.empty());
+}
+
+TEST(PlanRequestJson, MapsEveryField) {
+  const planner::PlanRequest r =
+      parse({{"scene", "table"},
+             {"object", "bottle"},
+             {"object_pose", {{"position", {0.5, 0.1, 0.0}}, {"orientation", {0, 0, 2, 0}}}},
+             {"start", start()},
+             {"time_limit", 2.5},
+             {"algorithm", "decoupled"},
+             {"iterations", 60},
+             {"seed", 18446744073709551615u},
+             {"parameters", {{"p_max", 0.8}, {"kappa", 3}, {"step_size", "0.2"}}}});
+  EXPECT_EQ(r.object, "bottle");
+  ASSERT_TRUE(r.object_pose.has_value());
+  EXPECT_TRUE(r.object_pose->translation().isApprox(Eigen::Vector3d(0.5, 0.1, 0.0)));
+  EXPECT_TRUE(r.object_pose->linear().isApprox(
+      Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix()))
+      << "quaternions are normalised, ROS order";
+  ASSERT_TRUE(r.start.has_value());
+  EXPECT_DOUBLE_EQ((*r.start)(1), -1.5);
+  EXPECT_EQ(r.time_limit, 2.5);
+  EXPECT_EQ(r.algorithm, planner::PlanAlgorithm::kDecoupled);
+  EXPECT_EQ(r.iterations, 60);
+  EXPECT_EQ(r.seed, 18446744073709551615u);
+  EXPECT_EQ(r.parameters, (std::map<std::string, std::string>{
+                              {"kappa", "3"}, {"p_max", "0.8"}, {"step_size", "0.2"}}));
+}
+
+TEST(PlanRequestJson, CapsTheTimeLimit) {
+  EXPECT_EQ(parse({{"scene", "bin"}, {"time_limit", 100}}, 10.0).time_limit, 10.0);
+  EXPECT_EQ(parse({{"scene", "bin"}}, 10.0).time_limit, 10.0);
+}
+
+TEST(PlanRequestJson, AcceptsAnInlineSceneOfPrimitives) {
+  const json scene = {
+      {"name", "mine"},
+      {"robot_base", {{"position", {0, 0, 0}}, {"orientation", {0, 0, 0, 1}}}},
+      {"obstacles",
+       {{{"name", "floor"},
+         {"type", "box"},
+         {"size", {2, 2, 0.02}},
+         {"pose", {{"position", {0.5, 0, -0.011}}, {"orientation", {0, 0, 0, 1}}}}}}},
+      {"target",
+       {{"object", "mug"}, {"pose", {{"position", {0.6, 0, 0}}, {"orientation", {0, 0, 0, 1}}}}}}};
+  const planner::PlanRequest r = parse({{"scene", scene}});
+  EXPECT_EQ(r.scene.name, "mine");
+  EXPECT_EQ(r.object, "mug");
+  ASSERT_EQ(r.scene.obstacles.size(), 1u);
+  EXPECT_EQ(r.scene.obstacles[0].name, "floor");
+  json withMesh = scene;
+  withMesh["obstacles"].push_back({{"name", "m"},
+                                   {"type", "mesh"},
+                                   {"mesh", "../meshes/mug.ply"},
+                                   {"pose", scene["robot_base"]}});
+  expectRejected({{"scene", withMesh}}, "scene.obstacles[1]", "may not load mesh files");
+  json broken = scene;
+  broken["obstacles"][0]["size"] = {2, 2, -1};
+  expectRejected({{"scene", broken}}, "scene", "'size' must be positive");
+}
+
+TEST(PlanRequestJson, RejectsUnknownAndUnsafeNames) {
+  expectRejected(json::object(), "scene", "required");
+  expectRejected({{"scene", "kitchen"}}, "scene",
+                 "unknown scene 'kitchen' (known: bin, shelf, table)");
+  expectRejected({{"scene", "../scenes/table"}}, "scene", "path characters");
+  expectRejected({{"scene", "bin"}, {"object", "teapot"}}, "object", "unknown object 'teapot'");
+  expectRejected({{"scene", "bin"}, {"object", "/tmp/mug"}}, "object", "path characters");
+  expectRejected({{"scene", "bin"}, {"object", ".hidden"}}, "object", "not a valid name");
+  expectRejected({{"scene", "bin"}, {"robot", "x"}}, "robot", "unknown field");
+  expectRejected({{"scene", "bin"}, {"parameters", {{"warp", 1}}}}, "parameters.warp",
+                 "unknown planner parameter");
+  expectRejected({{"scene", "bin"}, {"parameters", {{"time_limit", 1}}}}, "parameters.time_limit",
+                 "top-level 'time_limit'");
+}
+
+TEST(PlanRequestJson, RejectsBadNumbersAndShapes) {
+  json shortStart = start();
+  shortStart.erase(12);
+  expectRejected({{"scene", "bin"}, {"start", shortStart}}, "start", "13 numbers, got 12");
+  json textStart = start();
+  textStart[4] = "x";
+  expectRejected({{"scene", "bin"}, {"start", textStart}}, "start[4]", "must be a number");
+  json farStart = start();
+  farStart[0] = 10.0;
+  expectRejected({{"scene", "bin"}, {"start", farStart}}, "start", "outside the joint limits");
+  expectRejected(
+      {{"scene", "bin"}, {"object_pose", {{"position", {0, 0, 0}}, {"orientation", {0, 0, 0, 0}}}}},
+      "object_pose.orientation", "zero norm");
+  expectRejected({{"scene", "bin"}, {"object_pose", {{"position", {0, 0, 0}}}}},
+                 "object_pose.orientation", "required");
+  expectRejected({{"scene", "bin"}, {"time_limit", 0}}, "time_limit", "> 0");
+  expectRejected({{"scene", "bin"}, {"time_limit", "1"}}, "time_limit", "must be a number");
+  expectRejected({{"scene", "bin"}, {"seed", 1.5}}, "seed", "integer >= 0");
+  expectRejected({{"scene", "bin"}, {"seed", -2}}, "seed", "integer >= 0");
+  expectRejected({{"scene", "bin"}, {"algorithm", "decoupled"}, {"iterations", 0}}, "iterations",
+                 ">= 1");
+  expectRejected({{"scene", "bin"}, {"iterations", 20}}, "iterations", "only the decoupled");
+  expectRejected({{"scene", "bin"}, {"algorithm", 2}}, "algorithm", "string");
+  expectRejected({{"scene", "bin"}, {"parameters", {{"p_max", true}}}}, "parameters.p_max",
+                 "number or a string");
+  expectRejected(json::array(), "params", "must be an object");
+}
+
+TEST(PlanRequestJson, NonFiniteNumbersAreRejected) {
+  // JSON text cannot carry NaN; a json value built in C++ can.
+  json pose = {{"position", {0, std::nan(""), 0}}, {"orientation", {0, 0, 0, 1}}};
+  expectRejected({{"scene", "bin"}, {"object_pose", pose}}, "object_pose.position[1]", "finite");
+  expectRejected({{"scene", "bin"}, {"time_limit", INFINITY}}, "time_limit", "finite");
+  expectRejected({{"scene", "bin"}, {"parameters", {{"p_max", NAN}}}}, "parameters.p_max",
+                 "finite");
+}
+
+}  // namespace
+}  // namespace hfts::service

@@ -1,0 +1,106 @@
+#include "service/plan_result_json.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "robot_fixture.h"
+
+namespace hfts::service {
+namespace {
+
+using nlohmann::json;
+
+planner::PlanRequest request() {
+  planner::PlanRequest r;
+  r.scene = planner::loadScene(test::sourcePath("objects/scenes/table.json"));
+  r.scene.name = "table";
+  r.object = "mug";
+  r.seed = 7;
+  r.time_limit = 5.0;
+  return r;
+}
+
+planner::PlanResult success() {
+  const planner::RobotModel& robot = test::kr5Sdh();
+  planner::PlanResult r;
+  r.success = true;
+  r.joint_names = robot.dofNames();
+  r.path = {robot.home(), robot.home() * 0.5, robot.home() * 0.25};
+  planner::PlannedGrasp& g = r.grasp;
+  g.node.level = 3;
+  g.node.parts = {4, 5, 6, 0};
+  g.contacts_object = Eigen::Matrix3Xd::Identity(3, 3);
+  g.contacts_world = 2.0 * g.contacts_object;
+  g.inward_normals_object = -g.contacts_object;
+  g.inward_normals_world = -g.contacts_object;
+  g.epsilon = 0.125;
+  g.reachability = 0.001;
+  g.fingertip_error = 0.002;
+  g.hand_configuration = robot.home().tail(robot.numHandDofs());
+  r.stats.planning_time = 0.5;
+  r.stats.iterations = 42;
+  r.stats.path_length_smoothed = 1.5;
+  return r;
+}
+
+TEST(PlanResultJson, CarriesThePathWithItsJointNames) {
+  const json j = planResultToJson(success(), request());
+  EXPECT_EQ(j.at("success"), true);
+  EXPECT_EQ(j.at("reason"), "none");
+  EXPECT_EQ(j.at("message"), "");
+  EXPECT_EQ(j.at("joint_names"), test::kr5Sdh().dofNames());
+  ASSERT_EQ(j.at("path").size(), 3u);
+  EXPECT_EQ(j.at("path")[1].size(), 13u);
+  EXPECT_DOUBLE_EQ(j.at("path")[1][1].get<double>(), test::kr5Sdh().home()(1) * 0.5);
+}
+
+TEST(PlanResultJson, DescribesTheGrasp) {
+  const json g = planResultToJson(success(), request()).at("grasp");
+  EXPECT_EQ(g.at("node"), json::parse(R"({"level": 3, "partitions": [4, 5, 6]})"));
+  ASSERT_EQ(g.at("contacts_world").size(), 3u);
+  EXPECT_EQ(g.at("contacts_world")[1],
+            json::parse(R"({"position": [0, 2, 0], "normal": [0, -1, 0]})"));
+  EXPECT_EQ(g.at("contacts_object")[2].at("position"), json({0, 0, 1}));
+  EXPECT_EQ(g.at("normals"), "inward");
+  EXPECT_EQ(g.at("epsilon"), 0.125);
+  EXPECT_EQ(g.at("reachability"), 0.001);
+  EXPECT_EQ(g.at("fingertip_error"), 0.002);
+  EXPECT_EQ(g.at("hand_joint_names").size(), 7u);
+  EXPECT_EQ(g.at("hand_joint_names")[0], test::kr5Sdh().dofNames()[6]);
+  EXPECT_EQ(g.at("hand_configuration").size(), 7u);
+}
+
+TEST(PlanResultJson, EchoesTheRequestAndStatistics) {
+  planner::PlanRequest r = request();
+  r.algorithm = planner::PlanAlgorithm::kDecoupled;
+  r.object_pose = Eigen::Isometry3d(Eigen::Translation3d(0.1, 0.2, 0.3));
+  const json j = planResultToJson(success(), r);
+  EXPECT_EQ(j.at("scene"), "table");
+  EXPECT_EQ(j.at("object"), "mug");
+  EXPECT_EQ(j.at("algorithm"), "decoupled");
+  EXPECT_EQ(j.at("seed"), 7);
+  EXPECT_EQ(j.at("time_limit"), 5.0);
+  EXPECT_EQ(j.at("object_pose"),
+            json::parse(R"({"position": [0.1, 0.2, 0.3], "orientation": [0, 0, 0, 1]})"));
+  EXPECT_EQ(j.at("stats").at("planning_time"), 0.5);
+  EXPECT_EQ(j.at("stats").at("iterations"), 42);
+  EXPECT_EQ(j.at("stats").at("path_length_smoothed"), 1.5);
+  EXPECT_EQ(j.at("stats").size(), 14u);
+}
+
+TEST(PlanResultJson, AFailureHasAReasonAndNoGrasp) {
+  planner::PlanResult failed;
+  failed.failure = planner::PlanFailure::kStartInCollision;
+  failed.message = "the start configuration is in collision";
+  failed.joint_names = test::kr5Sdh().dofNames();
+  const json j = planResultToJson(failed, request());
+  EXPECT_EQ(j.at("success"), false);
+  EXPECT_EQ(j.at("reason"), "start_in_collision");
+  EXPECT_EQ(j.at("message"), "the start configuration is in collision");
+  EXPECT_TRUE(j.at("grasp").is_null());
+  EXPECT_EQ(j.at("path"), json::array());
+  EXPECT_EQ(j.at("object_pose").at("position"), json({0.55, 0, 0})) << "the scene's pose";
+}
+
+}  // namespace
+}  // namespace hfts::service

@@ -1,0 +1,67 @@
+#include "service/planning_catalog.h"
+
+#include <gtest/gtest.h>
+
+#include "hfts_db/hand_map.h"
+#include "planner/hand_reachability.h"
+#include "robot_fixture.h"
+#include "service_catalog.h"
+#include "test_meshes.h"
+
+namespace hfts::service {
+namespace {
+
+/// A database directory with the mug, a broken file and the hand map, and
+/// a scene directory with the bundled table plus a broken scene.
+struct Sources {
+  test::TempDir dir;
+  CatalogSources sources;
+  Sources() {
+    std::filesystem::create_directories(dir / "db");
+    std::filesystem::create_directories(dir / "scenes");
+    db::saveObjectDatabase(test::sceneTargetObjects().at("mug"), dir / "db" / "mug.h5");
+    db::saveHandMap(planner::buildHandMap(test::kr5Sdh()), dir / "db" / "kr5_sdh_hand_map.h5");
+    test::writeText(dir / "db" / "broken.h5", "not hdf5");
+    std::filesystem::copy_file(test::sourcePath("objects/scenes/table.json"),
+                               dir / "scenes" / "kitchen_table.json");
+    test::writeText(dir / "scenes" / "broken.json", "{\"name\": \"broken\"}");
+    sources = {test::sourcePath("robots/kr5_sdh/kr5_sdh.json"), dir / "db", dir / "scenes"};
+  }
+};
+
+TEST(PlanningCatalog, LoadsTheWorldAndNamesScenesByFile) {
+  const Sources s;
+  const auto catalog = PlanningCatalog::load(s.sources);
+  EXPECT_EQ(catalog->world().objectNames(), std::vector<std::string>{"mug"});
+  ASSERT_EQ(catalog->scenes().size(), 1u);
+  const planner::Scene* scene = catalog->scene("kitchen_table");
+  ASSERT_NE(scene, nullptr);
+  EXPECT_EQ(scene->name, "kitchen_table") << "not the file's 'table'";
+  EXPECT_EQ(scene->target_object, "mug");
+  EXPECT_EQ(catalog->scene("table"), nullptr);
+  EXPECT_EQ(catalog->sceneDir(), s.dir / "scenes");
+  EXPECT_FALSE(catalog->plannerParameters().empty());
+  EXPECT_EQ(catalog->robot().numDofs(), 13);
+}
+
+TEST(PlanningCatalog, ReportsWhatItSkipped) {
+  const Sources s;
+  const auto catalog = PlanningCatalog::load(s.sources);
+  ASSERT_EQ(catalog->skipped().size(), 2u);
+  EXPECT_NE(catalog->skipped()[0].find("broken.h5"), std::string::npos);
+  EXPECT_NE(catalog->skipped()[1].find("broken.json"), std::string::npos);
+}
+
+TEST(PlanningCatalog, MissingDirectoriesOrMapThrowNamingThem) {
+  Sources s;
+  CatalogSources noScenes = s.sources;
+  noScenes.scene_dir = s.dir / "nowhere";
+  test::expectErrorMentioning<std::runtime_error>([&] { PlanningCatalog::load(noScenes); },
+                                                  {"nowhere", "does not exist"});
+  std::filesystem::remove(s.dir / "db" / "kr5_sdh_hand_map.h5");
+  test::expectErrorMentioning<std::runtime_error>([&] { PlanningCatalog::load(s.sources); },
+                                                  {"kr5_sdh_hand_map.h5"});
+}
+
+}  // namespace
+}  // namespace hfts::service

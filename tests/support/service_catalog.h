@@ -1,0 +1,45 @@
+#pragma once
+// The service's catalog of the bundled robot, the scenes' target objects
+// and the scenes, built once per test program (databases in memory, about
+// half a second).
+
+#include <memory>
+
+#include "planner/hand_reachability.h"
+#include "preprocess/database_builder.h"
+#include "robot_fixture.h"
+#include "service/planning_catalog.h"
+#include "test_meshes.h"
+
+namespace hfts::test {
+
+/// The databases of the bundled scenes' targets: blob, bottle and mug.
+inline const std::map<std::string, db::ObjectDatabase>& sceneTargetObjects() {
+  static const std::map<std::string, db::ObjectDatabase> all = [] {
+    std::map<std::string, db::ObjectDatabase> out;
+    for (const char* mesh : {"blob.stl", "bottle.stl", "mug.ply"}) {
+      auto database = preprocess::buildObjectDatabaseFromFile(bundledMeshDir() / mesh, {}).database;
+      out.emplace(database.name, std::move(database));
+    }
+    return out;
+  }();
+  return all;
+}
+
+inline std::map<std::string, planner::Scene> bundledScenes() {
+  std::map<std::string, planner::Scene> scenes;
+  for (const char* name : {"bin", "shelf", "table"})
+    scenes.emplace(
+        name, planner::loadScene(sourcePath("objects/scenes/") / (name + std::string(".json"))));
+  return scenes;
+}
+
+inline const service::PlanningCatalog& serviceCatalog() {
+  static const service::PlanningCatalog catalog(
+      std::make_shared<const planner::PlanningWorld>(kr5Sdh(), planner::buildHandMap(kr5Sdh()),
+                                                     sceneTargetObjects()),
+      bundledScenes(), sourcePath("objects/scenes"));
+  return catalog;
+}
+
+}  // namespace hfts::test
