@@ -171,7 +171,8 @@ MethodDispatcher::Outcome MethodDispatcher::runPlan(const PlanningCatalog& catal
     } else {
       result = planner::planGrasp(catalog.world(), request, &cancel);
     }
-    return {planResultToJson(result, request), std::nullopt, planner::toString(result.failure)};
+    return {planResultToJson(result, request), std::nullopt,
+            result.success ? "success" : planner::toString(result.failure)};
   } catch (const std::invalid_argument& e) {  // planGrasp checks parameter values
     return {json(), invalidParamFromPlanner(e.what()), ""};
   } catch (const std::exception& e) {

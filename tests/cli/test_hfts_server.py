@@ -151,6 +151,10 @@ class Methods(ServerTest):
         self.assertEqual((plan["scene"], plan["object"], plan["algorithm"], plan["seed"]),
                          ("table", "mug", "coupled", 1))
         self.assertEqual(plan["object_pose"]["position"], [0.55, 0, 0])
+        # grasp.quality of the planned contacts (object frame) gives the plan's epsilon back.
+        quality = self.server.call("grasp.quality", {"object": "mug",
+                                                     "contacts": plan["grasp"]["contacts_object"]})
+        self.assertAlmostEqual(quality["result"]["epsilon"], plan["grasp"]["epsilon"], places=12)
 
     def test_decoupled_plan_with_an_inline_scene_and_parameters(self):
         with open(os.path.join(SOURCE_DIR, "objects", "scenes", "bin.json")) as f:
