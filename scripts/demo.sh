@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # The README's first command: installs what is missing, builds, builds the
 # HFTS databases of every bundled object and the hand reachability map,
-# then plans a grasp and a path to it in each bundled scene.
+# starts the planning service (hfts-server), plans a grasp and a path to it
+# in a bundled scene with hfts-client, stops the server, and finally plans
+# in each bundled scene with hfts-bench.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
-scripts/build.sh --target hfts-preprocess hfts-bench
+scripts/build.sh --target hfts-preprocess hfts-server hfts-client hfts-bench
 echo
 echo "== Building the HFTS databases of objects/meshes into build/databases"
 build/bin/hfts-preprocess objects/meshes -o build/databases
@@ -21,7 +23,34 @@ for scene in objects/scenes/*.json; do
   build/bin/hfts-preprocess --export-scene "$scene" "build/$(basename "$scene" .json).glb"
 done
 echo
-echo "== Grasp and motion planning in each bundled scene (coupled planner, seed 1)"
+echo "== The planning service: hfts-server on a free port (docs/protocol.md)"
+build/bin/hfts-server --db build/databases --port 0 >build/demo_server.out 2>build/demo_server.log &
+server=$!
+# Stop the server however this script ends (SIGTERM: it shuts down gracefully).
+trap 'kill "$server" 2>/dev/null || true; wait "$server" 2>/dev/null || true' EXIT
+for _ in $(seq 1 300); do
+  grep -q "listening on" build/demo_server.out 2>/dev/null && break
+  kill -0 "$server" 2>/dev/null || break
+  sleep 0.1
+done
+port=$(sed -n 's/^hfts-server listening on .*:\([0-9]*\)$/\1/p' build/demo_server.out)
+if [[ -z "$port" ]]; then
+  echo "demo: hfts-server did not start:" >&2
+  cat build/demo_server.log >&2
+  exit 1
+fi
+cat build/demo_server.out
+build/bin/hfts-client --port "$port" info
+echo
+echo "== A grasp and a path in the table scene: build/bin/hfts-client --port $port plan --scene table"
+build/bin/hfts-client --port "$port" --out build/demo_plan.json plan --scene table --seed 1 \
+  --time-limit 30 || [[ $? -eq 3 ]]  # 3: no plan within the time limit (printed above)
+echo "(the whole result as JSON: build/demo_plan.json; the server's log: build/demo_server.log)"
+build/bin/hfts-client --port "$port" shutdown
+wait "$server"
+trap - EXIT
+echo
+echo "== Grasp and motion planning in each bundled scene with hfts-bench (coupled planner, seed 1)"
 build/bin/hfts-bench --db build/databases --algorithms coupled --runs 1 --time-limit 30 \
   --out build/demo_plans.csv
 echo
