@@ -8,6 +8,7 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "planner/lazy_goal_baseline.h"
 #include "planner/multi_tree_cbirrt.h"
 
 namespace hfts::planner {
@@ -141,6 +142,45 @@ PlannedGrasp describeGrasp(const RobotModel& robot, const GoalSample& goal,
   return g;
 }
 
+/// The time limit (counted from `began`) or the cancel flag.
+ob::PlannerTerminationCondition terminationCondition(double timeLimit,
+                                                     std::chrono::steady_clock::time_point began,
+                                                     const std::atomic<bool>* cancel) {
+  const double spent =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+  return ob::plannerOrTerminationCondition(
+      ob::timedPlannerTerminationCondition(std::max(0.0, timeLimit - spent)),
+      ob::PlannerTerminationCondition(
+          [cancel] { return cancel != nullptr && cancel->load(std::memory_order_relaxed); }));
+}
+
+/// The baseline reads the multi-tree planner's parameters of the same meaning.
+LazyGoalSettings lazyGoalSettings(const MultiTreeCBiRRT& planner, std::uint64_t seed) {
+  const GoalSamplingParameters& g = planner.goalSampling();
+  LazyGoalSettings s;
+  s.iterations = g.decoupled_iterations;
+  s.objective = {g.alpha, g.friction, g.cone_edges};
+  s.max_fingertip_error = g.max_fingertip_error;
+  s.smoothing.steps = planner.getSmoothingSteps();
+  s.smoothing.final_resolution = planner.getFinalCheckResolution();
+  s.seed = seed;
+  return s;
+}
+
+void recordBaseline(const LazyGoalOutcome& out, std::uint64_t plannerChecks, PlanStatistics& s) {
+  s.iterations = out.iterations;
+  s.goal_sampling_calls = out.goals.calls;
+  s.valid_goal_samples = out.goals.valid_goals;
+  s.hfts_nodes_explored = out.goals.nodes_explored;
+  s.objective_evaluations = out.objective_evaluations;
+  s.goal_trees = out.goal_states_taken;
+  s.collision_checks = plannerChecks + out.sampling_collision_checks;
+  s.forward_tree_size = out.start_tree_size;
+  s.backward_tree_nodes = out.goal_tree_size;
+  s.path_length_raw = out.path_length_raw;
+  s.path_length_smoothed = out.path_length_smoothed;
+}
+
 }  // namespace
 
 std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world) {
@@ -192,6 +232,29 @@ PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
 
   const GoalSamplingParameters& g = planner->goalSampling();
   const HftsSpace space(*object, static_cast<int>(robot.fingertips().size()));
+  auto succeed = [&](std::vector<Eigen::VectorXd> path, const GoalSample& goal) {
+    result.success = true;
+    result.path = std::move(path);
+    result.path.push_back(goal.grasp);
+    result.grasp = describeGrasp(robot, goal, scene.target_pose);
+    return finish(PlanFailure::kNone, "");
+  };
+  auto fail = [&](const GoalSamplerStatistics& goals) {
+    if (cancel != nullptr && cancel->load()) return finish(PlanFailure::kCancelled, "cancelled");
+    if (goals.configured_nodes > 0 && goals.kinematic_solutions == 0)
+      return finish(PlanFailure::kObjectUnreachable,
+                    "none of the " + std::to_string(goals.configured_nodes) +
+                        " grasps tried has an arm IK solution: the object is out of reach");
+    return finish(PlanFailure::kTimeLimit, "no grasp reached within the time limit");
+  };
+  if (request.algorithm == PlanAlgorithm::kRrtConnect) {
+    LazyGoalRrtConnect baseline(si, world, scene, *object, space,
+                                lazyGoalSettings(*planner, request.seed));
+    const LazyGoalOutcome out =
+        baseline.solve(start, terminationCondition(planner->getTimeLimit(), began, cancel));
+    recordBaseline(out, checker.checkCount(), result.stats);
+    return out.solved ? succeed(out.path, out.goal) : fail(out.goals);
+  }
   GraspObjective objective(space, world.handMap(), {g.alpha, g.friction, g.cone_edges});
   GraspConfigurator configurator(robot, world.ik(), world.thoroughHandMap(), checker,
                                  scene.target_pose, scene.robot_base);
@@ -221,13 +284,8 @@ PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
   planner->setSeed(request.seed);
   planner->setup();
 
-  const double spent =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
-  const ob::PlannerTerminationCondition ptc = ob::plannerOrTerminationCondition(
-      ob::timedPlannerTerminationCondition(std::max(0.0, planner->getTimeLimit() - spent)),
-      ob::PlannerTerminationCondition(
-          [cancel] { return cancel != nullptr && cancel->load(std::memory_order_relaxed); }));
-  const ob::PlannerStatus status = planner->solve(ptc);
+  const ob::PlannerStatus status =
+      planner->solve(terminationCondition(planner->getTimeLimit(), began, cancel));
 
   const TreeStatistics& trees = planner->statistics();
   const GoalSamplerStatistics& goals = sampler->statistics();
@@ -246,20 +304,9 @@ PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
   s.path_length_raw = trees.path_length_raw;
   s.path_length_smoothed = trees.path_length_smoothed;
 
-  if (status == ob::PlannerStatus::EXACT_SOLUTION) {
-    const GoalSample& goal = planner->reachedGoal();
-    result.success = true;
-    result.path = planner->solutionPath();
-    result.path.push_back(goal.grasp);
-    result.grasp = describeGrasp(robot, goal, scene.target_pose);
-    return finish(PlanFailure::kNone, "");
-  }
-  if (cancel != nullptr && cancel->load()) return finish(PlanFailure::kCancelled, "cancelled");
-  if (goals.configured_nodes > 0 && goals.kinematic_solutions == 0)
-    return finish(PlanFailure::kObjectUnreachable,
-                  "none of the " + std::to_string(goals.configured_nodes) +
-                      " grasps tried has an arm IK solution: the object is out of reach");
-  return finish(PlanFailure::kTimeLimit, "no grasp reached within the time limit");
+  if (status == ob::PlannerStatus::EXACT_SOLUTION)
+    return succeed(planner->solutionPath(), planner->reachedGoal());
+  return fail(goals);
 }
 
 }  // namespace hfts::planner

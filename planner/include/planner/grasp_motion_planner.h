@@ -64,6 +64,9 @@ class PlanningWorld {
 enum class PlanAlgorithm {
   kCoupled,    ///< the paper's goal sampler (Algorithms 2-4)
   kDecoupled,  ///< the plain HFTS optimiser with a fixed number of iterations
+  /// Outside baseline: OMPL's RRTConnect towards goals that the decoupled
+  /// optimiser samples lazily in a second thread (lazy_goal_baseline.h).
+  kRrtConnect,
 };
 
 struct PlanRequest {
@@ -72,7 +75,7 @@ struct PlanRequest {
   std::optional<Eigen::Isometry3d> object_pose;  ///< overrides scene.target_pose
   std::optional<Eigen::VectorXd> start;          ///< overrides the scene's start
   PlanAlgorithm algorithm = PlanAlgorithm::kCoupled;
-  std::optional<int> iterations;  ///< decoupled: i per level (default 20)
+  std::optional<int> iterations;  ///< decoupled, rrtconnect: i per level (default 20)
   std::uint64_t seed = 1;
   std::optional<double> time_limit;  ///< s; default the planner's (60 s, Fig. 6)
   /// Any declared planner parameter by name (see plannerParameters()),
@@ -144,8 +147,10 @@ struct PlannerParameterInfo {
 };
 std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world);
 
-/// Plans a grasp and a path to it. Single-threaded; the same request and
-/// seed give the same result (unless the time limit cuts it short).
+/// Plans a grasp and a path to it. Single-threaded (kRrtConnect: two
+/// threads, both joined before it returns); the same request and seed give
+/// the same result unless the time limit cuts it short (kRrtConnect: see
+/// LazyGoalRrtConnect::solve).
 /// `cancel` (may be null) stops it from another thread. Throws
 /// std::invalid_argument naming the field for a malformed request (wrong
 /// start size or start outside the joint limits, non-finite values,

@@ -1,0 +1,54 @@
+#pragma once
+// What a found path goes through before a planner returns it
+// (docs/planning.md): OMPL's vertex reduction and shortcutting for a
+// counted number of steps from a seeded generator, then a dense re-check
+// at the final resolution, with the unsmoothed path as the fallback.
+// Include only where OMPL is used.
+
+#include <ompl/base/PlannerTerminationCondition.h>
+#include <ompl/base/SpaceInformation.h>
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "planner/configuration_space.h"
+
+namespace hfts::planner {
+
+/// How a path is smoothed and re-checked.
+struct PathSmoothing {
+  unsigned steps = 200;              ///< of each pass (vertex reduction, shortcutting)
+  double final_resolution = 0.0025;  ///< of the dense re-check (Eq. (3) metric)
+  std::uint32_t seed = 1;            ///< of OMPL's PathSimplifier
+};
+
+/// Shortens `path` with OMPL's PathSimplifier on `si` (whose motion
+/// validator checks the shortcuts): `steps` of vertex reduction, then
+/// `steps` of shortcutting, in batches between which `ptc` is polled. The
+/// first batch runs even when `ptc` has fired (a shorter path is cheaper
+/// to re-check). Counted steps, not a time budget, so the seed fixes the
+/// result. The end points never move.
+std::vector<Eigen::VectorXd> smoothPath(const ompl::base::SpaceInformationPtr& si,
+                                        const std::vector<Eigen::VectorXd>& path,
+                                        const PathSmoothing& smoothing,
+                                        const ompl::base::PlannerTerminationCondition& ptc);
+
+/// True when the path is not empty, its first configuration is free and
+/// every segment is free at `resolution`.
+bool denselyValid(const CollisionMotionValidator& validator,
+                  const std::vector<Eigen::VectorXd>& path, double resolution);
+
+/// The path a planner returns for `raw` (free at the tree resolution):
+/// smoothed if the smoothed path passes the dense re-check, else `raw` if
+/// it does (tried only while `ptc` allows), else nothing.
+std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
+    const ompl::base::SpaceInformationPtr& si, const std::vector<Eigen::VectorXd>& raw,
+    const PathSmoothing& smoothing, const ompl::base::PlannerTerminationCondition& ptc);
+
+/// Sum of the segment lengths in the Eq. (3) metric of `space`.
+double pathLength(const WeightedStateSpace& space, const std::vector<Eigen::VectorXd>& path);
+
+}  // namespace hfts::planner

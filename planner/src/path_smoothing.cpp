@@ -1,0 +1,85 @@
+#include "planner/path_smoothing.h"
+
+#include <ompl/geometric/PathGeometric.h>
+#include <ompl/geometric/PathSimplifier.h>
+
+#include <stdexcept>
+
+namespace hfts::planner {
+
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+
+namespace {
+
+/// OMPL's shortcutting with its random generator seeded from ours.
+class SeededSimplifier : public og::PathSimplifier {
+ public:
+  SeededSimplifier(const ob::SpaceInformationPtr& si, std::uint32_t seed) : PathSimplifier(si) {
+    rng_.setLocalSeed(seed);
+  }
+};
+
+const WeightedStateSpace& weightedSpace(const ob::SpaceInformationPtr& si) {
+  const auto* space = dynamic_cast<const WeightedStateSpace*>(si->getStateSpace().get());
+  if (space == nullptr)
+    throw std::invalid_argument("path smoothing needs a WeightedStateSpace (makeSpaceInformation)");
+  return *space;
+}
+
+}  // namespace
+
+std::vector<Eigen::VectorXd> smoothPath(const ob::SpaceInformationPtr& si,
+                                        const std::vector<Eigen::VectorXd>& path,
+                                        const PathSmoothing& smoothing,
+                                        const ob::PlannerTerminationCondition& ptc) {
+  if (path.size() < 3 || smoothing.steps == 0) return path;
+  const WeightedStateSpace& space = weightedSpace(si);
+  og::PathGeometric geometric(si);
+  ob::State* state = si->allocState();
+  for (const Eigen::VectorXd& q : path) {
+    space.fromVector(q, state);
+    geometric.append(state);
+  }
+  si->freeState(state);
+  SeededSimplifier simplifier(si, smoothing.seed);
+  constexpr unsigned kBatch = 20;
+  for (unsigned done = 0; done < smoothing.steps && (done == 0 || !ptc()); done += kBatch)
+    simplifier.reduceVertices(geometric, kBatch, kBatch);
+  for (unsigned done = 0; done < smoothing.steps && !ptc(); done += kBatch)
+    simplifier.shortcutPath(geometric, kBatch, kBatch);
+  std::vector<Eigen::VectorXd> out;
+  for (const ob::State* s : geometric.getStates()) out.push_back(space.toVector(s));
+  return out;
+}
+
+bool denselyValid(const CollisionMotionValidator& validator,
+                  const std::vector<Eigen::VectorXd>& path, double resolution) {
+  if (path.empty() || !validator.isValid(path.front())) return false;
+  for (std::size_t i = 1; i < path.size(); ++i)
+    if (!validator.checkMotion(path[i - 1], path[i], resolution)) return false;
+  return true;
+}
+
+std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
+    const ob::SpaceInformationPtr& si, const std::vector<Eigen::VectorXd>& raw,
+    const PathSmoothing& smoothing, const ob::PlannerTerminationCondition& ptc) {
+  const auto* validator =
+      dynamic_cast<const CollisionMotionValidator*>(si->getMotionValidator().get());
+  if (validator == nullptr)
+    throw std::invalid_argument("path smoothing needs a CollisionMotionValidator");
+  std::vector<Eigen::VectorXd> smoothed = smoothPath(si, raw, smoothing, ptc);
+  if (denselyValid(*validator, smoothed, smoothing.final_resolution)) return smoothed;
+  // The unsmoothed path is longer, so its check costs more: only with time left.
+  if (ptc() || smoothed.size() == raw.size()) return std::nullopt;
+  if (denselyValid(*validator, raw, smoothing.final_resolution)) return raw;
+  return std::nullopt;
+}
+
+double pathLength(const WeightedStateSpace& space, const std::vector<Eigen::VectorXd>& path) {
+  double length = 0.0;
+  for (std::size_t i = 1; i < path.size(); ++i) length += space.distance(path[i - 1], path[i]);
+  return length;
+}
+
+}  // namespace hfts::planner

@@ -1,0 +1,138 @@
+#include "planner/lazy_goal_baseline.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+
+#include "bundled_objects.h"
+#include "plan_checks.h"
+#include "planner/multi_tree_cbirrt.h"
+#include "robot_fixture.h"
+#include "test_meshes.h"
+
+namespace hfts::planner {
+namespace {
+
+constexpr double kFinalResolution = 0.0025;  // the planner's final_resolution default
+
+const PlanningWorld& world() {
+  static const PlanningWorld w(test::kr5Sdh(), buildHandMap(test::kr5Sdh()),
+                               test::bundledObjects());
+  return w;
+}
+
+PlanRequest request(const std::string& scene, const std::string& object, std::uint64_t seed) {
+  PlanRequest r;
+  r.scene = loadScene(test::sourcePath("objects/scenes/" + scene + ".json"));
+  r.object = object;
+  r.seed = seed;
+  r.algorithm = PlanAlgorithm::kRrtConnect;
+  r.time_limit = 30.0;
+  return r;
+}
+
+double secondsSince(std::chrono::steady_clock::time_point began) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+}
+
+struct Case {
+  const char* scene;
+  const char* object;
+};
+
+class RrtConnectInBundledScenes : public ::testing::TestWithParam<Case> {};
+
+TEST_P(RrtConnectInBundledScenes, PathsAreFreeAndEndInAStableGrasp) {
+  for (std::uint64_t seed = 1; seed <= 2; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const PlanRequest r = request(GetParam().scene, GetParam().object, seed);
+    const PlanResult result = planGrasp(world(), r);
+    test::expectValidPlan(world(), r, result, kFinalResolution);
+    const PlanStatistics& s = result.stats;
+    EXPECT_GE(s.goal_sampling_calls, s.valid_goal_samples);
+    EXPECT_GE(s.valid_goal_samples, 1u);
+    EXPECT_GE(s.hfts_nodes_explored, 1u);
+    EXPECT_GE(s.goal_trees, 1u);
+    EXPECT_GT(s.iterations, 0u);
+    EXPECT_GT(s.collision_checks, 0u);
+    EXPECT_LE(s.path_length_smoothed, s.path_length_raw + 1e-9);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, RrtConnectInBundledScenes,
+                         ::testing::Values(Case{"table", "mug"}, Case{"bin", "blob"}),
+                         [](const ::testing::TestParamInfo<Case>& param) {
+                           return std::string(param.param.scene) + "_" + param.param.object;
+                         });
+
+TEST(LazyGoalRrtConnect, HonoursTheTimeLimitAndJoinsTheSamplingThread) {
+  // No grasp can be a goal with a 1e-9 m fingertip tolerance: the sampling
+  // thread searches until it is stopped at the limit.
+  PlanRequest r = request("table", "mug", 1);
+  r.time_limit = 0.3;
+  r.parameters["max_fingertip_error"] = "1e-9";
+  world();  // built before the clock starts
+  const int threads = test::processThreadCount();
+  const auto began = std::chrono::steady_clock::now();
+  const PlanResult result = planGrasp(world(), r);
+  const double elapsed = secondsSince(began);
+  EXPECT_FALSE(result.success);
+  EXPECT_EQ(result.failure, PlanFailure::kTimeLimit);
+  EXPECT_GE(elapsed, 0.3);
+  EXPECT_LT(elapsed, 0.3 + 0.5);  // generous for a loaded test machine
+  EXPECT_GT(result.stats.goal_sampling_calls, 0u);
+  EXPECT_EQ(result.stats.valid_goal_samples, 0u);
+  EXPECT_EQ(test::processThreadCount(), threads);
+}
+
+TEST(LazyGoalRrtConnect, CancellationStopsBothThreads) {
+  std::atomic<bool> cancel{true};
+  const int threads = test::processThreadCount();
+  const auto began = std::chrono::steady_clock::now();
+  const PlanResult result = planGrasp(world(), request("table", "mug", 1), &cancel);
+  EXPECT_LT(secondsSince(began), 1.0);
+  EXPECT_FALSE(result.success);
+  EXPECT_EQ(result.failure, PlanFailure::kCancelled);
+  EXPECT_EQ(test::processThreadCount(), threads);
+}
+
+TEST(LazyGoalRrtConnect, UnreachableObjectIsReported) {
+  PlanRequest r = request("table", "mug", 1);
+  r.scene.obstacles.clear();
+  r.object_pose = Eigen::Isometry3d(Eigen::Translation3d(3.0, 0.0, 0.0));
+  r.time_limit = 1.0;
+  const PlanResult result = planGrasp(world(), r);
+  EXPECT_FALSE(result.success);
+  EXPECT_EQ(result.failure, PlanFailure::kObjectUnreachable) << result.message;
+}
+
+TEST(LazyGoalRrtConnect, RejectsIterationsBelowOne) {
+  const Scene scene = loadScene(test::sourcePath("objects/scenes/table.json"));
+  const db::ObjectDatabase& mug = *world().object("mug");
+  CollisionChecker checker(world().robot(), scene, &mug.geometry);
+  const HftsSpace space(mug, static_cast<int>(world().robot().fingertips().size()));
+  LazyGoalSettings settings;
+  settings.iterations = 0;
+  test::expectErrorMentioning<std::invalid_argument>(
+      [&] {
+        LazyGoalRrtConnect(makeSpaceInformation(world().robot(), checker, 0.02), world(), scene,
+                           mug, space, settings);
+      },
+      {"iterations"});
+}
+
+TEST(LazyGoalRrtConnect, ReadsTheSharedParameters) {
+  // The baseline takes i, smoothing and the time limit from the same
+  // parameter names as the multi-tree planner.
+  PlanRequest r = request("bin", "blob", 3);
+  r.iterations = 60;
+  r.parameters["smoothing_steps"] = "0";
+  const PlanResult result = planGrasp(world(), r);
+  test::expectValidPlan(world(), r, result, kFinalResolution);
+  EXPECT_DOUBLE_EQ(result.stats.path_length_smoothed, result.stats.path_length_raw);
+  r.parameters["kappa"] = "many";  // validated like every parameter, used or not
+  test::expectErrorMentioning<std::invalid_argument>([&] { planGrasp(world(), r); }, {"kappa"});
+}
+
+}  // namespace
+}  // namespace hfts::planner

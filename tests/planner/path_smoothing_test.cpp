@@ -1,0 +1,116 @@
+#include "planner/path_smoothing.h"
+
+#include <gtest/gtest.h>
+
+#include "planner/scene.h"
+#include "robot_fixture.h"
+#include "test_meshes.h"
+
+namespace hfts::planner {
+namespace {
+
+namespace ob = ompl::base;
+
+/// The robot alone (no obstacles, no target) or in the table scene.
+struct Fixture {
+  explicit Fixture(const Scene& scene)
+      : checker(test::kr5Sdh(), scene, nullptr),
+        si(makeSpaceInformation(test::kr5Sdh(), checker, 0.02)) {}
+  const WeightedStateSpace& space() const { return *si->getStateSpace()->as<WeightedStateSpace>(); }
+  const CollisionMotionValidator& validator() const {
+    return dynamic_cast<const CollisionMotionValidator&>(*si->getMotionValidator());
+  }
+  CollisionChecker checker;
+  ob::SpaceInformationPtr si;
+};
+
+Scene emptyScene() {
+  Scene scene;
+  scene.name = "empty";
+  return scene;
+}
+
+Scene tableScene() {
+  return loadScene(test::sourcePath("objects/scenes/table.json"));
+}
+
+/// A zig-zag of free configurations around the home pose: shortcutting
+/// can only shorten it.
+std::vector<Eigen::VectorXd> zigZag() {
+  const Eigen::VectorXd home = test::kr5Sdh().home();
+  const Eigen::Index n = home.size();
+  std::vector<Eigen::VectorXd> path{home};
+  for (int i = 1; i <= 6; ++i)
+    path.push_back(home + 0.15 * i * Eigen::VectorXd::Unit(n, 0) +
+                   (i % 2 == 0 ? 0.3 : -0.3) * Eigen::VectorXd::Unit(n, 3));
+  return path;
+}
+
+/// The table scene's start, then the shoulder forward and down through
+/// the table top (as in the planner's start-in-collision test).
+std::vector<Eigen::VectorXd> throughTheTable() {
+  const Scene scene = tableScene();
+  return {*scene.start,
+          (Eigen::VectorXd(13) << 0, 0.6, 0.5, 0, 1.57, 0, 0, -0.2, 0.2, -0.2, 0.2, -0.2, 0.2)
+              .finished()};
+}
+
+const ob::PlannerTerminationCondition kNever = ob::plannerNonTerminatingCondition();
+
+TEST(PathSmoothing, ShortensAndKeepsTheEndPoints) {
+  const Fixture f(emptyScene());
+  const std::vector<Eigen::VectorXd> raw = zigZag();
+  ASSERT_TRUE(denselyValid(f.validator(), raw, 0.0025));
+  const std::vector<Eigen::VectorXd> smoothed = smoothPath(f.si, raw, {}, kNever);
+  ASSERT_GE(smoothed.size(), 2u);
+  EXPECT_EQ(smoothed.front(), raw.front());
+  EXPECT_EQ(smoothed.back(), raw.back());
+  EXPECT_LT(pathLength(f.space(), smoothed), pathLength(f.space(), raw));
+}
+
+TEST(PathSmoothing, TheSeedFixesTheResult) {
+  const Fixture f(emptyScene());
+  PathSmoothing a;
+  a.seed = 7;
+  const auto first = smoothPath(f.si, zigZag(), a, kNever);
+  const auto second = smoothPath(f.si, zigZag(), a, kNever);
+  ASSERT_EQ(first.size(), second.size());
+  for (std::size_t i = 0; i < first.size(); ++i) EXPECT_EQ(first[i], second[i]);
+}
+
+TEST(PathSmoothing, ZeroStepsOrTwoStatesLeaveThePathAlone) {
+  const Fixture f(emptyScene());
+  PathSmoothing none;
+  none.steps = 0;
+  EXPECT_EQ(smoothPath(f.si, zigZag(), none, kNever), zigZag());
+  const std::vector<Eigen::VectorXd> segment{zigZag().front(), zigZag().back()};
+  EXPECT_EQ(smoothPath(f.si, segment, {}, kNever), segment);
+}
+
+TEST(PathSmoothing, DenseCheckFindsACollidingSegment) {
+  const Fixture f(tableScene());
+  EXPECT_FALSE(denselyValid(f.validator(), throughTheTable(), 0.0025));
+  EXPECT_FALSE(denselyValid(f.validator(), {}, 0.0025));
+  EXPECT_TRUE(denselyValid(f.validator(), {throughTheTable().front()}, 0.0025));
+}
+
+TEST(PathSmoothing, SmoothAndRecheckReturnsOnlyCheckedPaths) {
+  const Fixture free(emptyScene());
+  const auto kept = smoothAndRecheck(free.si, zigZag(), {}, kNever);
+  ASSERT_TRUE(kept.has_value());
+  EXPECT_TRUE(denselyValid(free.validator(), *kept, 0.0025));
+  const Fixture table(tableScene());
+  EXPECT_FALSE(smoothAndRecheck(table.si, throughTheTable(), {}, kNever).has_value());
+}
+
+TEST(PathSmoothing, LengthIsTheSumOfWeightedSegments) {
+  const Fixture f(emptyScene());
+  const std::vector<Eigen::VectorXd> path = zigZag();
+  double sum = 0.0;
+  for (std::size_t i = 1; i < path.size(); ++i) sum += f.space().distance(path[i - 1], path[i]);
+  EXPECT_DOUBLE_EQ(pathLength(f.space(), path), sum);
+  EXPECT_EQ(pathLength(f.space(), {path.front()}), 0.0);
+}
+
+}  // namespace
+}  // namespace hfts::planner

@@ -1,0 +1,77 @@
+#pragma once
+// What every returned plan promises, checked independently of the planner
+// that made it.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <string>
+
+#include "planner/collision_checker.h"
+#include "planner/grasp_motion_planner.h"
+#include "planner/grasp_quality.h"
+#include "planner/kinematics.h"
+
+namespace hfts::test {
+
+/// A fresh collision checker at `resolution` (the planner promises its
+/// final resolution; a graze shallower than a sample step can hide between
+/// samples at any resolution, see docs/planning.md), the start, the joint
+/// limits, the closing motion under the grasp-aware rule, the fingertips
+/// on the contacts (5 mm) and a stable grasp (epsilon recomputed from the
+/// world-frame contacts).
+inline void expectValidPlan(const planner::PlanningWorld& world,
+                            const planner::PlanRequest& request, const planner::PlanResult& result,
+                            double resolution) {
+  using namespace planner;
+  ASSERT_TRUE(result.success) << result.message;
+  const RobotModel& robot = world.robot();
+  const std::string name = request.object.empty() ? request.scene.target_object : request.object;
+  const db::ObjectDatabase& object = *world.object(name);
+  Scene scene = request.scene;
+  scene.target_object = name;
+  if (request.object_pose) scene.target_pose = *request.object_pose;
+  CollisionChecker checker(robot, scene, &object.geometry);
+  ASSERT_GE(result.path.size(), 2u);
+  EXPECT_EQ(result.joint_names, robot.dofNames());
+  EXPECT_TRUE(result.path.front().isApprox(
+      request.start.value_or(scene.start.value_or(robot.home())), 1e-12));
+  for (const Eigen::VectorXd& q : result.path) EXPECT_TRUE(robot.withinLimits(q));
+  for (std::size_t i = 1; i + 1 < result.path.size(); ++i)
+    EXPECT_TRUE(checker.isMotionValid(result.path[i - 1], result.path[i], resolution))
+        << "segment " << i << " collides";
+  const Eigen::VectorXd& pregrasp = result.path[result.path.size() - 2];
+  const Eigen::VectorXd& grasp = result.path.back();
+  EXPECT_TRUE(checker.isMotionValid(pregrasp, grasp, resolution, /*allowFingertipContact=*/true));
+  EXPECT_TRUE(grasp.tail(robot.numHandDofs()).isApprox(result.grasp.hand_configuration));
+
+  // Some finger on each contact.
+  const FingertipFrames tips = fingertipFrames(robot, forwardKinematics(robot, grasp));
+  const Eigen::Matrix3Xd contacts = scene.robot_base.inverse() * result.grasp.contacts_world;
+  for (Eigen::Index c = 0; c < contacts.cols(); ++c) {
+    double nearest = 1e9;
+    for (Eigen::Index f = 0; f < tips.positions.cols(); ++f)
+      nearest = std::min(nearest, (tips.positions.col(f) - contacts.col(c)).norm());
+    EXPECT_LT(nearest, 0.005) << "contact " << c;
+  }
+  GraspQualityRequest q;
+  q.positions = result.grasp.contacts_world;
+  q.normals = result.grasp.inward_normals_world;
+  q.center = scene.target_pose * object.geometry.center_of_mass;
+  q.torque_scale = object.geometry.rho;
+  const double epsilon = graspQuality(q).epsilon;
+  EXPECT_GT(epsilon, 0.0);
+  EXPECT_NEAR(epsilon, result.grasp.epsilon, 1e-9);
+}
+
+/// Threads of this process (Linux: /proc/self/status), to see that a
+/// planner joined what it started.
+inline int processThreadCount() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("Threads:", 0) == 0) return std::stoi(line.substr(8));
+  return -1;
+}
+
+}  // namespace hfts::test
