@@ -395,9 +395,16 @@ int MultiTreeCBiRRT::extendTrees(const ob::PlannerTerminationCondition& ptc, Mot
 }
 
 void MultiTreeCBiRRT::dropTree(int index) {
-  for (Motion* m : trees_[static_cast<std::size_t>(index)]->motions) nonConnected_->remove(m);
   trees_[static_cast<std::size_t>(index)].reset();
   ++generation_;
+  // One rebuild from the live trees: GNAT rebuilds itself every few
+  // removals, so removing a big tree node by node took seconds.
+  std::vector<Motion*> remaining;
+  for (std::size_t t = 1; t < trees_.size(); ++t)
+    if (trees_[t])
+      remaining.insert(remaining.end(), trees_[t]->motions.begin(), trees_[t]->motions.end());
+  nonConnected_->clear();
+  nonConnected_->add(remaining);
 }
 
 void MultiTreeCBiRRT::mergeIntoForward(int index, Motion* forwardEnd, Motion* backwardEnd) {
