@@ -1,29 +1,18 @@
 #include "json_rpc.h"
 
+#include <algorithm>
+
+#include "service/json_nesting.h"
+
 namespace hfts::service {
 namespace {
 
 using nlohmann::json;
 
 int nestingDepth(std::string_view text) {
-  int depth = 0, deepest = 0;
-  bool inString = false, escaped = false;
-  for (const char c : text) {
-    if (inString) {
-      if (escaped)
-        escaped = false;
-      else if (c == '\\')
-        escaped = true;
-      else if (c == '"')
-        inString = false;
-    } else if (c == '"') {
-      inString = true;
-    } else if (c == '{' || c == '[') {
-      deepest = std::max(deepest, ++depth);
-    } else if (c == '}' || c == ']') {
-      --depth;
-    }
-  }
+  JsonNesting nesting;
+  int deepest = 0;
+  for (const char c : text) deepest = std::max(deepest, nesting.consume(c));
   return deepest;
 }
 

@@ -38,8 +38,7 @@ void MessageFramer::scan(char c, std::size_t at, std::vector<std::string>& out) 
       begin_ = at + 1;
     }
     after_text_ = false;
-    started_ = structured_ = in_string_ = escaped_ = false;
-    depth_ = 0;
+    started_ = structured_ = false;
     return;
   }
   if (!started_) {
@@ -47,24 +46,13 @@ void MessageFramer::scan(char c, std::size_t at, std::vector<std::string>& out) 
     started_ = true;
     after_text_ = false;
     structured_ = c == '{' || c == '[';
-    depth_ = structured_ ? 1 : 0;
+    nesting_.reset();
+    nesting_.consume(c);
     return;
   }
-  if (!structured_ || depth_ == 0) return;  // a scalar or garbage: wait for the newline
-  if (in_string_) {
-    if (escaped_)
-      escaped_ = false;
-    else if (c == '\\')
-      escaped_ = true;
-    else if (c == '"')
-      in_string_ = false;
-    return;
-  }
-  if (c == '"') {
-    in_string_ = true;
-  } else if (c == '{' || c == '[') {
-    ++depth_;
-  } else if ((c == '}' || c == ']') && --depth_ == 0) {
+  // A scalar or garbage waits for the newline; an object or array ends
+  // where its nesting returns to zero.
+  if (structured_ && nesting_.consume(c) == 0) {
     emit(at + 1, out);
     begin_ = at + 1;
     started_ = structured_ = false;
@@ -80,8 +68,7 @@ std::string MessageFramer::takeRemainder() {
   std::string rest = started_ ? pending_.substr(begin_) : std::string();
   pending_.clear();
   begin_ = 0;
-  started_ = structured_ = after_text_ = in_string_ = escaped_ = false;
-  depth_ = 0;
+  started_ = structured_ = after_text_ = false;
   return rest;
 }
 

@@ -6,6 +6,8 @@
 #include <string_view>
 #include <vector>
 
+#include "service/json_nesting.h"
+
 namespace hfts::service {
 
 /// Cuts a byte stream into messages: one per line ("\n"; a "\r" before it
@@ -44,9 +46,7 @@ class MessageFramer {
   bool started_ = false;     // a non-whitespace byte of the message was seen
   bool structured_ = false;  // ... and it opened an object or array
   bool after_text_ = false;  // a complete text ended on this line
-  bool in_string_ = false;
-  bool escaped_ = false;
-  int depth_ = 0;
+  JsonNesting nesting_;      // of the current object or array
   bool spent_ = false;
 };
 
