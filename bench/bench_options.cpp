@@ -29,13 +29,17 @@ std::optional<int> positiveInteger(const std::string& digits) {
 
 Algorithm parseAlgorithm(const std::string& text) {
   if (text == "coupled") return {text, planner::PlanAlgorithm::kCoupled, std::nullopt};
-  const std::string prefix = "decoupled";
-  if (text.rfind(prefix, 0) == 0) {
-    if (const auto n = positiveInteger(text.substr(prefix.size())))
-      return {text, planner::PlanAlgorithm::kDecoupled, n};
+  if (text == "rrtconnect") return {text, planner::PlanAlgorithm::kRrtConnect, std::nullopt};
+  for (const auto& [prefix, algorithm] :
+       {std::pair{std::string("decoupled"), planner::PlanAlgorithm::kDecoupled},
+        std::pair{std::string("rrtconnect"), planner::PlanAlgorithm::kRrtConnect}}) {
+    if (text.rfind(prefix, 0) != 0) continue;
+    if (const auto n = positiveInteger(text.substr(prefix.size()))) return {text, algorithm, n};
   }
-  throw UsageError("unknown algorithm '" + text + "' (valid: coupled, decoupledN with N = 1.." +
-                   std::to_string(kMaxIterations) + " iterations per level, e.g. decoupled20)");
+  throw UsageError("unknown algorithm '" + text +
+                   "' (valid: coupled, decoupledN and rrtconnect[N] with N = 1.." +
+                   std::to_string(kMaxIterations) +
+                   " iterations per level, e.g. decoupled20, rrtconnect)");
 }
 
 std::vector<Algorithm> parseAlgorithms(const std::vector<std::string>& names) {

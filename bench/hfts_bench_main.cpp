@@ -1,18 +1,26 @@
-// hfts-bench: the paper's experiments (Sec. V). Plans every combination of
+// hfts-bench: the paper's experiments (Sec. IV). Plans every combination of
 // scene, object, algorithm and seed, writes one CSV row per run and prints
-// a per-algorithm summary. See docs/benchmarks.md.
+// a per-algorithm summary; --experiment also writes OMPL benchmark logs
+// and the plots. See docs/benchmarks.md.
 #include <unistd.h>
 #include <CLI/CLI.hpp>
 
+#include <chrono>
+#include <ctime>
+#include <iomanip>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "bench_options.h"
 #include "bench_report.h"
+#include "experiment_design.h"
+#include "ompl_benchmark_log.h"
 #include "planner/grasp_motion_planner.h"
 #include "planner/scene.h"
+#include "plot_script.h"
 #include "run_record.h"
 
 namespace {
@@ -25,41 +33,94 @@ using hfts::planner::PlanningWorld;
 using hfts::planner::Scene;
 
 struct Options {
-  std::string db, robot, sceneDir, out;
+  std::string db, robot, sceneDir, out, experiment, outDir, python = "/usr/bin/python3";
   std::vector<std::string> scenes, objects,
       algorithms{"coupled", "decoupled20", "decoupled60", "decoupled100"};
   int runs = 10;
   double timeLimit = 60.0;
+  bool quick = false, noPlots = false;
+  std::string commandLine;
+  std::vector<hfts::bench::SceneObjects> designCases;  ///< --experiment's objects per scene
+};
+
+/// Options the user gave explicitly (they override an experiment's design).
+struct Given {
+  CLI::Option *scenes, *objects, *algorithms, *runs, *timeLimit;
+};
+
+/// One scene with one object at its target pose.
+struct Case {
+  Scene scene;
+  std::string object;
 };
 
 /// Everything the runs need, checked: a bad argument never costs a run.
 struct Experiment {
   std::vector<Algorithm> algorithms;
-  std::vector<Scene> scenes;
-  std::vector<std::string> objects;  ///< empty: each scene's target object
+  std::vector<Case> cases;
   std::shared_ptr<const PlanningWorld> world;
+  int runs = 0;
+  double timeLimit = 0.0;
+  fs::path csv;
+  fs::path outDir;  ///< experiment mode only: logs and plots go here
 };
 
-void addOptions(CLI::App& app, Options& o) {
+Given addOptions(CLI::App& app, Options& o) {
+  Given g{};
   app.add_option("--db", o.db, "Object databases and hand map (default build/databases)")
       ->type_name("DIR");
   app.add_option("--robot", o.robot, "Robot config (default robots/kr5_sdh/kr5_sdh.json)")
       ->type_name("CONFIG");
   app.add_option("--scene-dir", o.sceneDir, "Where scene S is S.json (default objects/scenes)")
       ->type_name("DIR");
-  app.add_option("--scenes", o.scenes, "Scenes to plan in (default: every scene in --scene-dir)")
-      ->delimiter(',');
-  app.add_option("--objects", o.objects,
-                 "Objects placed at each scene's target pose (default: each scene's target)")
-      ->delimiter(',');
-  app.add_option("--algorithms", o.algorithms, "coupled and/or decoupledN (N iterations/level)")
-      ->delimiter(',')
+  g.scenes = app.add_option("--scenes", o.scenes,
+                            "Scenes to plan in (default: every scene in --scene-dir)")
+                 ->delimiter(',');
+  g.objects = app.add_option("--objects", o.objects,
+                             "Objects placed at each scene's target pose (default: each scene's "
+                             "target)")
+                  ->delimiter(',');
+  g.algorithms = app.add_option("--algorithms", o.algorithms,
+                                "coupled, decoupledN (N iterations/level), rrtconnect[N]")
+                     ->delimiter(',')
+                     ->capture_default_str();
+  g.runs = app.add_option("--runs", o.runs, "Runs per combination, with seeds 1..N")
+               ->capture_default_str();
+  g.timeLimit =
+      app.add_option("--time-limit", o.timeLimit, "Seconds per run")->capture_default_str();
+  auto* out = app.add_option("--out", o.out, "CSV file, one row per run (rewritten after each run)")
+                  ->type_name("FILE");
+  auto* experiment =
+      app.add_option("--experiment", o.experiment,
+                     "Run a named experiment (paper): CSV, OMPL logs and plots in --out-dir")
+          ->excludes(out)
+          ->type_name("NAME");
+  app.add_option("--out-dir", o.outDir, "Where --experiment writes its results")
+      ->needs(experiment)
+      ->type_name("DIR");
+  app.add_flag("--quick", o.quick, "With --experiment: its small variant (CI)")->needs(experiment);
+  app.add_option("--python", o.python, "Python with numpy and matplotlib for the plots")
+      ->needs(experiment)
       ->capture_default_str();
-  app.add_option("--runs", o.runs, "Runs per combination, with seeds 1..N")->capture_default_str();
-  app.add_option("--time-limit", o.timeLimit, "Seconds per run")->capture_default_str();
-  app.add_option("--out", o.out, "CSV file, one row per run (rewritten after each run)")
-      ->required()
-      ->type_name("FILE");
+  app.add_flag("--no-plots", o.noPlots, "With --experiment: skip the plots")->needs(experiment);
+  return g;
+}
+
+/// --experiment fills what the user did not give.
+void applyDesign(Options& o, const Given& given) {
+  if (o.experiment.empty()) {
+    if (o.out.empty()) throw UsageError("give --out FILE, or --experiment NAME with --out-dir DIR");
+    return;
+  }
+  if (o.outDir.empty()) throw UsageError("--experiment needs --out-dir DIR");
+  const hfts::bench::ExperimentDesign d = hfts::bench::experimentDesign(o.experiment, o.quick);
+  o.designCases = d.cases;
+  if (given.scenes->count() == 0)
+    for (const auto& c : d.cases) o.scenes.push_back(c.scene);
+  if (given.algorithms->count() == 0) o.algorithms = d.algorithms;
+  if (given.runs->count() == 0) o.runs = d.runs;
+  if (given.timeLimit->count() == 0) o.timeLimit = d.time_limit;
+  o.out = (fs::path(o.outDir) / "results.csv").string();
 }
 
 std::vector<Scene> loadScenes(const Options& o) {
@@ -85,69 +146,140 @@ std::shared_ptr<const PlanningWorld> loadWorld(const Options& o) {
   return world;
 }
 
-void checkObjects(const Experiment& e, const Options& o) {
-  if (!o.objects.empty()) {
-    hfts::bench::requireKnown(o.objects, e.world->objectNames(), "object");
-    return;
-  }
-  for (const Scene& scene : e.scenes)
-    if (e.world->object(scene.target_object) == nullptr)
-      throw std::runtime_error("scene '" + scene.name + "' targets '" + scene.target_object +
-                               "', which has no database in --db (build it with "
-                               "hfts-preprocess, or choose --objects)");
+/// The objects of a scene: --objects, else the experiment's, else its target.
+std::vector<std::string> objectsFor(const Scene& scene, const Options& o) {
+  if (!o.objects.empty()) return o.objects;
+  for (const auto& c : o.designCases)
+    if (c.scene == scene.name) return c.objects;
+  return {scene.target_object};
+}
+
+std::vector<Case> casesOf(const std::vector<Scene>& scenes, const PlanningWorld& world,
+                          const Options& o) {
+  if (!o.objects.empty()) hfts::bench::requireKnown(o.objects, world.objectNames(), "object");
+  std::vector<Case> cases;
+  for (const Scene& scene : scenes)
+    for (const std::string& object : objectsFor(scene, o)) {
+      if (world.object(object) == nullptr)
+        throw std::runtime_error("scene '" + scene.name + "' targets '" + object +
+                                 "', which has no database in --db (build it with "
+                                 "hfts-preprocess, or choose --objects)");
+      cases.push_back({scene, object});
+    }
+  return cases;
 }
 
 Experiment prepare(const Options& o) {
   Experiment e;
   e.algorithms = hfts::bench::parseAlgorithms(o.algorithms);
   hfts::bench::checkRunsAndTimeLimit(o.runs, o.timeLimit);
-  e.scenes = loadScenes(o);
+  const std::vector<Scene> scenes = loadScenes(o);
   e.world = loadWorld(o);
-  e.objects = o.objects;
-  checkObjects(e, o);
+  e.cases = casesOf(scenes, *e.world, o);
+  e.runs = o.runs;
+  e.timeLimit = o.timeLimit;
+  e.csv = o.out;
+  e.outDir = o.outDir;
   return e;
 }
 
-RunRecord runOnce(const Experiment& e, const Scene& scene, const std::string& object,
-                  const Algorithm& algorithm, int seed, double timeLimit) {
+double processCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+RunRecord runOnce(const Experiment& e, const Case& c, const Algorithm& algorithm, int seed) {
   hfts::planner::PlanRequest request;
-  request.scene = scene;
-  request.object = object;
+  request.scene = c.scene;
+  request.object = c.object;
   request.algorithm = algorithm.algorithm;
   request.iterations = algorithm.iterations;
   request.seed = static_cast<std::uint64_t>(seed);
-  request.time_limit = timeLimit;
+  request.time_limit = e.timeLimit;
+  const double cpu = processCpuSeconds();
   const auto result = hfts::planner::planGrasp(*e.world, request);
-  return hfts::bench::makeRunRecord(scene.name, object, algorithm.name, request.seed, result);
+  return hfts::bench::makeRunRecord(c.scene.name, c.object, algorithm.name, request.seed, result,
+                                    processCpuSeconds() - cpu);
 }
 
-std::vector<RunRecord> runAll(const Experiment& e, const Options& o) {
+std::vector<std::string> namesOf(const std::vector<Algorithm>& algorithms) {
+  std::vector<std::string> names;
+  for (const Algorithm& a : algorithms) names.push_back(a.name);
+  return names;
+}
+
+/// The OMPL benchmark log of one case (experiment mode).
+void writeLog(const Experiment& e, const Case& c, const std::vector<RunRecord>& records,
+              std::chrono::system_clock::time_point started, const std::string& commandLine) {
+  hfts::bench::LogExperiment log;
+  log.scene = c.scene.name;
+  log.object = c.object;
+  log.time_limit = e.timeLimit;
+  log.runs = e.runs;
+  log.started = started;
+  log.seconds = std::chrono::duration<double>(std::chrono::system_clock::now() - started).count();
+  log.setup =
+      "hfts-bench: integrated grasp and motion planning (HFTS, ICRA 2017)\n"
+      "scene " +
+      c.scene.name + ", object " + c.object + " at the scene's target pose\n" +
+      "one planGrasp call per run, seeds 1.." + std::to_string(e.runs) +
+      "; rrtconnect samples goals in a second thread\n" + "command: " + commandLine + "\n";
+  fs::create_directories(e.outDir / "ompl");
+  hfts::bench::writeOmplBenchmarkLog(e.outDir / "ompl" / (c.scene.name + "_" + c.object + ".log"),
+                                     log, records, namesOf(e.algorithms));
+}
+
+std::size_t runCount(const Experiment& e) {
+  return e.cases.size() * e.algorithms.size() * static_cast<std::size_t>(e.runs);
+}
+
+std::vector<RunRecord> runAll(const Experiment& e, const std::string& commandLine) {
   std::vector<RunRecord> records;
-  hfts::bench::writeCsvAtomically(o.out, records);  // an unwritable --out fails before any run
-  const std::size_t perScene = e.objects.empty() ? 1 : e.objects.size();
-  hfts::bench::Progress progress(
-      std::cerr, ::isatty(STDERR_FILENO) != 0,
-      e.scenes.size() * perScene * e.algorithms.size() * static_cast<std::size_t>(o.runs));
-  for (const Scene& scene : e.scenes)
-    for (const std::string& object :
-         e.objects.empty() ? std::vector<std::string>{scene.target_object} : e.objects)
-      for (const Algorithm& algorithm : e.algorithms)
-        for (int seed = 1; seed <= o.runs; ++seed) {
-          records.push_back(runOnce(e, scene, object, algorithm, seed, o.timeLimit));
-          hfts::bench::writeCsvAtomically(o.out, records);
-          progress.done(records.back());
-        }
+  hfts::bench::writeCsvAtomically(e.csv, records);  // an unwritable --out fails before any run
+  hfts::bench::Progress progress(std::cerr, ::isatty(STDERR_FILENO) != 0, runCount(e));
+  for (const Case& c : e.cases) {
+    const auto started = std::chrono::system_clock::now();
+    for (const Algorithm& algorithm : e.algorithms)
+      for (int seed = 1; seed <= e.runs; ++seed) {
+        records.push_back(runOnce(e, c, algorithm, seed));
+        hfts::bench::writeCsvAtomically(e.csv, records);
+        progress.done(records.back());
+      }
+    if (!e.outDir.empty()) writeLog(e, c, records, started, commandLine);
+  }
   return records;
+}
+
+int plot(const Experiment& e, const Options& o) {
+  const fs::path script = hfts::bench::resolveDefault("", "bench/plot_results.py");
+  std::ostringstream limit;
+  limit << e.timeLimit;
+  const int status = hfts::bench::runPython(
+      o.python, script,
+      {e.csv.string(), "--out-dir", e.outDir.string(), "--time-limit", limit.str()});
+  if (status != 0) {
+    std::cerr << "hfts-bench: the plots failed (" << o.python << " " << script.string()
+              << " exited with " << status << "); the CSV and the logs are complete\n";
+    return 1;
+  }
+  std::cout << "plots and summary.md written to " << e.outDir.string() << "\n";
+  return 0;
 }
 
 int benchmark(const Options& o) {
   const Experiment e = prepare(o);
-  const std::vector<RunRecord> records = runAll(e, o);
-  std::vector<std::string> names;
-  for (const Algorithm& a : e.algorithms) names.push_back(a.name);
-  hfts::bench::printSummary(std::cout, records, names);
-  std::cout << records.size() << " runs written to " << o.out << "\n";
-  return 0;
+  if (!e.outDir.empty()) {
+    fs::create_directories(e.outDir);
+    std::cerr << "hfts-bench: " << runCount(e) << " runs, at most " << std::fixed
+              << std::setprecision(1) << static_cast<double>(runCount(e)) * e.timeLimit / 60.0
+              << " minutes if every run hits the time limit\n";
+  }
+  const std::vector<RunRecord> records = runAll(e, o.commandLine);
+  hfts::bench::printSummary(std::cout, records, namesOf(e.algorithms));
+  std::cout << records.size() << " runs written to " << e.csv.string() << "\n";
+  if (e.outDir.empty() || o.noPlots) return 0;
+  return plot(e, o);
 }
 
 }  // namespace
@@ -155,18 +287,21 @@ int benchmark(const Options& o) {
 int main(int argc, char** argv) {
   CLI::App app{
       "Benchmarks integrated grasp and motion planning (coupled) against the decoupled\n"
-      "baseline on the bundled scenes, as in the paper's experiments.\n"
+      "baseline and OMPL's RRTConnect on the bundled scenes, as in the paper's experiments.\n"
       "  hfts-bench --scenes table,shelf --algorithms coupled,decoupled20 --runs 10 "
-      "--out results.csv",
+      "--out results.csv\n"
+      "  hfts-bench --experiment paper --out-dir results   # CSV, OMPL logs, plots",
       "hfts-bench"};
   Options options;
-  addOptions(app, options);
+  const Given given = addOptions(app, options);
+  for (int i = 0; i < argc; ++i) options.commandLine += (i > 0 ? " " : "") + std::string(argv[i]);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;  // --help exits 0, every usage error 2
   }
   try {
+    applyDesign(options, given);
     return benchmark(options);
   } catch (const UsageError& e) {
     std::cerr << "hfts-bench: " << e.what() << "\n";

@@ -9,7 +9,7 @@ namespace {
 
 constexpr const char* kHeader =
     "scene,object,algorithm,seed,success,failure,time,gs,vgs,gns,epsilon,path_length,"
-    "collision_checks";
+    "collision_checks,cpu_time";
 
 /// RFC 4180 quoting; names from file stems may hold commas or quotes.
 std::string csvField(const std::string& text) {
@@ -29,14 +29,14 @@ void writeRow(std::ostream& out, const RunRecord& r) {
     out << std::setprecision(8) << r.epsilon << ',' << r.path_length;
   else
     out << ',';
-  out << ',' << r.collision_checks << '\n';
+  out << ',' << r.collision_checks << ',' << std::setprecision(6) << r.cpu_time << '\n';
 }
 
 }  // namespace
 
 RunRecord makeRunRecord(const std::string& scene, const std::string& object,
                         const std::string& algorithm, std::uint64_t seed,
-                        const planner::PlanResult& result) {
+                        const planner::PlanResult& result, double cpuTime) {
   RunRecord r;
   r.scene = scene;
   r.object = object;
@@ -51,6 +51,7 @@ RunRecord makeRunRecord(const std::string& scene, const std::string& object,
   r.epsilon = result.grasp.epsilon;
   r.path_length = result.stats.path_length_smoothed;
   r.collision_checks = result.stats.collision_checks;
+  r.cpu_time = cpuTime;
   return r;
 }
 

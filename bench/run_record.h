@@ -17,8 +17,9 @@ struct RunRecord {
   std::string algorithm;
   std::uint64_t seed = 0;
   bool success = false;
-  std::string failure;  ///< toString(PlanFailure): "none" on success
-  double time = 0.0;    ///< s, planning_time
+  std::string failure;    ///< toString(PlanFailure): "none" on success
+  double time = 0.0;      ///< s, planning_time
+  double cpu_time = 0.0;  ///< s, CPU time of the process during the run (all threads)
   std::uint64_t gs = 0;
   std::uint64_t vgs = 0;
   std::uint64_t gns = 0;
@@ -29,7 +30,7 @@ struct RunRecord {
 
 RunRecord makeRunRecord(const std::string& scene, const std::string& object,
                         const std::string& algorithm, std::uint64_t seed,
-                        const planner::PlanResult& result);
+                        const planner::PlanResult& result, double cpuTime);
 
 /// Writes the header and one row per record to `out.tmp`, then renames it
 /// to `out`, so `out` always holds a complete file. Throws

@@ -17,7 +17,7 @@ BENCH = None
 PREPROCESS = None
 SOURCE_DIR = None
 HEADER = ["scene", "object", "algorithm", "seed", "success", "failure", "time", "gs", "vgs",
-          "gns", "epsilon", "path_length", "collision_checks"]
+          "gns", "epsilon", "path_length", "collision_checks", "cpu_time"]
 TIME_LIMIT = 10
 
 
@@ -83,6 +83,7 @@ class BenchCli(unittest.TestCase):
             self.assertLessEqual(vgs, gs)
             self.assertGreaterEqual(gns, 0)
             self.assertGreater(int(r["collision_checks"]), 0)
+            self.assertGreater(float(r["cpu_time"]), 0.0)
             if success:
                 self.assertGreaterEqual(float(r["epsilon"]), 0.0)
                 self.assertGreater(float(r["path_length"]), 0.0)
@@ -123,6 +124,7 @@ class BenchCli(unittest.TestCase):
         err = self.usage_error("--algorithms", "coupled,decoupledX")
         self.assertIn("unknown algorithm 'decoupledX'", err)
         self.assertIn("decoupled20", err)
+        self.assertIn("rrtconnect", err)
         self.assertIn("unknown algorithm 'decoupled0'", self.usage_error("--algorithms", "decoupled0"))
 
     def test_bad_runs_and_time_limits_are_usage_errors(self):
