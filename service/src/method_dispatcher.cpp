@@ -95,32 +95,35 @@ bool MethodDispatcher::idle() const {
 
 void MethodDispatcher::info(const Call& call, const Caller&, const Finish& finish) {
   noParams(call);
-  const double uptime =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
-  finish({{{"name", "hfts-server"},
-           {"version", HFTS_VERSION},
-           {"protocol", "JSON-RPC 2.0, one message per line"},
-           {"methods",
-            {"server.info", "objects.list", "scenes.list", "plan", "grasp.quality", "cancel",
-             "shutdown", "reload"}},
-           {"robot", robotJson(catalog_->robot())},
-           {"objects", catalog_->world().objectNames().size()},
-           {"scenes", catalog_->scenes().size()},
-           {"planner_parameters", plannerParametersJson(*catalog_)},
-           {"limits",
-            {{"max_time_limit", limits_.max_time_limit},
-             {"max_message_bytes", options_.max_message_bytes},
-             {"queue_capacity", pool_.capacity()},
-             {"max_batch_calls", kMaxBatchCalls},
-             {"max_nesting_depth", kMaxNestingDepth}}},
-           {"load",
-            {{"workers", pool_.threads()},
-             {"running", pool_.running()},
-             {"queued", pool_.queued()},
-             {"calls", calls_},
-             {"uptime", uptime}}}},
-          std::nullopt,
-          ""});
+  if (info_.is_null()) info_ = staticInfo();
+  json result = info_;
+  result["load"] = {
+      {"workers", pool_.threads()},
+      {"running", pool_.running()},
+      {"queued", pool_.queued()},
+      {"calls", calls_},
+      {"uptime",
+       std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count()}};
+  finish({std::move(result), std::nullopt, ""});
+}
+
+json MethodDispatcher::staticInfo() const {
+  return {{"name", "hfts-server"},
+          {"version", HFTS_VERSION},
+          {"protocol", "JSON-RPC 2.0, one message per line"},
+          {"methods",
+           {"server.info", "objects.list", "scenes.list", "plan", "grasp.quality", "cancel",
+            "shutdown", "reload"}},
+          {"robot", robotJson(catalog_->robot())},
+          {"objects", catalog_->world().objectNames().size()},
+          {"scenes", catalog_->scenes().size()},
+          {"planner_parameters", plannerParametersJson(*catalog_)},
+          {"limits",
+           {{"max_time_limit", limits_.max_time_limit},
+            {"max_message_bytes", options_.max_message_bytes},
+            {"queue_capacity", pool_.capacity()},
+            {"max_batch_calls", kMaxBatchCalls},
+            {"max_nesting_depth", kMaxNestingDepth}}}};
 }
 
 void MethodDispatcher::objects(const Call& call, const Caller&, const Finish& finish) {
@@ -220,7 +223,10 @@ void MethodDispatcher::reload(const Call& call, const Caller&, const Finish& fin
                    std::string("reload failed, still serving the old data: ") + e.what());
     }
     post_([this, fresh, catalog, finish] {
-      if (catalog) catalog_ = catalog;
+      if (catalog) {
+        catalog_ = catalog;
+        info_ = json();  // describe the new catalog from the next call on
+      }
       reloading_ = false;
       finish(std::move(*fresh));
     });

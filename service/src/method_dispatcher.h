@@ -78,6 +78,8 @@ class MethodDispatcher {
   void shutdown(const Call& call, const Caller& caller, const Finish& finish);
   void reload(const Call& call, const Caller& caller, const Finish& finish);
 
+  /// What server.info reports that changes only with the catalog.
+  nlohmann::json staticInfo() const;
   static Outcome runPlan(const PlanningCatalog& catalog, const planner::PlanRequest& request,
                          const std::atomic<bool>& cancel);
 
@@ -94,6 +96,7 @@ class MethodDispatcher {
   std::thread reload_thread_;
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
   std::uint64_t calls_ = 0;
+  nlohmann::json info_;  // staticInfo() of the current catalog, made on first use
 };
 
 }  // namespace hfts::service
