@@ -148,7 +148,8 @@ def plot_success(ax, runs, algorithms, colours, grid, limit):
         low, high = np.array([wilson(int(j), len(mine)) for j in k]).T
         rate = k / len(mine)
         dodge = 1.045 ** (i - (len(algorithms) - 1) / 2)  # side by side on the log axis
-        ax.errorbar(checkpoints * dodge, rate, yerr=[rate - low, high - rate], fmt="o", ms=3,
+        yerr = np.clip([rate - low, high - rate], 0, None)  # rounding can put k/n outside
+        ax.errorbar(checkpoints * dodge, rate, yerr=yerr, fmt="o", ms=3,
                     color=colours[a], capsize=2, lw=1)
     ax.axvline(limit, color="grey", ls=":", lw=1)
     ax.set_xscale("log")
@@ -207,7 +208,7 @@ def grouped_bars(runs, algorithms, colours, value, ylabel, title, path):
     objects = ordered(r["object"] for r in runs)
     width = 0.8 / len(algorithms)
     fig, ax = plt.subplots(figsize=(max(7, 1.6 * len(objects) + 3), 5))
-    tops = []
+    tops, bottoms = [], []
     for i, a in enumerate(algorithms):
         means, errors = [], []
         for o in objects:
@@ -220,12 +221,18 @@ def grouped_bars(runs, algorithms, colours, value, ylabel, title, path):
                hatch="//" if a.startswith("rrtconnect") else None, edgecolor="white",
                error_kw={"ecolor": "black", "lw": 1})
         tops.extend(m + e for m, e in zip(means, errors))
+        bottoms.extend(m for m in means if m > 0)
     ax.set_xticks(np.arange(len(objects)))
     ax.set_xticklabels(objects)
     ax.set_xlabel("object (all scenes it was planned in)")
-    ax.set_ylabel(ylabel)
     ax.set_title(title)
-    ax.set_ylim(0, max(tops) * 1.25 if tops and max(tops) > 0 else 1)
+    if bottoms and max(tops) / min(bottoms) > 30:  # one algorithm would flatten the others
+        ax.set_yscale("log")
+        ax.set_ylim(min(bottoms) / 2, max(tops) * 3)
+        ylabel += " (log scale)"
+    else:
+        ax.set_ylim(0, max(tops) * 1.25 if tops and max(tops) > 0 else 1)
+    ax.set_ylabel(ylabel)
     ax.grid(axis="y", alpha=0.3)
     ax.legend(fontsize=9, ncol=min(3, len(algorithms)), loc="upper left")
     fig.tight_layout()

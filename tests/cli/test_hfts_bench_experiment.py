@@ -204,6 +204,28 @@ class BenchExperiment(unittest.TestCase):
                          [("bin", "blob", "coupled")])
         self.assertTrue(os.path.exists(os.path.join(out, "ompl", "bin_blob.log")))
 
+    def test_plot_script_draws_failures_single_runs_and_no_goal_calls(self):
+        rows = [["scene", "object", "algorithm", "seed", "success", "failure", "time", "gs",
+                 "vgs", "gns", "epsilon", "path_length", "collision_checks", "cpu_time"],
+                ["table", "mug", "coupled", "1", "1", "none", "0.5", "3", "1", "9", "0.05", "2.0",
+                 "100", "0.5"],
+                ["table", "mug", "decoupled20", "1", "0", "time_limit", "2.0", "0", "0", "0", "",
+                 "", "50", "2.0"],
+                ["table", "mug", "decoupled20", "2", "0", "time_limit", "2.1", "4", "0", "12", "",
+                 "", "60", "2.1"]]
+        out = os.path.join(self.tmp, "edge")
+        os.makedirs(out)
+        with open(os.path.join(out, "results.csv"), "w", newline="") as f:
+            csv.writer(f).writerows(rows)
+        result = subprocess.run([sys.executable, os.path.join(SOURCE_DIR, "bench", "plot_results.py"),
+                                 os.path.join(out, "results.csv"), "--out-dir", out],
+                                capture_output=True, text=True, timeout=120)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        for name in FIGURES + ["summary.md"]:
+            self.assertTrue(os.path.exists(os.path.join(out, name)), name)
+        with open(os.path.join(out, "summary.md")) as f:
+            self.assertIn("| decoupled20 | 2 | 0/2 = 0.00 [0.00, 0.66] |", f.read())
+
     def test_experiment_usage_errors(self):
         def usage_error(*args):
             result = run(BENCH, "--db", self.db, *args)

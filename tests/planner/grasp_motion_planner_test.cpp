@@ -4,86 +4,26 @@
 
 #include <chrono>
 
-#include "bundled_objects.h"
-#include "planner/collision_checker.h"
-#include "planner/grasp_quality.h"
-#include "planner/kinematics.h"
-#include "robot_fixture.h"
+#include "plan_checks.h"
 #include "test_meshes.h"
 
 namespace hfts::planner {
 namespace {
 
-constexpr double kFinalResolution = 0.0025;  // the planner's final_resolution default
-
 const PlanningWorld& world() {
-  static const PlanningWorld w(test::kr5Sdh(), buildHandMap(test::kr5Sdh()),
-                               test::bundledObjects());
-  return w;
+  return test::bundledWorld();
 }
 
 PlanRequest request(const std::string& scene, const std::string& object, std::uint64_t seed,
                     PlanAlgorithm algorithm = PlanAlgorithm::kCoupled) {
-  PlanRequest r;
-  r.scene = loadScene(test::sourcePath("objects/scenes/" + scene + ".json"));
-  r.object = object;
-  r.seed = seed;
-  r.algorithm = algorithm;
-  r.time_limit = 30.0;
-  return r;
+  return test::bundledSceneRequest(scene, object, seed, algorithm);
 }
 
-/// Everything a returned plan promises, checked independently of the
-/// planner: a fresh collision checker at the planner's final resolution
-/// (what it promises; a graze shallower than a sample step can hide
-/// between samples at any resolution, see docs/planning.md), the start,
-/// the grasp and its quality.
 void expectValidPlan(const PlanRequest& r, const PlanResult& result) {
-  ASSERT_TRUE(result.success) << result.message;
-  const RobotModel& robot = world().robot();
-  const db::ObjectDatabase& object = *world().object(r.object);
-  Scene scene = r.scene;
-  scene.target_object = r.object;
-  CollisionChecker checker(robot, scene, &object.geometry);
-  ASSERT_GE(result.path.size(), 2u);
-  EXPECT_EQ(result.joint_names, robot.dofNames());
-  EXPECT_TRUE(result.path.front().isApprox(scene.start.value_or(robot.home()), 1e-12));
-  for (const Eigen::VectorXd& q : result.path) EXPECT_TRUE(robot.withinLimits(q));
-  for (std::size_t i = 1; i + 1 < result.path.size(); ++i)
-    EXPECT_TRUE(checker.isMotionValid(result.path[i - 1], result.path[i], kFinalResolution))
-        << "segment " << i << " collides";
-  const Eigen::VectorXd& pregrasp = result.path[result.path.size() - 2];
-  const Eigen::VectorXd& grasp = result.path.back();
-  EXPECT_TRUE(
-      checker.isMotionValid(pregrasp, grasp, kFinalResolution, /*allowFingertipContact=*/true));
-  EXPECT_TRUE(grasp.tail(robot.numHandDofs()).isApprox(result.grasp.hand_configuration));
-
-  // Fingertips on the contacts (some finger per contact) within 5 mm.
-  const FingertipFrames tips = fingertipFrames(robot, forwardKinematics(robot, grasp));
-  const Eigen::Matrix3Xd contacts = scene.robot_base.inverse() * result.grasp.contacts_world;
-  for (Eigen::Index c = 0; c < contacts.cols(); ++c) {
-    double nearest = 1e9;
-    for (Eigen::Index f = 0; f < tips.positions.cols(); ++f)
-      nearest = std::min(nearest, (tips.positions.col(f) - contacts.col(c)).norm());
-    EXPECT_LT(nearest, 0.005) << "contact " << c;
-  }
-  // A stable grasp: epsilon recomputed from the world-frame contacts.
-  GraspQualityRequest q;
-  q.positions = result.grasp.contacts_world;
-  q.normals = result.grasp.inward_normals_world;
-  q.center = r.object_pose.value_or(scene.target_pose) * object.geometry.center_of_mass;
-  q.torque_scale = object.geometry.rho;
-  const double epsilon = graspQuality(q).epsilon;
-  EXPECT_GT(epsilon, 0.0);
-  EXPECT_NEAR(epsilon, result.grasp.epsilon, 1e-9);
+  test::expectValidPlan(world(), r, result, test::kFinalResolution);
 }
 
-struct Case {
-  const char* scene;
-  const char* object;
-};
-
-class PlansInBundledScenes : public ::testing::TestWithParam<Case> {};
+class PlansInBundledScenes : public ::testing::TestWithParam<test::SceneObject> {};
 
 TEST_P(PlansInBundledScenes, PathsAreFreeAndEndInAStableGrasp) {
   for (std::uint64_t seed = 1; seed <= 2; ++seed) {
@@ -93,13 +33,12 @@ TEST_P(PlansInBundledScenes, PathsAreFreeAndEndInAStableGrasp) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, PlansInBundledScenes,
-                         ::testing::Values(Case{"table", "mug"}, Case{"table", "box"},
-                                           Case{"shelf", "bottle"}, Case{"shelf", "mug"},
-                                           Case{"bin", "blob"}, Case{"bin", "cylinder"}),
-                         [](const ::testing::TestParamInfo<Case>& param) {
-                           return std::string(param.param.scene) + "_" + param.param.object;
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, PlansInBundledScenes,
+    ::testing::Values(test::SceneObject{"table", "mug"}, test::SceneObject{"table", "box"},
+                      test::SceneObject{"shelf", "bottle"}, test::SceneObject{"shelf", "mug"},
+                      test::SceneObject{"bin", "blob"}, test::SceneObject{"bin", "cylinder"}),
+    test::sceneObjectName);
 
 TEST(GraspMotionPlanner, DecoupledBaselinePlansToo) {
   PlanRequest r = request("table", "mug", 3, PlanAlgorithm::kDecoupled);

@@ -4,43 +4,28 @@
 
 #include <chrono>
 
-#include "bundled_objects.h"
 #include "plan_checks.h"
 #include "planner/multi_tree_cbirrt.h"
-#include "robot_fixture.h"
 #include "test_meshes.h"
 
 namespace hfts::planner {
 namespace {
 
-constexpr double kFinalResolution = 0.0025;  // the planner's final_resolution default
+using test::kFinalResolution;
 
 const PlanningWorld& world() {
-  static const PlanningWorld w(test::kr5Sdh(), buildHandMap(test::kr5Sdh()),
-                               test::bundledObjects());
-  return w;
+  return test::bundledWorld();
 }
 
 PlanRequest request(const std::string& scene, const std::string& object, std::uint64_t seed) {
-  PlanRequest r;
-  r.scene = loadScene(test::sourcePath("objects/scenes/" + scene + ".json"));
-  r.object = object;
-  r.seed = seed;
-  r.algorithm = PlanAlgorithm::kRrtConnect;
-  r.time_limit = 30.0;
-  return r;
+  return test::bundledSceneRequest(scene, object, seed, PlanAlgorithm::kRrtConnect);
 }
 
 double secondsSince(std::chrono::steady_clock::time_point began) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
 }
 
-struct Case {
-  const char* scene;
-  const char* object;
-};
-
-class RrtConnectInBundledScenes : public ::testing::TestWithParam<Case> {};
+class RrtConnectInBundledScenes : public ::testing::TestWithParam<test::SceneObject> {};
 
 TEST_P(RrtConnectInBundledScenes, PathsAreFreeAndEndInAStableGrasp) {
   for (std::uint64_t seed = 1; seed <= 2; ++seed) {
@@ -60,10 +45,9 @@ TEST_P(RrtConnectInBundledScenes, PathsAreFreeAndEndInAStableGrasp) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, RrtConnectInBundledScenes,
-                         ::testing::Values(Case{"table", "mug"}, Case{"bin", "blob"}),
-                         [](const ::testing::TestParamInfo<Case>& param) {
-                           return std::string(param.param.scene) + "_" + param.param.object;
-                         });
+                         ::testing::Values(test::SceneObject{"table", "mug"},
+                                           test::SceneObject{"bin", "blob"}),
+                         test::sceneObjectName);
 
 TEST(LazyGoalRrtConnect, HonoursTheTimeLimitAndJoinsTheSamplingThread) {
   // No grasp can be a goal with a 1e-9 m fingertip tolerance: the sampling

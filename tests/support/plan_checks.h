@@ -1,19 +1,55 @@
 #pragma once
-// What every returned plan promises, checked independently of the planner
-// that made it.
+// The planning tests' world and requests, and what every returned plan
+// promises, checked independently of the planner that made it.
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <fstream>
 #include <string>
 
+#include "bundled_objects.h"
 #include "planner/collision_checker.h"
 #include "planner/grasp_motion_planner.h"
 #include "planner/grasp_quality.h"
 #include "planner/kinematics.h"
+#include "robot_fixture.h"
 
 namespace hfts::test {
+
+/// The planner's final_resolution default: the resolution plans promise.
+constexpr double kFinalResolution = 0.0025;
+
+/// The KR5 + SDH with a freshly built hand map and every bundled object,
+/// built once per test program.
+inline const planner::PlanningWorld& bundledWorld() {
+  static const planner::PlanningWorld w(kr5Sdh(), planner::buildHandMap(kr5Sdh()),
+                                        bundledObjects());
+  return w;
+}
+
+/// A request in a bundled scene (objects/scenes/<scene>.json), 30 s limit.
+inline planner::PlanRequest bundledSceneRequest(const std::string& scene, const std::string& object,
+                                                std::uint64_t seed,
+                                                planner::PlanAlgorithm algorithm) {
+  planner::PlanRequest r;
+  r.scene = planner::loadScene(sourcePath("objects/scenes/" + scene + ".json"));
+  r.object = object;
+  r.seed = seed;
+  r.algorithm = algorithm;
+  r.time_limit = 30.0;
+  return r;
+}
+
+/// A scene and an object for parameterised tests, named "scene_object".
+struct SceneObject {
+  const char* scene;
+  const char* object;
+};
+inline std::string sceneObjectName(const ::testing::TestParamInfo<SceneObject>& param) {
+  return std::string(param.param.scene) + "_" + param.param.object;
+}
 
 /// A fresh collision checker at `resolution` (the planner promises its
 /// final resolution; a graze shallower than a sample step can hide between
