@@ -1,40 +1,80 @@
-"""Starts and stops a real hfts-server for the service tests (standard library only).
+"""Runs a real hfts-server for the service's integration tests (standard library only).
 
-build_databases() builds the mug and blob databases and the hand map into a
-directory with hfts-preprocess (about half a second); RunningServer starts
-hfts-server on an ephemeral port and reads the port from its first line.
+run_tests() parses --server, --preprocess, --source-dir and --client,
+builds the mug and blob databases and the hand map into a temporary
+directory once (CONFIG.db_dir, about half a second) and runs the module's
+tests. RunningServer starts hfts-server on an ephemeral port and reads the
+port from its first line; ServerTest gives a test class one server.
 """
 
+import argparse
 import json
 import os
 import re
+import shutil
 import signal
 import socket
 import subprocess
+import sys
+import tempfile
 import time
+import types
+import unittest
+
+CONFIG = types.SimpleNamespace(server=None, client=None, preprocess=None, source_dir=None,
+                               db_dir=None)
+
+TABLE = {"scene": "table", "seed": 1, "time_limit": 20}
+BIN = {"scene": "bin", "seed": 1, "time_limit": 20}
+# The mug 3 m away: no grasp has an arm IK solution, so the planner runs
+# until its time limit (or until it is cancelled).
+FAR_AWAY = {"position": [3, 0, 0], "orientation": [0, 0, 0, 1]}
+ENDLESS = {"scene": "table", "object_pose": FAR_AWAY, "time_limit": 30}
+QUALITY = {"contacts": [
+    {"position": [1, 0, 0], "normal": [-1, 0, 0]},
+    {"position": [-0.5, 0.8660254037844386, 0], "normal": [0.5, -0.8660254037844386, 0]},
+    {"position": [-0.5, -0.8660254037844386, 0], "normal": [0.5, 0.8660254037844386, 0]}]}
+QUALITY_EPSILON = 0.275925155686099  # docs/grasp_quality.md
 
 
-def build_databases(preprocess, source_dir, out_dir, objects=("mug", "blob")):
-    meshes = os.path.join(source_dir, "objects", "meshes")
+def build_databases(out_dir, objects=("mug", "blob")):
+    meshes = os.path.join(CONFIG.source_dir, "objects", "meshes")
     files = sorted(f for f in os.listdir(meshes) if os.path.splitext(f)[0] in objects)
     for f in files:
-        subprocess.run([preprocess, os.path.join(meshes, f), "-o", out_dir, "-q"], check=True,
-                       capture_output=True, timeout=120)
-    subprocess.run([preprocess, "--hand", os.path.join(source_dir, "robots", "kr5_sdh",
-                                                       "kr5_sdh.json"), "-o", out_dir],
-                   check=True, capture_output=True, timeout=120)
+        subprocess.run([CONFIG.preprocess, os.path.join(meshes, f), "-o", out_dir, "-q"],
+                       check=True, capture_output=True, timeout=120)
+    robot = os.path.join(CONFIG.source_dir, "robots", "kr5_sdh", "kr5_sdh.json")
+    subprocess.run([CONFIG.preprocess, "--hand", robot, "-o", out_dir], check=True,
+                   capture_output=True, timeout=120)
+
+
+def run_tests(with_client=False):
+    parser = argparse.ArgumentParser()
+    for option in ("--server", "--preprocess", "--source-dir"):
+        parser.add_argument(option, required=True)
+    parser.add_argument("--client", required=with_client)
+    args, rest = parser.parse_known_args()
+    for key, value in vars(args).items():
+        setattr(CONFIG, key, value and os.path.abspath(value))
+    CONFIG.db_dir = tempfile.mkdtemp(prefix="hfts-service-db-")
+    try:
+        build_databases(CONFIG.db_dir)
+        program = unittest.main(argv=[sys.argv[0], *rest], verbosity=2, exit=False)
+    finally:
+        shutil.rmtree(CONFIG.db_dir, ignore_errors=True)
+    sys.exit(0 if program.result.wasSuccessful() else 1)
 
 
 class RunningServer:
     """hfts-server as a child process; its request log goes to log_path."""
 
-    def __init__(self, binary, source_dir, db_dir, log_path, *extra):
+    def __init__(self, log_path, *extra, db_dir=None):
         self.log_path = log_path
         self.log = open(log_path, "wb")
         self.process = subprocess.Popen(
-            [binary, "--db", db_dir, "--port", "0",
-             "--robot", os.path.join(source_dir, "robots", "kr5_sdh", "kr5_sdh.json"),
-             "--scenes", os.path.join(source_dir, "objects", "scenes"), *map(str, extra)],
+            [CONFIG.server, "--db", db_dir or CONFIG.db_dir, "--port", "0",
+             "--robot", os.path.join(CONFIG.source_dir, "robots", "kr5_sdh", "kr5_sdh.json"),
+             "--scenes", os.path.join(CONFIG.source_dir, "objects", "scenes"), *map(str, extra)],
             stdout=subprocess.PIPE, stderr=self.log, stdin=subprocess.DEVNULL)
         line = self.process.stdout.readline().decode()
         match = re.match(r"hfts-server listening on ([\d.]+):(\d+)$", line.strip())
@@ -53,6 +93,10 @@ class RunningServer:
     def call(self, method, params=None, request_id=1):
         with self.connect() as c:
             return c.call(method, params, request_id)
+
+    def running(self):
+        """Plans running now, as server.info reports."""
+        return self.call("server.info")["result"]["load"]["running"]
 
     def stop(self, sig=signal.SIGTERM, timeout=30):
         """Signals the server (if it still runs) and returns its exit code."""
@@ -111,3 +155,58 @@ def wait_until(condition, timeout=10.0, step=0.02):
             return True
         time.sleep(step)
     return False
+
+
+class ServerTest(unittest.TestCase):
+    """One server for the whole class; OPTIONS are its extra arguments."""
+    OPTIONS = ("--workers", "2")
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="hfts-server-")
+        cls.server = RunningServer(os.path.join(cls.tmp, "server.log"), *cls.OPTIONS)
+
+    @classmethod
+    def tearDownClass(cls):
+        code = cls.server.stop()
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+        assert code == 0, f"hfts-server exited with {code}"
+
+    def assertError(self, response, code, field=None, request_id=None, contains=None):
+        self.assertIn("error", response, response)
+        self.assertEqual(response["jsonrpc"], "2.0")
+        self.assertEqual(response["id"], request_id, response)
+        self.assertEqual(response["error"]["code"], code, response)
+        if field is not None:
+            self.assertEqual(response["error"]["data"]["field"], field, response)
+            self.assertTrue(response["error"]["message"].startswith(field + ":"), response)
+        if contains is not None:
+            self.assertIn(contains, response["error"]["message"])
+
+    def assertServes(self, connection):
+        """The connection (and a fresh one) still answers."""
+        self.assertEqual(connection.call("server.info", request_id="alive")["id"], "alive")
+        self.assertEqual(self.server.call("scenes.list")["id"], 1)
+
+    def assertValidPlan(self, result, scene, info):
+        self.assertTrue(result["success"], result["message"])
+        self.assertEqual(result["reason"], "none")
+        robot = info["robot"]
+        self.assertEqual(result["joint_names"], robot["joint_names"])
+        self.assertGreaterEqual(len(result["path"]), 3)
+        with open(os.path.join(CONFIG.source_dir, "objects", "scenes", scene + ".json")) as f:
+            start = json.load(f).get("start", robot["home"])
+        for a, b in zip(result["path"][0], start):
+            self.assertAlmostEqual(a, b, places=12)
+        for q in result["path"]:
+            self.assertEqual(len(q), 13)
+            for value, low, high in zip(q, robot["lower_limits"], robot["upper_limits"]):
+                self.assertTrue(low - 1e-9 <= value <= high + 1e-9)
+        grasp = result["grasp"]
+        self.assertGreater(grasp["epsilon"], 0.0)
+        self.assertEqual(len(grasp["contacts_world"]), 3)
+        self.assertEqual(grasp["hand_joint_names"], robot["hand_joint_names"])
+        for a, b in zip(result["path"][-1][6:], grasp["hand_configuration"]):
+            self.assertAlmostEqual(a, b, places=12)
+        self.assertLess(grasp["fingertip_error"], 0.005)
+        self.assertGreater(result["stats"]["path_length_smoothed"], 0.0)

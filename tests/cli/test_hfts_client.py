@@ -3,7 +3,6 @@
 against a real hfts-server on an ephemeral port. Run by ctest with Debian's
 /usr/bin/python3; standard library only."""
 
-import argparse
 import contextlib
 import io
 import json
@@ -15,25 +14,19 @@ import tempfile
 import time
 import unittest
 
-from hfts_server_fixture import RunningServer, build_databases, wait_until
+from hfts_server_fixture import (CONFIG, FAR_AWAY, QUALITY, QUALITY_EPSILON, RunningServer,
+                                 run_tests, wait_until)
 
-CLIENT = SERVER = PREPROCESS = SOURCE_DIR = None
-hfts_client = None  # the Python client module, imported from client/python
-QUALITY = {"contacts": [
-    {"position": [1, 0, 0], "normal": [-1, 0, 0]},
-    {"position": [-0.5, 0.8660254037844386, 0], "normal": [0.5, -0.8660254037844386, 0]},
-    {"position": [-0.5, -0.8660254037844386, 0], "normal": [0.5, 0.8660254037844386, 0]}]}
-FAR_AWAY = {"position": [3, 0, 0], "orientation": [0, 0, 0, 1]}
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "client",
+                                "python"))
+import hfts_client  # noqa: E402  (the module under test, client/python)
 
 
 class ClientTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.mkdtemp(prefix="hfts-client-")
-        cls.db = os.path.join(cls.tmp, "db")
-        build_databases(PREPROCESS, SOURCE_DIR, cls.db)
-        cls.server = RunningServer(SERVER, SOURCE_DIR, cls.db, os.path.join(cls.tmp, "log"),
-                                   "--workers", "2")
+        cls.server = RunningServer(os.path.join(cls.tmp, "log"), "--workers", "2")
 
     @classmethod
     def tearDownClass(cls):
@@ -42,8 +35,9 @@ class ClientTest(unittest.TestCase):
         assert code == 0, code
 
     def client(self, *args, port=None, stdin=None):
-        return subprocess.run([CLIENT, "--port", str(port or self.server.port), *map(str, args)],
-                              capture_output=True, text=True, timeout=120, input=stdin)
+        return subprocess.run(
+            [CONFIG.client, "--port", str(port or self.server.port), *map(str, args)],
+            capture_output=True, text=True, timeout=120, input=stdin)
 
     def ok(self, *args, **kw):
         result = self.client(*args, **kw)
@@ -110,7 +104,7 @@ class CommandLine(ClientTest):
 
     def test_an_inline_scene_file(self):
         scene = os.path.join(self.tmp, "my_bin.json")
-        with open(os.path.join(SOURCE_DIR, "objects", "scenes", "bin.json")) as f:
+        with open(os.path.join(CONFIG.source_dir, "objects", "scenes", "bin.json")) as f:
             data = json.load(f)
         data["name"] = "my_bin"
         with open(scene, "w") as f:
@@ -128,9 +122,9 @@ class CommandLine(ClientTest):
         request = os.path.join(self.tmp, "quality.json")
         with open(request, "w") as f:
             json.dump(QUALITY, f)
-        self.assertEqual(self.ok("quality", request), "epsilon 0.2759251557\n")
+        self.assertEqual(self.ok("quality", request), f"epsilon {QUALITY_EPSILON:.10g}\n")
         result = json.loads(self.ok("--json", "quality", "-", stdin=json.dumps(QUALITY)))
-        self.assertAlmostEqual(result["epsilon"], 0.275925155686099, places=12)
+        self.assertAlmostEqual(result["epsilon"], QUALITY_EPSILON, places=12)
         by_object = json.loads(self.ok("--json", "quality", request, "--object", "mug"))
         self.assertGreaterEqual(by_object["epsilon"], 0.0)
 
@@ -171,7 +165,7 @@ class PythonClient(ClientTest):
             plan = client.plan("bin", seed=1, time_limit=20)
             self.assertTrue(plan["success"], plan["message"])
             self.assertEqual(len(plan["path"][0]), len(plan["joint_names"]))
-            self.assertAlmostEqual(client.quality(QUALITY["contacts"]), 0.275925155686099,
+            self.assertAlmostEqual(client.quality(QUALITY["contacts"]), QUALITY_EPSILON,
                                    places=12)
             self.assertEqual(client.reload()["objects"], ["blob", "mug"])
 
@@ -210,36 +204,28 @@ class PythonClient(ClientTest):
 
 
 class Shutdown(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="hfts-client-shutdown-")
+
+    def tearDown(self):
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
     def test_shutdown_stops_the_server_with_exit_code_0(self):
-        tmp = tempfile.mkdtemp(prefix="hfts-client-shutdown-")
-        try:
-            db = os.path.join(tmp, "db")
-            build_databases(PREPROCESS, SOURCE_DIR, db, objects=("mug",))
-            server = RunningServer(SERVER, SOURCE_DIR, db, os.path.join(tmp, "log"))
-            result = subprocess.run([CLIENT, "--port", str(server.port), "shutdown"],
-                                    capture_output=True, text=True, timeout=60)
-            self.assertEqual(result.returncode, 0, result.stderr)
-            self.assertEqual(result.stdout, "the server is shutting down\n")
-            self.assertEqual(server.process.wait(timeout=30), 0)
-            server.stop()
-            python = RunningServer(SERVER, SOURCE_DIR, db, os.path.join(tmp, "log2"))
-            with hfts_client.HftsClient(python.host, python.port) as client:
-                self.assertEqual(client.shutdown(), {"shutting_down": True})
-            self.assertEqual(python.process.wait(timeout=30), 0)
-            python.stop()
-        finally:
-            shutil.rmtree(tmp, ignore_errors=True)
+        server = RunningServer(os.path.join(self.tmp, "log"))
+        result = subprocess.run([CONFIG.client, "--port", str(server.port), "shutdown"],
+                                capture_output=True, text=True, timeout=60)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertEqual(result.stdout, "the server is shutting down\n")
+        self.assertEqual(server.process.wait(timeout=30), 0)
+        server.stop()
+
+    def test_the_python_client_stops_the_server_too(self):
+        server = RunningServer(os.path.join(self.tmp, "log"))
+        with hfts_client.HftsClient(server.host, server.port) as client:
+            self.assertEqual(client.shutdown(), {"shutting_down": True})
+        self.assertEqual(server.process.wait(timeout=30), 0)
+        server.stop()
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--client", required=True)
-    parser.add_argument("--server", required=True)
-    parser.add_argument("--preprocess", required=True)
-    parser.add_argument("--source-dir", required=True)
-    args, rest = parser.parse_known_args()
-    CLIENT, SERVER, PREPROCESS, SOURCE_DIR = map(
-        os.path.abspath, (args.client, args.server, args.preprocess, args.source_dir))
-    sys.path.insert(0, os.path.join(SOURCE_DIR, "client", "python"))
-    import hfts_client  # noqa: E402  (the module under test)
-    unittest.main(argv=[sys.argv[0], *rest], verbosity=2)
+    run_tests(with_client=True)
