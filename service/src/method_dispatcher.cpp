@@ -49,18 +49,16 @@ MethodDispatcher::~MethodDispatcher() {
 void MethodDispatcher::dispatch(const Call& call, const Caller& caller, Responder respond) {
   ++calls_;
   const auto began = std::chrono::steady_clock::now();
-  const std::string id = call.notification ? "-" : call.id.dump();
-  Finish finish = [this, call, peer = caller.peer, id, began,
-                   respond = std::move(respond)](Outcome o) {
-    const std::string outcome = o.error ? std::string("error ") +
-                                              std::to_string(static_cast<int>(o.error->code())) +
-                                              " " + o.error->what()
-                                        : "ok" + (o.note.empty() ? "" : " " + o.note);
-    log_.write(peer, id, call.method, std::chrono::steady_clock::now() - began, outcome);
-    if (call.notification)
+  // The reply needs the id and the method, not the params (which may be large).
+  Finish finish = [this, id = call.id, notification = call.notification, method = call.method,
+                   peer = caller.peer, began, respond = std::move(respond)](Outcome o) {
+    log_.write(peer, notification ? "-" : id.dump(), method,
+               std::chrono::steady_clock::now() - began,
+               o.error ? describe(*o.error) : "ok" + (o.note.empty() ? "" : " " + o.note));
+    if (notification)
       respond(json());
     else
-      respond(o.error ? errorResponse(call.id, *o.error) : resultResponse(call.id, o.result));
+      respond(o.error ? errorResponse(id, *o.error) : resultResponse(id, std::move(o.result)));
   };
   try {
     const auto method = methods_.find(call.method);
@@ -82,6 +80,10 @@ void MethodDispatcher::logRejected(const Caller& caller, const json& errorRespon
   log_.write(caller.peer, errorResponse.at("id").dump(), "-",
              std::chrono::steady_clock::duration::zero(),
              "error " + error.at("code").dump() + " " + error.at("message").get<std::string>());
+}
+
+std::string MethodDispatcher::describe(const RpcError& error) {
+  return "error " + std::to_string(static_cast<int>(error.code())) + " " + error.what();
 }
 
 void MethodDispatcher::stop() {

@@ -78,6 +78,8 @@ class MethodDispatcher {
   void shutdown(const Call& call, const Caller& caller, const Finish& finish);
   void reload(const Call& call, const Caller& caller, const Finish& finish);
 
+  /// "error <code> <message>", as logged.
+  static std::string describe(const RpcError& error);
   /// What server.info reports that changes only with the catalog.
   nlohmann::json staticInfo() const;
   static Outcome runPlan(const PlanningCatalog& catalog, const planner::PlanRequest& request,
