@@ -12,6 +12,7 @@
 int main(int argc, char** argv) {
   hfts::service::ServerOptions o;
   o.sources.database_dir = "build/databases";
+  o.port = 7450;  // hfts-client's default too
   std::string robot = o.sources.robot_config.string(), db = o.sources.database_dir.string(),
               scenes = o.sources.scene_dir.string();
   double maxMessageMiB = static_cast<double>(o.max_message_bytes) / (1 << 20);
