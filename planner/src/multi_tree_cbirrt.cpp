@@ -3,13 +3,15 @@
 #include <ompl/base/PlannerData.h>
 #include <ompl/datastructures/NearestNeighborsGNATNoThreadSafety.h>
 #include <ompl/geometric/PathGeometric.h>
-#include <ompl/geometric/PathSimplifier.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
+
+#include "planner/path_smoothing.h"
 
 namespace hfts::planner {
 
@@ -85,14 +87,6 @@ class MultiTreeCBiRRT::Knowledge : public FreeSpaceDistances {
 };
 
 namespace {
-
-/// OMPL's shortcutting with its random generator seeded from ours.
-class SeededSimplifier : public og::PathSimplifier {
- public:
-  SeededSimplifier(const ob::SpaceInformationPtr& si, std::uint32_t seed) : PathSimplifier(si) {
-    rng_.setLocalSeed(seed);
-  }
-};
 
 WeightedStateSpace& weighted(const ob::SpaceInformationPtr& si) {
   auto* space = dynamic_cast<WeightedStateSpace*>(si->getStateSpace().get());
@@ -475,27 +469,18 @@ bool MultiTreeCBiRRT::extractAndShortcutPath(int index, Motion* forwardEnd, Moti
   std::reverse(path.begin(), path.end());
   // backwardEnd repeats forwardEnd's configuration; continue from its parent.
   for (Motion* m = backwardEnd->parent; m != nullptr; m = m->parent) path.push_back(m->q);
-  double raw = 0.0;
-  for (std::size_t i = 1; i < path.size(); ++i) raw += distance(path[i - 1], path[i]);
-  std::vector<Eigen::VectorXd> smoothed = smooth(path, ptc);
-  // The final re-check at a finer resolution than the trees used: a path
-  // that fails it is never returned (the unsmoothed one is tried instead
-  // while there is time; it is longer, so its check costs more).
-  bool valid = denselyValid(smoothed);
-  if (!valid && !ptc() && smoothed.size() != path.size()) {
-    smoothed = path;
-    valid = denselyValid(smoothed);
-  }
-  if (!valid) {
+  // Smoothed and re-checked at the final resolution: a path that fails
+  // the re-check is never returned (path_smoothing.h).
+  std::optional<std::vector<Eigen::VectorXd>> checked = smoothAndRecheck(
+      si_, path, {smoothingSteps_, finalResolution_, static_cast<std::uint32_t>(rng_())}, ptc);
+  if (!checked) {
     ++stats_.rejected_paths;
     dropTree(index);
     return false;
   }
-  stats_.path_length_raw = raw;
-  stats_.path_length_smoothed = 0.0;
-  for (std::size_t i = 1; i < smoothed.size(); ++i)
-    stats_.path_length_smoothed += distance(smoothed[i - 1], smoothed[i]);
-  solution_ = std::move(smoothed);
+  stats_.path_length_raw = pathLength(space_, path);
+  stats_.path_length_smoothed = pathLength(space_, *checked);
+  solution_ = std::move(*checked);
   reached_ = trees_[static_cast<std::size_t>(index)]->root;
   auto geometric = std::make_shared<og::PathGeometric>(si_);
   for (const Eigen::VectorXd& q : solution_) {
@@ -505,38 +490,6 @@ bool MultiTreeCBiRRT::extractAndShortcutPath(int index, Motion* forwardEnd, Moti
     si_->freeState(state);
   }
   pdef_->addSolutionPath(geometric, false, 0.0, getName());
-  return true;
-}
-
-std::vector<Eigen::VectorXd> MultiTreeCBiRRT::smooth(const std::vector<Eigen::VectorXd>& path,
-                                                     const ob::PlannerTerminationCondition& ptc) {
-  if (path.size() < 3 || smoothingSteps_ == 0) return path;
-  og::PathGeometric geometric(si_);
-  ob::State* state = si_->allocState();
-  for (const Eigen::VectorXd& q : path) {
-    space_.fromVector(q, state);
-    geometric.append(state);
-  }
-  si_->freeState(state);
-  // Counted steps, not a time budget, so that a seed fixes the result; in
-  // batches so that the time limit still stops it.
-  SeededSimplifier simplifier(si_, static_cast<std::uint32_t>(rng_()));
-  // The first batch runs even at the time limit: a shorter path is also
-  // cheaper to re-check densely.
-  constexpr unsigned kBatch = 20;
-  for (unsigned done = 0; done < smoothingSteps_ && (done == 0 || !ptc()); done += kBatch)
-    simplifier.reduceVertices(geometric, kBatch, kBatch);
-  for (unsigned done = 0; done < smoothingSteps_ && !ptc(); done += kBatch)
-    simplifier.shortcutPath(geometric, kBatch, kBatch);
-  std::vector<Eigen::VectorXd> out;
-  for (const ob::State* s : geometric.getStates()) out.push_back(space_.toVector(s));
-  return out;
-}
-
-bool MultiTreeCBiRRT::denselyValid(const std::vector<Eigen::VectorXd>& path) const {
-  if (path.empty() || !validator_->isValid(path.front())) return false;
-  for (std::size_t i = 1; i < path.size(); ++i)
-    if (!validator_->checkMotion(path[i - 1], path[i], finalResolution_)) return false;
   return true;
 }
 

@@ -136,9 +136,6 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   void dropTree(int tree);
   bool extractAndShortcutPath(int tree, Motion* forwardEnd, Motion* backwardEnd,
                               const ompl::base::PlannerTerminationCondition& ptc);
-  std::vector<Eigen::VectorXd> smooth(const std::vector<Eigen::VectorXd>& path,
-                                      const ompl::base::PlannerTerminationCondition& ptc);
-  bool denselyValid(const std::vector<Eigen::VectorXd>& path) const;
   Eigen::VectorXd sampleUniform();
   double distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
 
