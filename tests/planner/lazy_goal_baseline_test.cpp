@@ -82,11 +82,7 @@ TEST(LazyGoalRrtConnect, CancellationStopsBothThreads) {
 }
 
 TEST(LazyGoalRrtConnect, UnreachableObjectIsReported) {
-  PlanRequest r = request("table", "mug", 1);
-  r.scene.obstacles.clear();
-  r.object_pose = Eigen::Isometry3d(Eigen::Translation3d(3.0, 0.0, 0.0));
-  r.time_limit = 1.0;
-  const PlanResult result = planGrasp(world(), r);
+  const PlanResult result = planGrasp(world(), test::outOfReachRequest(PlanAlgorithm::kRrtConnect));
   EXPECT_FALSE(result.success);
   EXPECT_EQ(result.failure, PlanFailure::kObjectUnreachable) << result.message;
 }

@@ -42,6 +42,16 @@ inline planner::PlanRequest bundledSceneRequest(const std::string& scene, const 
   return r;
 }
 
+/// The table scene without obstacles and the mug 3 m away, out of the
+/// arm's reach: no grasp has an IK solution (1 s limit).
+inline planner::PlanRequest outOfReachRequest(planner::PlanAlgorithm algorithm) {
+  planner::PlanRequest r = bundledSceneRequest("table", "mug", 1, algorithm);
+  r.scene.obstacles.clear();
+  r.object_pose = Eigen::Isometry3d(Eigen::Translation3d(3.0, 0.0, 0.0));
+  r.time_limit = 1.0;
+  return r;
+}
+
 /// A scene and an object for parameterised tests, named "scene_object".
 struct SceneObject {
   const char* scene;
