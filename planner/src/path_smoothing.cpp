@@ -3,6 +3,8 @@
 #include <ompl/geometric/PathGeometric.h>
 #include <ompl/geometric/PathSimplifier.h>
 
+#include <chrono>
+#include <optional>
 #include <stdexcept>
 
 namespace hfts::planner {
@@ -25,6 +27,34 @@ const WeightedStateSpace& weightedSpace(const ob::SpaceInformationPtr& si) {
   if (space == nullptr)
     throw std::invalid_argument("path smoothing needs a WeightedStateSpace (makeSpaceInformation)");
   return *space;
+}
+
+/// A path found at the time limit is still re-checked, never returned
+/// unchecked, but for at most kGrace after the limit: then it is dropped,
+/// so a planner returns within its limit plus about kGrace.
+class LimitWithGrace {
+ public:
+  explicit LimitWithGrace(const ob::PlannerTerminationCondition& ptc) : ptc_(ptc) {}
+  bool expired() {
+    constexpr std::chrono::milliseconds kGrace{40};
+    if (!ptc_()) return false;
+    const auto now = std::chrono::steady_clock::now();
+    if (!fired_) fired_ = now;
+    return now - *fired_ > kGrace;
+  }
+
+ private:
+  const ob::PlannerTerminationCondition& ptc_;
+  std::optional<std::chrono::steady_clock::time_point> fired_;
+};
+
+bool validWithin(const CollisionMotionValidator& validator,
+                 const std::vector<Eigen::VectorXd>& path, double resolution,
+                 LimitWithGrace& limit) {
+  if (path.empty() || !validator.isValid(path.front())) return false;
+  for (std::size_t i = 1; i < path.size(); ++i)
+    if (limit.expired() || !validator.checkMotion(path[i - 1], path[i], resolution)) return false;
+  return true;
 }
 
 }  // namespace
@@ -55,10 +85,9 @@ std::vector<Eigen::VectorXd> smoothPath(const ob::SpaceInformationPtr& si,
 
 bool denselyValid(const CollisionMotionValidator& validator,
                   const std::vector<Eigen::VectorXd>& path, double resolution) {
-  if (path.empty() || !validator.isValid(path.front())) return false;
-  for (std::size_t i = 1; i < path.size(); ++i)
-    if (!validator.checkMotion(path[i - 1], path[i], resolution)) return false;
-  return true;
+  const ob::PlannerTerminationCondition never = ob::plannerNonTerminatingCondition();
+  LimitWithGrace limit(never);
+  return validWithin(validator, path, resolution, limit);
 }
 
 std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
@@ -68,11 +97,13 @@ std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
       dynamic_cast<const CollisionMotionValidator*>(si->getMotionValidator().get());
   if (validator == nullptr)
     throw std::invalid_argument("path smoothing needs a CollisionMotionValidator");
+  LimitWithGrace limit(ptc);
+  limit.expired();  // starts the grace period if the limit has passed already
   std::vector<Eigen::VectorXd> smoothed = smoothPath(si, raw, smoothing, ptc);
-  if (denselyValid(*validator, smoothed, smoothing.final_resolution)) return smoothed;
+  if (validWithin(*validator, smoothed, smoothing.final_resolution, limit)) return smoothed;
   // The unsmoothed path is longer, so its check costs more: only with time left.
   if (ptc() || smoothed.size() == raw.size()) return std::nullopt;
-  if (denselyValid(*validator, raw, smoothing.final_resolution)) return raw;
+  if (validWithin(*validator, raw, smoothing.final_resolution, limit)) return raw;
   return std::nullopt;
 }
 

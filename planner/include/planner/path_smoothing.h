@@ -43,7 +43,9 @@ bool denselyValid(const CollisionMotionValidator& validator,
 
 /// The path a planner returns for `raw` (free at the tree resolution):
 /// smoothed if the smoothed path passes the dense re-check, else `raw` if
-/// it does (tried only while `ptc` allows), else nothing.
+/// it does (tried only while `ptc` allows), else nothing. The re-check
+/// gives up (nothing) 40 ms after `ptc` fires, bounding how far a planner
+/// overruns its time limit.
 std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
     const ompl::base::SpaceInformationPtr& si, const std::vector<Eigen::VectorXd>& raw,
     const PathSmoothing& smoothing, const ompl::base::PlannerTerminationCondition& ptc);
