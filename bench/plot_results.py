@@ -57,6 +57,7 @@ def read_runs(path):
             success = row["success"] == "1"
             runs.append({
                 "case": row["scene"] + " / " + row["object"],
+                "scene": row["scene"],
                 "object": row["object"],
                 "algorithm": row["algorithm"],
                 "success": success,
@@ -273,8 +274,8 @@ def fmt(x, digits=2):
 def summary_rows(runs, algorithms):
     lines = ["| algorithm | runs | success [Wilson 95 %] | mean time s [95 %] | "
              "median time s [95 %] | mean CPU time s | GNS mean ± SE | VGS/GS mean ± SE | "
-             "epsilon median [quartiles] |",
-             "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+             "epsilon mean [95 %] | epsilon median [quartiles] |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for a in algorithms:
         mine = [r for r in runs if r["algorithm"] == a]
         n, k = len(mine), sum(r["success"] for r in mine)
@@ -285,8 +286,11 @@ def summary_rows(runs, algorithms):
         gns = [r["gns"] for r in mine]
         ratios = [v for v in map(ratio, mine) if v is not None]
         eps = [r["epsilon"] for r in mine if r["success"]]
-        eps_text = (f"{np.median(eps):.3f} [{np.percentile(eps, 25):.3f}, "
-                    f"{np.percentile(eps, 75):.3f}]") if eps else "-"
+        eps_text = "- | -"
+        if eps:
+            em, elo, ehi = mean_ci(eps)
+            eps_text = (f"{em:.3f} [{elo:.3f}, {ehi:.3f}] | {np.median(eps):.3f} "
+                        f"[{np.percentile(eps, 25):.3f}, {np.percentile(eps, 75):.3f}]")
         ratio_text = f"{np.mean(ratios):.3f} ± {standard_error(ratios):.3f}" if ratios else "-"
         lines.append(
             f"| {a} | {n} | {k}/{n} = {fmt(k / n)} [{fmt(lo)}, {fmt(hi)}] | "
@@ -296,26 +300,89 @@ def summary_rows(runs, algorithms):
     return lines
 
 
+def welch(runs, reference, key, digits):
+    """Difference of the means of `key` (runs minus reference; None values left out)
+    with its Welch normal-approximation 95 % interval, as text."""
+    x = [r[key] for r in runs if r[key] is not None]
+    y = [r[key] for r in reference if r[key] is not None]
+    if not x or not y:
+        return "-"
+    d = float(np.mean(x) - np.mean(y))
+    half = Z95 * math.hypot(standard_error(x), standard_error(y))
+    return f"{d:+.{digits}f} [{d - half:+.{digits}f}, {d + half:+.{digits}f}]"
+
+
 def difference_rows(runs, algorithms, reference="coupled"):
     if reference not in algorithms:
         return []
     ref = [r for r in runs if r["algorithm"] == reference]
     lines = ["", f"Differences to `{reference}` (other minus {reference}; 95 % intervals: "
-             "Welch normal approximation for the mean time, Newcombe's score method for "
+             "Welch normal approximation for the means, Newcombe's score method for "
              "the success rate):", "",
-             "| algorithm | mean time difference s [95 %] | success difference [95 %] |",
-             "| --- | --- | --- |"]
+             "| algorithm | mean time difference s [95 %] | success difference [95 %] | "
+             "mean epsilon difference [95 %] |",
+             "| --- | --- | --- | --- |"]
     for a in algorithms:
         if a == reference:
             continue
         mine = [r for r in runs if r["algorithm"] == a]
-        x, y = [r["time"] for r in mine], [r["time"] for r in ref]
-        d = float(np.mean(x) - np.mean(y))
-        half = Z95 * math.hypot(standard_error(x), standard_error(y))
         k1, k2 = sum(r["success"] for r in mine), sum(r["success"] for r in ref)
         lo, hi = newcombe(k1, len(mine), k2, len(ref))
-        lines.append(f"| {a} | {d:+.2f} [{d - half:+.2f}, {d + half:+.2f}] | "
-                     f"{k1 / len(mine) - k2 / len(ref):+.2f} [{lo:+.2f}, {hi:+.2f}] |")
+        lines.append(f"| {a} | {welch(mine, ref, 'time', 2)} | "
+                     f"{k1 / len(mine) - k2 / len(ref):+.2f} [{lo:+.2f}, {hi:+.2f}] | "
+                     f"{welch(mine, ref, 'epsilon', 3)} |")
+    return lines
+
+
+def within_rows(runs, algorithms, limit):
+    """Fig. 7 as numbers: success within the limit and its halvings."""
+    times = [limit / 8, limit / 4, limit / 2, limit]
+    lines = ["", "Success within a planning time (Fig. 7), Wilson 95 % intervals:", "",
+             "| algorithm | " + " | ".join(f"within {t:g} s" for t in times) + " |",
+             "| --- |" + " --- |" * len(times)]
+    for a in algorithms:
+        mine = [r for r in runs if r["algorithm"] == a]
+        cells = []
+        for t in times:
+            k = sum(r["success"] and r["time"] <= t for r in mine)
+            lo, hi = wilson(k, len(mine))
+            cells.append(f"{k / len(mine):.2f} [{lo:.2f}, {hi:.2f}]")
+        lines.append(f"| {a} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def scene_rows(runs, algorithms, reference="coupled"):
+    """Mean time per scene and its difference to the reference, Welch 95 % intervals."""
+    if reference not in algorithms:
+        return []
+    others = [a for a in algorithms if a != reference]
+    lines = ["", f"Per scene (all its objects): mean time of `{reference}` and the mean time "
+             f"difference of the others to it, s [95 %]:", "",
+             f"| scene | {reference} | " + " | ".join(others) + " |",
+             "| --- | --- |" + " --- |" * len(others)]
+    for scene in ordered(r["scene"] for r in runs):
+        mine = [r for r in runs if r["scene"] == scene]
+        ref = [r for r in mine if r["algorithm"] == reference]
+        m, lo, hi = mean_ci([r["time"] for r in ref])
+        cells = [welch([r for r in mine if r["algorithm"] == a], ref, "time", 2) for a in others]
+        lines.append(f"| {scene} | {m:.2f} [{lo:.2f}, {hi:.2f}] | " + " | ".join(cells) + " |")
+    return lines
+
+
+def object_rows(runs, algorithms):
+    """Figs. 8 and 9 as numbers: GNS and VGS/GS per object, mean ± standard error."""
+    lines = ["", "Per object (Figs. 8 and 9): GNS mean ± SE / VGS/GS mean ± SE:", "",
+             "| object | " + " | ".join(algorithms) + " |",
+             "| --- |" + " --- |" * len(algorithms)]
+    for o in ordered(r["object"] for r in runs):
+        cells = []
+        for a in algorithms:
+            mine = [r for r in runs if r["object"] == o and r["algorithm"] == a]
+            gns = [r["gns"] for r in mine]
+            ratios = [v for v in map(ratio, mine) if v is not None]
+            cells.append(f"{np.mean(gns):.0f} ± {standard_error(gns):.0f} / "
+                         f"{np.mean(ratios):.3f} ± {standard_error(ratios):.3f}" if ratios else "-")
+        lines.append(f"| {o} | " + " | ".join(cells) + " |")
     return lines
 
 
@@ -342,6 +409,9 @@ def write_summary(runs, algorithms, limit, out):
              "averaged; epsilon over successful runs.", ""]
     lines += summary_rows(runs, algorithms)
     lines += difference_rows(runs, algorithms)
+    lines += within_rows(runs, algorithms, limit)
+    lines += scene_rows(runs, algorithms)
+    lines += object_rows(runs, algorithms)
     lines += case_rows(runs, algorithms)
     with open(os.path.join(out, "summary.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
