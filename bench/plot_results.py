@@ -369,38 +369,44 @@ def scene_rows(runs, algorithms, reference="coupled"):
     return lines
 
 
-def object_rows(runs, algorithms):
-    """Figs. 8 and 9 as numbers: GNS and VGS/GS per object, mean ± standard error."""
-    lines = ["", "Per object (Figs. 8 and 9): GNS mean ± SE / VGS/GS mean ± SE:", "",
-             "| object | " + " | ".join(algorithms) + " |",
+def grid_rows(title, corner, runs, group, algorithms, cell):
+    """A table with a row per value of group(run) and a column per algorithm;
+    cell(the runs of that row and column) gives the text."""
+    lines = ["", title, "", f"| {corner} | " + " | ".join(algorithms) + " |",
              "| --- |" + " --- |" * len(algorithms)]
-    for o in ordered(r["object"] for r in runs):
+    for g in ordered(group(r) for r in runs):
         cells = []
         for a in algorithms:
-            mine = [r for r in runs if r["object"] == o and r["algorithm"] == a]
-            gns = [r["gns"] for r in mine]
-            ratios = [v for v in map(ratio, mine) if v is not None]
-            cells.append(f"{np.mean(gns):.0f} ± {standard_error(gns):.0f} / "
-                         f"{np.mean(ratios):.3f} ± {standard_error(ratios):.3f}" if ratios else "-")
-        lines.append(f"| {o} | " + " | ".join(cells) + " |")
+            mine = [r for r in runs if group(r) == g and r["algorithm"] == a]
+            cells.append(cell(mine) if mine else "-")
+        lines.append(f"| {g} | " + " | ".join(cells) + " |")
     return lines
+
+
+def gns_and_ratio(runs):
+    gns = [r["gns"] for r in runs]
+    ratios = [v for v in map(ratio, runs) if v is not None]
+    if not ratios:
+        return "-"
+    return (f"{np.mean(gns):.0f} ± {standard_error(gns):.0f} / "
+            f"{np.mean(ratios):.3f} ± {standard_error(ratios):.3f}")
+
+
+def successes_and_median(runs):
+    k = sum(r["success"] for r in runs)
+    return f"{k}/{len(runs)}, {np.median([r['time'] for r in runs]):.2f}"
+
+
+def object_rows(runs, algorithms):
+    """Figs. 8 and 9 as numbers: GNS and VGS/GS per object, mean ± standard error."""
+    return grid_rows("Per object (Figs. 8 and 9): GNS mean ± SE / VGS/GS mean ± SE:", "object",
+                     runs, lambda r: r["object"], algorithms, gns_and_ratio)
 
 
 def case_rows(runs, algorithms):
-    lines = ["", "Per scene and object: successes / runs, median time (s):", "",
-             "| scene / object | " + " | ".join(algorithms) + " |",
-             "| --- |" + " --- |" * len(algorithms)]
-    for case in ordered(r["case"] for r in runs):
-        cells = []
-        for a in algorithms:
-            mine = [r for r in runs if r["case"] == case and r["algorithm"] == a]
-            if not mine:
-                cells.append("-")
-                continue
-            k = sum(r["success"] for r in mine)
-            cells.append(f"{k}/{len(mine)}, {np.median([r['time'] for r in mine]):.2f}")
-        lines.append(f"| {case} | " + " | ".join(cells) + " |")
-    return lines
+    return grid_rows("Per scene and object: successes / runs, median time (s):",
+                     "scene / object", runs, lambda r: r["case"], algorithms,
+                     successes_and_median)
 
 
 def write_summary(runs, algorithms, limit, out):
