@@ -21,6 +21,8 @@ import time
 import types
 import unittest
 
+from cli_support import build_databases
+
 CONFIG = types.SimpleNamespace(server=None, client=None, preprocess=None, source_dir=None,
                                db_dir=None)
 
@@ -37,17 +39,6 @@ QUALITY = {"contacts": [
 QUALITY_EPSILON = 0.275925155686099  # docs/grasp_quality.md
 
 
-def build_databases(out_dir, objects=("mug", "blob")):
-    meshes = os.path.join(CONFIG.source_dir, "objects", "meshes")
-    files = sorted(f for f in os.listdir(meshes) if os.path.splitext(f)[0] in objects)
-    for f in files:
-        subprocess.run([CONFIG.preprocess, os.path.join(meshes, f), "-o", out_dir, "-q"],
-                       check=True, capture_output=True, timeout=120)
-    robot = os.path.join(CONFIG.source_dir, "robots", "kr5_sdh", "kr5_sdh.json")
-    subprocess.run([CONFIG.preprocess, "--hand", robot, "-o", out_dir], check=True,
-                   capture_output=True, timeout=120)
-
-
 def run_tests(with_client=False):
     parser = argparse.ArgumentParser()
     for option in ("--server", "--preprocess", "--source-dir"):
@@ -58,7 +49,7 @@ def run_tests(with_client=False):
         setattr(CONFIG, key, value and os.path.abspath(value))
     CONFIG.db_dir = tempfile.mkdtemp(prefix="hfts-service-db-")
     try:
-        build_databases(CONFIG.db_dir)
+        build_databases(CONFIG.preprocess, CONFIG.source_dir, CONFIG.db_dir, ["mug", "blob"])
         program = unittest.main(argv=[sys.argv[0], *rest], verbosity=2, exit=False)
     finally:
         shutil.rmtree(CONFIG.db_dir, ignore_errors=True)

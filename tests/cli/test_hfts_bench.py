@@ -2,16 +2,16 @@
 """End-to-end tests of the hfts-bench command line (docs/benchmarks.md).
 Run by ctest with Debian's /usr/bin/python3; standard library only."""
 
-import argparse
 import csv
 import json
 import os
 import re
 import shutil
-import subprocess
 import sys
 import tempfile
 import unittest
+
+from cli_support import bench_options, build_databases, run
 
 BENCH = None
 PREPROCESS = None
@@ -21,23 +21,12 @@ HEADER = ["scene", "object", "algorithm", "seed", "success", "failure", "time", 
 TIME_LIMIT = 10
 
 
-def run(binary, *args, check=None):
-    result = subprocess.run([binary, *map(str, args)], capture_output=True, text=True,
-                            timeout=240, stdin=subprocess.DEVNULL)
-    if check is not None:
-        assert result.returncode == check, (result.returncode, result.stdout, result.stderr)
-    return result
-
-
 class BenchCli(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.mkdtemp(prefix="hfts-bench-")
         cls.db = os.path.join(cls.tmp, "db")
-        run(PREPROCESS, os.path.join(SOURCE_DIR, "objects", "meshes", "mug.ply"), "-o", cls.db,
-            "-q", check=0)
-        run(PREPROCESS, "--hand", os.path.join(SOURCE_DIR, "robots", "kr5_sdh", "kr5_sdh.json"),
-            "-o", cls.db, check=0)
+        build_databases(PREPROCESS, SOURCE_DIR, cls.db, ["mug"])
         cls.csv = os.path.join(cls.tmp, "results.csv")
         cls.bench = cls.run_bench("--scenes", "table", "--objects", "mug",
                                   "--algorithms", "coupled,decoupled20", "--runs", 2,
@@ -156,10 +145,5 @@ class BenchCli(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--binary", required=True)
-    parser.add_argument("--preprocess", required=True)
-    parser.add_argument("--source-dir", required=True)
-    args, rest = parser.parse_known_args()
-    BENCH, PREPROCESS, SOURCE_DIR = args.binary, args.preprocess, args.source_dir
+    BENCH, PREPROCESS, SOURCE_DIR, rest = bench_options()
     unittest.main(argv=[sys.argv[0], *rest], verbosity=2)

@@ -4,7 +4,6 @@
 (read the way OMPL's ompl_benchmark_statistics.py reads them) and its
 plots. Run by ctest with Debian's /usr/bin/python3; standard library only."""
 
-import argparse
 import csv
 import os
 import shutil
@@ -14,6 +13,8 @@ import sys
 import tempfile
 import unittest
 import zlib
+
+from cli_support import bench_options, build_databases, run
 
 BENCH = None
 PREPROCESS = None
@@ -28,11 +29,6 @@ RUN_PROPERTIES = ["collision checks INTEGER", "cpu time REAL", "goal sampling ca
                   "grasp epsilon REAL", "hfts nodes explored INTEGER", "seed INTEGER",
                   "solution length REAL", "solved BOOLEAN", "status ENUM", "time REAL",
                   "valid goal samples INTEGER"]
-
-
-def run(binary, *args):
-    return subprocess.run([binary, *map(str, args)], capture_output=True, text=True,
-                          timeout=240, stdin=subprocess.DEVNULL)
 
 
 class LogReader:
@@ -85,11 +81,7 @@ class BenchExperiment(unittest.TestCase):
     def setUpClass(cls):
         cls.tmp = tempfile.mkdtemp(prefix="hfts-bench-experiment-")
         cls.db = os.path.join(cls.tmp, "db")
-        meshes = os.path.join(SOURCE_DIR, "objects", "meshes")
-        for mesh in ("mug.ply", "blob.stl"):
-            assert run(PREPROCESS, os.path.join(meshes, mesh), "-o", cls.db, "-q").returncode == 0
-        robot = os.path.join(SOURCE_DIR, "robots", "kr5_sdh", "kr5_sdh.json")
-        assert run(PREPROCESS, "--hand", robot, "-o", cls.db).returncode == 0
+        build_databases(PREPROCESS, SOURCE_DIR, cls.db, ["mug", "blob"])
         cls.out = os.path.join(cls.tmp, "quick")
         cls.result = run(BENCH, "--db", cls.db, "--experiment", "paper", "--quick",
                          "--out-dir", cls.out)
@@ -243,10 +235,5 @@ class BenchExperiment(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--binary", required=True)
-    parser.add_argument("--preprocess", required=True)
-    parser.add_argument("--source-dir", required=True)
-    args, rest = parser.parse_known_args()
-    BENCH, PREPROCESS, SOURCE_DIR = args.binary, args.preprocess, args.source_dir
+    BENCH, PREPROCESS, SOURCE_DIR, rest = bench_options()
     unittest.main(argv=[sys.argv[0], *rest], verbosity=2)

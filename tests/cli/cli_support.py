@@ -1,0 +1,39 @@
+"""What the command-line tests share: running a program and building the
+databases of bundled objects (standard library only)."""
+
+import argparse
+import os
+import subprocess
+
+
+def run(binary, *args, check=None, timeout=240):
+    """Runs `binary` with `args` (stdin closed, output captured); with
+    `check`, asserts that it exits with that status."""
+    result = subprocess.run([binary, *map(str, args)], capture_output=True, text=True,
+                            timeout=timeout, stdin=subprocess.DEVNULL)
+    if check is not None:
+        assert result.returncode == check, (result.returncode, result.stdout, result.stderr)
+    return result
+
+
+def build_databases(preprocess, source_dir, out_dir, objects):
+    """The databases of the named bundled objects and the KR5 + SDH hand map,
+    written into `out_dir` with hfts-preprocess (what hfts-bench and
+    hfts-server read)."""
+    meshes = os.path.join(source_dir, "objects", "meshes")
+    for mesh in sorted(os.listdir(meshes)):
+        if os.path.splitext(mesh)[0] in objects:
+            run(preprocess, os.path.join(meshes, mesh), "-o", out_dir, "-q", check=0)
+    robot = os.path.join(source_dir, "robots", "kr5_sdh", "kr5_sdh.json")
+    run(preprocess, "--hand", robot, "-o", out_dir, check=0)
+
+
+def bench_options():
+    """--binary, --preprocess and --source-dir of the hfts-bench tests, and
+    the remaining arguments for unittest."""
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--binary", required=True)
+    parser.add_argument("--preprocess", required=True)
+    parser.add_argument("--source-dir", required=True)
+    args, rest = parser.parse_known_args()
+    return args.binary, args.preprocess, args.source_dir, rest
