@@ -64,6 +64,27 @@ TEST(GoalHierarchyCache, RatingFollowsEquation4) {
   EXPECT_NEAR(cache.rating(c, k), kWf, 1e-12);
 }
 
+/// Knowledge that grows by one unit of distance per look at a
+/// configuration: the value shows how often its memo was seen.
+class CountingKnowledge : public FakeKnowledge {
+ public:
+  FreeSpaceDistance distances(const Eigen::VectorXd& /*q*/, FreeSpaceMemo& memo) const override {
+    ++memo.connected_seen;
+    return {0.0, static_cast<double>(memo.connected_seen)};
+  }
+};
+
+TEST(GoalHierarchyCache, RatingsKeepEachConfigurationsMemoAcrossInvalidations) {
+  GoalHierarchyCache cache(space(), {kWf, kWc, 20});
+  const CountingKnowledge k;
+  const int a = cache.addChild(0, space().child(space().root(), 0), {at(9.0, 9.0)}, 0.1);
+  EXPECT_DOUBLE_EQ(cache.rating(a, k), configRating(0.0, 1.0));
+  EXPECT_DOUBLE_EQ(cache.rating(a, k), configRating(0.0, 1.0));  // memoised: not asked again
+  cache.invalidateRatings();
+  EXPECT_DOUBLE_EQ(cache.rating(a, k), configRating(0.0, 2.0));  // the same memo, seen twice
+  EXPECT_EQ(cache.node(a).configurations.front().memo.connected_seen, 2u);
+}
+
 TEST(GoalHierarchyCache, BranchRatingAveragesActiveChildren) {
   GoalHierarchyCache cache(space(), {kWf, kWc, 20});
   const FakeKnowledge k;
