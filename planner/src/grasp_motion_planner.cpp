@@ -298,6 +298,7 @@ PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
   s.goal_trees = trees.goal_trees;
   s.approximate_trees = trees.approximate_trees;
   s.merged_trees = trees.merged_trees;
+  s.rejected_paths = trees.rejected_paths;
   s.collision_checks = checker.checkCount();
   s.forward_tree_size = trees.forward_tree_size;
   s.backward_tree_nodes = trees.backward_tree_nodes;

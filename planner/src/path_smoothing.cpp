@@ -48,6 +48,22 @@ class LimitWithGrace {
   std::optional<std::chrono::steady_clock::time_point> fired_;
 };
 
+/// Sets a motion validator's resolution for its lifetime.
+class ScopedResolution {
+ public:
+  ScopedResolution(CollisionMotionValidator& validator, double resolution)
+      : validator_(validator), previous_(validator.resolution()) {
+    validator_.setResolution(resolution);
+  }
+  ~ScopedResolution() { validator_.setResolution(previous_); }
+  ScopedResolution(const ScopedResolution&) = delete;
+  ScopedResolution& operator=(const ScopedResolution&) = delete;
+
+ private:
+  CollisionMotionValidator& validator_;
+  double previous_;
+};
+
 bool validWithin(const CollisionMotionValidator& validator,
                  const std::vector<Eigen::VectorXd>& path, double resolution,
                  LimitWithGrace& limit) {
@@ -93,17 +109,24 @@ bool denselyValid(const CollisionMotionValidator& validator,
 std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
     const ob::SpaceInformationPtr& si, const std::vector<Eigen::VectorXd>& raw,
     const PathSmoothing& smoothing, const ob::PlannerTerminationCondition& ptc) {
-  const auto* validator =
-      dynamic_cast<const CollisionMotionValidator*>(si->getMotionValidator().get());
-  if (validator == nullptr)
-    throw std::invalid_argument("path smoothing needs a CollisionMotionValidator");
+  const auto validator =
+      std::dynamic_pointer_cast<CollisionMotionValidator>(si->getMotionValidator());
+  if (!validator) throw std::invalid_argument("path smoothing needs a CollisionMotionValidator");
   LimitWithGrace limit(ptc);
   limit.expired();  // starts the grace period if the limit has passed already
   std::vector<Eigen::VectorXd> smoothed = smoothPath(si, raw, smoothing, ptc);
   if (validWithin(*validator, smoothed, smoothing.final_resolution, limit)) return smoothed;
-  // The unsmoothed path is longer, so its check costs more: only with time left.
-  if (ptc() || smoothed.size() == raw.size()) return std::nullopt;
-  if (validWithin(*validator, raw, smoothing.final_resolution, limit)) return raw;
+  if (ptc()) return std::nullopt;
+  // A shortcut free at the tree resolution grazed an obstacle between its
+  // samples. Smoothing again with every shortcut checked at the final
+  // resolution costs several times as much, so only here: the shortcuts
+  // are then as fine as the re-check, and only segments of `raw` left in
+  // place can still fail it (then `raw` fails too).
+  {
+    const ScopedResolution fine(*validator, smoothing.final_resolution);
+    smoothed = smoothPath(si, raw, smoothing, ptc);
+  }
+  if (validWithin(*validator, smoothed, smoothing.final_resolution, limit)) return smoothed;
   return std::nullopt;
 }
 

@@ -44,6 +44,7 @@ json statsJson(const planner::PlanStatistics& s) {
           {"goal_trees", s.goal_trees},
           {"approximate_trees", s.approximate_trees},
           {"merged_trees", s.merged_trees},
+          {"rejected_paths", s.rejected_paths},
           {"collision_checks", s.collision_checks},
           {"forward_tree_size", s.forward_tree_size},
           {"backward_tree_nodes", s.backward_tree_nodes},

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "planner/kinematics.h"
 #include "planner/scene.h"
 #include "robot_fixture.h"
 #include "test_meshes.h"
@@ -13,9 +14,9 @@ namespace ob = ompl::base;
 
 /// The robot alone (no obstacles, no target) or in the table scene.
 struct Fixture {
-  explicit Fixture(const Scene& scene)
+  explicit Fixture(const Scene& scene, double treeResolution = 0.02)
       : checker(test::kr5Sdh(), scene, nullptr),
-        si(makeSpaceInformation(test::kr5Sdh(), checker, 0.02)) {}
+        si(makeSpaceInformation(test::kr5Sdh(), checker, treeResolution)) {}
   const WeightedStateSpace& space() const { return *si->getStateSpace()->as<WeightedStateSpace>(); }
   const CollisionMotionValidator& validator() const {
     return dynamic_cast<const CollisionMotionValidator&>(*si->getMotionValidator());
@@ -53,6 +54,37 @@ std::vector<Eigen::VectorXd> throughTheTable() {
   return {*scene.start,
           (Eigen::VectorXd(13) << 0, 0.6, 0.5, 0, 1.57, 0, 0, -0.2, 0.2, -0.2, 0.2, -0.2, 0.2)
               .finished()};
+}
+
+/// A ball where the palm is at the home pose: swinging the first joint
+/// through home hits it, swinging with the elbow raised passes above it.
+Scene ballAtThePalm() {
+  const RobotModel& robot = test::kr5Sdh();
+  Obstacle ball;
+  ball.name = "ball";
+  ball.type = Obstacle::Type::kSphere;
+  ball.size = Eigen::Vector3d(0.03, 0, 0);
+  ball.pose.translation() =
+      forwardKinematics(robot, robot.home())[static_cast<std::size_t>(robot.palmLink())]
+          .translation();
+  Scene scene = emptyScene();
+  scene.obstacles.push_back(ball);
+  return scene;
+}
+
+/// From the first joint at -0.6 to +0.6 rad around the ball, over it, in
+/// short straight pieces.
+std::vector<Eigen::VectorXd> overTheBall() {
+  const Eigen::VectorXd home = test::kr5Sdh().home();
+  const Eigen::Index n = home.size();
+  const Eigen::VectorXd swing = Eigen::VectorXd::Unit(n, 0);
+  const Eigen::VectorXd raise = -0.5 * Eigen::VectorXd::Unit(n, 1);
+  const Eigen::VectorXd a = home - 0.6 * swing, b = a + raise, c = b + 1.2 * swing, d = c - raise;
+  std::vector<Eigen::VectorXd> path;
+  for (const auto& [from, to] : {std::pair{a, b}, {b, c}, {c, d}})
+    for (int i = 0; i < 4; ++i) path.push_back(from + (to - from) * (i / 4.0));
+  path.push_back(d);
+  return path;
 }
 
 const ob::PlannerTerminationCondition kNever = ob::plannerNonTerminatingCondition();
@@ -101,6 +133,26 @@ TEST(PathSmoothing, SmoothAndRecheckReturnsOnlyCheckedPaths) {
   EXPECT_TRUE(denselyValid(free.validator(), *kept, 0.0025));
   const Fixture table(tableScene());
   EXPECT_FALSE(smoothAndRecheck(table.si, throughTheTable(), {}, kNever).has_value());
+}
+
+TEST(PathSmoothing, ShortcutsThatGrazeBetweenTreeSamplesAreSmoothedAgainFinely) {
+  // Trees checked every 0.5: the straight swing through the ball passes the
+  // tree check but not the dense re-check.
+  const Fixture f(ballAtThePalm(), 0.5);
+  const std::vector<Eigen::VectorXd> raw = overTheBall();
+  ASSERT_TRUE(denselyValid(f.validator(), raw, 0.0025));
+  ASSERT_FALSE(denselyValid(f.validator(), {raw.front(), raw.back()}, 0.0025));
+  ASSERT_TRUE(denselyValid(f.validator(), {raw.front(), raw.back()}, 0.5));
+  ASSERT_FALSE(denselyValid(f.validator(), smoothPath(f.si, raw, {}, kNever), 0.0025))
+      << "the smoother no longer takes the grazing shortcut: the test checks nothing";
+  const auto kept = smoothAndRecheck(f.si, raw, {}, kNever);
+  ASSERT_TRUE(kept.has_value());
+  EXPECT_TRUE(denselyValid(f.validator(), *kept, 0.0025));
+  EXPECT_EQ(kept->front(), raw.front());
+  EXPECT_EQ(kept->back(), raw.back());
+  // Smoothed, not the unsmoothed path.
+  EXPECT_LT(pathLength(f.space(), *kept), pathLength(f.space(), raw) - 1e-6);
+  EXPECT_EQ(f.validator().resolution(), 0.5) << "the tree resolution is restored";
 }
 
 TEST(PathSmoothing, LengthIsTheSumOfWeightedSegments) {

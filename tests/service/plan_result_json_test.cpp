@@ -85,7 +85,7 @@ TEST(PlanResultJson, EchoesTheRequestAndStatistics) {
   EXPECT_EQ(j.at("stats").at("planning_time"), 0.5);
   EXPECT_EQ(j.at("stats").at("iterations"), 42);
   EXPECT_EQ(j.at("stats").at("path_length_smoothed"), 1.5);
-  EXPECT_EQ(j.at("stats").size(), 14u);
+  EXPECT_EQ(j.at("stats").size(), 15u);
 }
 
 TEST(PlanResultJson, AFailureHasAReasonAndNoGrasp) {

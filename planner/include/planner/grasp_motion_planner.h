@@ -118,6 +118,8 @@ struct PlanStatistics {
   std::uint64_t goal_trees = 0;
   std::uint64_t approximate_trees = 0;
   std::uint64_t merged_trees = 0;
+  /// Connections whose path failed the dense re-check (its goal tree dropped).
+  std::uint64_t rejected_paths = 0;
   std::uint64_t collision_checks = 0;
   std::uint64_t forward_tree_size = 0;
   std::uint64_t backward_tree_nodes = 0;

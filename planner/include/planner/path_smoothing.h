@@ -2,7 +2,8 @@
 // What a found path goes through before a planner returns it
 // (docs/planning.md): OMPL's vertex reduction and shortcutting for a
 // counted number of steps from a seeded generator, then a dense re-check
-// at the final resolution, with the unsmoothed path as the fallback.
+// at the final resolution; when a shortcut fails it, smoothing again with
+// the shortcuts checked at the final resolution.
 // Include only where OMPL is used.
 
 #include <ompl/base/PlannerTerminationCondition.h>
@@ -42,10 +43,13 @@ bool denselyValid(const CollisionMotionValidator& validator,
                   const std::vector<Eigen::VectorXd>& path, double resolution);
 
 /// The path a planner returns for `raw` (free at the tree resolution):
-/// smoothed if the smoothed path passes the dense re-check, else `raw` if
-/// it does (tried only while `ptc` allows), else nothing. The re-check
-/// gives up (nothing) 40 ms after `ptc` fires, bounding how far a planner
-/// overruns its time limit.
+/// smoothed with shortcuts checked at the tree resolution if that passes
+/// the dense re-check at `final_resolution`; else (only while `ptc`
+/// allows) smoothed again from `raw` with every shortcut checked at
+/// `final_resolution`, if that passes; else nothing (a segment of `raw`
+/// itself fails). The re-check gives up (nothing) 40 ms after `ptc`
+/// fires, bounding how far a planner overruns its time limit. The motion
+/// validator's resolution is the same afterwards.
 std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
     const ompl::base::SpaceInformationPtr& si, const std::vector<Eigen::VectorXd>& raw,
     const PathSmoothing& smoothing, const ompl::base::PlannerTerminationCondition& ptc);
