@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <queue>
 
 #include "planner/kinematics.h"
@@ -54,6 +55,23 @@ Geometry meshGeometry(const TriangleMesh& mesh) {
   model->endModel();
   return model;
 }
+
+}  // namespace
+
+struct CollisionMesh::Impl {
+  Geometry geometry;
+  /// Making a collision object of a geometry writes its local bounding box
+  /// (the same values every time): one checker at a time.
+  std::mutex objectCreation;
+};
+
+CollisionMesh::CollisionMesh(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>()) {
+  impl_->geometry = meshGeometry(mesh);
+}
+
+CollisionMesh::~CollisionMesh() = default;
+
+namespace {
 
 struct QueryData {
   const RobotModel* model = nullptr;
@@ -135,8 +153,14 @@ struct CollisionChecker::Impl {
     return tags.back().get();
   }
 
-  void addEnvironment(const Geometry& geometry, const Eigen::Isometry3d& pose, Tag value) {
-    auto object = std::make_unique<Object>(geometry, pose.linear(), pose.translation());
+  void addEnvironment(const Geometry& geometry, const Eigen::Isometry3d& pose, Tag value,
+                      std::mutex* creation = nullptr) {
+    std::unique_ptr<Object> object;
+    {
+      std::unique_lock<std::mutex> lock;
+      if (creation != nullptr) lock = std::unique_lock<std::mutex>(*creation);
+      object = std::make_unique<Object>(geometry, pose.linear(), pose.translation());
+    }
     object->setUserData(tag(std::move(value)));
     object->computeAABB();
     environment.registerObject(object.get());
@@ -184,7 +208,8 @@ struct CollisionChecker::Impl {
 };
 
 CollisionChecker::CollisionChecker(const RobotModel& model, const Scene& scene,
-                                   const db::ObjectGeometry* target)
+                                   const db::ObjectGeometry* target,
+                                   const CollisionMesh* targetMesh)
     : impl_(std::make_unique<Impl>(model, scene)) {
   for (const Obstacle& o : scene.obstacles) {
     const Geometry geometry = o.type == Obstacle::Type::kMesh
@@ -193,9 +218,14 @@ CollisionChecker::CollisionChecker(const RobotModel& model, const Scene& scene,
     impl_->addEnvironment(geometry, o.pose, {-1, false, false, "obstacle '" + o.name + "'"});
   }
   if (target != nullptr) {
-    const TriangleMesh mesh{target->mesh_vertices, target->mesh_triangles};
-    impl_->addEnvironment(meshGeometry(mesh), scene.target_pose,
-                          {-1, true, false, "target '" + scene.target_object + "'"});
+    Tag tag{-1, true, false, "target '" + scene.target_object + "'"};
+    if (targetMesh != nullptr) {
+      impl_->addEnvironment(targetMesh->impl_->geometry, scene.target_pose, std::move(tag),
+                            &targetMesh->impl_->objectCreation);
+    } else {
+      const TriangleMesh mesh{target->mesh_vertices, target->mesh_triangles};
+      impl_->addEnvironment(meshGeometry(mesh), scene.target_pose, std::move(tag));
+    }
   }
   impl_->environment.setup();
   impl_->addRobot();

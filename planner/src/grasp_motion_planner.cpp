@@ -21,7 +21,14 @@ PlanningWorld::PlanningWorld(RobotModel robot, db::HandMap handMap,
       ik_(robot_),
       fast_(robot_, handMap),
       thorough_(robot_, std::move(handMap), HandQueryOptions::thorough()),
-      objects_(std::move(objects)) {}
+      objects_(std::move(objects)) {
+  for (const auto& [name, database] : objects_)
+    collisionMeshes_.emplace(
+        name, std::make_unique<const CollisionMesh>(
+                  TriangleMesh{database.geometry.mesh_vertices, database.geometry.mesh_triangles}));
+}
+
+PlanningWorld::~PlanningWorld() = default;
 
 std::shared_ptr<const PlanningWorld> PlanningWorld::load(const std::filesystem::path& robotConfig,
                                                          const std::filesystem::path& dbDir,
@@ -59,6 +66,11 @@ std::shared_ptr<const PlanningWorld> PlanningWorld::load(const std::filesystem::
 const db::ObjectDatabase* PlanningWorld::object(const std::string& name) const {
   const auto it = objects_.find(name);
   return it == objects_.end() ? nullptr : &it->second;
+}
+
+const CollisionMesh* PlanningWorld::collisionMesh(const std::string& name) const {
+  const auto it = collisionMeshes_.find(name);
+  return it == collisionMeshes_.end() ? nullptr : it->second.get();
 }
 
 std::vector<std::string> PlanningWorld::objectNames() const {
@@ -219,7 +231,7 @@ PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
   Scene scene = request.scene;
   scene.target_object = name;
   if (request.object_pose) scene.target_pose = *request.object_pose;
-  CollisionChecker checker(robot, scene, &object->geometry);
+  CollisionChecker checker(robot, scene, &object->geometry, world.collisionMesh(name));
   const auto si = makeSpaceInformation(robot, checker, kTreeResolution);
   const std::shared_ptr<MultiTreeCBiRRT> planner = makePlanner(si, request);
   CollisionPair pair;

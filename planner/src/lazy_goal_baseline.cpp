@@ -62,7 +62,7 @@ struct SamplingThreadTools {
                       const db::ObjectDatabase& object, const HftsSpace& space,
                       const LazyGoalSettings& settings, const WeightedStateSpace& plannerSpace,
                       double resolution)
-      : checker(world.robot(), scene, &object.geometry),
+      : checker(world.robot(), scene, &object.geometry, world.collisionMesh(object.name)),
         si(spaceInformationWithWeights(world.robot(), checker, plannerSpace.weights(), resolution)),
         objective(space, world.handMap(), settings.objective),
         configurator(world.robot(), world.ik(), world.thoroughHandMap(), checker, scene.target_pose,

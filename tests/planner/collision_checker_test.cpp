@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <random>
+#include <thread>
 
 #include "bundled_objects.h"
 #include "planner/arm_ik.h"
@@ -170,6 +172,50 @@ TEST(CollisionChecker, OnlyFingertipsMayTouchTheTargetUnderTheGraspRule) {
   CollisionChecker palm(m(), scene, &cube);
   EXPECT_TRUE(palm.inCollisionAllowingFingertipContact(q, &pair));
   EXPECT_EQ(pair.second.find("target"), 0u) << pair.first << " / " << pair.second;
+}
+
+TEST(CollisionChecker, ASharedCollisionMeshGivesTheSameAnswersFromAnyThread) {
+  // Random configurations around a palm-down pose over the mug (alone in
+  // the scene): some touch it.
+  Scene scene;
+  scene.target_object = "mug";
+  scene.target_pose = bundledScene("table").target_pose;
+  const db::ObjectDatabase& mug = objects().at("mug");
+  const CollisionMesh shared(TriangleMesh{mug.geometry.mesh_vertices, mug.geometry.mesh_triangles});
+  const ArmIk ik(m());
+  std::mt19937_64 rng(5);
+  Eigen::Isometry3d palm = Eigen::Isometry3d::Identity();
+  palm.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  palm.translation() = scene.robot_base.inverse() * scene.target_pose * Eigen::Vector3d(0, 0, 0.34);
+  const auto solutions = ik.solvePalm(palm, rng);
+  ASSERT_FALSE(solutions.empty());
+  std::vector<Eigen::VectorXd> qs;
+  std::normal_distribution<double> noise(0.0, 0.05);
+  for (int i = 0; i < 200; ++i) {
+    Eigen::VectorXd q(13);
+    q << solutions.front(), m().handOpen();
+    for (Eigen::Index d = 0; d < 6; ++d) q(d) += noise(rng);
+    qs.push_back(q);
+  }
+  CollisionChecker own(m(), scene, &mug.geometry);
+  std::vector<char> expected;
+  for (const Eigen::VectorXd& q : qs) expected.push_back(own.inCollision(q) ? 1 : 0);
+  const auto hits = std::count(expected.begin(), expected.end(), 1);
+  ASSERT_GT(hits, 20);
+  ASSERT_LT(hits, 180);
+  // Four threads, each with its own checker on the one hierarchy.
+  std::vector<std::vector<char>> answers(4);
+  std::vector<std::thread> threads;
+  for (auto& out : answers)
+    threads.emplace_back([&, out = &out] {
+      CollisionChecker checker(m(), scene, &mug.geometry, &shared);
+      for (int round = 0; round < 3; ++round) {
+        out->clear();
+        for (const Eigen::VectorXd& q : qs) out->push_back(checker.inCollision(q) ? 1 : 0);
+      }
+    });
+  for (std::thread& t : threads) t.join();
+  for (const auto& out : answers) EXPECT_EQ(out, expected);
 }
 
 TEST(CollisionChecker, MotionIsCheckedAtTheGivenResolution) {

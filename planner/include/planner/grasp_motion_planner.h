@@ -25,6 +25,8 @@
 
 namespace hfts::planner {
 
+class CollisionMesh;
+
 /// What plans are made with: the robot, its hand reachability map and the
 /// object databases. Immutable once built; share it between threads.
 class PlanningWorld {
@@ -32,6 +34,7 @@ class PlanningWorld {
   /// Throws ModelError when the map does not belong to the robot.
   PlanningWorld(RobotModel robot, db::HandMap handMap,
                 std::map<std::string, db::ObjectDatabase> objects);
+  ~PlanningWorld();
   PlanningWorld(const PlanningWorld&) = delete;
   PlanningWorld& operator=(const PlanningWorld&) = delete;
 
@@ -51,6 +54,9 @@ class PlanningWorld {
   const HandReachability& thoroughHandMap() const { return thorough_; }
   /// nullptr for an unknown name.
   const db::ObjectDatabase* object(const std::string& name) const;
+  /// The collision hierarchy of an object's mesh, built once with the
+  /// world; nullptr for an unknown name.
+  const CollisionMesh* collisionMesh(const std::string& name) const;
   std::vector<std::string> objectNames() const;
 
  private:
@@ -59,6 +65,7 @@ class PlanningWorld {
   HandReachability fast_;
   HandReachability thorough_;
   std::map<std::string, db::ObjectDatabase> objects_;
+  std::map<std::string, std::unique_ptr<const CollisionMesh>> collisionMeshes_;
 };
 
 enum class PlanAlgorithm {
