@@ -21,14 +21,16 @@ namespace hfts::planner {
 
 /// How a path is smoothed and re-checked.
 struct PathSmoothing {
-  unsigned steps = 200;              ///< of each pass (vertex reduction, shortcutting)
+  unsigned steps = 200;              ///< at most, of each pass (vertex reduction, shortcutting)
   double final_resolution = 0.0025;  ///< of the dense re-check (Eq. (3) metric)
   std::uint32_t seed = 1;            ///< of OMPL's PathSimplifier
 };
 
 /// Shortens `path` with OMPL's PathSimplifier on `si` (whose motion
-/// validator checks the shortcuts): `steps` of vertex reduction, then
-/// `steps` of shortcutting, in batches between which `ptc` is polled. The
+/// validator checks the shortcuts): up to `steps` of vertex reduction,
+/// then up to `steps` of shortcutting, in batches of 20 between which
+/// `ptc` is polled; a pass ends early after 40 failed attempts in a row
+/// (two batches that shortened nothing). The
 /// first batch runs even when `ptc` has fired (a shorter path is cheaper
 /// to re-check). Counted steps, not a time budget, so the seed fixes the
 /// result. The end points never move.
