@@ -135,7 +135,7 @@ TEST(PathSmoothing, SmoothAndRecheckReturnsOnlyCheckedPaths) {
   EXPECT_FALSE(smoothAndRecheck(table.si, throughTheTable(), {}, kNever).has_value());
 }
 
-TEST(PathSmoothing, ShortcutsThatGrazeBetweenTreeSamplesAreSmoothedAgainFinely) {
+TEST(PathSmoothing, AShortcutThatGrazesBetweenTreeSamplesIsRepaired) {
   // Trees checked every 0.5: the straight swing through the ball passes the
   // tree check but not the dense re-check.
   const Fixture f(ballAtThePalm(), 0.5);

@@ -2,8 +2,9 @@
 // What a found path goes through before a planner returns it
 // (docs/planning.md): OMPL's vertex reduction and shortcutting for a
 // counted number of steps from a seeded generator, then a dense re-check
-// at the final resolution; when a shortcut fails it, smoothing again with
-// the shortcuts checked at the final resolution.
+// at the final resolution; when a shortcut fails it, a repair that smooths
+// on from the last batch that passed with shortcuts checked at the final
+// resolution.
 // Include only where OMPL is used.
 
 #include <ompl/base/PlannerTerminationCondition.h>
@@ -46,11 +47,13 @@ bool denselyValid(const CollisionMotionValidator& validator,
 
 /// The path a planner returns for `raw` (free at the tree resolution):
 /// smoothed with shortcuts checked at the tree resolution if that passes
-/// the dense re-check at `final_resolution`; else (only while `ptc`
-/// allows) smoothed again from `raw` with every shortcut checked at
-/// `final_resolution`, if that passes; else nothing (a segment of `raw`
-/// itself fails). The re-check gives up (nothing) 40 ms after `ptc`
-/// fires, bounding how far a planner overruns its time limit. The motion
+/// the dense re-check at `final_resolution`. Else (only while `ptc`
+/// allows) repaired: the path after a smoothing batch that passes the
+/// re-check (found by bisection over the batches; `raw` if need be),
+/// smoothed on for one batch of each pass with the shortcuts checked at
+/// `final_resolution`. Nothing when `raw` itself fails. The re-check gives
+/// up (nothing, or the last path that passed) 40 ms after `ptc` fires,
+/// bounding how far a planner overruns its time limit. The motion
 /// validator's resolution is the same afterwards.
 std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
     const ompl::base::SpaceInformationPtr& si, const std::vector<Eigen::VectorXd>& raw,
