@@ -60,8 +60,9 @@ Geometry meshGeometry(const TriangleMesh& mesh) {
 
 struct CollisionMesh::Impl {
   Geometry geometry;
-  /// Making a collision object of a geometry writes its local bounding box
-  /// (the same values every time): one checker at a time.
+  /// Making a collision object of a geometry writes the geometry's local
+  /// bounding box (the same values every time) and placing the object
+  /// reads it: one checker at a time. Queries do not touch it.
   std::mutex objectCreation;
 };
 
@@ -160,9 +161,9 @@ struct CollisionChecker::Impl {
       std::unique_lock<std::mutex> lock;
       if (creation != nullptr) lock = std::unique_lock<std::mutex>(*creation);
       object = std::make_unique<Object>(geometry, pose.linear(), pose.translation());
+      object->computeAABB();  // reads the geometry's local box
     }
     object->setUserData(tag(std::move(value)));
-    object->computeAABB();
     environment.registerObject(object.get());
     environmentObjects.push_back(std::move(object));
   }
