@@ -3,7 +3,7 @@
 // (docs/planning.md): OMPL's vertex reduction and shortcutting for a
 // counted number of steps from a seeded generator, then a dense re-check
 // at the final resolution; when a shortcut fails it, a repair that smooths
-// on from the last batch that passed with shortcuts checked at the final
+// on from a batch whose path passed, with shortcuts checked at the final
 // resolution.
 // Include only where OMPL is used.
 
