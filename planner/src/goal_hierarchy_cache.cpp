@@ -76,22 +76,6 @@ double GoalHierarchyCache::configurationRating(CachedConfiguration& config,
   return weights_.w_f * std::exp(-d.to_non_connected) + weights_.w_c * std::exp(-d.to_connected);
 }
 
-CachedConfiguration* GoalHierarchyCache::bestConfiguration(
-    int n, const FreeSpaceDistances& knowledge,
-    const std::function<bool(const CachedConfiguration&)>& eligible) {
-  CachedConfiguration* best = nullptr;
-  double bestRating = -1.0;
-  for (CachedConfiguration& config : node(n).configurations) {
-    if (!eligible(config)) continue;
-    const double r = configurationRating(config, knowledge);
-    if (r > bestRating) {
-      best = &config;
-      bestRating = r;
-    }
-  }
-  return best;
-}
-
 double GoalHierarchyCache::rating(int n, const FreeSpaceDistances& knowledge) {
   double& memo = t_[static_cast<std::size_t>(n)];
   if (!std::isnan(memo)) return memo;

@@ -119,23 +119,19 @@ GoalSample HftsGoalSampler::sample(const FreeSpaceDistances& planner,
     if (cache_.shouldDescend(parent, child, knowledge, rng)) {
       parent = child;
     } else if (cache_.coverage(parent) >= 1.0) {  // lines 7-13
-      if (const CachedConfiguration* goal = sampleNullSpace(child, knowledge))
+      if (const CachedConfiguration* goal = sampleNullSpace(child))
         return describe(cache_.node(child).hfts, *goal, GoalKind::kGoal);
       --k;
     } else {  // lines 14-27
       child = sampleNewChild(parent, iterationsFor(parent, knowledge));
       --k;
       if (child == GoalHierarchyCache::kNone) continue;
-      // A goal grasp roots its backward tree at the IK branch the rating of
-      // Eq. (4) is about: the best-rated one, nearest to T_f above all
-      // (w_c > w_f). A grasp's branches lie far apart in C, so the branch
-      // matters as much as the grasp (docs/planning.md).
-      if (CachedConfiguration* goal = sampleNullSpace(child, knowledge))
-        return describe(cache_.node(child).hfts, *goal, GoalKind::kGoal);
-      // An approximate goal is the solver's first branch: A is to lead the
-      // trees into new regions, and its best-rated branch lies next to T_f
-      // (measured: such trees merge at once, and the shelf runs got slower).
-      const CacheNode& created = cache_.node(child);
+      CacheNode& created = cache_.node(child);
+      for (CachedConfiguration& c : created.configurations) {
+        if (!c.goal) continue;
+        c.returned = true;
+        return describe(created.hfts, c, GoalKind::kGoal);
+      }
       if (!created.configurations.empty() && created.configurations.front().collision_free) {
         approximate_.push_back(created.configurations.front().pregrasp);
         approximateNodes_.push_back(created.hfts);
@@ -172,14 +168,15 @@ int HftsGoalSampler::sampleNewChild(int parent, int iterations) {
   return cache_.addChild(parent, best.best, configurationsOf(best.best, epsilon), epsilon);
 }
 
-CachedConfiguration* HftsGoalSampler::sampleNullSpace(int node,
-                                                      const FreeSpaceDistances& knowledge) {
+const CachedConfiguration* HftsGoalSampler::sampleNullSpace(int node) {
   // The KR5 is not redundant and three contacts fix the palm for a hand
   // posture, so the null space of a grasp is its other IK branches.
-  CachedConfiguration* best = cache_.bestConfiguration(
-      node, knowledge, [](const CachedConfiguration& c) { return c.goal && !c.returned; });
-  if (best != nullptr) best->returned = true;
-  return best;
+  for (CachedConfiguration& c : cache_.node(node).configurations) {
+    if (!c.goal || c.returned) continue;
+    c.returned = true;
+    return &c;
+  }
+  return nullptr;
 }
 
 DecoupledGoalSampler::DecoupledGoalSampler(GoalSamplingContext context, int iterations)

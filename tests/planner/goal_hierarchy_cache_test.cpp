@@ -64,28 +64,6 @@ TEST(GoalHierarchyCache, RatingFollowsEquation4) {
   EXPECT_NEAR(cache.rating(c, k), kWf, 1e-12);
 }
 
-TEST(GoalHierarchyCache, BestConfigurationIsTheHighestRatedEligibleOne) {
-  GoalHierarchyCache cache(space(), {kWf, kWc, 20});
-  const FakeKnowledge k;
-  // Three IK branches of one grasp: far from T_f but at a backward tree,
-  // nearest to T_f, in between. w_c > w_f: nearness to T_f decides.
-  std::vector<CachedConfiguration> branches{at(0.0, 3.0), at(2.0, 0.5), at(1.0, 1.0)};
-  branches[1].goal = false;
-  branches[0].goal = branches[2].goal = true;
-  const int n = cache.addChild(0, space().child(space().root(), 0), branches, 0.1);
-  const auto any = [](const CachedConfiguration&) { return true; };
-  const auto goals = [](const CachedConfiguration& c) { return c.goal; };
-  CachedConfiguration* best = cache.bestConfiguration(n, k, any);
-  ASSERT_NE(best, nullptr);
-  EXPECT_EQ(best, &cache.node(n).configurations[1]);
-  EXPECT_DOUBLE_EQ(cache.configurationRating(*best, k), cache.rating(n, k));  // Eq. (4)'s max
-  EXPECT_EQ(cache.bestConfiguration(n, k, goals), &cache.node(n).configurations[2]);
-  EXPECT_EQ(cache.bestConfiguration(n, k, [](const CachedConfiguration&) { return false; }),
-            nullptr);
-  const int empty = cache.addChild(0, space().child(space().root(), 1), {}, 0.0);
-  EXPECT_EQ(cache.bestConfiguration(empty, k, any), nullptr);
-}
-
 /// Knowledge that grows by one unit of distance per look at a
 /// configuration: the value shows how often its memo was seen.
 class CountingKnowledge : public FakeKnowledge {

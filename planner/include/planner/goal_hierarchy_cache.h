@@ -7,7 +7,6 @@
 #include <Eigen/Core>
 
 #include <cstdint>
-#include <functional>
 #include <limits>
 #include <random>
 #include <unordered_set>
@@ -115,15 +114,6 @@ class GoalHierarchyCache {
   /// T_c(n) = (1 - |L(n)| / (|L_max(n)| + 1)) T(n): the weight of descending to n.
   double descendRating(int n, const FreeSpaceDistances& knowledge);
   void invalidateRatings();
-  /// The rating of one configuration of C_n: w_f exp(-Omega) + w_c exp(-Gamma).
-  double configurationRating(CachedConfiguration& config,
-                             const FreeSpaceDistances& knowledge) const;
-  /// The configuration of node n that `eligible` accepts and that rates
-  /// highest (the one whose rating Eq. (4) takes when all are eligible);
-  /// nullptr when none is eligible.
-  CachedConfiguration* bestConfiguration(
-      int n, const FreeSpaceDistances& knowledge,
-      const std::function<bool(const CachedConfiguration&)>& eligible);
 
   /// Algorithm 4: re-activates a random child, down-samples Ch_a to N_a
   /// children (removal probability proportional to 1 / T_c) and returns an
@@ -135,6 +125,9 @@ class GoalHierarchyCache {
                      std::mt19937_64& rng);
 
  private:
+  double configurationRating(CachedConfiguration& config,
+                             const FreeSpaceDistances& knowledge) const;
+
   const HftsSpace& space_;
   RatingWeights weights_;
   std::vector<CacheNode> nodes_;

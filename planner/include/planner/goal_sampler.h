@@ -112,9 +112,8 @@ class HftsGoalSampler : public GoalSampler {
   /// SAMPLENEWCHILD(n_p, i): hill climbing on the uncached children, then Phi.
   int sampleNewChild(int parent, int iterations);
   /// SAMPLENULLSPACE(n): a further goal configuration of the node's grasp
-  /// (another IK branch; the best-rated one not returned yet), or none.
-  /// Marks it returned.
-  CachedConfiguration* sampleNullSpace(int node, const FreeSpaceDistances& knowledge);
+  /// (another IK branch), or none.
+  const CachedConfiguration* sampleNullSpace(int node);
   int iterationsFor(int parent, const FreeSpaceDistances& knowledge);
 
   HftsGoalSamplerOptions options_;
