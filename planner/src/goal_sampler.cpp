@@ -56,21 +56,8 @@ std::vector<CachedConfiguration> GoalSampler::configurationsOf(const HftsNode& n
       context_.configurator->configure(*context_.space, node, *context_.rng);
   ++stats_.configured_nodes;
   std::vector<CachedConfiguration> free, colliding;
-  for (const GraspConfiguration& c : all.configurations) {
-    if (c.label == ConfigurationLabel::kNoKinematicSolution) continue;
-    CachedConfiguration out;
-    out.pregrasp = c.pregrasp;
-    out.grasp = c.grasp;
-    out.fingertip_error = c.fingertip_error;
-    out.collision_free = c.label == ConfigurationLabel::kCollisionFree;
-    (out.collision_free ? free : colliding).push_back(std::move(out));
-  }
+  label(node, epsilon, all, free, colliding);
   if (!free.empty() || !colliding.empty()) ++stats_.kinematic_solutions;
-  const bool stableLeaf = context_.space->isLeaf(node) && epsilon > 0.0;
-  for (CachedConfiguration& c : free)
-    c.goal = stableLeaf && c.fingertip_error <= context_.max_fingertip_error &&
-             context_.checker->isMotionValid(c.pregrasp, c.grasp, context_.approach_resolution,
-                                             /*allowFingertipContact=*/true);
   // C_n holds the free configurations, or else one colliding configuration
   // (Sec. III-B.3): it still tells how close the grasp is to C_free. One,
   // as in the paper: the best of all IK branches would rate a grasp that
@@ -81,6 +68,34 @@ std::vector<CachedConfiguration> GoalSampler::configurationsOf(const HftsNode& n
   const std::size_t pick =
       std::uniform_int_distribution<std::size_t>(0, colliding.size() - 1)(*context_.rng);
   return {std::move(colliding[pick])};
+}
+
+std::vector<CachedConfiguration> GoalSampler::otherHandConfigurationsOf(const HftsNode& node,
+                                                                        double epsilon) {
+  std::vector<CachedConfiguration> free, colliding;
+  for (const GraspConfigurations& posture : context_.configurator->configureOtherHands(
+           context_.space->representative(node), context_.max_fingertip_error, *context_.rng))
+    label(node, epsilon, posture, free, colliding);
+  return free;
+}
+
+void GoalSampler::label(const HftsNode& node, double epsilon, const GraspConfigurations& all,
+                        std::vector<CachedConfiguration>& free,
+                        std::vector<CachedConfiguration>& colliding) {
+  const bool stableLeaf = context_.space->isLeaf(node) && epsilon > 0.0;
+  for (const GraspConfiguration& c : all.configurations) {
+    if (c.label == ConfigurationLabel::kNoKinematicSolution) continue;
+    CachedConfiguration out;
+    out.pregrasp = c.pregrasp;
+    out.grasp = c.grasp;
+    out.fingertip_error = c.fingertip_error;
+    out.collision_free = c.label == ConfigurationLabel::kCollisionFree;
+    out.goal = out.collision_free && stableLeaf &&
+               c.fingertip_error <= context_.max_fingertip_error &&
+               context_.checker->isMotionValid(c.pregrasp, c.grasp, context_.approach_resolution,
+                                               /*allowFingertipContact=*/true);
+    (out.collision_free ? free : colliding).push_back(std::move(out));
+  }
 }
 
 GoalSample GoalSampler::describe(const HftsNode& node, const CachedConfiguration& config,
@@ -169,12 +184,25 @@ int HftsGoalSampler::sampleNewChild(int parent, int iterations) {
 }
 
 const CachedConfiguration* HftsGoalSampler::sampleNullSpace(int node) {
+  if (node == GoalHierarchyCache::kNone) return nullptr;
+  CacheNode& n = cache_.node(node);
+  // Alg. 2 line 9: only a grasp that has a goal configuration.
+  const auto isGoal = [](const CachedConfiguration& c) { return c.goal; };
+  if (std::none_of(n.configurations.begin(), n.configurations.end(), isGoal)) return nullptr;
   // The KR5 is not redundant and three contacts fix the palm for a hand
-  // posture, so the null space of a grasp is its other IK branches.
-  for (CachedConfiguration& c : cache_.node(node).configurations) {
-    if (!c.goal || c.returned) continue;
-    c.returned = true;
-    return &c;
+  // posture, so the null space of a grasp is its other IK branches, and
+  // once those are handed out, its other hand postures.
+  for (int round = 0; round < 2; ++round) {
+    for (CachedConfiguration& c : n.configurations) {
+      if (!c.goal || c.returned) continue;
+      c.returned = true;
+      return &c;
+    }
+    if (n.other_hands_sampled) break;
+    n.other_hands_sampled = true;
+    for (CachedConfiguration& c : otherHandConfigurationsOf(n.hfts, n.quality))
+      n.configurations.push_back(std::move(c));
+    cache_.invalidateRatings();  // C_n grew
   }
   return nullptr;
 }

@@ -58,8 +58,29 @@ Eigen::VectorXd GraspConfigurator::openedHand(const Eigen::VectorXd& hand) const
 }
 
 GraspConfigurations GraspConfigurator::configure(const GraspContacts& grasp, std::mt19937_64& rng) {
+  return configure(grasp, hand_.query(grasp.positions, grasp.outward_normals), rng);
+}
+
+std::vector<GraspConfigurations> GraspConfigurator::configureOtherHands(const GraspContacts& grasp,
+                                                                        double maxPositionError,
+                                                                        std::mt19937_64& rng) {
+  const HandQuery used = hand_.query(grasp.positions, grasp.outward_normals);
+  constexpr double kSamePosture = 0.05;  // rad, as queryAlternatives tells postures apart
+  std::vector<GraspConfigurations> out;
+  for (HandQuery& other : hand_.queryAlternatives(grasp.positions, grasp.outward_normals,
+                                                  maxPositionError, kSamePosture)) {
+    if (other.finger_of_contact == used.finger_of_contact &&
+        (other.hand_configuration - used.hand_configuration).cwiseAbs().maxCoeff() < kSamePosture)
+      continue;
+    out.push_back(configure(grasp, std::move(other), rng));
+  }
+  return out;
+}
+
+GraspConfigurations GraspConfigurator::configure(const GraspContacts& grasp, HandQuery hand,
+                                                 std::mt19937_64& rng) {
   GraspConfigurations out;
-  out.hand = hand_.query(grasp.positions, grasp.outward_normals);
+  out.hand = std::move(hand);
   const Eigen::Isometry3d palm = objectInBase_ * out.hand.palm_pose;
   const std::vector<Eigen::VectorXd> arms = ik_.solvePalm(palm, rng);
   if (arms.empty()) {

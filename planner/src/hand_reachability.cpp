@@ -243,6 +243,35 @@ struct HandReachability::Impl {
     return answer(probes[best], found[best], target(contacts, outward, found[best].order));
   }
 
+  std::vector<HandQuery> queryAlternatives(const Eigen::Matrix3Xd& contacts,
+                                           const Eigen::Matrix3Xd& outward, double maxError,
+                                           double minDifference) const {
+    const std::vector<Candidate> found = candidates(contacts, outward);
+    const std::size_t probed =
+        std::min(found.size(), static_cast<std::size_t>(options.refined_candidates));
+    std::vector<HandQuery> reached;
+    for (std::size_t c = 0; c < probed; ++c) {
+      const hand::HandVector q0 = map.configurations.row(found[c].sample).transpose();
+      const hand::Target t = target(contacts, outward, found[c].order);
+      hand::Refinement probe(chains, map.parameters, t, q0);
+      probe.track(options.tracking_stages, options.stage_iterations);
+      probe.iterate(options.refine_iterations);
+      HandQuery a = answer(probe, found[c], t);
+      if (a.position_error <= maxError) reached.push_back(std::move(a));
+    }
+    std::sort(reached.begin(), reached.end(),
+              [](const HandQuery& a, const HandQuery& b) { return a.residual < b.residual; });
+    std::vector<HandQuery> distinct;
+    for (HandQuery& a : reached) {
+      const bool seen = std::any_of(distinct.begin(), distinct.end(), [&](const HandQuery& b) {
+        return a.finger_of_contact == b.finger_of_contact &&
+               (a.hand_configuration - b.hand_configuration).cwiseAbs().maxCoeff() < minDifference;
+      });
+      if (!seen) distinct.push_back(std::move(a));
+    }
+    return distinct;
+  }
+
   HandQuery answer(const hand::Refinement& refined, const Candidate& from,
                    const hand::Target& t) const {
     const hand::Solution& best = refined.solution();
@@ -287,6 +316,19 @@ HandQuery HandReachability::query(const Eigen::Matrix3Xd& contactPositions,
   checkInput(contactPositions, "contactPositions", false);
   checkInput(outwardContactNormals, "outwardContactNormals", true);
   return impl_->query(contactPositions, outwardContactNormals);
+}
+
+std::vector<HandQuery> HandReachability::queryAlternatives(
+    const Eigen::Matrix3Xd& contactPositions, const Eigen::Matrix3Xd& outwardContactNormals,
+    double maxPositionError, double minHandDifference) const {
+  checkInput(contactPositions, "contactPositions", false);
+  checkInput(outwardContactNormals, "outwardContactNormals", true);
+  if (!(maxPositionError >= 0.0))
+    throw std::invalid_argument("hand query: maxPositionError must be >= 0");
+  if (!(minHandDifference >= 0.0))
+    throw std::invalid_argument("hand query: minHandDifference must be >= 0");
+  return impl_->queryAlternatives(contactPositions, outwardContactNormals, maxPositionError,
+                                  minHandDifference);
 }
 
 }  // namespace hfts::planner

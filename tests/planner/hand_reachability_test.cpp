@@ -322,6 +322,47 @@ TEST(HandReachability, SameResidualForAnyContactOrderAndRigidMotion) {
   }
 }
 
+TEST(HandReachability, AlternativesAreDistinctPosturesOnTheContactsBestFirst) {
+  constexpr double kTolerance = 0.002, kDifferent = 0.05;
+  // The symmetric tripod: the hand takes it with several finger assignments.
+  const Triple tripod = triangle(0.08, 0.0);
+  const std::vector<HandQuery> others =
+      thorough().queryAlternatives(tripod.contacts, tripod.outward, kTolerance, kDifferent);
+  ASSERT_GE(others.size(), 2u);
+  for (std::size_t i = 0; i < others.size(); ++i) {
+    SCOPED_TRACE(i);
+    expectConsistent(others[i], tripod);
+    EXPECT_LE(others[i].position_error, kTolerance);
+    expectFingertipsOnContacts(others[i], tripod, 2 * kTolerance);
+    if (i > 0) {
+      EXPECT_LE(others[i - 1].residual, others[i].residual);
+    }
+    for (std::size_t j = 0; j < i; ++j)
+      EXPECT_TRUE(
+          others[i].finger_of_contact != others[j].finger_of_contact ||
+          (others[i].hand_configuration - others[j].hand_configuration).cwiseAbs().maxCoeff() >=
+              kDifferent)
+          << "answers " << j << " and " << i << " are the same posture";
+  }
+  // Every candidate is finished: the best is at least as good as query()'s.
+  std::mt19937_64 rng(3);
+  for (int i = 0; i < 20; ++i) {
+    const Posture p = randomGraspPosture(rng);
+    const Triple t = reachableTriple(p.tips, p.pads, randomPose(rng), rng);
+    const HandQuery one = thorough().query(t.contacts, t.outward);
+    const std::vector<HandQuery> all = thorough().queryAlternatives(t.contacts, t.outward, 0.01);
+    if (one.position_error > 0.01) continue;
+    ASSERT_FALSE(all.empty()) << i;
+    EXPECT_LE(all.front().residual, one.residual + 1e-12) << i;
+  }
+  // Nothing reaches contacts 40 cm apart.
+  const Triple wide = triangle(0.4, 0.0);
+  EXPECT_TRUE(thorough().queryAlternatives(wide.contacts, wide.outward, kTolerance).empty());
+  test::expectErrorMentioning<std::invalid_argument>(
+      [&] { thorough().queryAlternatives(tripod.contacts, tripod.outward, -1.0); },
+      {"maxPositionError"});
+}
+
 TEST(HandReachability, RejectsInvalidArgumentsNamingThem) {
   const Triple t = triangle(0.08, 0.0);
   test::expectErrorMentioning<std::invalid_argument>(

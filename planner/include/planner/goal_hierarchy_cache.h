@@ -75,7 +75,8 @@ struct CacheNode {
   std::vector<CachedConfiguration> configurations;     ///< C_n
   double cached_leaves = 0.0;  ///< |L(n)|: leaves of the branch that are cached
   double possible_leaves = 0.0;
-  double quality = 0.0;  ///< epsilon of the node's representative grasp
+  double quality = 0.0;              ///< epsilon of the node's representative grasp
+  bool other_hands_sampled = false;  ///< C_n holds the other hand postures' configurations too
 };
 
 /// The cache and its ratings. Node 0 is the root. Ratings depend on the

@@ -82,8 +82,18 @@ class GoalSampler {
   /// a stable leaf whose fingertips reach the contacts and whose closing
   /// motion is free, as a goal.
   std::vector<CachedConfiguration> configurationsOf(const HftsNode& node, double epsilon);
+  /// The free configurations of the node's grasp with the other hand
+  /// postures that put the fingertips on its contacts, marked as above.
+  std::vector<CachedConfiguration> otherHandConfigurationsOf(const HftsNode& node, double epsilon);
   GoalSample describe(const HftsNode& node, const CachedConfiguration& config, GoalKind kind);
 
+ private:
+  /// Sorts Phi(h)'s configurations into free and colliding ones and marks
+  /// the goals.
+  void label(const HftsNode& node, double epsilon, const GraspConfigurations& all,
+             std::vector<CachedConfiguration>& free, std::vector<CachedConfiguration>& colliding);
+
+ protected:
   GoalSamplingContext context_;
   GoalSamplerStatistics stats_;
 };
@@ -107,13 +117,16 @@ class HftsGoalSampler : public GoalSampler {
   const GoalHierarchyCache& cache() const { return cache_; }
   /// The approximate-goal set A (part of the non-connected free space).
   const std::vector<Eigen::VectorXd>& approximateGoals() const { return approximate_; }
+  /// SAMPLENULLSPACE(n) (Alg. 2 lines 9-10): for a grasp that has a goal
+  /// configuration, a further one not handed out yet (marked returned):
+  /// another IK branch, then, once those are used up, a configuration with
+  /// another hand posture (computed on first need). nullptr when none is
+  /// left or n is kNone. Public for tests; the sampler calls it itself.
+  const CachedConfiguration* sampleNullSpace(int node);
 
  private:
   /// SAMPLENEWCHILD(n_p, i): hill climbing on the uncached children, then Phi.
   int sampleNewChild(int parent, int iterations);
-  /// SAMPLENULLSPACE(n): a further goal configuration of the node's grasp
-  /// (another IK branch), or none.
-  const CachedConfiguration* sampleNullSpace(int node);
   int iterationsFor(int parent, const FreeSpaceDistances& knowledge);
 
   HftsGoalSamplerOptions options_;

@@ -61,10 +61,20 @@ class GraspConfigurator {
   /// sampler asks for configurations of approximate grasps).
   GraspConfigurations configure(const HftsSpace& space, const HftsNode& node, std::mt19937_64& rng);
 
+  /// The grasp's configurations with other hand postures than configure()
+  /// uses (HandReachability::queryAlternatives with fingertips within
+  /// `maxPositionError` m RMS of the contacts), one entry per posture.
+  std::vector<GraspConfigurations> configureOtherHands(const GraspContacts& grasp,
+                                                       double maxPositionError,
+                                                       std::mt19937_64& rng);
+
   /// The pre-grasp opening of a hand posture (hand DoF only).
   Eigen::VectorXd openedHand(const Eigen::VectorXd& hand) const;
 
  private:
+  /// Every arm IK solution for a hand answer, labelled.
+  GraspConfigurations configure(const GraspContacts& grasp, HandQuery hand, std::mt19937_64& rng);
+
   const RobotModel& model_;
   const ArmIk& ik_;
   const HandReachability& hand_;

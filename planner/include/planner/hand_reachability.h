@@ -117,6 +117,19 @@ class HandReachability {
   HandQuery query(const Eigen::Matrix3Xd& contactPositions,
                   const Eigen::Matrix3Xd& outwardContactNormals) const;
 
+  /// Other ways of the hand to take the same contacts (the grasp's null
+  /// space beyond the arm's IK branches): every candidate of the search
+  /// refined to the end, those whose RMS fingertip-to-contact distance is
+  /// at most `maxPositionError` (m), one per distinct finger assignment and
+  /// hand posture (max joint difference >= `minHandDifference` rad), best
+  /// residual first. query()'s answer is usually the first. Slower than
+  /// query() (all candidates are finished). Throws like query() and
+  /// std::invalid_argument for a negative tolerance.
+  std::vector<HandQuery> queryAlternatives(const Eigen::Matrix3Xd& contactPositions,
+                                           const Eigen::Matrix3Xd& outwardContactNormals,
+                                           double maxPositionError,
+                                           double minHandDifference = 0.05) const;
+
   const db::HandMap& map() const;
   const HandQueryOptions& options() const;
 
