@@ -119,6 +119,24 @@ void BM_QueryObjectTripleThorough(benchmark::State& state) {
 }
 BENCHMARK(BM_QueryObjectTripleThorough)->Unit(benchmark::kMicrosecond);
 
+/// SAMPLENULLSPACE's question: every hand posture that takes a reachable
+/// triple (fingertips within 5 mm), thorough() search; "postures" counts
+/// them per triple.
+void BM_QueryAlternativesThorough(benchmark::State& state) {
+  static const std::vector<Triple> triples = reachableTriples(1000);
+  const HandReachability reachability(kr5(), defaultMap(), HandQueryOptions::thorough());
+  std::size_t i = 0;
+  double postures = 0;
+  for (auto _ : state) {
+    const Triple& t = triples[i++ % triples.size()];
+    const auto answers = reachability.queryAlternatives(t.contacts, t.outward, 0.005);
+    benchmark::DoNotOptimize(answers.data());
+    postures += static_cast<double>(answers.size());
+  }
+  state.counters["postures"] = postures / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_QueryAlternativesThorough)->Unit(benchmark::kMicrosecond);
+
 /// The best aligned map sample only, no refinement: the floor of the query.
 void BM_QueryMapOnly(benchmark::State& state) {
   static const std::vector<Triple> triples = objectTriples(1000);
