@@ -206,9 +206,12 @@ std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world) 
   return out;
 }
 
-PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
-                     const std::atomic<bool>* cancel) {
-  const auto began = std::chrono::steady_clock::now();
+namespace {
+
+/// planGrasp without the planning time, which counts the teardown of
+/// everything this builds (trees, caches, checkers, the sampling thread).
+PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningWorld& world,
+                    const PlanRequest& request, const std::atomic<bool>* cancel) {
   quietOmpl();
   const RobotModel& robot = world.robot();
   PlanResult result;
@@ -221,8 +224,6 @@ PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
   auto finish = [&](PlanFailure failure, std::string message) {
     result.failure = failure;
     result.message = std::move(message);
-    result.stats.planning_time =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
     return result;
   };
   if (object == nullptr)
@@ -320,6 +321,17 @@ PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
   if (status == ob::PlannerStatus::EXACT_SOLUTION)
     return succeed(planner->solutionPath(), planner->reachedGoal());
   return fail(goals);
+}
+
+}  // namespace
+
+PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
+                     const std::atomic<bool>* cancel) {
+  const auto began = std::chrono::steady_clock::now();
+  PlanResult result = planFrom(began, world, request, cancel);
+  result.stats.planning_time =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+  return result;
 }
 
 }  // namespace hfts::planner

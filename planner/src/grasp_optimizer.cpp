@@ -24,10 +24,9 @@ const GraspEvaluation& GraspObjective::evaluate(const HftsNode& node) {
   q.friction = options_.friction;
   q.cone_edges = options_.cone_edges;
   e.quality = graspQuality(q).epsilon;
-  e.hand = reachability_.query(grasp.positions, grasp.outward_normals);
-  e.reachability = e.hand.residual;
+  e.reachability = reachability_.query(grasp.positions, grasp.outward_normals).residual;
   e.value = e.quality / (e.reachability + options_.alpha);  // Eq. (1)
-  return cache_.emplace(node, std::move(e)).first->second;
+  return cache_.emplace(node, e).first->second;
 }
 
 namespace {

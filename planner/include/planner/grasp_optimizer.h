@@ -27,7 +27,8 @@ struct GraspEvaluation {
   /// reachable grasp outranks any inexact one of similar quality, and
   /// among exact ones quality decides.
   double value = 0.0;
-  HandQuery hand;  ///< the posture and palm pose behind R(h)
+  // Plain values only: a run caches up to ~140,000 evaluations, and
+  // freeing them counts towards its planning time.
 };
 
 /// Evaluates HFTS nodes on their representative grasps and caches the
