@@ -38,7 +38,8 @@ double WeightedStateSpace::distance(const ob::State* a, const ob::State* b) cons
   return std::sqrt((weights_.array() * (x - y).array().square()).sum());
 }
 
-double WeightedStateSpace::distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
+double WeightedStateSpace::distance(const Eigen::Ref<const Eigen::VectorXd>& a,
+                                    const Eigen::Ref<const Eigen::VectorXd>& b) const {
   return std::sqrt((weights_.array() * (a - b).array().square()).sum());
 }
 

@@ -26,10 +26,19 @@ bool GraspGoal::isSatisfied(const ob::State* /*state*/) const {
 }
 
 struct MultiTreeCBiRRT::Motion {
-  Eigen::VectorXd q;
-  ob::State* state = nullptr;  // the same configuration for OMPL (planner data, paths)
+  /// The configuration, in the planner's arena (or the caller's vector for
+  /// a search probe): no allocation of its own, so that freeing 100,000
+  /// nodes at the end of a plan is cheap.
+  Eigen::Map<const Eigen::VectorXd> q{nullptr, 0};
+  /// The same configuration as an OMPL state, made on first need
+  /// (getPlannerData): most nodes never need one.
+  mutable ob::State* state = nullptr;
   Motion* parent = nullptr;
   int tree = 0;
+
+  Motion() = default;
+  /// A probe for nearest-neighbour searches; `at` must outlive it.
+  explicit Motion(const Eigen::VectorXd& at) : q(at.data(), at.size()) {}
 };
 
 struct MultiTreeCBiRRT::Tree {
@@ -73,8 +82,7 @@ class MultiTreeCBiRRT::Knowledge : public FreeSpaceDistances {
  private:
   double nearest(const ompl::NearestNeighbors<Motion*>& nn, const Eigen::VectorXd& q) const {
     if (nn.size() == 0) return std::numeric_limits<double>::infinity();
-    Motion probe;
-    probe.q = q;
+    Motion probe(q);
     return planner_.distance(nn.nearest(&probe)->q, q);
   }
   double catchUp(const std::vector<const Motion*>& log, const Eigen::VectorXd& q,
@@ -239,8 +247,10 @@ void MultiTreeCBiRRT::setProjection(std::shared_ptr<BackwardProjection> projecti
 
 void MultiTreeCBiRRT::clear() {
   ob::Planner::clear();
-  for (Motion& m : motions_) si_->freeState(m.state);
+  for (Motion& m : motions_)
+    if (m.state != nullptr) si_->freeState(m.state);
   motions_.clear();
+  configurations_.clear();
   trees_.clear();
   nonConnected_.reset();
   connectedLog_.clear();
@@ -252,17 +262,33 @@ void MultiTreeCBiRRT::clear() {
   direction_ = Direction::kForward;
 }
 
-double MultiTreeCBiRRT::distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
+double MultiTreeCBiRRT::distance(const Eigen::Ref<const Eigen::VectorXd>& a,
+                                 const Eigen::Ref<const Eigen::VectorXd>& b) const {
   return space_.distance(a, b);
+}
+
+const double* MultiTreeCBiRRT::ConfigurationArena::store(const Eigen::VectorXd& q) {
+  const auto size = static_cast<std::size_t>(q.size());
+  if (chunks_.empty() || used_ + size > kChunkValues) {
+    chunks_.push_back(std::make_unique<double[]>(std::max(kChunkValues, size)));
+    used_ = 0;
+  }
+  double* at = chunks_.back().get() + used_;
+  std::copy(q.data(), q.data() + size, at);
+  used_ += size;
+  return at;
+}
+
+void MultiTreeCBiRRT::ConfigurationArena::clear() {
+  chunks_.clear();
+  used_ = 0;
 }
 
 MultiTreeCBiRRT::Motion* MultiTreeCBiRRT::addMotion(int treeIndex, const Eigen::VectorXd& q,
                                                     Motion* parent) {
   Tree& tree = *trees_[static_cast<std::size_t>(treeIndex)];
   Motion& m = motions_.emplace_back();
-  m.q = q;
-  m.state = si_->allocState();
-  space_.fromVector(q, m.state);
+  new (&m.q) Eigen::Map<const Eigen::VectorXd>(configurations_.store(q), q.size());
   m.parent = parent;
   m.tree = treeIndex;
   tree.motions.push_back(&m);
@@ -329,26 +355,25 @@ int MultiTreeCBiRRT::pickBackwardTree() {
 MultiTreeCBiRRT::GrowState MultiTreeCBiRRT::constrainedExtend(
     Tree& tree, const Eigen::VectorXd& target, const ob::PlannerTerminationCondition& ptc,
     Motion*& last) {
-  Motion probe;
-  probe.q = target;
+  Motion probe(target);
   Motion* current = tree.nn->nearest(&probe);
   last = current;
   const bool backward = tree.kind != TreeKind::kForward;
   GrowState state = GrowState::kTrapped;
   while (!ptc()) {
-    const double d = distance(current->q, target);
+    const Eigen::VectorXd from = current->q;
+    const double d = distance(from, target);
     if (d < 1e-9) return GrowState::kReached;
-    Eigen::VectorXd next = d <= range_ ? target : current->q + (target - current->q) * (range_ / d);
-    if (backward && projection_ && projection_->nearTarget(current->q) &&
-        !validator_->isValid(next)) {
-      next = projection_->project(current->q, next);
+    Eigen::VectorXd next = d <= range_ ? target : from + (target - from) * (range_ / d);
+    if (backward && projection_ && projection_->nearTarget(from) && !validator_->isValid(next)) {
+      next = projection_->project(from, next);
       // The projected step may leave the joint limits: clamp it back.
       next = next.cwiseMax(lower_).cwiseMin(upper_);
       ++stats_.projections;
       // CBiRRT: stop when the projected step no longer approaches the target.
       if (distance(next, target) >= d) return state;
     }
-    if (!validator_->checkMotion(current->q, next, validator_->resolution())) return state;
+    if (!validator_->checkMotion(from, next, validator_->resolution())) return state;
     current = addMotion(current->tree, next, current);
     last = current;
     state = GrowState::kAdvanced;
@@ -370,9 +395,7 @@ int MultiTreeCBiRRT::extendTrees(const ob::PlannerTerminationCondition& ptc, Mot
   if (forwardFirst) {
     if (constrainedExtend(forward, random, ptc, grown) == GrowState::kTrapped) return -1;
     if (nonConnected_->size() == 0) return -1;
-    Motion probe;
-    probe.q = grown->q;
-    Tree& backward = *trees_[static_cast<std::size_t>(nonConnected_->nearest(&probe)->tree)];
+    Tree& backward = *trees_[static_cast<std::size_t>(nonConnected_->nearest(grown)->tree)];
     Motion* reached = nullptr;
     if (constrainedExtend(backward, grown->q, ptc, reached) != GrowState::kReached) return -1;
     forwardEnd = grown;
@@ -495,18 +518,25 @@ bool MultiTreeCBiRRT::extractAndShortcutPath(int index, Motion* forwardEnd, Moti
 
 void MultiTreeCBiRRT::getPlannerData(ob::PlannerData& data) const {
   ob::Planner::getPlannerData(data);
+  const auto stateOf = [this](const Motion* m) {
+    if (m->state == nullptr) {
+      m->state = si_->allocState();
+      space_.fromVector(m->q, m->state);
+    }
+    return m->state;
+  };
   for (const auto& tree : trees_) {
     if (!tree) continue;
     for (const Motion* m : tree->motions) {
       const unsigned tag = static_cast<unsigned>(m->tree);
       if (m->parent == nullptr) {
         if (m->tree == 0)
-          data.addStartVertex(ob::PlannerDataVertex(m->state, static_cast<int>(tag)));
+          data.addStartVertex(ob::PlannerDataVertex(stateOf(m), static_cast<int>(tag)));
         else
-          data.addGoalVertex(ob::PlannerDataVertex(m->state, static_cast<int>(tag)));
+          data.addGoalVertex(ob::PlannerDataVertex(stateOf(m), static_cast<int>(tag)));
       } else {
-        data.addEdge(ob::PlannerDataVertex(m->parent->state, static_cast<int>(tag)),
-                     ob::PlannerDataVertex(m->state, static_cast<int>(tag)));
+        data.addEdge(ob::PlannerDataVertex(stateOf(m->parent), static_cast<int>(tag)),
+                     ob::PlannerDataVertex(stateOf(m), static_cast<int>(tag)));
       }
     }
   }

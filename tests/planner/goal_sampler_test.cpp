@@ -5,43 +5,10 @@
 #include <algorithm>
 #include <limits>
 
-#include "plan_checks.h"
+#include "table_mug.h"
 
 namespace hfts::planner {
 namespace {
-
-/// Free-space knowledge of a planner that has explored nothing but its
-/// start: Gamma is the distance to the start, nothing is non-connected.
-class StartOnly : public FreeSpaceDistances {
- public:
-  StartOnly(const CollisionChecker& metric, Eigen::VectorXd start)
-      : metric_(metric), start_(std::move(start)) {}
-  double toNonConnected(const Eigen::VectorXd& /*q*/) const override {
-    return std::numeric_limits<double>::infinity();
-  }
-  double toConnected(const Eigen::VectorXd& q) const override {
-    return metric_.distance(q, start_);
-  }
-
- private:
-  const CollisionChecker& metric_;
-  Eigen::VectorXd start_;
-};
-
-/// The table scene with the mug: the pieces planGrasp gives a sampler.
-struct TableMug {
-  const PlanningWorld& world = test::bundledWorld();
-  const db::ObjectDatabase& object = *world.object("mug");
-  Scene scene = loadScene(test::sourcePath("objects/scenes/table.json"));
-  CollisionChecker checker{world.robot(), scene, &object.geometry, world.collisionMesh("mug")};
-  HftsSpace space{object, static_cast<int>(world.robot().fingertips().size())};
-  GraspObjective objective{space, world.handMap()};
-  GraspConfigurator configurator{world.robot(), world.ik(),        world.thoroughHandMap(),
-                                 checker,       scene.target_pose, scene.robot_base};
-  std::mt19937_64 rng{5};
-  GoalSamplingContext context{&space, &objective, &configurator, &checker, &rng};
-  StartOnly knowledge{checker, scene.start.value_or(world.robot().home())};
-};
 
 int cacheIndexOf(const HftsGoalSampler& sampler, const HftsNode& node) {
   for (std::size_t n = 0; n < sampler.cache().size(); ++n)
@@ -50,7 +17,7 @@ int cacheIndexOf(const HftsGoalSampler& sampler, const HftsNode& node) {
 }
 
 TEST(HftsGoalSampler, NullSpaceGivesTheOtherIkBranchesThenOtherHandPostures) {
-  TableMug setup;
+  test::TableMug setup;
   HftsGoalSampler sampler(setup.context, {});
   const int handDofs = setup.world.robot().numHandDofs();
   int goals = 0, withOtherHands = 0;
@@ -92,7 +59,7 @@ TEST(HftsGoalSampler, NullSpaceGivesTheOtherIkBranchesThenOtherHandPostures) {
 }
 
 TEST(HftsGoalSampler, NoNullSpaceWithoutAGoal) {
-  TableMug setup;
+  test::TableMug setup;
   HftsGoalSampler sampler(setup.context, {});
   EXPECT_EQ(sampler.sampleNullSpace(GoalHierarchyCache::kNone), nullptr);
   EXPECT_EQ(sampler.sampleNullSpace(sampler.cache().root()), nullptr);

@@ -22,7 +22,8 @@ class WeightedStateSpace : public ompl::base::RealVectorStateSpace {
 
   /// Eq. (3): sqrt(sum_i w_i (a_i - b_i)^2).
   double distance(const ompl::base::State* a, const ompl::base::State* b) const override;
-  double distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
+  double distance(const Eigen::Ref<const Eigen::VectorXd>& a,
+                  const Eigen::Ref<const Eigen::VectorXd>& b) const;
   double getMaximumExtent() const override;
 
   int armDofs() const { return armDofs_; }

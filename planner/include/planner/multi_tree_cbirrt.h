@@ -137,7 +137,22 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   bool extractAndShortcutPath(int tree, Motion* forwardEnd, Motion* backwardEnd,
                               const ompl::base::PlannerTerminationCondition& ptc);
   Eigen::VectorXd sampleUniform();
-  double distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
+  double distance(const Eigen::Ref<const Eigen::VectorXd>& a,
+                  const Eigen::Ref<const Eigen::VectorXd>& b) const;
+
+  /// Configurations of the tree nodes, in large chunks: one allocation per
+  /// few thousand nodes instead of one each.
+  class ConfigurationArena {
+   public:
+    /// A copy of q that stays put until clear().
+    const double* store(const Eigen::VectorXd& q);
+    void clear();
+
+   private:
+    static constexpr std::size_t kChunkValues = 1 << 16;
+    std::vector<std::unique_ptr<double[]>> chunks_;
+    std::size_t used_ = 0;
+  };
 
   WeightedStateSpace& space_;
   Eigen::VectorXd lower_, upper_;  // joint limits
@@ -155,6 +170,7 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   GoalSamplingParameters goalSampling_;
 
   std::deque<Motion> motions_;                // every node of every tree (stable addresses)
+  ConfigurationArena configurations_;         // their configurations
   std::vector<std::unique_ptr<Tree>> trees_;  // 0: T_f; others: backward (null once gone)
   std::unique_ptr<ompl::NearestNeighbors<Motion*>> nonConnected_;  // all backward tree nodes
   // Every node that joined T_f or the non-connected set, in order, so that

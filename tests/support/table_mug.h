@@ -1,0 +1,48 @@
+#pragma once
+// The table scene with the mug, taken apart as planGrasp builds it: for
+// tests of the goal sampler and the multi-tree planner on their own.
+
+#include <limits>
+#include <random>
+
+#include "plan_checks.h"
+#include "planner/goal_sampler.h"
+
+namespace hfts::test {
+
+/// Free-space knowledge of a planner that has explored nothing but its
+/// start: Gamma is the distance to the start, nothing is non-connected.
+class StartOnly : public planner::FreeSpaceDistances {
+ public:
+  StartOnly(const planner::CollisionChecker& metric, Eigen::VectorXd start)
+      : metric_(metric), start_(std::move(start)) {}
+  double toNonConnected(const Eigen::VectorXd& /*q*/) const override {
+    return std::numeric_limits<double>::infinity();
+  }
+  double toConnected(const Eigen::VectorXd& q) const override {
+    return metric_.distance(q, start_);
+  }
+
+ private:
+  const planner::CollisionChecker& metric_;
+  Eigen::VectorXd start_;
+};
+
+/// The table scene with the mug: the pieces planGrasp gives a sampler.
+struct TableMug {
+  const planner::PlanningWorld& world = bundledWorld();
+  const db::ObjectDatabase& object = *world.object("mug");
+  planner::Scene scene = planner::loadScene(sourcePath("objects/scenes/table.json"));
+  planner::CollisionChecker checker{world.robot(), scene, &object.geometry,
+                                    world.collisionMesh("mug")};
+  planner::HftsSpace space{object, static_cast<int>(world.robot().fingertips().size())};
+  planner::GraspObjective objective{space, world.handMap()};
+  planner::GraspConfigurator configurator{world.robot(), world.ik(),        world.thoroughHandMap(),
+                                          checker,       scene.target_pose, scene.robot_base};
+  std::mt19937_64 rng{5};
+  planner::GoalSamplingContext context{&space, &objective, &configurator, &checker, &rng};
+  Eigen::VectorXd start = scene.start.value_or(world.robot().home());
+  StartOnly knowledge{checker, start};
+};
+
+}  // namespace hfts::test
