@@ -106,7 +106,7 @@ GoalSample GoalSampler::describe(const HftsNode& node, const CachedConfiguration
   if (kind == GoalKind::kGoal) s.grasp = config.grasp;
   s.node = node;
   s.contacts = context_.space->representative(node);
-  const GraspEvaluation& e = context_.objective->evaluate(node);
+  const GraspEvaluation e = context_.objective->evaluate(node);
   s.epsilon = e.quality;
   s.reachability = e.reachability;
   s.fingertip_error = config.fingertip_error;

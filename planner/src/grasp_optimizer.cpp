@@ -1,5 +1,6 @@
 #include "planner/grasp_optimizer.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace hfts::planner {
@@ -10,9 +11,23 @@ GraspObjective::GraspObjective(const HftsSpace& space, const HandReachability& r
   if (!(options_.alpha > 0.0)) throw std::invalid_argument("objective: alpha must be > 0");
 }
 
-const GraspEvaluation& GraspObjective::evaluate(const HftsNode& node) {
-  const auto cached = cache_.find(node);
-  if (cached != cache_.end()) return cached->second;
+GraspObjective::Slot& GraspObjective::slotOf(const HftsNode& node) {
+  const std::size_t mask = slots_.size() - 1;  // the size is a power of two
+  for (std::size_t i = HftsNodeHash{}(node)&mask;; i = (i + 1) & mask)
+    if (!slots_[i].used || slots_[i].node == node) return slots_[i];
+}
+
+void GraspObjective::grow() {
+  std::vector<Slot> old(std::max<std::size_t>(1024, 2 * slots_.size()));
+  old.swap(slots_);
+  for (const Slot& s : old)
+    if (s.used) slotOf(s.node) = s;
+}
+
+GraspEvaluation GraspObjective::evaluate(const HftsNode& node) {
+  if (2 * (size_ + 1) > slots_.size()) grow();
+  Slot& slot = slotOf(node);
+  if (slot.used) return slot.evaluation;
   const GraspContacts grasp = space_.representative(node);
   GraspEvaluation e;
   GraspQualityRequest q;
@@ -26,7 +41,9 @@ const GraspEvaluation& GraspObjective::evaluate(const HftsNode& node) {
   e.quality = graspQuality(q).epsilon;
   e.reachability = reachability_.query(grasp.positions, grasp.outward_normals).residual;
   e.value = e.quality / (e.reachability + options_.alpha);  // Eq. (1)
-  return cache_.emplace(node, e).first->second;
+  slot = {node, e, true};
+  ++size_;
+  return e;
 }
 
 namespace {
@@ -71,7 +88,7 @@ ClimbResult hillClimb(GraspObjective& objective, const HftsNode& parent, int ite
   for (int it = 0; it < iterations; ++it) {
     const HftsNode candidate = neighbour(space, parent, result.best, rng);
     if (allowed(candidate) && !(candidate == result.best)) {
-      const GraspEvaluation& e = objective.evaluate(candidate);
+      const GraspEvaluation e = objective.evaluate(candidate);
       if (e.value > result.evaluation.value) {
         result.best = candidate;
         result.evaluation = e;

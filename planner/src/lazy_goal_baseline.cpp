@@ -107,6 +107,12 @@ class LazyGraspGoal : public ob::GoalLazySamples {
     return {};
   }
 
+  /// The thread also stops by itself after its current step once `ptc`
+  /// fires (the search's limit): joining it afterwards then costs nothing,
+  /// while a path found at the limit is still being re-checked. Call
+  /// before startSampling().
+  void stopWhen(const ob::PlannerTerminationCondition& ptc) { deadline_ = ptc; }
+
   /// After stopSampling(): the thread's tools, and its exception if it died.
   const SamplingThreadTools& tools() const { return *tools_; }
   void rethrowSamplingError() const {
@@ -119,7 +125,7 @@ class LazyGraspGoal : public ob::GoalLazySamples {
   bool sampleNext(ob::State* state) {
     try {
       const NoFreeSpaceKnowledge none;
-      const auto stopped = [this] { return !isSampling(); };
+      const auto stopped = [this] { return deadline_() || !isSampling(); };
       while (!stopped()) {
         GoalSample sample = tools_->sampler.sample(none, stopped);
         if (sample.kind != GoalKind::kGoal) continue;
@@ -138,6 +144,7 @@ class LazyGraspGoal : public ob::GoalLazySamples {
   mutable std::mutex foundMutex_;
   std::vector<GoalSample> found_;
   std::exception_ptr error_;
+  ob::PlannerTerminationCondition deadline_{ob::plannerNonTerminatingCondition()};
 };
 
 /// Stops and joins the sampling thread on every way out of solve().
@@ -270,6 +277,7 @@ LazyGoalOutcome LazyGoalRrtConnect::solve(const Eigen::VectorXd& start,
 
   LazyGoalOutcome out;
   if (!ptc()) {  // a thread stopped before it starts makes OMPL warn
+    goal->stopWhen(ptc);
     const SamplingThread thread(*goal);
     waitForFirstGoal(*goal, ptc);
     searchUntilChecked(*planner, *pdef, settings_.smoothing, ptc, out);

@@ -30,7 +30,7 @@ TEST(GraspOptimizer, UsesBothQualityAndReachability) {
   GraspObjective objective(space, reachability());
   std::mt19937_64 rng(4);
   const HftsNode node = space.child(space.root(), 1234);
-  const GraspEvaluation& e = objective.evaluate(node);
+  const GraspEvaluation e = objective.evaluate(node);
   EXPECT_DOUBLE_EQ(e.value, e.quality / (e.reachability + 1e-6));
   EXPECT_EQ(objective.evaluations(), 1u);
   objective.evaluate(node);

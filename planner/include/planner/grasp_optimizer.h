@@ -2,7 +2,6 @@
 // The HFTS grasp objective of the paper's Eq. (1), Q(h) / (R(h) + alpha),
 // and its stochastic hill climbing (Sec. II-A).
 
-#include <memory_resource>
 #include <random>
 #include <unordered_map>
 #include <unordered_set>
@@ -28,7 +27,6 @@ struct GraspEvaluation {
   /// reachable grasp outranks any inexact one of similar quality, and
   /// among exact ones quality decides.
   double value = 0.0;
-  // Plain values only: a run caches up to ~140,000 of them (GraspObjective).
 };
 
 /// Evaluates HFTS nodes on their representative grasps and caches the
@@ -38,18 +36,27 @@ class GraspObjective {
  public:
   GraspObjective(const HftsSpace& space, const HandReachability& reachability,
                  ObjectiveOptions options = {});
-  const GraspEvaluation& evaluate(const HftsNode& node);
+  GraspEvaluation evaluate(const HftsNode& node);
   const HftsSpace& space() const { return space_; }
-  std::size_t evaluations() const { return cache_.size(); }
+  std::size_t evaluations() const { return size_; }
 
  private:
+  struct Slot {
+    HftsNode node;
+    GraspEvaluation evaluation;
+    bool used = false;
+  };
+  Slot& slotOf(const HftsNode& node);  // its slot, or the empty one it goes into
+  void grow();
+
   const HftsSpace& space_;
   const HandReachability& reachability_;
   ObjectiveOptions options_;
-  // A run caches up to ~140,000 evaluations: from one growing buffer, freed
-  // at once (node by node it took 10-20 ms at the end of a plan).
-  std::pmr::monotonic_buffer_resource memory_;
-  std::pmr::unordered_map<HftsNode, GraspEvaluation, HftsNodeHash> cache_{&memory_};
+  // An open-addressing table (linear probing, at most half full): a run
+  // caches up to ~140,000 evaluations, and a node-based map took 10-20 ms
+  // to free them at the end of a plan, past its time limit.
+  std::vector<Slot> slots_;
+  std::size_t size_ = 0;
 };
 
 /// The outcome of a hill climb on one level.

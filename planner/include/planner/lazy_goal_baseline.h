@@ -70,6 +70,9 @@ class LazyGoalRrtConnect {
   /// thread is rethrown here. Deterministic per seed only up to thread
   /// timing: the goal sequence and RRTConnect's samples are seeded, but
   /// which goals exist when RRTConnect asks depends on the scheduler.
+  /// `ptc` is evaluated by the sampling thread too (it stops at the limit
+  /// by itself), so it must be safe to evaluate concurrently, as OMPL's
+  /// timed conditions and a condition reading an atomic flag are.
   LazyGoalOutcome solve(const Eigen::VectorXd& start,
                         const ompl::base::PlannerTerminationCondition& ptc);
 

@@ -52,7 +52,7 @@ bool denselyValid(const CollisionMotionValidator& validator,
 /// re-check (found by bisection over the batches; `raw` if need be),
 /// smoothed on for one batch of each pass with the shortcuts checked at
 /// `final_resolution`. Nothing when `raw` itself fails. The re-check gives
-/// up (nothing, or the last path that passed) 40 ms after `ptc` fires,
+/// up (nothing, or the last path that passed) 25 ms after `ptc` fires,
 /// bounding how far a planner overruns its time limit. The motion
 /// validator's resolution is the same afterwards.
 std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
