@@ -13,7 +13,8 @@ GraspObjective::GraspObjective(const HftsSpace& space, const HandReachability& r
 
 GraspObjective::Slot& GraspObjective::slotOf(const HftsNode& node) {
   const std::size_t mask = slots_.size() - 1;  // the size is a power of two
-  for (std::size_t i = HftsNodeHash{}(node)&mask;; i = (i + 1) & mask)
+  const std::size_t home = HftsNodeHash{}(node)&mask;
+  for (std::size_t i = home;; i = (i + 1) & mask)
     if (!slots_[i].used || slots_[i].node == node) return slots_[i];
 }
 

@@ -37,6 +37,24 @@ TEST(GraspOptimizer, UsesBothQualityAndReachability) {
   EXPECT_EQ(objective.evaluations(), 1u);  // cached
 }
 
+TEST(GraspOptimizer, CachesEveryNodeOnceAcrossGrowth) {
+  const HftsSpace space(test::bundledObjects().at("box"), 3);
+  GraspObjective objective(space, reachability());
+  // More nodes than the first table holds (1024 slots, at most half full).
+  constexpr std::uint64_t kNodes = 3000;
+  ASSERT_GE(space.numChildren(space.root()), kNodes);
+  std::vector<GraspEvaluation> first;
+  for (std::uint64_t i = 0; i < kNodes; ++i)
+    first.push_back(objective.evaluate(space.child(space.root(), i)));
+  EXPECT_EQ(objective.evaluations(), kNodes);
+  for (std::uint64_t i = 0; i < kNodes; ++i) {
+    const GraspEvaluation again = objective.evaluate(space.child(space.root(), i));
+    EXPECT_EQ(again.value, first[i].value) << i;
+    EXPECT_EQ(again.quality, first[i].quality) << i;
+  }
+  EXPECT_EQ(objective.evaluations(), kNodes);  // nothing evaluated twice
+}
+
 TEST(GraspOptimizer, ExcludedChildrenAreNeverReturned) {
   const HftsSpace space(test::bundledObjects().at("box"), 3);
   GraspObjective objective(space, reachability());
