@@ -64,16 +64,14 @@ GraspConfigurations GraspConfigurator::configure(const GraspContacts& grasp, std
 std::vector<GraspConfigurations> GraspConfigurator::configureOtherHands(const GraspContacts& grasp,
                                                                         double maxPositionError,
                                                                         std::mt19937_64& rng) {
+  // The posture configure() uses (the same query, so the same answer).
   const HandQuery used = hand_.query(grasp.positions, grasp.outward_normals);
-  constexpr double kSamePosture = 0.05;  // rad, as queryAlternatives tells postures apart
+  constexpr double kSamePosture = 0.05;  // rad
   std::vector<GraspConfigurations> out;
   for (HandQuery& other : hand_.queryAlternatives(grasp.positions, grasp.outward_normals,
-                                                  maxPositionError, kSamePosture)) {
-    if (other.finger_of_contact == used.finger_of_contact &&
-        (other.hand_configuration - used.hand_configuration).cwiseAbs().maxCoeff() < kSamePosture)
-      continue;
-    out.push_back(configure(grasp, std::move(other), rng));
-  }
+                                                  maxPositionError, kSamePosture))
+    if (!samePosture(other, used, kSamePosture))
+      out.push_back(configure(grasp, std::move(other), rng));
   return out;
 }
 

@@ -223,11 +223,8 @@ struct HandReachability::Impl {
         std::min(found.size(), static_cast<std::size_t>(options.refined_candidates));
     std::vector<hand::Refinement> probes;
     probes.reserve(probed);
-    for (std::size_t c = 0; c < probed; ++c) {
-      const hand::HandVector q0 = map.configurations.row(found[c].sample).transpose();
-      probes.emplace_back(chains, map.parameters, target(contacts, outward, found[c].order), q0);
-      probes.back().track(options.tracking_stages, options.stage_iterations);
-    }
+    for (std::size_t c = 0; c < probed; ++c)
+      probes.push_back(tracked(found[c], target(contacts, outward, found[c].order)));
     if (probes.empty()) throw std::logic_error("hand map search found no candidate");
     std::array<std::size_t, kMaxNeighbours> rank;
     std::iota(rank.begin(), rank.begin() + static_cast<std::ptrdiff_t>(probed), 0);
@@ -251,10 +248,8 @@ struct HandReachability::Impl {
         std::min(found.size(), static_cast<std::size_t>(options.refined_candidates));
     std::vector<HandQuery> reached;
     for (std::size_t c = 0; c < probed; ++c) {
-      const hand::HandVector q0 = map.configurations.row(found[c].sample).transpose();
       const hand::Target t = target(contacts, outward, found[c].order);
-      hand::Refinement probe(chains, map.parameters, t, q0);
-      probe.track(options.tracking_stages, options.stage_iterations);
+      hand::Refinement probe = tracked(found[c], t);
       probe.iterate(options.refine_iterations);
       HandQuery a = answer(probe, found[c], t);
       if (a.position_error <= maxError) reached.push_back(std::move(a));
@@ -264,12 +259,19 @@ struct HandReachability::Impl {
     std::vector<HandQuery> distinct;
     for (HandQuery& a : reached) {
       const bool seen = std::any_of(distinct.begin(), distinct.end(), [&](const HandQuery& b) {
-        return a.finger_of_contact == b.finger_of_contact &&
-               (a.hand_configuration - b.hand_configuration).cwiseAbs().maxCoeff() < minDifference;
+        return samePosture(a, b, minDifference);
       });
       if (!seen) distinct.push_back(std::move(a));
     }
     return distinct;
+  }
+
+  /// A candidate's map sample, tracked to the triple (continuation).
+  hand::Refinement tracked(const Candidate& from, const hand::Target& t) const {
+    const hand::HandVector q0 = map.configurations.row(from.sample).transpose();
+    hand::Refinement probe(chains, map.parameters, t, q0);
+    probe.track(options.tracking_stages, options.stage_iterations);
+    return probe;
   }
 
   HandQuery answer(const hand::Refinement& refined, const Candidate& from,
@@ -294,6 +296,11 @@ struct HandReachability::Impl {
     return out;
   }
 };
+
+bool samePosture(const HandQuery& a, const HandQuery& b, double minHandDifference) {
+  return a.finger_of_contact == b.finger_of_contact &&
+         (a.hand_configuration - b.hand_configuration).cwiseAbs().maxCoeff() < minHandDifference;
+}
 
 HandReachability::HandReachability(const RobotModel& model, db::HandMap map,
                                    HandQueryOptions options)

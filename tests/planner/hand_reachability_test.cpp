@@ -363,6 +363,20 @@ TEST(HandReachability, AlternativesAreDistinctPosturesOnTheContactsBestFirst) {
       {"maxPositionError"});
 }
 
+TEST(HandReachability, SamePostureMeansSameFingersAndCloseJoints) {
+  const Triple tripod = triangle(0.08, 0.0);
+  const HandQuery a = thorough().query(tripod.contacts, tripod.outward);
+  HandQuery b = a;
+  EXPECT_TRUE(samePosture(a, b, 0.05));
+  b.hand_configuration(0) += 0.04;
+  EXPECT_TRUE(samePosture(a, b, 0.05));
+  b.hand_configuration(0) += 0.02;
+  EXPECT_FALSE(samePosture(a, b, 0.05));
+  b = a;
+  std::swap(b.finger_of_contact[0], b.finger_of_contact[1]);
+  EXPECT_FALSE(samePosture(a, b, 0.05));
+}
+
 TEST(HandReachability, RejectsInvalidArgumentsNamingThem) {
   const Triple t = triangle(0.08, 0.0);
   test::expectErrorMentioning<std::invalid_argument>(

@@ -95,6 +95,11 @@ struct HandQuery {
   std::size_t map_sample = 0;  ///< the map sample the answer was refined from
 };
 
+/// True when two answers are the same way of taking the contacts: the same
+/// finger on each contact and every hand joint within `minHandDifference`
+/// rad.
+bool samePosture(const HandQuery& a, const HandQuery& b, double minHandDifference);
+
 /// Answers R(h) for contact triples from a hand map. Queries are const and
 /// thread-safe.
 class HandReachability {
