@@ -9,14 +9,14 @@
 #include <random>
 #include <vector>
 
-#include "planner/hand_reachability.h"
-#include "planner/kinematics.h"
+#include "grasp/hand_reachability.h"
+#include "robot/kinematics.h"
 
 namespace {
 
-using hfts::planner::HandQueryOptions;
-using hfts::planner::HandReachability;
-using hfts::planner::RobotModel;
+using hfts::grasp::HandQueryOptions;
+using hfts::grasp::HandReachability;
+using hfts::robot::RobotModel;
 
 const RobotModel& kr5() {
   static const RobotModel model =
@@ -25,7 +25,7 @@ const RobotModel& kr5() {
 }
 
 const hfts::db::HandMap& defaultMap() {
-  static const hfts::db::HandMap map = hfts::planner::buildHandMap(kr5());
+  static const hfts::db::HandMap map = hfts::grasp::buildHandMap(kr5());
   return map;
 }
 
@@ -51,13 +51,13 @@ std::vector<Triple> reachableTriples(std::size_t count) {
       q(d) = std::uniform_real_distribution<double>(kr5().lowerLimits()(d),
                                                     kr5().upperLimits()(d))(rng);
     const auto frames =
-        hfts::planner::fingertipFrames(kr5(), hfts::planner::forwardKinematics(kr5(), q));
+        hfts::robot::fingertipFrames(kr5(), hfts::robot::forwardKinematics(kr5(), q));
     const Eigen::Isometry3d palm =
-        hfts::planner::forwardKinematics(kr5(), q)[static_cast<std::size_t>(kr5().palmLink())];
+        hfts::robot::forwardKinematics(kr5(), q)[static_cast<std::size_t>(kr5().palmLink())];
     Triple t;
     t.contacts = palm.inverse() * frames.positions;
     t.outward = -(palm.linear().transpose() * frames.normals);
-    if (!hfts::planner::isGraspPosture(t.contacts, -t.outward, {})) continue;
+    if (!hfts::grasp::isGraspPosture(t.contacts, -t.outward, {})) continue;
     t.contacts.col(0).swap(t.contacts.col(2));
     t.outward.col(0).swap(t.outward.col(2));
     out.push_back(t);
@@ -146,7 +146,7 @@ BENCHMARK(BM_QueryMapOnly)->Unit(benchmark::kMicrosecond);
 
 void BM_BuildMap(benchmark::State& state) {
   for (auto _ : state) {
-    const auto map = hfts::planner::buildHandMap(kr5());
+    const auto map = hfts::grasp::buildHandMap(kr5());
     benchmark::DoNotOptimize(map.configurations.data());
     state.counters["samples"] = static_cast<double>(map.numSamples());
     state.counters["draws"] = static_cast<double>(map.num_draws);

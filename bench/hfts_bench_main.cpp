@@ -19,8 +19,8 @@
 #include "experiment_design.h"
 #include "ompl_benchmark_log.h"
 #include "planner/grasp_motion_planner.h"
-#include "planner/scene.h"
 #include "plot_script.h"
+#include "robot/scene.h"
 #include "run_record.h"
 
 namespace {
@@ -30,7 +30,7 @@ using hfts::bench::Algorithm;
 using hfts::bench::RunRecord;
 using hfts::bench::UsageError;
 using hfts::planner::PlanningWorld;
-using hfts::planner::Scene;
+using hfts::robot::Scene;
 
 struct Options {
   std::string db, robot, sceneDir, out, experiment, outDir, python = "/usr/bin/python3";
@@ -130,7 +130,7 @@ std::vector<Scene> loadScenes(const Options& o) {
   hfts::bench::requireKnown(o.scenes, available, "scene");
   std::vector<Scene> scenes;
   for (const std::string& name : o.scenes.empty() ? available : o.scenes) {
-    scenes.push_back(hfts::planner::loadScene(dir / (name + ".json")));
+    scenes.push_back(hfts::robot::loadScene(dir / (name + ".json")));
     scenes.back().name = name;  // the CSV names scenes as the command line does
   }
   return scenes;

@@ -7,11 +7,11 @@
 #include <filesystem>
 #include <random>
 
-#include "planner/arm_ik.h"
-#include "planner/collision_checker.h"
-#include "planner/grasp_quality.h"
-#include "planner/kinematics.h"
+#include "grasp/grasp_quality.h"
 #include "preprocess/database_builder.h"
+#include "robot/arm_ik.h"
+#include "robot/collision_checker.h"
+#include "robot/kinematics.h"
 
 namespace {
 
@@ -19,9 +19,9 @@ using namespace hfts;
 
 const std::filesystem::path kSource = HFTS_SOURCE_DIR;
 
-const planner::RobotModel& robot() {
-  static const planner::RobotModel model =
-      planner::RobotModel::load(kSource / "robots/kr5_sdh/kr5_sdh.json");
+const robot::RobotModel& robot() {
+  static const robot::RobotModel model =
+      robot::RobotModel::load(kSource / "robots/kr5_sdh/kr5_sdh.json");
   return model;
 }
 
@@ -36,9 +36,9 @@ Eigen::VectorXd randomConfiguration(std::mt19937_64& rng) {
 void BM_ForwardKinematicsAllLinks(benchmark::State& state) {
   std::mt19937_64 rng(1);
   const Eigen::VectorXd q = randomConfiguration(rng);
-  planner::LinkPoses poses;
+  robot::LinkPoses poses;
   for (auto _ : state) {
-    planner::forwardKinematics(robot(), q, poses);
+    robot::forwardKinematics(robot(), q, poses);
     benchmark::DoNotOptimize(poses.data());
   }
   state.counters["links"] = static_cast<double>(poses.size());
@@ -46,7 +46,7 @@ void BM_ForwardKinematicsAllLinks(benchmark::State& state) {
 BENCHMARK(BM_ForwardKinematicsAllLinks);
 
 void BM_ClosedFormIkAllSolutions(benchmark::State& state) {
-  const planner::ArmIk ik(robot());
+  const robot::ArmIk ik(robot());
   std::mt19937_64 rng(2);
   std::vector<Eigen::Isometry3d> targets;
   for (int i = 0; i < 256; ++i) targets.push_back(ik.flangePose(randomConfiguration(rng).head(6)));
@@ -62,10 +62,10 @@ void BM_ClosedFormIkAllSolutions(benchmark::State& state) {
 BENCHMARK(BM_ClosedFormIkAllSolutions);
 
 /// 256 random 3-contact grasps on a 5 cm sphere (K = 8, mu = 0.5).
-std::vector<planner::GraspQualityRequest> randomGrasps() {
+std::vector<grasp::GraspQualityRequest> randomGrasps() {
   std::mt19937_64 rng(4);
   std::normal_distribution<double> g;
-  std::vector<planner::GraspQualityRequest> requests(256);
+  std::vector<grasp::GraspQualityRequest> requests(256);
   for (auto& r : requests) {
     r.positions.resize(3, 3);
     r.normals.resize(3, 3);
@@ -80,9 +80,9 @@ std::vector<planner::GraspQualityRequest> randomGrasps() {
 }
 
 void runGraspQuality(benchmark::State& state,
-                     const std::vector<planner::GraspQualityRequest>& requests) {
+                     const std::vector<grasp::GraspQualityRequest>& requests) {
   std::size_t i = 0, stable = 0;
-  for (auto _ : state) stable += planner::graspQuality(requests[i++ % requests.size()]).epsilon > 0;
+  for (auto _ : state) stable += grasp::graspQuality(requests[i++ % requests.size()]).epsilon > 0;
   state.counters["stable"] = static_cast<double>(stable) / static_cast<double>(state.iterations());
 }
 
@@ -95,11 +95,11 @@ BENCHMARK(BM_GraspQuality3Contacts);
 /// The same for the force-closure grasps among them only (by Qhull), whose
 /// epsilon cannot be settled by finding one facet the origin lies beyond.
 void BM_GraspQuality3ContactsStable(benchmark::State& state) {
-  std::vector<planner::GraspQualityRequest> requests = randomGrasps();
+  std::vector<grasp::GraspQualityRequest> requests = randomGrasps();
   requests.erase(std::remove_if(requests.begin(), requests.end(),
-                                [](planner::GraspQualityRequest r) {
+                                [](grasp::GraspQualityRequest r) {
                                   r.use_qhull = true;
-                                  return planner::graspQuality(r).epsilon == 0.0;
+                                  return grasp::graspQuality(r).epsilon == 0.0;
                                 }),
                  requests.end());
   runGraspQuality(state, requests);
@@ -111,12 +111,12 @@ BENCHMARK(BM_GraspQuality3ContactsStable);
 /// configurations only: no early exit, the worst case. The median and 90th
 /// percentile of single checks are reported as counters (microseconds).
 void BM_CollisionCheck(benchmark::State& state, const std::string& scene, bool freeOnly) {
-  const planner::Scene s = planner::loadScene(kSource / ("objects/scenes/" + scene + ".json"));
+  const robot::Scene s = robot::loadScene(kSource / ("objects/scenes/" + scene + ".json"));
   std::filesystem::path mesh;
   for (const auto& entry : std::filesystem::directory_iterator(kSource / "objects/meshes"))
     if (entry.path().stem() == s.target_object) mesh = entry.path();
   const auto target = preprocess::buildObjectDatabaseFromFile(mesh, {}).database;
-  planner::CollisionChecker checker(robot(), s, &target.geometry);
+  robot::CollisionChecker checker(robot(), s, &target.geometry);
   std::mt19937_64 rng(3);
   std::vector<Eigen::VectorXd> configurations;
   while (configurations.size() < 1024) {

@@ -3,11 +3,12 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "planner/kinematics.h"
+#include "robot/kinematics.h"
 
 namespace hfts::planner {
 
-BackwardProjection::BackwardProjection(const RobotModel& model, const Eigen::Isometry3d& robotBase,
+BackwardProjection::BackwardProjection(const robot::RobotModel& model,
+                                       const Eigen::Isometry3d& robotBase,
                                        const Eigen::Vector3d& targetCentre, double maxDistance)
     : model_(model), targetInBase_(robotBase.inverse() * targetCentre) {
   setMaxDistance(maxDistance);
@@ -20,14 +21,14 @@ void BackwardProjection::setMaxDistance(double maxDistance) {
 }
 
 bool BackwardProjection::nearTarget(const Eigen::VectorXd& q) const {
-  const LinkPoses poses = forwardKinematics(model_, q);
+  const robot::LinkPoses poses = robot::forwardKinematics(model_, q);
   const Eigen::Vector3d palm = poses[static_cast<std::size_t>(model_.palmLink())].translation();
   return (palm - targetInBase_).norm() <= maxDistance_;
 }
 
 Eigen::VectorXd BackwardProjection::gradient(const Eigen::VectorXd& q) const {
   const int arm = model_.numArmDofs();
-  const LinkPoses poses = forwardKinematics(model_, q);
+  const robot::LinkPoses poses = robot::forwardKinematics(model_, q);
   const Eigen::Vector3d palm = poses[static_cast<std::size_t>(model_.palmLink())].translation();
   Eigen::Vector3d away = palm - targetInBase_;
   Eigen::VectorXd h = Eigen::VectorXd::Zero(q.size());

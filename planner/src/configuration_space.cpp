@@ -4,13 +4,22 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "hfts_db/invalid_argument.h"
+
 namespace hfts::planner {
 
 namespace ob = ompl::base;
 
-WeightedStateSpace::WeightedStateSpace(const RobotModel& model)
+WeightedStateSpace::WeightedStateSpace(const robot::RobotModel& model,
+                                       std::shared_ptr<robot::ConfigurationMetric> metric)
     : ob::RealVectorStateSpace(static_cast<unsigned int>(model.numDofs())),
-      armDofs_(model.numArmDofs()) {
+      armDofs_(model.numArmDofs()),
+      metric_(metric ? std::move(metric)
+                     : std::make_shared<robot::ConfigurationMetric>(model.dofWeights())) {
+  if (metric_->weights().size() != model.numDofs())
+    throw std::invalid_argument("WeightedStateSpace: the metric has " +
+                                std::to_string(metric_->weights().size()) + " weights for " +
+                                std::to_string(model.numDofs()) + " DoF");
   ob::RealVectorBounds bounds(static_cast<unsigned int>(model.numDofs()));
   for (int i = 0; i < model.numDofs(); ++i) {
     bounds.setLow(static_cast<unsigned int>(i), model.lowerLimits()(i));
@@ -19,35 +28,25 @@ WeightedStateSpace::WeightedStateSpace(const RobotModel& model)
   }
   setBounds(bounds);
   setName("hfts_weighted_" + model.name());
-  setWeights(model.dofWeights());
-}
-
-void WeightedStateSpace::setWeights(const Eigen::VectorXd& weights) {
-  if (weights.size() != static_cast<Eigen::Index>(getDimension()))
-    throw std::invalid_argument("state space: " + std::to_string(getDimension()) +
-                                " weights expected, got " + std::to_string(weights.size()));
-  if ((weights.array() < 0.0).any() || !weights.allFinite())
-    throw std::invalid_argument("state space: weights must be finite and >= 0");
-  weights_ = weights;
 }
 
 double WeightedStateSpace::distance(const ob::State* a, const ob::State* b) const {
   using Values = Eigen::Map<const Eigen::VectorXd>;
   const Values x(a->as<StateType>()->values, dimension_);
   const Values y(b->as<StateType>()->values, dimension_);
-  return std::sqrt((weights_.array() * (x - y).array().square()).sum());
+  return metric_->distance(x, y);
 }
 
 double WeightedStateSpace::distance(const Eigen::Ref<const Eigen::VectorXd>& a,
                                     const Eigen::Ref<const Eigen::VectorXd>& b) const {
-  return std::sqrt((weights_.array() * (a - b).array().square()).sum());
+  return metric_->distance(a, b);
 }
 
 double WeightedStateSpace::getMaximumExtent() const {
   double sum = 0.0;
   for (unsigned int i = 0; i < dimension_; ++i) {
     const double d = bounds_.high[i] - bounds_.low[i];
-    sum += weights_(i) * d * d;
+    sum += weights()(i) * d * d;
   }
   return std::sqrt(sum);
 }
@@ -60,16 +59,17 @@ void WeightedStateSpace::fromVector(const Eigen::VectorXd& q, ob::State* state) 
   Eigen::Map<Eigen::VectorXd>(state->as<StateType>()->values, dimension_) = q;
 }
 
-namespace {
-const WeightedStateSpace& weightedSpace(const ob::SpaceInformationPtr& si) {
-  const auto* space = dynamic_cast<const WeightedStateSpace*>(si->getStateSpace().get());
-  if (space == nullptr) throw std::invalid_argument("expected a WeightedStateSpace");
+WeightedStateSpace& weightedSpace(const ob::SpaceInformationPtr& si) {
+  auto* space = dynamic_cast<WeightedStateSpace*>(si->getStateSpace().get());
+  if (space == nullptr)
+    throw std::invalid_argument(
+        "the space information's state space is not a WeightedStateSpace "
+        "(make it with makeSpaceInformation)");
   return *space;
 }
-}  // namespace
 
 CollisionValidityChecker::CollisionValidityChecker(const ob::SpaceInformationPtr& si,
-                                                   CollisionChecker& checker)
+                                                   robot::CollisionChecker& checker)
     : ob::StateValidityChecker(si), space_(weightedSpace(si)), checker_(checker) {}
 
 bool CollisionValidityChecker::isValid(const ob::State* state) const {
@@ -77,14 +77,15 @@ bool CollisionValidityChecker::isValid(const ob::State* state) const {
 }
 
 CollisionMotionValidator::CollisionMotionValidator(const ob::SpaceInformationPtr& si,
-                                                   CollisionChecker& checker, double resolution)
+                                                   robot::CollisionChecker& checker,
+                                                   double resolution)
     : ob::MotionValidator(si), space_(weightedSpace(si)), checker_(checker) {
   setResolution(resolution);
 }
 
 void CollisionMotionValidator::setResolution(double resolution) {
   if (!(resolution > 0.0) || !std::isfinite(resolution))
-    throw std::invalid_argument("collision resolution must be > 0");
+    throw InvalidArgument("collision_resolution", "must be > 0");
   resolution_ = resolution;
 }
 
@@ -104,7 +105,7 @@ bool CollisionMotionValidator::checkMotion(const ob::State* a, const ob::State* 
   const Eigen::VectorXd from = space_.toVector(a);
   const Eigen::VectorXd to = space_.toVector(b);
   const int steps =
-      std::max(1, static_cast<int>(std::ceil(checker_.distance(from, to) / resolution_)));
+      std::max(1, static_cast<int>(std::ceil(space_.distance(from, to) / resolution_)));
   for (int s = 1; s <= steps; ++s) {
     const double t = static_cast<double>(s) / steps;
     if (!checker_.inCollision(from + (to - from) * t)) continue;
@@ -118,10 +119,9 @@ bool CollisionMotionValidator::checkMotion(const ob::State* a, const ob::State* 
   return true;
 }
 
-ob::SpaceInformationPtr makeSpaceInformation(const RobotModel& model, CollisionChecker& checker,
-                                             double resolution) {
-  auto space = std::make_shared<WeightedStateSpace>(model);
-  space->setWeights(checker.dofWeights());
+ob::SpaceInformationPtr makeSpaceInformation(const robot::RobotModel& model,
+                                             robot::CollisionChecker& checker, double resolution) {
+  auto space = std::make_shared<WeightedStateSpace>(model, checker.sharedMetric());
   auto si = std::make_shared<ob::SpaceInformation>(space);
   si->setStateValidityChecker(std::make_shared<CollisionValidityChecker>(si, checker));
   si->setMotionValidator(std::make_shared<CollisionMotionValidator>(si, checker, resolution));

@@ -30,7 +30,7 @@ FreeSpaceDistance FreeSpaceDistances::distances(const Eigen::VectorXd& q,
   return {toNonConnected(q), toConnected(q)};
 }
 
-GoalHierarchyCache::GoalHierarchyCache(const HftsSpace& space, RatingWeights weights)
+GoalHierarchyCache::GoalHierarchyCache(const grasp::HftsSpace& space, RatingWeights weights)
     : space_(space), weights_(weights) {
   if (!(weights.w_f > 0.0) || !(weights.w_c > 0.0))
     throw std::invalid_argument("goal hierarchy cache: w_f and w_c must be > 0");
@@ -43,7 +43,7 @@ GoalHierarchyCache::GoalHierarchyCache(const HftsSpace& space, RatingWeights wei
   T_.push_back(kUnknown);
 }
 
-int GoalHierarchyCache::addChild(int parent, const HftsNode& hfts,
+int GoalHierarchyCache::addChild(int parent, const grasp::HftsNode& hfts,
                                  std::vector<CachedConfiguration> configurations, double quality) {
   if (!node(parent).sampled.insert(hfts).second)
     throw std::invalid_argument("goal hierarchy cache: child cached twice");

@@ -14,7 +14,7 @@ namespace {
 class WithApproximateGoals : public FreeSpaceDistances {
  public:
   WithApproximateGoals(const FreeSpaceDistances& planner, const std::vector<Eigen::VectorXd>& goals,
-                       const CollisionChecker& metric)
+                       const robot::ConfigurationMetric& metric)
       : planner_(planner), goals_(goals), metric_(metric) {}
   double toNonConnected(const Eigen::VectorXd& q) const override {
     return orApproximateGoal(planner_.toNonConnected(q), q);
@@ -35,7 +35,7 @@ class WithApproximateGoals : public FreeSpaceDistances {
 
   const FreeSpaceDistances& planner_;
   const std::vector<Eigen::VectorXd>& goals_;
-  const CollisionChecker& metric_;
+  const robot::ConfigurationMetric& metric_;
 };
 
 }  // namespace
@@ -50,9 +50,9 @@ GoalSampler::GoalSampler(GoalSamplingContext context) : context_(context) {
     throw std::invalid_argument("goal sampler: max_fingertip_error must be > 0");
 }
 
-std::vector<CachedConfiguration> GoalSampler::configurationsOf(const HftsNode& node,
+std::vector<CachedConfiguration> GoalSampler::configurationsOf(const grasp::HftsNode& node,
                                                                double epsilon) {
-  const GraspConfigurations all =
+  const grasp::GraspConfigurations all =
       context_.configurator->configure(*context_.space, node, *context_.rng);
   ++stats_.configured_nodes;
   std::vector<CachedConfiguration> free, colliding;
@@ -70,26 +70,27 @@ std::vector<CachedConfiguration> GoalSampler::configurationsOf(const HftsNode& n
   return {std::move(colliding[pick])};
 }
 
-std::vector<CachedConfiguration> GoalSampler::otherHandConfigurationsOf(const HftsNode& node,
+std::vector<CachedConfiguration> GoalSampler::otherHandConfigurationsOf(const grasp::HftsNode& node,
                                                                         double epsilon) {
   std::vector<CachedConfiguration> free, colliding;
-  for (const GraspConfigurations& posture : context_.configurator->configureOtherHands(
+  for (const grasp::GraspConfigurations& posture : context_.configurator->configureOtherHands(
            context_.space->representative(node), context_.max_fingertip_error, *context_.rng))
     label(node, epsilon, posture, free, colliding);
   return free;
 }
 
-void GoalSampler::label(const HftsNode& node, double epsilon, const GraspConfigurations& all,
+void GoalSampler::label(const grasp::HftsNode& node, double epsilon,
+                        const grasp::GraspConfigurations& all,
                         std::vector<CachedConfiguration>& free,
                         std::vector<CachedConfiguration>& colliding) {
   const bool stableLeaf = context_.space->isLeaf(node) && epsilon > 0.0;
-  for (const GraspConfiguration& c : all.configurations) {
-    if (c.label == ConfigurationLabel::kNoKinematicSolution) continue;
+  for (const grasp::GraspConfiguration& c : all.configurations) {
+    if (c.label == grasp::ConfigurationLabel::kNoKinematicSolution) continue;
     CachedConfiguration out;
     out.pregrasp = c.pregrasp;
     out.grasp = c.grasp;
     out.fingertip_error = c.fingertip_error;
-    out.collision_free = c.label == ConfigurationLabel::kCollisionFree;
+    out.collision_free = c.label == grasp::ConfigurationLabel::kCollisionFree;
     out.goal = out.collision_free && stableLeaf &&
                c.fingertip_error <= context_.max_fingertip_error &&
                context_.checker->isMotionValid(c.pregrasp, c.grasp, context_.approach_resolution,
@@ -98,7 +99,7 @@ void GoalSampler::label(const HftsNode& node, double epsilon, const GraspConfigu
   }
 }
 
-GoalSample GoalSampler::describe(const HftsNode& node, const CachedConfiguration& config,
+GoalSample GoalSampler::describe(const grasp::HftsNode& node, const CachedConfiguration& config,
                                  GoalKind kind) {
   GoalSample s;
   s.kind = kind;
@@ -106,7 +107,7 @@ GoalSample GoalSampler::describe(const HftsNode& node, const CachedConfiguration
   if (kind == GoalKind::kGoal) s.grasp = config.grasp;
   s.node = node;
   s.contacts = context_.space->representative(node);
-  const GraspEvaluation e = context_.objective->evaluate(node);
+  const grasp::GraspEvaluation e = context_.objective->evaluate(node);
   s.epsilon = e.quality;
   s.reachability = e.reachability;
   s.fingertip_error = config.fingertip_error;
@@ -125,7 +126,7 @@ HftsGoalSampler::HftsGoalSampler(GoalSamplingContext context, HftsGoalSamplerOpt
 GoalSample HftsGoalSampler::sample(const FreeSpaceDistances& planner,
                                    const std::function<bool()>& stop) {
   ++stats_.calls;
-  const WithApproximateGoals knowledge(planner, approximate_, *context_.checker);
+  const WithApproximateGoals knowledge(planner, approximate_, context_.checker->metric());
   cache_.invalidateRatings();  // the trees have grown since the last call
   std::mt19937_64& rng = *context_.rng;
   int parent = cache_.root();
@@ -159,7 +160,7 @@ GoalSample HftsGoalSampler::sample(const FreeSpaceDistances& planner,
       std::uniform_int_distribution<std::size_t>(0, approximate_.size() - 1)(rng);
   CachedConfiguration config;
   config.pregrasp = approximate_[pick];
-  const HftsNode node = approximateNodes_[pick];
+  const grasp::HftsNode node = approximateNodes_[pick];
   approximate_.erase(approximate_.begin() + static_cast<std::ptrdiff_t>(pick));
   approximateNodes_.erase(approximateNodes_.begin() + static_cast<std::ptrdiff_t>(pick));
   return describe(node, config, GoalKind::kApproximate);
@@ -175,8 +176,8 @@ int HftsGoalSampler::iterationsFor(int parent, const FreeSpaceDistances& knowled
 
 int HftsGoalSampler::sampleNewChild(int parent, int iterations) {
   const CacheNode& p = cache_.node(parent);
-  const ClimbResult best =
-      hillClimb(*context_.objective, p.hfts, iterations, *context_.rng, &p.sampled);
+  const grasp::ClimbResult best =
+      grasp::hillClimb(*context_.objective, p.hfts, iterations, *context_.rng, &p.sampled);
   if (!best.found) return GoalHierarchyCache::kNone;
   ++stats_.nodes_explored;
   const double epsilon = best.evaluation.quality;
@@ -215,12 +216,12 @@ DecoupledGoalSampler::DecoupledGoalSampler(GoalSamplingContext context, int iter
 GoalSample DecoupledGoalSampler::sample(const FreeSpaceDistances& /*knowledge*/,
                                         const std::function<bool()>& stop) {
   ++stats_.calls;
-  const HftsSpace& space = *context_.space;
-  HftsNode node = space.root();
-  ClimbResult climb;
+  const grasp::HftsSpace& space = *context_.space;
+  grasp::HftsNode node = space.root();
+  grasp::ClimbResult climb;
   while (!space.isLeaf(node)) {  // Sec. II-A: a restart from the root
     if (stop()) return {};
-    climb = hillClimb(*context_.objective, node, iterations_, *context_.rng);
+    climb = grasp::hillClimb(*context_.objective, node, iterations_, *context_.rng);
     node = climb.best;
     if (explored_.insert(node).second)
       ++stats_.nodes_explored;

@@ -15,70 +15,6 @@ namespace hfts::planner {
 
 namespace ob = ompl::base;
 
-PlanningWorld::PlanningWorld(RobotModel robot, db::HandMap handMap,
-                             std::map<std::string, db::ObjectDatabase> objects)
-    : robot_(std::move(robot)),
-      ik_(robot_),
-      fast_(robot_, handMap),
-      thorough_(robot_, std::move(handMap), HandQueryOptions::thorough()),
-      objects_(std::move(objects)) {
-  for (const auto& [name, database] : objects_)
-    collisionMeshes_.emplace(
-        name, std::make_unique<const CollisionMesh>(
-                  TriangleMesh{database.geometry.mesh_vertices, database.geometry.mesh_triangles}));
-}
-
-PlanningWorld::~PlanningWorld() = default;
-
-std::shared_ptr<const PlanningWorld> PlanningWorld::load(const std::filesystem::path& robotConfig,
-                                                         const std::filesystem::path& dbDir,
-                                                         std::vector<std::string>* skipped) {
-  namespace fs = std::filesystem;
-  if (!fs::is_directory(dbDir))
-    throw std::runtime_error("database directory " + dbDir.string() + " does not exist");
-  RobotModel robot = RobotModel::load(robotConfig);
-  const fs::path mapPath = dbDir / (robot.name() + "_hand_map.h5");
-  if (!fs::exists(mapPath))
-    throw std::runtime_error("no hand reachability map " + mapPath.string() +
-                             " (build it with: hfts-preprocess --hand " + robotConfig.string() +
-                             " -o " + dbDir.string() + ")");
-  db::HandMap map = db::loadHandMap(mapPath);
-  std::vector<fs::path> files;
-  for (const fs::directory_entry& e : fs::directory_iterator(dbDir))
-    if (e.is_regular_file() && e.path().extension() == ".h5" && e.path() != mapPath)
-      files.push_back(e.path());
-  std::sort(files.begin(), files.end());
-  std::map<std::string, db::ObjectDatabase> objects;
-  for (const fs::path& file : files) {
-    try {
-      db::ObjectDatabase database = db::loadObjectDatabase(file);
-      const std::string name = database.name;
-      if (!objects.emplace(name, std::move(database)).second)
-        throw std::runtime_error("a second database of object '" + name + "'");
-    } catch (const std::exception& e) {
-      if (skipped != nullptr) skipped->push_back(file.string() + ": " + e.what());
-    }
-  }
-  return std::make_shared<const PlanningWorld>(std::move(robot), std::move(map),
-                                               std::move(objects));
-}
-
-const db::ObjectDatabase* PlanningWorld::object(const std::string& name) const {
-  const auto it = objects_.find(name);
-  return it == objects_.end() ? nullptr : &it->second;
-}
-
-const CollisionMesh* PlanningWorld::collisionMesh(const std::string& name) const {
-  const auto it = collisionMeshes_.find(name);
-  return it == collisionMeshes_.end() ? nullptr : it->second.get();
-}
-
-std::vector<std::string> PlanningWorld::objectNames() const {
-  std::vector<std::string> names;
-  for (const auto& entry : objects_) names.push_back(entry.first);
-  return names;
-}
-
 const char* toString(PlanFailure failure) {
   switch (failure) {
     case PlanFailure::kNone:
@@ -127,7 +63,7 @@ std::shared_ptr<MultiTreeCBiRRT> makePlanner(const ob::SpaceInformationPtr& si,
   return planner;
 }
 
-Eigen::VectorXd startOf(const RobotModel& robot, const PlanRequest& request) {
+Eigen::VectorXd startOf(const robot::RobotModel& robot, const PlanRequest& request) {
   const Eigen::VectorXd start =
       request.start ? *request.start : request.scene.start.value_or(robot.home());
   if (start.size() != robot.numDofs())
@@ -139,7 +75,7 @@ Eigen::VectorXd startOf(const RobotModel& robot, const PlanRequest& request) {
   return start;
 }
 
-PlannedGrasp describeGrasp(const RobotModel& robot, const GoalSample& goal,
+PlannedGrasp describeGrasp(const robot::RobotModel& robot, const GoalSample& goal,
                            const Eigen::Isometry3d& objectPose) {
   PlannedGrasp g;
   g.node = goal.node;
@@ -197,7 +133,7 @@ void recordBaseline(const LazyGoalOutcome& out, std::uint64_t plannerChecks, Pla
 
 std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world) {
   quietOmpl();
-  CollisionChecker checker(world.robot(), Scene{}, nullptr);
+  robot::CollisionChecker checker(world.robot(), robot::Scene{}, nullptr);
   const auto si = makeSpaceInformation(world.robot(), checker, kTreeResolution);
   MultiTreeCBiRRT planner(si);
   std::vector<PlannerParameterInfo> out;
@@ -213,7 +149,7 @@ namespace {
 PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningWorld& world,
                     const PlanRequest& request, const std::atomic<bool>* cancel) {
   quietOmpl();
-  const RobotModel& robot = world.robot();
+  const robot::RobotModel& robot = world.robot();
   PlanResult result;
   result.joint_names = robot.dofNames();
   const std::string name = request.object.empty() ? request.scene.target_object : request.object;
@@ -229,13 +165,13 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
   if (object == nullptr)
     return finish(PlanFailure::kUnknownObject, "unknown object '" + name + "'");
 
-  Scene scene = request.scene;
+  robot::Scene scene = request.scene;
   scene.target_object = name;
   if (request.object_pose) scene.target_pose = *request.object_pose;
-  CollisionChecker checker(robot, scene, &object->geometry, world.collisionMesh(name));
+  robot::CollisionChecker checker(robot, scene, &object->geometry, world.collisionMesh(name));
   const auto si = makeSpaceInformation(robot, checker, kTreeResolution);
   const std::shared_ptr<MultiTreeCBiRRT> planner = makePlanner(si, request);
-  CollisionPair pair;
+  robot::CollisionPair pair;
   if (checker.targetTouchesObstacles(&pair))
     return finish(PlanFailure::kObjectInCollision,
                   "the target object intersects " + pair.second + " in this scene");
@@ -244,7 +180,7 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
                                                       pair.first + " touches " + pair.second);
 
   const GoalSamplingParameters& g = planner->goalSampling();
-  const HftsSpace space(*object, static_cast<int>(robot.fingertips().size()));
+  const grasp::HftsSpace space(*object, static_cast<int>(robot.fingertips().size()));
   auto succeed = [&](std::vector<Eigen::VectorXd> path, const GoalSample& goal) {
     result.success = true;
     result.path = std::move(path);
@@ -268,9 +204,9 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
     recordBaseline(out, checker.checkCount(), result.stats);
     return out.solved ? succeed(out.path, out.goal) : fail(out.goals);
   }
-  GraspObjective objective(space, world.handMap(), {g.alpha, g.friction, g.cone_edges});
-  GraspConfigurator configurator(robot, world.ik(), world.thoroughHandMap(), checker,
-                                 scene.target_pose, scene.robot_base);
+  grasp::GraspObjective objective(space, world.handMap(), {g.alpha, g.friction, g.cone_edges});
+  grasp::GraspConfigurator configurator(robot, world.ik(), world.thoroughHandMap(), checker,
+                                        scene.target_pose, scene.robot_base);
   GoalSamplingContext context{&space,
                               &objective,
                               &configurator,

@@ -45,11 +45,11 @@ class NoFreeSpaceKnowledge : public FreeSpaceDistances {
 };
 
 /// makeSpaceInformation() on `checker` with the planning thread's metric.
-ob::SpaceInformationPtr spaceInformationWithWeights(const RobotModel& robot,
-                                                    CollisionChecker& checker,
+ob::SpaceInformationPtr spaceInformationWithWeights(const robot::RobotModel& robot,
+                                                    robot::CollisionChecker& checker,
                                                     const Eigen::VectorXd& weights,
                                                     double resolution) {
-  checker.setDofWeights(weights);
+  checker.metric().setWeights(weights);
   return makeSpaceInformation(robot, checker, resolution);
 }
 
@@ -58,8 +58,8 @@ ob::SpaceInformationPtr spaceInformationWithWeights(const RobotModel& robot,
 /// information for GoalLazySamples' validity check of each goal state, the
 /// Eq. (1) objective, Phi(h), a generator and the decoupled sampler.
 struct SamplingThreadTools {
-  SamplingThreadTools(const PlanningWorld& world, const Scene& scene,
-                      const db::ObjectDatabase& object, const HftsSpace& space,
+  SamplingThreadTools(const PlanningWorld& world, const robot::Scene& scene,
+                      const db::ObjectDatabase& object, const grasp::HftsSpace& space,
                       const LazyGoalSettings& settings, const WeightedStateSpace& plannerSpace,
                       double resolution)
       : checker(world.robot(), scene, &object.geometry, world.collisionMesh(object.name)),
@@ -72,10 +72,10 @@ struct SamplingThreadTools {
                  settings.smoothing.final_resolution, settings.max_fingertip_error},
                 settings.iterations) {}
 
-  CollisionChecker checker;
+  robot::CollisionChecker checker;
   ob::SpaceInformationPtr si;
-  GraspObjective objective;
-  GraspConfigurator configurator;
+  grasp::GraspObjective objective;
+  grasp::GraspConfigurator configurator;
   std::mt19937_64 rng;
   DecoupledGoalSampler sampler;
 };
@@ -244,8 +244,8 @@ void searchUntilChecked(SeededRrtConnect& planner, ob::ProblemDefinition& pdef,
 }  // namespace
 
 LazyGoalRrtConnect::LazyGoalRrtConnect(ob::SpaceInformationPtr si, const PlanningWorld& world,
-                                       const Scene& scene, const db::ObjectDatabase& object,
-                                       const HftsSpace& space, LazyGoalSettings settings)
+                                       const robot::Scene& scene, const db::ObjectDatabase& object,
+                                       const grasp::HftsSpace& space, LazyGoalSettings settings)
     : si_(std::move(si)),
       world_(world),
       scene_(scene),

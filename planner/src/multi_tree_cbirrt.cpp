@@ -203,7 +203,6 @@ void MultiTreeCBiRRT::setGroupWeight(const char* name, bool arm, double weight) 
     weights.tail(weights.size() - armDofs).setConstant(weight);
   // One metric for trees, motion checks and goal-sampler ratings.
   space_.setWeights(weights);
-  validator_->checker().setDofWeights(weights);
 }
 
 void MultiTreeCBiRRT::setRange(double range) {

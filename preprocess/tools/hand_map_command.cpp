@@ -5,18 +5,18 @@
 #include <iostream>
 #include <stdexcept>
 
-#include "planner/hand_reachability.h"
-#include "planner/robot_model.h"
+#include "grasp/hand_map_builder.h"
+#include "robot/robot_model.h"
 
 namespace hfts::preprocess {
 
 int handMapCommand(const std::string& robotConfig, const std::string& outDir,
                    unsigned long long seed) {
   const auto start = std::chrono::steady_clock::now();
-  const planner::RobotModel model = planner::RobotModel::load(robotConfig);
-  planner::HandMapOptions options;
+  const robot::RobotModel model = robot::RobotModel::load(robotConfig);
+  grasp::HandMapOptions options;
   options.seed = seed;
-  db::HandMap map = planner::buildHandMap(model, options);
+  db::HandMap map = grasp::buildHandMap(model, options);
   map.producer = "hfts-preprocess --hand";
   std::error_code ec;
   std::filesystem::create_directories(outDir, ec);

@@ -4,9 +4,9 @@
 #include <iostream>
 #include <stdexcept>
 
-#include "planner/robot_model.h"
-#include "planner/scene.h"
-#include "planner/scene_export.h"
+#include "robot/robot_model.h"
+#include "robot/scene.h"
+#include "robot/scene_export.h"
 
 namespace hfts::preprocess {
 
@@ -26,9 +26,9 @@ std::string repositoryPath(const std::string& given, const std::string& fallback
 
 int exportSceneCommand(const std::vector<std::string>& args, const SceneExportOptions& options,
                        const char* argv0) {
-  const planner::RobotModel model = planner::RobotModel::load(
-      repositoryPath(options.robot, "robots/kr5_sdh/kr5_sdh.json", argv0));
-  const planner::Scene scene = planner::loadScene(args.at(0));
+  const robot::RobotModel model =
+      robot::RobotModel::load(repositoryPath(options.robot, "robots/kr5_sdh/kr5_sdh.json", argv0));
+  const robot::Scene scene = robot::loadScene(args.at(0));
   Eigen::VectorXd q = scene.start ? *scene.start : model.home();
   if (!options.config.empty())
     q = Eigen::Map<const Eigen::VectorXd>(options.config.data(),
@@ -42,7 +42,7 @@ int exportSceneCommand(const std::vector<std::string>& args, const SceneExportOp
         "no database for target object '" + scene.target_object + "' in '" + dbDir.string() +
         "' (build it with hfts-preprocess objects/meshes -o " + dbDir.string() + ", or give --db)");
   const db::ObjectDatabase target = db::loadObjectDatabase(dbPath);
-  planner::exportSceneGlb(model, scene, &target.geometry, q, args.at(1));
+  robot::exportSceneGlb(model, scene, &target.geometry, q, args.at(1));
   std::cout << "wrote scene '" << scene.name << "' (" << scene.obstacles.size()
             << " obstacles, target '" << scene.target_object << "') to " << args.at(1) << "\n";
   return 0;

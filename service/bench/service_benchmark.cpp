@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "client/rpc_client.h"
-#include "planner/hand_reachability.h"
+#include "grasp/hand_reachability.h"
 #include "preprocess/database_builder.h"
 #include "service/plan_request_json.h"
 #include "service/server.h"
@@ -30,12 +30,12 @@ std::shared_ptr<const service::PlanningCatalog> makeCatalog() {
     auto d = preprocess::buildObjectDatabaseFromFile(kSource / "objects/meshes" / mesh, {});
     objects.emplace(d.database.name, std::move(d.database));
   }
-  auto robot = planner::RobotModel::load(kSource / "robots/kr5_sdh/kr5_sdh.json");
-  auto map = planner::buildHandMap(robot);
-  std::map<std::string, planner::Scene> scenes;
+  auto robot = robot::RobotModel::load(kSource / "robots/kr5_sdh/kr5_sdh.json");
+  auto map = grasp::buildHandMap(robot);
+  std::map<std::string, robot::Scene> scenes;
   for (const char* name : {"bin", "table"}) {
     scenes.emplace(name,
-                   planner::loadScene(kSource / "objects/scenes" / (name + std::string(".json"))));
+                   robot::loadScene(kSource / "objects/scenes" / (name + std::string(".json"))));
     scenes.at(name).name = name;
   }
   return std::make_shared<const service::PlanningCatalog>(

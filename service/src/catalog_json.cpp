@@ -2,9 +2,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "grasp/grasp_quality_json.h"
 #include "json_fields.h"
 #include "json_geometry.h"
-#include "planner/grasp_quality_json.h"
 #include "service/rpc_error.h"
 
 namespace hfts::service {
@@ -12,15 +12,15 @@ namespace {
 
 using nlohmann::json;
 
-const char* typeName(planner::Obstacle::Type type) {
+const char* typeName(robot::Obstacle::Type type) {
   switch (type) {
-    case planner::Obstacle::Type::kBox:
+    case robot::Obstacle::Type::kBox:
       return "box";
-    case planner::Obstacle::Type::kCylinder:
+    case robot::Obstacle::Type::kCylinder:
       return "cylinder";
-    case planner::Obstacle::Type::kSphere:
+    case robot::Obstacle::Type::kSphere:
       return "sphere";
-    case planner::Obstacle::Type::kMesh:
+    case robot::Obstacle::Type::kMesh:
       return "mesh";
   }
   return "unknown";
@@ -28,11 +28,11 @@ const char* typeName(planner::Obstacle::Type type) {
 
 }  // namespace
 
-json robotJson(const planner::RobotModel& robot) {
+json robotJson(const robot::RobotModel& robot) {
   const std::vector<std::string>& names = robot.dofNames();
   const auto arm = names.begin() + robot.numArmDofs();
   json tips = json::array();
-  for (const planner::Fingertip& f : robot.fingertips()) tips.push_back(f.name);
+  for (const robot::Fingertip& f : robot.fingertips()) tips.push_back(f.name);
   return {{"name", robot.name()},
           {"joint_names", names},
           {"arm_joint_names", std::vector<std::string>(names.begin(), arm)},
@@ -70,7 +70,7 @@ json scenesJson(const PlanningCatalog& catalog) {
   json scenes = json::array();
   for (const auto& [name, scene] : catalog.scenes()) {
     json obstacles = json::array();
-    for (const planner::Obstacle& o : scene.obstacles)
+    for (const robot::Obstacle& o : scene.obstacles)
       obstacles.push_back({{"name", o.name}, {"type", typeName(o.type)}});
     scenes.push_back({{"name", name},
                       {"description", scene.description},
@@ -97,8 +97,8 @@ json graspQualityJson(const json& params, const PlanningCatalog& catalog) {
     if (!request.contains("torque_scale")) request["torque_scale"] = object->geometry.rho;
   }
   try {
-    const planner::GraspQualityRequest r = planner::graspQualityRequestFromJson(request.dump());
-    return {{"epsilon", planner::graspQuality(r).epsilon}};
+    const grasp::GraspQualityRequest r = grasp::graspQualityRequestFromJson(request.dump());
+    return {{"epsilon", grasp::graspQuality(r).epsilon}};
   } catch (const std::invalid_argument& e) {
     throw invalidParamFromPlanner(e.what());
   }

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "planner/scene.h"
+#include "robot/scene.h"
 #include "service/rpc_error.h"
 
 namespace hfts::service {
@@ -52,7 +52,7 @@ std::string JsonFields::string(const char* key) const {
 
 std::string JsonFields::name(const char* key) const {
   std::string value = string(key);
-  if (!planner::isSafeName(value))
+  if (!robot::isSafeName(value))
     fail(key, "'" + value +
                   "' is not a valid name (letters, digits, _ - . only, no path characters, "
                   "at most 128)");

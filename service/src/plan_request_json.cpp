@@ -18,7 +18,7 @@ std::string joined(const std::vector<std::string>& names) {
   return out;
 }
 
-planner::Scene inlineScene(const JsonFields& f, const PlanningCatalog& catalog) {
+robot::Scene inlineScene(const JsonFields& f, const PlanningCatalog& catalog) {
   const json& scene = f.at("scene");
   const auto obstacles = scene.find("obstacles");
   if (obstacles != scene.end() && obstacles->is_array())
@@ -28,17 +28,17 @@ planner::Scene inlineScene(const JsonFields& f, const PlanningCatalog& catalog) 
         f.fail("scene.obstacles[" + std::to_string(i) + "]",
                "inline scenes may not load mesh files (use box, cylinder or sphere)");
   try {
-    return planner::parseScene(scene.dump(), catalog.sceneDir(), "inline scene");
-  } catch (const planner::SceneError& e) {
+    return robot::parseScene(scene.dump(), catalog.sceneDir(), "inline scene");
+  } catch (const robot::SceneError& e) {
     f.fail("scene", e.what());
   }
 }
 
-planner::Scene sceneOf(const JsonFields& f, const PlanningCatalog& catalog) {
+robot::Scene sceneOf(const JsonFields& f, const PlanningCatalog& catalog) {
   if (f.at("scene").is_object()) return inlineScene(f, catalog);
   if (!f.at("scene").is_string()) f.fail("scene", "must be a scene name or an inline scene object");
   const std::string name = f.name("scene");
-  const planner::Scene* scene = catalog.scene(name);
+  const robot::Scene* scene = catalog.scene(name);
   if (scene == nullptr) {
     std::vector<std::string> known;
     for (const auto& entry : catalog.scenes()) known.push_back(entry.first);
@@ -48,7 +48,7 @@ planner::Scene sceneOf(const JsonFields& f, const PlanningCatalog& catalog) {
 }
 
 std::string objectOf(const JsonFields& f, const PlanningCatalog& catalog,
-                     const planner::Scene& scene) {
+                     const robot::Scene& scene) {
   const std::string name = f.has("object") ? f.name("object") : scene.target_object;
   if (catalog.world().object(name) == nullptr)
     f.fail(f.has("object") ? "object" : "scene",
@@ -56,7 +56,7 @@ std::string objectOf(const JsonFields& f, const PlanningCatalog& catalog,
   return name;
 }
 
-void checkStart(const JsonFields& f, const planner::RobotModel& robot,
+void checkStart(const JsonFields& f, const robot::RobotModel& robot,
                 const planner::PlanRequest& r) {
   const char* field = r.start ? "start" : "scene.start";
   const Eigen::VectorXd start = r.start ? *r.start : r.scene.start.value_or(robot.home());
@@ -103,7 +103,7 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
   r.scene = sceneOf(f, catalog);
   r.object = objectOf(f, catalog, r.scene);
   if (f.has("object_pose")) r.object_pose = f.pose("object_pose");
-  const planner::RobotModel& robot = catalog.robot();
+  const robot::RobotModel& robot = catalog.robot();
   if (f.has("start")) r.start = f.numbers("start", robot.numDofs());
   checkStart(f, robot, r);
   r.time_limit = std::min(f.has("time_limit") ? f.positive("time_limit") : limits.max_time_limit,

@@ -8,7 +8,7 @@ namespace hfts::service {
 namespace fs = std::filesystem;
 
 PlanningCatalog::PlanningCatalog(std::shared_ptr<const planner::PlanningWorld> world,
-                                 std::map<std::string, planner::Scene> scenes, fs::path sceneDir,
+                                 std::map<std::string, robot::Scene> scenes, fs::path sceneDir,
                                  std::vector<std::string> skipped)
     : world_(std::move(world)),
       scenes_(std::move(scenes)),
@@ -25,15 +25,15 @@ std::shared_ptr<const PlanningCatalog> PlanningCatalog::load(const CatalogSource
   for (const fs::directory_entry& e : fs::directory_iterator(sources.scene_dir))
     if (e.is_regular_file() && e.path().extension() == ".json") files.push_back(e.path());
   std::sort(files.begin(), files.end());
-  std::map<std::string, planner::Scene> scenes;
+  std::map<std::string, robot::Scene> scenes;
   for (const fs::path& file : files) {
     const std::string name = file.stem().string();
-    if (!planner::isSafeName(name)) {
+    if (!robot::isSafeName(name)) {
       skipped.push_back(file.string() + ": the file name is not a valid scene name");
       continue;
     }
     try {
-      planner::Scene scene = planner::loadScene(file);
+      robot::Scene scene = robot::loadScene(file);
       scene.name = name;  // requests name scenes by file, as hfts-bench does
       scenes.emplace(name, std::move(scene));
     } catch (const std::exception& e) {
@@ -44,7 +44,7 @@ std::shared_ptr<const PlanningCatalog> PlanningCatalog::load(const CatalogSource
                                                  sources.scene_dir, std::move(skipped));
 }
 
-const planner::Scene* PlanningCatalog::scene(const std::string& name) const {
+const robot::Scene* PlanningCatalog::scene(const std::string& name) const {
   const auto it = scenes_.find(name);
   return it == scenes_.end() ? nullptr : &it->second;
 }

@@ -6,7 +6,7 @@
 #include <functional>
 
 #include "file_corruption.h"
-#include "planner/hand_reachability.h"
+#include "grasp/hand_reachability.h"
 #include "test_meshes.h"
 
 namespace hfts::db {
@@ -17,11 +17,11 @@ using test::TempDir;
 /// A real (small) map of the KR5's SDH, built once for the suite.
 const HandMap& sample() {
   static const HandMap map = [] {
-    const auto model = planner::RobotModel::load(std::filesystem::path(HFTS_SOURCE_DIR) /
-                                                 "robots/kr5_sdh/kr5_sdh.json");
-    planner::HandMapOptions options;
+    const auto model = robot::RobotModel::load(std::filesystem::path(HFTS_SOURCE_DIR) /
+                                               "robots/kr5_sdh/kr5_sdh.json");
+    grasp::HandMapOptions options;
     options.num_samples = 2000;
-    return planner::buildHandMap(model, options);
+    return grasp::buildHandMap(model, options);
   }();
   return map;
 }

@@ -8,7 +8,7 @@
 namespace hfts::planner {
 namespace {
 
-const RobotModel& m() {
+const robot::RobotModel& m() {
   return test::kr5Sdh();
 }
 
@@ -42,8 +42,8 @@ TEST(ConfigurationSpace, RejectsBadWeights) {
   EXPECT_THROW(space.setWeights(negative), std::invalid_argument);
 }
 
-TEST(ConfigurationSpace, WeightParametersChangeSpaceAndCheckerAlike) {
-  CollisionChecker checker(m(), Scene{}, nullptr);
+TEST(ConfigurationSpace, WeightParametersChangeTheOneMetricOfSpaceAndChecker) {
+  robot::CollisionChecker checker(m(), robot::Scene{}, nullptr);
   const auto si = makeSpaceInformation(m(), checker, 0.02);
   MultiTreeCBiRRT planner(si);
   ASSERT_TRUE(planner.params().setParam("weight_hand", "1"));
@@ -52,14 +52,14 @@ TEST(ConfigurationSpace, WeightParametersChangeSpaceAndCheckerAlike) {
   Eigen::VectorXd expected = Eigen::VectorXd::Ones(13);
   expected.head(6).setConstant(2.0);
   EXPECT_EQ(space.weights(), expected);
-  EXPECT_EQ(checker.dofWeights(), expected);
+  EXPECT_EQ(&space.metric(), &checker.metric());  // one object, not two copies
   EXPECT_FALSE(planner.params().setParam("weight_hand", "-1"));
-  EXPECT_EQ(checker.dofWeights(), expected);
+  EXPECT_EQ(checker.metric().weights(), expected);
 }
 
 TEST(ConfigurationSpace, MotionValidatorReportsTheLastValidState) {
-  const Scene table = loadScene(test::sourcePath("objects/scenes/table.json"));
-  CollisionChecker checker(m(), table, nullptr);
+  const robot::Scene table = robot::loadScene(test::sourcePath("objects/scenes/table.json"));
+  robot::CollisionChecker checker(m(), table, nullptr);
   const auto si = makeSpaceInformation(m(), checker, 0.02);
   const auto& space = *si->getStateSpace()->as<WeightedStateSpace>();
   ompl::base::ScopedState<> from(si), to(si), last(si);

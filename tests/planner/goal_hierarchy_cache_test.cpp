@@ -22,8 +22,8 @@ CachedConfiguration at(double omega, double gamma) {
   return c;
 }
 
-const HftsSpace& space() {
-  static const HftsSpace s(test::bundledObjects().at("box"), 3);
+const grasp::HftsSpace& space() {
+  static const grasp::HftsSpace s(test::bundledObjects().at("box"), 3);
   return s;
 }
 
@@ -35,14 +35,14 @@ double configRating(double omega, double gamma) {
 
 TEST(GoalHierarchyCache, CoverageIsCachedOverPossibleChildren) {
   GoalHierarchyCache cache(space(), {});
-  const HftsNode root = space().root();
+  const grasp::HftsNode root = space().root();
   EXPECT_EQ(cache.coverage(cache.root()), 0.0);
   int child = -1;
   for (std::uint64_t i = 0; i < 3; ++i) child = cache.addChild(0, space().child(root, i), {}, 0.0);
   EXPECT_DOUBLE_EQ(cache.coverage(0), 3.0 / static_cast<double>(space().numChildren(root)));
   // A node whose children are all cached has coverage 1 (the authors' code
   // got this wrong through integer division).
-  const HftsNode level1 = cache.node(child).hfts;
+  const grasp::HftsNode level1 = cache.node(child).hfts;
   for (std::uint64_t i = 0; i < space().numChildren(level1); ++i)
     cache.addChild(child, space().child(level1, i), {}, 0.0);
   EXPECT_DOUBLE_EQ(cache.coverage(child), 1.0);
@@ -52,7 +52,7 @@ TEST(GoalHierarchyCache, CoverageIsCachedOverPossibleChildren) {
 TEST(GoalHierarchyCache, RatingFollowsEquation4) {
   GoalHierarchyCache cache(space(), {kWf, kWc, 20});
   const FakeKnowledge k;
-  const HftsNode root = space().root();
+  const grasp::HftsNode root = space().root();
   const int a = cache.addChild(0, space().child(root, 0), {at(1.0, 2.0), at(0.5, 3.0)}, 0.1);
   const int b = cache.addChild(0, space().child(root, 1), {}, 0.0);
   EXPECT_DOUBLE_EQ(cache.rating(0, k), kWf);  // the root
@@ -88,9 +88,9 @@ TEST(GoalHierarchyCache, RatingsKeepEachConfigurationsMemoAcrossInvalidations) {
 TEST(GoalHierarchyCache, BranchRatingAveragesActiveChildren) {
   GoalHierarchyCache cache(space(), {kWf, kWc, 20});
   const FakeKnowledge k;
-  const HftsNode root = space().root();
+  const grasp::HftsNode root = space().root();
   const int p = cache.addChild(0, space().child(root, 5), {at(2.0, 2.0)}, 0.1);
-  const HftsNode level1 = cache.node(p).hfts;
+  const grasp::HftsNode level1 = cache.node(p).hfts;
   const int c1 = cache.addChild(p, space().child(level1, 0), {at(1.0, 1.0)}, 0.1);
   const int c2 = cache.addChild(p, space().child(level1, 1), {at(3.0, 0.5)}, 0.1);
   // Leaves of the branch: T(n) = t(n).
@@ -108,7 +108,7 @@ TEST(GoalHierarchyCache, BranchRatingAveragesActiveChildren) {
 TEST(GoalHierarchyCache, DescendRatingShrinksWithCachedLeaves) {
   GoalHierarchyCache cache(space(), {kWf, kWc, 20});
   const FakeKnowledge k;
-  HftsNode n = space().child(space().root(), 7);
+  grasp::HftsNode n = space().child(space().root(), 7);
   int node = cache.addChild(0, n, {at(1.0, 1.0)}, 0.1);
   const int top = node;
   while (!space().isLeaf(n)) {
@@ -133,7 +133,7 @@ TEST(GoalHierarchyCache, PickChildDownSamplesActiveChildrenByInverseRating) {
   constexpr int kTrials = 4000;
   for (int trial = 0; trial < kTrials; ++trial) {
     GoalHierarchyCache cache(space(), {kWf, kWc, 2});
-    const HftsNode root = space().root();
+    const grasp::HftsNode root = space().root();
     const int ids[3] = {cache.addChild(0, space().child(root, 0), {at(0.0, 0.0)}, 0.1),
                         cache.addChild(0, space().child(root, 1), {at(0.0, 1.0)}, 0.1),
                         cache.addChild(0, space().child(root, 2), {at(3.0, 3.0)}, 0.1)};
@@ -156,7 +156,7 @@ TEST(GoalHierarchyCache, PickChildDownSamplesActiveChildrenByInverseRating) {
 TEST(GoalHierarchyCache, PickChildPrefersHighRatings) {
   const FakeKnowledge k;
   GoalHierarchyCache cache(space(), {kWf, kWc, 20});
-  const HftsNode root = space().root();
+  const grasp::HftsNode root = space().root();
   const int strong = cache.addChild(0, space().child(root, 0), {at(0.0, 0.0)}, 0.1);
   cache.addChild(0, space().child(root, 1), {at(0.0, 2.0)}, 0.1);
   const double pStrong = configRating(0, 0) / (configRating(0, 0) + configRating(0, 2));
@@ -174,7 +174,7 @@ TEST(GoalHierarchyCache, ShouldDescendFollowsAlgorithm3) {
   const FakeKnowledge k;
   GoalHierarchyCache cache(space(), {kWf, kWc, 20});
   std::mt19937_64 rng(4);
-  const HftsNode root = space().root();
+  const grasp::HftsNode root = space().root();
   const int child = cache.addChild(0, space().child(root, 0), {at(0.0, 0.5)}, 0.1);
   EXPECT_FALSE(cache.shouldDescend(0, GoalHierarchyCache::kNone, k, rng));
   // Randomised in proportion to T_p(parent) and T_c(child).
@@ -186,12 +186,12 @@ TEST(GoalHierarchyCache, ShouldDescendFollowsAlgorithm3) {
   EXPECT_NEAR(descents / static_cast<double>(kTrials), pDescend,
               4 * std::sqrt(pDescend * (1 - pDescend) / kTrials) + 1e-3);
   // A fully covered parent always descends to an inner child; never to a leaf.
-  const HftsNode level1 = cache.node(child).hfts;
+  const grasp::HftsNode level1 = cache.node(child).hfts;
   int inner = -1;
   for (std::uint64_t i = 0; i < space().numChildren(level1); ++i)
     inner = cache.addChild(child, space().child(level1, i), {}, 0.0);
   EXPECT_TRUE(cache.shouldDescend(child, inner, k, rng));
-  const HftsNode level2 = cache.node(inner).hfts;
+  const grasp::HftsNode level2 = cache.node(inner).hfts;
   int leaf = -1;
   for (std::uint64_t i = 0; i < space().numChildren(level2); ++i)
     leaf = cache.addChild(inner, space().child(level2, i), {}, 0.0);

@@ -10,7 +10,7 @@
 namespace hfts::planner {
 namespace {
 
-int cacheIndexOf(const HftsGoalSampler& sampler, const HftsNode& node) {
+int cacheIndexOf(const HftsGoalSampler& sampler, const grasp::HftsNode& node) {
   for (std::size_t n = 0; n < sampler.cache().size(); ++n)
     if (sampler.cache().node(static_cast<int>(n)).hfts == node) return static_cast<int>(n);
   return GoalHierarchyCache::kNone;

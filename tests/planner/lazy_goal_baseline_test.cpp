@@ -88,10 +88,10 @@ TEST(LazyGoalRrtConnect, UnreachableObjectIsReported) {
 }
 
 TEST(LazyGoalRrtConnect, RejectsIterationsBelowOne) {
-  const Scene scene = loadScene(test::sourcePath("objects/scenes/table.json"));
+  const robot::Scene scene = robot::loadScene(test::sourcePath("objects/scenes/table.json"));
   const db::ObjectDatabase& mug = *world().object("mug");
-  CollisionChecker checker(world().robot(), scene, &mug.geometry);
-  const HftsSpace space(mug, static_cast<int>(world().robot().fingertips().size()));
+  robot::CollisionChecker checker(world().robot(), scene, &mug.geometry);
+  const grasp::HftsSpace space(mug, static_cast<int>(world().robot().fingertips().size()));
   LazyGoalSettings settings;
   settings.iterations = 0;
   test::expectErrorMentioning<std::invalid_argument>(

@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include "planner/kinematics.h"
-#include "planner/scene.h"
+#include "robot/kinematics.h"
+#include "robot/scene.h"
 #include "robot_fixture.h"
 #include "test_meshes.h"
 
@@ -14,25 +14,25 @@ namespace ob = ompl::base;
 
 /// The robot alone (no obstacles, no target) or in the table scene.
 struct Fixture {
-  explicit Fixture(const Scene& scene, double treeResolution = 0.02)
+  explicit Fixture(const robot::Scene& scene, double treeResolution = 0.02)
       : checker(test::kr5Sdh(), scene, nullptr),
         si(makeSpaceInformation(test::kr5Sdh(), checker, treeResolution)) {}
   const WeightedStateSpace& space() const { return *si->getStateSpace()->as<WeightedStateSpace>(); }
   const CollisionMotionValidator& validator() const {
     return dynamic_cast<const CollisionMotionValidator&>(*si->getMotionValidator());
   }
-  CollisionChecker checker;
+  robot::CollisionChecker checker;
   ob::SpaceInformationPtr si;
 };
 
-Scene emptyScene() {
-  Scene scene;
+robot::Scene emptyScene() {
+  robot::Scene scene;
   scene.name = "empty";
   return scene;
 }
 
-Scene tableScene() {
-  return loadScene(test::sourcePath("objects/scenes/table.json"));
+robot::Scene tableScene() {
+  return robot::loadScene(test::sourcePath("objects/scenes/table.json"));
 }
 
 /// A zig-zag of free configurations around the home pose: shortcutting
@@ -50,7 +50,7 @@ std::vector<Eigen::VectorXd> zigZag() {
 /// The table scene's start, then the shoulder forward and down through
 /// the table top (as in the planner's start-in-collision test).
 std::vector<Eigen::VectorXd> throughTheTable() {
-  const Scene scene = tableScene();
+  const robot::Scene scene = tableScene();
   return {*scene.start,
           (Eigen::VectorXd(13) << 0, 0.6, 0.5, 0, 1.57, 0, 0, -0.2, 0.2, -0.2, 0.2, -0.2, 0.2)
               .finished()};
@@ -58,16 +58,16 @@ std::vector<Eigen::VectorXd> throughTheTable() {
 
 /// A ball where the palm is at the home pose: swinging the first joint
 /// through home hits it, swinging with the elbow raised passes above it.
-Scene ballAtThePalm() {
-  const RobotModel& robot = test::kr5Sdh();
-  Obstacle ball;
+robot::Scene ballAtThePalm() {
+  const robot::RobotModel& robot = test::kr5Sdh();
+  robot::Obstacle ball;
   ball.name = "ball";
-  ball.type = Obstacle::Type::kSphere;
+  ball.type = robot::Obstacle::Type::kSphere;
   ball.size = Eigen::Vector3d(0.03, 0, 0);
   ball.pose.translation() =
-      forwardKinematics(robot, robot.home())[static_cast<std::size_t>(robot.palmLink())]
+      robot::forwardKinematics(robot, robot.home())[static_cast<std::size_t>(robot.palmLink())]
           .translation();
-  Scene scene = emptyScene();
+  robot::Scene scene = emptyScene();
   scene.obstacles.push_back(ball);
   return scene;
 }

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "planner/grasp_quality.h"
+#include "grasp/grasp_quality.h"
 #include "service/rpc_error.h"
 #include "service_catalog.h"
 
@@ -73,7 +73,7 @@ TEST(CatalogJson, GraspQualityAsHftsQuality) {
 
 TEST(CatalogJson, GraspQualityOfAnObjectUsesItsCentreAndRho) {
   const db::ObjectDatabase& mug = *test::serviceCatalog().world().object("mug");
-  planner::GraspQualityRequest r;
+  grasp::GraspQualityRequest r;
   r.positions.resize(3, 3);
   r.normals.resize(3, 3);
   for (int i = 0; i < 3; ++i)
@@ -87,7 +87,7 @@ TEST(CatalogJson, GraspQualityOfAnObjectUsesItsCentreAndRho) {
   r.torque_scale = mug.geometry.rho;
   const json q =
       graspQualityJson({{"contacts", kContacts}, {"object", "mug"}}, test::serviceCatalog());
-  EXPECT_EQ(q.at("epsilon").get<double>(), planner::graspQuality(r).epsilon);
+  EXPECT_EQ(q.at("epsilon").get<double>(), grasp::graspQuality(r).epsilon);
 }
 
 TEST(CatalogJson, GraspQualityErrorsNameTheField) {

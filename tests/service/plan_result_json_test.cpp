@@ -12,7 +12,7 @@ using nlohmann::json;
 
 planner::PlanRequest request() {
   planner::PlanRequest r;
-  r.scene = planner::loadScene(test::sourcePath("objects/scenes/table.json"));
+  r.scene = robot::loadScene(test::sourcePath("objects/scenes/table.json"));
   r.scene.name = "table";
   r.object = "mug";
   r.seed = 7;
@@ -21,7 +21,7 @@ planner::PlanRequest request() {
 }
 
 planner::PlanResult success() {
-  const planner::RobotModel& robot = test::kr5Sdh();
+  const robot::RobotModel& robot = test::kr5Sdh();
   planner::PlanResult r;
   r.success = true;
   r.joint_names = robot.dofNames();

@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "grasp/hand_reachability.h"
 #include "hfts_db/hand_map.h"
-#include "planner/hand_reachability.h"
 #include "robot_fixture.h"
 #include "service_catalog.h"
 #include "test_meshes.h"
@@ -20,7 +20,7 @@ struct Sources {
     std::filesystem::create_directories(dir / "db");
     std::filesystem::create_directories(dir / "scenes");
     db::saveObjectDatabase(test::sceneTargetObjects().at("mug"), dir / "db" / "mug.h5");
-    db::saveHandMap(planner::buildHandMap(test::kr5Sdh()), dir / "db" / "kr5_sdh_hand_map.h5");
+    db::saveHandMap(grasp::buildHandMap(test::kr5Sdh()), dir / "db" / "kr5_sdh_hand_map.h5");
     test::writeText(dir / "db" / "broken.h5", "not hdf5");
     std::filesystem::copy_file(test::sourcePath("objects/scenes/table.json"),
                                dir / "scenes" / "kitchen_table.json");
@@ -34,7 +34,7 @@ TEST(PlanningCatalog, LoadsTheWorldAndNamesScenesByFile) {
   const auto catalog = PlanningCatalog::load(s.sources);
   EXPECT_EQ(catalog->world().objectNames(), std::vector<std::string>{"mug"});
   ASSERT_EQ(catalog->scenes().size(), 1u);
-  const planner::Scene* scene = catalog->scene("kitchen_table");
+  const robot::Scene* scene = catalog->scene("kitchen_table");
   ASSERT_NE(scene, nullptr);
   EXPECT_EQ(scene->name, "kitchen_table") << "not the file's 'table'";
   EXPECT_EQ(scene->target_object, "mug");

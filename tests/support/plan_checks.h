@@ -10,10 +10,10 @@
 #include <string>
 
 #include "bundled_objects.h"
-#include "planner/collision_checker.h"
+#include "grasp/grasp_quality.h"
 #include "planner/grasp_motion_planner.h"
-#include "planner/grasp_quality.h"
-#include "planner/kinematics.h"
+#include "robot/collision_checker.h"
+#include "robot/kinematics.h"
 #include "robot_fixture.h"
 
 namespace hfts::test {
@@ -24,8 +24,7 @@ constexpr double kFinalResolution = 0.0025;
 /// The KR5 + SDH with a freshly built hand map and every bundled object,
 /// built once per test program.
 inline const planner::PlanningWorld& bundledWorld() {
-  static const planner::PlanningWorld w(kr5Sdh(), planner::buildHandMap(kr5Sdh()),
-                                        bundledObjects());
+  static const planner::PlanningWorld w(kr5Sdh(), grasp::buildHandMap(kr5Sdh()), bundledObjects());
   return w;
 }
 
@@ -34,7 +33,7 @@ inline planner::PlanRequest bundledSceneRequest(const std::string& scene, const 
                                                 std::uint64_t seed,
                                                 planner::PlanAlgorithm algorithm) {
   planner::PlanRequest r;
-  r.scene = planner::loadScene(sourcePath("objects/scenes/" + scene + ".json"));
+  r.scene = robot::loadScene(sourcePath("objects/scenes/" + scene + ".json"));
   r.object = object;
   r.seed = seed;
   r.algorithm = algorithm;
@@ -70,6 +69,8 @@ inline std::string sceneObjectName(const ::testing::TestParamInfo<SceneObject>& 
 inline void expectValidPlan(const planner::PlanningWorld& world,
                             const planner::PlanRequest& request, const planner::PlanResult& result,
                             double resolution) {
+  using namespace robot;
+  using namespace grasp;
   using namespace planner;
   ASSERT_TRUE(result.success) << result.message;
   const RobotModel& robot = world.robot();

@@ -3,7 +3,7 @@
 
 #include <filesystem>
 
-#include "planner/robot_model.h"
+#include "robot/robot_model.h"
 
 namespace hfts::test {
 
@@ -12,9 +12,9 @@ inline std::filesystem::path sourcePath(const std::string& relative) {
 }
 
 /// The KR5 sixx R850 + SDH model, loaded once.
-inline const planner::RobotModel& kr5Sdh() {
-  static const planner::RobotModel model =
-      planner::RobotModel::load(sourcePath("robots/kr5_sdh/kr5_sdh.json"));
+inline const robot::RobotModel& kr5Sdh() {
+  static const robot::RobotModel model =
+      robot::RobotModel::load(sourcePath("robots/kr5_sdh/kr5_sdh.json"));
   return model;
 }
 

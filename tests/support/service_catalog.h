@@ -5,7 +5,7 @@
 
 #include <memory>
 
-#include "planner/hand_reachability.h"
+#include "grasp/hand_reachability.h"
 #include "preprocess/database_builder.h"
 #include "robot_fixture.h"
 #include "service/planning_catalog.h"
@@ -26,17 +26,17 @@ inline const std::map<std::string, db::ObjectDatabase>& sceneTargetObjects() {
   return all;
 }
 
-inline std::map<std::string, planner::Scene> bundledScenes() {
-  std::map<std::string, planner::Scene> scenes;
+inline std::map<std::string, robot::Scene> bundledScenes() {
+  std::map<std::string, robot::Scene> scenes;
   for (const char* name : {"bin", "shelf", "table"})
-    scenes.emplace(
-        name, planner::loadScene(sourcePath("objects/scenes/") / (name + std::string(".json"))));
+    scenes.emplace(name,
+                   robot::loadScene(sourcePath("objects/scenes/") / (name + std::string(".json"))));
   return scenes;
 }
 
 inline const service::PlanningCatalog& serviceCatalog() {
   static const service::PlanningCatalog catalog(
-      std::make_shared<const planner::PlanningWorld>(kr5Sdh(), planner::buildHandMap(kr5Sdh()),
+      std::make_shared<const planner::PlanningWorld>(kr5Sdh(), grasp::buildHandMap(kr5Sdh()),
                                                      sceneTargetObjects()),
       bundledScenes(), sourcePath("objects/scenes"));
   return catalog;

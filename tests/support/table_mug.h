@@ -14,7 +14,7 @@ namespace hfts::test {
 /// start: Gamma is the distance to the start, nothing is non-connected.
 class StartOnly : public planner::FreeSpaceDistances {
  public:
-  StartOnly(const planner::CollisionChecker& metric, Eigen::VectorXd start)
+  StartOnly(const robot::ConfigurationMetric& metric, Eigen::VectorXd start)
       : metric_(metric), start_(std::move(start)) {}
   double toNonConnected(const Eigen::VectorXd& /*q*/) const override {
     return std::numeric_limits<double>::infinity();
@@ -24,7 +24,7 @@ class StartOnly : public planner::FreeSpaceDistances {
   }
 
  private:
-  const planner::CollisionChecker& metric_;
+  const robot::ConfigurationMetric& metric_;
   Eigen::VectorXd start_;
 };
 
@@ -32,17 +32,17 @@ class StartOnly : public planner::FreeSpaceDistances {
 struct TableMug {
   const planner::PlanningWorld& world = bundledWorld();
   const db::ObjectDatabase& object = *world.object("mug");
-  planner::Scene scene = planner::loadScene(sourcePath("objects/scenes/table.json"));
-  planner::CollisionChecker checker{world.robot(), scene, &object.geometry,
-                                    world.collisionMesh("mug")};
-  planner::HftsSpace space{object, static_cast<int>(world.robot().fingertips().size())};
-  planner::GraspObjective objective{space, world.handMap()};
-  planner::GraspConfigurator configurator{world.robot(), world.ik(),        world.thoroughHandMap(),
-                                          checker,       scene.target_pose, scene.robot_base};
+  robot::Scene scene = robot::loadScene(sourcePath("objects/scenes/table.json"));
+  robot::CollisionChecker checker{world.robot(), scene, &object.geometry,
+                                  world.collisionMesh("mug")};
+  grasp::HftsSpace space{object, static_cast<int>(world.robot().fingertips().size())};
+  grasp::GraspObjective objective{space, world.handMap()};
+  grasp::GraspConfigurator configurator{world.robot(), world.ik(),        world.thoroughHandMap(),
+                                        checker,       scene.target_pose, scene.robot_base};
   std::mt19937_64 rng{5};
   planner::GoalSamplingContext context{&space, &objective, &configurator, &checker, &rng};
   Eigen::VectorXd start = scene.start.value_or(world.robot().home());
-  StartOnly knowledge{checker, start};
+  StartOnly knowledge{checker.metric(), start};
 };
 
 }  // namespace hfts::test

@@ -6,7 +6,7 @@
 
 #include <Eigen/Geometry>
 
-#include "planner/robot_model.h"
+#include "robot/robot_model.h"
 
 namespace hfts::planner {
 
@@ -16,7 +16,7 @@ class BackwardProjection {
   /// (m), the palm distance to the target below which steps are projected.
   /// The model must outlive the projection. Throws std::invalid_argument
   /// for a negative or non-finite D_m.
-  BackwardProjection(const RobotModel& model, const Eigen::Isometry3d& robotBase,
+  BackwardProjection(const robot::RobotModel& model, const Eigen::Isometry3d& robotBase,
                      const Eigen::Vector3d& targetCentre, double maxDistance);
 
   double maxDistance() const { return maxDistance_; }
@@ -35,7 +35,7 @@ class BackwardProjection {
   Eigen::VectorXd project(const Eigen::VectorXd& from, const Eigen::VectorXd& to) const;
 
  private:
-  const RobotModel& model_;
+  const robot::RobotModel& model_;
   Eigen::Vector3d targetInBase_;
   double maxDistance_ = 0.0;
 };

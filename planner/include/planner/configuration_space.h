@@ -11,14 +11,18 @@
 
 #include <Eigen/Core>
 
-#include "planner/collision_checker.h"
+#include <memory>
+
+#include "robot/collision_checker.h"
 
 namespace hfts::planner {
 
 class WeightedStateSpace : public ompl::base::RealVectorStateSpace {
  public:
-  /// Bounds are the joint limits, weights the robot's DoF weights.
-  explicit WeightedStateSpace(const RobotModel& model);
+  /// Bounds are the joint limits. The distance is `metric`'s (shared, e.g.
+  /// with a collision checker), or when null a metric of the robot's own.
+  explicit WeightedStateSpace(const robot::RobotModel& model,
+                              std::shared_ptr<robot::ConfigurationMetric> metric = nullptr);
 
   /// Eq. (3): sqrt(sum_i w_i (a_i - b_i)^2).
   double distance(const ompl::base::State* a, const ompl::base::State* b) const override;
@@ -27,42 +31,49 @@ class WeightedStateSpace : public ompl::base::RealVectorStateSpace {
   double getMaximumExtent() const override;
 
   int armDofs() const { return armDofs_; }
-  const Eigen::VectorXd& weights() const { return weights_; }
-  /// Throws std::invalid_argument for a wrong size or a negative weight.
-  void setWeights(const Eigen::VectorXd& weights);
+  const robot::ConfigurationMetric& metric() const { return *metric_; }
+  const Eigen::VectorXd& weights() const { return metric_->weights(); }
+  /// Sets the shared metric's weights. Throws InvalidArgument ("weights")
+  /// for a wrong size or a negative weight.
+  void setWeights(const Eigen::VectorXd& weights) { metric_->setWeights(weights); }
 
   Eigen::VectorXd toVector(const ompl::base::State* state) const;
   void fromVector(const Eigen::VectorXd& q, ompl::base::State* state) const;
 
  private:
   int armDofs_ = 0;
-  Eigen::VectorXd weights_;
+  std::shared_ptr<robot::ConfigurationMetric> metric_;
 };
+
+/// The space of `si` as a WeightedStateSpace. Throws std::invalid_argument
+/// when `si` was not made by makeSpaceInformation() (another state space).
+WeightedStateSpace& weightedSpace(const ompl::base::SpaceInformationPtr& si);
 
 /// Valid = no collision under the full rule (obstacles, target, self).
 class CollisionValidityChecker : public ompl::base::StateValidityChecker {
  public:
-  CollisionValidityChecker(const ompl::base::SpaceInformationPtr& si, CollisionChecker& checker);
+  CollisionValidityChecker(const ompl::base::SpaceInformationPtr& si,
+                           robot::CollisionChecker& checker);
   bool isValid(const ompl::base::State* state) const override;
 
  private:
   const WeightedStateSpace& space_;
-  CollisionChecker& checker_;
+  robot::CollisionChecker& checker_;
 };
 
 /// Straight-line motions checked at a fixed resolution in the Eq. (3)
 /// metric (every intermediate state and the end state).
 class CollisionMotionValidator : public ompl::base::MotionValidator {
  public:
-  CollisionMotionValidator(const ompl::base::SpaceInformationPtr& si, CollisionChecker& checker,
-                           double resolution);
+  CollisionMotionValidator(const ompl::base::SpaceInformationPtr& si,
+                           robot::CollisionChecker& checker, double resolution);
   bool checkMotion(const ompl::base::State* a, const ompl::base::State* b) const override;
   bool checkMotion(const ompl::base::State* a, const ompl::base::State* b,
                    std::pair<ompl::base::State*, double>& lastValid) const override;
   /// The same check at another resolution (the planner's final re-check).
   bool checkMotion(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution) const;
 
-  CollisionChecker& checker() const { return checker_; }
+  robot::CollisionChecker& checker() const { return checker_; }
   /// A single configuration under the full rule.
   bool isValid(const Eigen::VectorXd& q) const { return !checker_.inCollision(q); }
 
@@ -72,14 +83,14 @@ class CollisionMotionValidator : public ompl::base::MotionValidator {
 
  private:
   const WeightedStateSpace& space_;
-  CollisionChecker& checker_;
+  robot::CollisionChecker& checker_;
   double resolution_;
 };
 
-/// Space, validity checker and motion validator, set up. The space's
-/// weights start as the checker's (they must stay equal: the planner's
-/// weight parameters set both).
-ompl::base::SpaceInformationPtr makeSpaceInformation(const RobotModel& model,
-                                                     CollisionChecker& checker, double resolution);
+/// Space, validity checker and motion validator, set up. The space's metric
+/// is the checker's (one object: the planner's weight parameters set it).
+ompl::base::SpaceInformationPtr makeSpaceInformation(const robot::RobotModel& model,
+                                                     robot::CollisionChecker& checker,
+                                                     double resolution);
 
 }  // namespace hfts::planner

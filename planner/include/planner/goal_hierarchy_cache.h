@@ -12,7 +12,7 @@
 #include <unordered_set>
 #include <vector>
 
-#include "planner/hfts_space.h"
+#include "grasp/hfts_space.h"
 
 namespace hfts::planner {
 
@@ -67,12 +67,12 @@ struct CachedConfiguration {
 };
 
 struct CacheNode {
-  HftsNode hfts;
-  int parent = -1;                                     ///< index of p(n); -1 for the root
-  std::vector<int> children;                           ///< Ch(n)
-  std::vector<int> active;                             ///< Ch_a(n), a subset of children
-  std::unordered_set<HftsNode, HftsNodeHash> sampled;  ///< eta of the children
-  std::vector<CachedConfiguration> configurations;     ///< C_n
+  grasp::HftsNode hfts;
+  int parent = -1;            ///< index of p(n); -1 for the root
+  std::vector<int> children;  ///< Ch(n)
+  std::vector<int> active;    ///< Ch_a(n), a subset of children
+  std::unordered_set<grasp::HftsNode, grasp::HftsNodeHash> sampled;  ///< eta of the children
+  std::vector<CachedConfiguration> configurations;                   ///< C_n
   double cached_leaves = 0.0;  ///< |L(n)|: leaves of the branch that are cached
   double possible_leaves = 0.0;
   double quality = 0.0;              ///< epsilon of the node's representative grasp
@@ -86,7 +86,7 @@ class GoalHierarchyCache {
  public:
   /// The space must outlive the cache. Throws std::invalid_argument for
   /// non-positive weights or N_a < 1.
-  GoalHierarchyCache(const HftsSpace& space, RatingWeights weights);
+  GoalHierarchyCache(const grasp::HftsSpace& space, RatingWeights weights);
 
   static constexpr int kNone = -1;  ///< the paper's "bottom": no node
   int root() const { return 0; }
@@ -98,8 +98,8 @@ class GoalHierarchyCache {
 
   /// Adds eta = `hfts` (a child of the parent's HFTS node not cached
   /// before) to Ch(parent) and Ch_a(parent) (Alg. 2 lines 18-19).
-  int addChild(int parent, const HftsNode& hfts, std::vector<CachedConfiguration> configurations,
-               double quality);
+  int addChild(int parent, const grasp::HftsNode& hfts,
+               std::vector<CachedConfiguration> configurations, double quality);
 
   /// cvr(n): cached children / possible children; 1 for a leaf.
   double coverage(int n) const;
@@ -129,7 +129,7 @@ class GoalHierarchyCache {
   double configurationRating(CachedConfiguration& config,
                              const FreeSpaceDistances& knowledge) const;
 
-  const HftsSpace& space_;
+  const grasp::HftsSpace& space_;
   RatingWeights weights_;
   std::vector<CacheNode> nodes_;
   std::vector<double> t_, T_;  // memoised ratings, NaN = not computed

@@ -12,9 +12,9 @@
 #include <unordered_set>
 #include <vector>
 
+#include "grasp/grasp_configurations.h"
+#include "grasp/grasp_optimizer.h"
 #include "planner/goal_hierarchy_cache.h"
-#include "planner/grasp_configurations.h"
-#include "planner/grasp_optimizer.h"
 
 namespace hfts::planner {
 
@@ -29,8 +29,8 @@ struct GoalSample {
   GoalKind kind = GoalKind::kNone;
   Eigen::VectorXd configuration;  ///< the pre-grasp (goal) or the approximate goal
   Eigen::VectorXd grasp;          ///< kGoal: the hand closed on the contacts
-  HftsNode node;                  ///< the grasp's HFTS node
-  GraspContacts contacts;         ///< object frame, outward normals
+  grasp::HftsNode node;           ///< the grasp's HFTS node
+  grasp::GraspContacts contacts;  ///< object frame, outward normals
   double epsilon = 0.0;
   double reachability = 0.0;  ///< R(h) (m)
   double fingertip_error = 0.0;
@@ -51,10 +51,10 @@ struct GoalSamplerStatistics {
 /// collision checker (all outliving the sampler), the planner's random
 /// generator, and what makes a goal.
 struct GoalSamplingContext {
-  const HftsSpace* space = nullptr;
-  GraspObjective* objective = nullptr;
-  GraspConfigurator* configurator = nullptr;
-  CollisionChecker* checker = nullptr;
+  const grasp::HftsSpace* space = nullptr;
+  grasp::GraspObjective* objective = nullptr;
+  grasp::GraspConfigurator* configurator = nullptr;
+  robot::CollisionChecker* checker = nullptr;
   std::mt19937_64* rng = nullptr;
   /// Resolution at which the closing motion (pre-grasp -> grasp) is checked
   /// with the grasp-aware collision rule.
@@ -81,16 +81,18 @@ class GoalSampler {
   /// Phi(h) for a node, each configuration marked collision-free and, for
   /// a stable leaf whose fingertips reach the contacts and whose closing
   /// motion is free, as a goal.
-  std::vector<CachedConfiguration> configurationsOf(const HftsNode& node, double epsilon);
+  std::vector<CachedConfiguration> configurationsOf(const grasp::HftsNode& node, double epsilon);
   /// The free configurations of the node's grasp with the other hand
   /// postures that put the fingertips on its contacts, marked as above.
-  std::vector<CachedConfiguration> otherHandConfigurationsOf(const HftsNode& node, double epsilon);
-  GoalSample describe(const HftsNode& node, const CachedConfiguration& config, GoalKind kind);
+  std::vector<CachedConfiguration> otherHandConfigurationsOf(const grasp::HftsNode& node,
+                                                             double epsilon);
+  GoalSample describe(const grasp::HftsNode& node, const CachedConfiguration& config,
+                      GoalKind kind);
 
  private:
   /// Sorts Phi(h)'s configurations into free and colliding ones and marks
   /// the goals.
-  void label(const HftsNode& node, double epsilon, const GraspConfigurations& all,
+  void label(const grasp::HftsNode& node, double epsilon, const grasp::GraspConfigurations& all,
              std::vector<CachedConfiguration>& free, std::vector<CachedConfiguration>& colliding);
 
  protected:
@@ -132,7 +134,7 @@ class HftsGoalSampler : public GoalSampler {
   HftsGoalSamplerOptions options_;
   GoalHierarchyCache cache_;
   std::vector<Eigen::VectorXd> approximate_;
-  std::vector<HftsNode> approximateNodes_;  // the node of each approximate goal
+  std::vector<grasp::HftsNode> approximateNodes_;  // the node of each approximate goal
 };
 
 /// The decoupled integration: every call runs the plain HFTS optimiser from
@@ -149,7 +151,7 @@ class DecoupledGoalSampler : public GoalSampler {
 
  private:
   int iterations_;
-  std::unordered_set<HftsNode, HftsNodeHash> explored_;
+  std::unordered_set<grasp::HftsNode, grasp::HftsNodeHash> explored_;
 };
 
 }  // namespace hfts::planner

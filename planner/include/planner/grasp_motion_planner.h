@@ -8,65 +8,16 @@
 
 #include <atomic>
 #include <cstdint>
-#include <filesystem>
 #include <map>
-#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "hfts_db/hand_map.h"
-#include "hfts_db/object_database.h"
-#include "planner/arm_ik.h"
-#include "planner/hand_reachability.h"
-#include "planner/hfts_space.h"
-#include "planner/robot_model.h"
-#include "planner/scene.h"
+#include "grasp/hfts_space.h"
+#include "planner/planning_world.h"
+#include "robot/scene.h"
 
 namespace hfts::planner {
-
-class CollisionMesh;
-
-/// What plans are made with: the robot, its hand reachability map and the
-/// object databases. Immutable once built; share it between threads.
-class PlanningWorld {
- public:
-  /// Throws ModelError when the map does not belong to the robot.
-  PlanningWorld(RobotModel robot, db::HandMap handMap,
-                std::map<std::string, db::ObjectDatabase> objects);
-  ~PlanningWorld();
-  PlanningWorld(const PlanningWorld&) = delete;
-  PlanningWorld& operator=(const PlanningWorld&) = delete;
-
-  /// Loads the robot config, `<robot name>_hand_map.h5` from `dbDir` and
-  /// every other `*.h5` there as an object database. An object database
-  /// that fails to load is skipped and its error appended to `skipped`
-  /// (when given); a missing directory, robot or hand map throws
-  /// (std::runtime_error naming the file).
-  static std::shared_ptr<const PlanningWorld> load(const std::filesystem::path& robotConfig,
-                                                   const std::filesystem::path& dbDir,
-                                                   std::vector<std::string>* skipped = nullptr);
-
-  const RobotModel& robot() const { return robot_; }
-  const ArmIk& ik() const { return ik_; }
-  /// The map's fast query (the HFTS objective) and thorough query (Phi(h)).
-  const HandReachability& handMap() const { return fast_; }
-  const HandReachability& thoroughHandMap() const { return thorough_; }
-  /// nullptr for an unknown name.
-  const db::ObjectDatabase* object(const std::string& name) const;
-  /// The collision hierarchy of an object's mesh, built once with the
-  /// world; nullptr for an unknown name.
-  const CollisionMesh* collisionMesh(const std::string& name) const;
-  std::vector<std::string> objectNames() const;
-
- private:
-  RobotModel robot_;
-  ArmIk ik_;
-  HandReachability fast_;
-  HandReachability thorough_;
-  std::map<std::string, db::ObjectDatabase> objects_;
-  std::map<std::string, std::unique_ptr<const CollisionMesh>> collisionMeshes_;
-};
 
 enum class PlanAlgorithm {
   kCoupled,    ///< the paper's goal sampler (Algorithms 2-4)
@@ -77,7 +28,7 @@ enum class PlanAlgorithm {
 };
 
 struct PlanRequest {
-  Scene scene;         ///< obstacles, robot base, target pose and start
+  robot::Scene scene;  ///< obstacles, robot base, target pose and start
   std::string object;  ///< object database name; empty: scene.target_object
   std::optional<Eigen::Isometry3d> object_pose;  ///< overrides scene.target_pose
   std::optional<Eigen::VectorXd> start;          ///< overrides the scene's start
@@ -104,7 +55,7 @@ enum class PlanFailure {
 const char* toString(PlanFailure failure);
 
 struct PlannedGrasp {
-  HftsNode node;
+  grasp::HftsNode node;
   Eigen::Matrix3Xd contacts_object;  ///< one column per finger
   Eigen::Matrix3Xd contacts_world;
   Eigen::Matrix3Xd inward_normals_object;

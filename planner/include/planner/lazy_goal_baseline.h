@@ -25,8 +25,8 @@ namespace hfts::planner {
 /// The baseline's settings; the request's planner parameters of the same
 /// names set them (see planGrasp).
 struct LazyGoalSettings {
-  int iterations = 20;         ///< decoupled i per HFTS level
-  ObjectiveOptions objective;  ///< Eq. (1): alpha, friction, cone edges
+  int iterations = 20;                ///< decoupled i per HFTS level
+  grasp::ObjectiveOptions objective;  ///< Eq. (1): alpha, friction, cone edges
   double max_fingertip_error = 0.005;
   PathSmoothing smoothing;  ///< also the closing motion's check resolution
   std::uint64_t seed = 1;
@@ -61,8 +61,8 @@ class LazyGoalRrtConnect {
   /// `object` and `space` must outlive the object. Throws
   /// std::invalid_argument for iterations < 1.
   LazyGoalRrtConnect(ompl::base::SpaceInformationPtr si, const PlanningWorld& world,
-                     const Scene& scene, const db::ObjectDatabase& object, const HftsSpace& space,
-                     LazyGoalSettings settings);
+                     const robot::Scene& scene, const db::ObjectDatabase& object,
+                     const grasp::HftsSpace& space, LazyGoalSettings settings);
 
   /// Plans from `start` (collision-free) until a path to a goal passes the
   /// re-check or `ptc` fires. The sampling thread is stopped and joined
@@ -79,9 +79,9 @@ class LazyGoalRrtConnect {
  private:
   ompl::base::SpaceInformationPtr si_;
   const PlanningWorld& world_;
-  const Scene& scene_;
+  const robot::Scene& scene_;
   const db::ObjectDatabase& object_;
-  const HftsSpace& space_;
+  const grasp::HftsSpace& space_;
   LazyGoalSettings settings_;
 };
 

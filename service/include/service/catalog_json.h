@@ -10,7 +10,7 @@ namespace hfts::service {
 
 /// {"name", "joint_names", "arm_joint_names", "hand_joint_names",
 /// "lower_limits", "upper_limits", "home", "fingertips"}.
-nlohmann::json robotJson(const planner::RobotModel& robot);
+nlohmann::json robotJson(const robot::RobotModel& robot);
 
 /// [{"name", "default", "range"}, ...], the parameters a plan may set.
 nlohmann::json plannerParametersJson(const PlanningCatalog& catalog);

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "planner/grasp_motion_planner.h"
-#include "planner/scene.h"
+#include "robot/scene.h"
 
 namespace hfts::service {
 
@@ -36,14 +36,14 @@ class PlanningCatalog {
 
   /// A catalog of an already built world (tests, benchmarks).
   PlanningCatalog(std::shared_ptr<const planner::PlanningWorld> world,
-                  std::map<std::string, planner::Scene> scenes, std::filesystem::path sceneDir = {},
+                  std::map<std::string, robot::Scene> scenes, std::filesystem::path sceneDir = {},
                   std::vector<std::string> skipped = {});
 
   const planner::PlanningWorld& world() const { return *world_; }
-  const planner::RobotModel& robot() const { return world_->robot(); }
+  const robot::RobotModel& robot() const { return world_->robot(); }
   /// nullptr for an unknown name.
-  const planner::Scene* scene(const std::string& name) const;
-  const std::map<std::string, planner::Scene>& scenes() const { return scenes_; }
+  const robot::Scene* scene(const std::string& name) const;
+  const std::map<std::string, robot::Scene>& scenes() const { return scenes_; }
   /// Where relative mesh paths of scenes are resolved.
   const std::filesystem::path& sceneDir() const { return scene_dir_; }
   const std::vector<planner::PlannerParameterInfo>& plannerParameters() const {
@@ -54,7 +54,7 @@ class PlanningCatalog {
 
  private:
   std::shared_ptr<const planner::PlanningWorld> world_;
-  std::map<std::string, planner::Scene> scenes_;
+  std::map<std::string, robot::Scene> scenes_;
   std::filesystem::path scene_dir_;
   std::vector<planner::PlannerParameterInfo> parameters_;
   std::vector<std::string> skipped_;

@@ -1,0 +1,86 @@
+#pragma once
+// From a grasp to robot configurations: the paper's Phi(h).
+
+#include <Eigen/Geometry>
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "grasp/hand_reachability.h"
+#include "grasp/hfts_space.h"
+#include "robot/arm_ik.h"
+#include "robot/collision_checker.h"
+
+namespace hfts::grasp {
+
+enum class ConfigurationLabel { kCollisionFree, kColliding, kNoKinematicSolution };
+
+const char* toString(ConfigurationLabel label);
+
+/// One robot configuration for a grasp.
+struct GraspConfiguration {
+  ConfigurationLabel label = ConfigurationLabel::kNoKinematicSolution;
+  /// The pre-grasp: the grasp with every single-finger hand DoF opened by
+  /// the robot's pregrasp_offset, in the direction that moves its fingertip
+  /// away from the pad normal (shared DoF such as the SDH knuckle keep
+  /// their value). Checked with the full collision rule:
+  /// this is the planner's goal configuration. Empty without IK solution.
+  Eigen::VectorXd pregrasp;
+  /// The hand closed on the contacts (checked with the grasp-aware rule).
+  Eigen::VectorXd grasp;
+  robot::CollisionPair collision;  ///< what collides (kColliding only)
+  /// Largest distance from a fingertip of `grasp` to its contact (m).
+  double fingertip_error = 0.0;
+};
+
+/// All configurations of a grasp in a scene.
+struct GraspConfigurations {
+  HandQuery hand;  ///< hand posture, palm pose (object frame) and R(h)
+  std::vector<GraspConfiguration>
+      configurations;  ///< one per IK solution, or one kNoKinematicSolution
+};
+
+/// Computes Phi(h): hand posture and palm pose from the hand reachability
+/// map (the thorough query: its local refinement puts the fingertips onto
+/// the contacts), every arm IK solution for that palm pose, the pre-grasp
+/// opening, and the collision checks. The references must outlive it.
+class GraspConfigurator {
+ public:
+  /// `objectPose`: object frame in the world; `robotBase`: base link in the
+  /// world (both from the scene).
+  GraspConfigurator(const robot::RobotModel& model, const robot::ArmIk& ik,
+                    const HandReachability& hand, robot::CollisionChecker& checker,
+                    const Eigen::Isometry3d& objectPose, const Eigen::Isometry3d& robotBase);
+
+  /// For the contacts of a grasp (object frame, outward normals, one column
+  /// per finger).
+  GraspConfigurations configure(const GraspContacts& grasp, std::mt19937_64& rng);
+
+  /// For an HFTS node: its representative grasp (inner nodes too: the goal
+  /// sampler asks for configurations of approximate grasps).
+  GraspConfigurations configure(const HftsSpace& space, const HftsNode& node, std::mt19937_64& rng);
+
+  /// The grasp's configurations with other hand postures than configure()
+  /// uses (HandReachability::queryAlternatives with fingertips within
+  /// `maxPositionError` m RMS of the contacts), one entry per posture.
+  std::vector<GraspConfigurations> configureOtherHands(const GraspContacts& grasp,
+                                                       double maxPositionError,
+                                                       std::mt19937_64& rng);
+
+  /// The pre-grasp opening of a hand posture (hand DoF only).
+  Eigen::VectorXd openedHand(const Eigen::VectorXd& hand) const;
+
+ private:
+  /// Every arm IK solution for a hand answer, labelled.
+  GraspConfigurations configure(const GraspContacts& grasp, HandQuery hand, std::mt19937_64& rng);
+
+  const robot::RobotModel& model_;
+  const robot::ArmIk& ik_;
+  const HandReachability& hand_;
+  robot::CollisionChecker& checker_;
+  Eigen::Isometry3d objectInBase_;
+  std::vector<bool> singleFinger_;  // per hand DoF: drives one joint only
+};
+
+}  // namespace hfts::grasp

@@ -1,0 +1,60 @@
+#pragma once
+// The HFTS grasp objective of the paper's Eq. (1), Q(h) / (R(h) + alpha):
+// Ferrari-Canny quality over hand reachability, evaluated on a node's
+// representative grasp and cached.
+
+#include <cstddef>
+#include <vector>
+
+#include "grasp/hand_reachability.h"
+#include "grasp/hfts_space.h"
+
+namespace hfts::grasp {
+
+struct ObjectiveOptions {
+  double alpha = 1e-6;  ///< Eq. (1): keeps the ratio finite when R(h) = 0
+  double friction = 0.5;
+  int cone_edges = 8;
+};
+
+/// One evaluated node.
+struct GraspEvaluation {
+  double quality = 0.0;       ///< Q(h): Ferrari-Canny epsilon of the representative grasp
+  double reachability = 0.0;  ///< R(h) (m) from the hand map
+  /// Q / (R + alpha). With R = 0 the value is Q / alpha: an exactly
+  /// reachable grasp outranks any inexact one of similar quality, and
+  /// among exact ones quality decides.
+  double value = 0.0;
+};
+
+/// Evaluates HFTS nodes on their representative grasps and caches the
+/// results (a node is evaluated once). Not thread-safe. The space and the
+/// reachability must outlive it.
+class GraspObjective {
+ public:
+  GraspObjective(const HftsSpace& space, const HandReachability& reachability,
+                 ObjectiveOptions options = {});
+  GraspEvaluation evaluate(const HftsNode& node);
+  const HftsSpace& space() const { return space_; }
+  std::size_t evaluations() const { return size_; }
+
+ private:
+  struct Slot {
+    HftsNode node;
+    GraspEvaluation evaluation;
+    bool used = false;
+  };
+  Slot& slotOf(const HftsNode& node);  // its slot, or the empty one it goes into
+  void grow();
+
+  const HftsSpace& space_;
+  const HandReachability& reachability_;
+  ObjectiveOptions options_;
+  // An open-addressing table (linear probing, at most half full): a run
+  // caches up to ~140,000 evaluations, and a node-based map took 10-20 ms
+  // to free them at the end of a plan, past its time limit.
+  std::vector<Slot> slots_;
+  std::size_t size_ = 0;
+};
+
+}  // namespace hfts::grasp

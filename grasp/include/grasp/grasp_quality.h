@@ -1,0 +1,56 @@
+#pragma once
+// The Ferrari-Canny L1 grasp quality (epsilon), the Q(h) of the paper's
+// Eq. (1). Conventions fixed in docs/grasp_quality.md: inward normals,
+// K-edge friction cones with normal component 1, torques about the centre
+// of mass scaled by 1/rho.
+
+#include <Eigen/Core>
+
+#include <stdexcept>
+#include <vector>
+
+namespace hfts::grasp {
+
+/// Which way the given contact normals point.
+enum class NormalDirection { kInward, kOutward };
+
+/// A grasp quality query; defaults are the project's (mu 0.5, K 8).
+struct GraspQualityRequest {
+  Eigen::Matrix3Xd positions;  ///< contact points, one column each (m)
+  Eigen::Matrix3Xd normals;    ///< contact normals (unit length +-1e-6)
+  NormalDirection direction = NormalDirection::kInward;
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< torque origin: the centre of mass
+  double torque_scale = 1.0;  ///< rho: largest distance from centre to surface (m), > 0
+  double friction = 0.5;      ///< mu > 0
+  int cone_edges = 8;         ///< K >= 3
+  /// Use Qhull instead of the project's incremental hull (slower; for
+  /// cross-checks). Sets of more than 64 wrenches always use Qhull.
+  bool use_qhull = false;
+};
+
+struct GraspQualityResult {
+  /// Distance from the origin to the nearest facet of the convex hull of
+  /// the contact wrenches when the origin lies strictly inside it, else 0.
+  double epsilon = 0.0;
+};
+
+/// Computes epsilon from the 6-D convex hull of the wrenches: the project's
+/// incremental hull, built only as far as the facet nearest the origin
+/// needs (Qhull for more than 64 wrenches or as a fallback). Degenerate wrench sets
+/// (fewer than 7 wrenches, rank below 6, coplanar contacts that cannot
+/// resist every wrench, duplicates) give exactly 0 or the correct positive
+/// value, never an exception. Throws std::invalid_argument naming the field
+/// for mismatched sizes, no contacts, non-finite values, non-unit normals
+/// or parameters out of range.
+GraspQualityResult graspQuality(const GraspQualityRequest& request);
+
+/// The K primitive wrenches of every contact (6 x K*n, column-major by
+/// contact): f_k = n + mu (cos(2 pi k/K) t1 + sin(2 pi k/K) t2), w = [f;
+/// (p - c) x f / rho], with inward unit normals n. The tangent t1 comes
+/// from the grasp itself (the contacts' plane, centroid, centre), so
+/// epsilon is invariant under rigid motions and reordering of the contacts
+/// (for even K, also under the sign ambiguity of that plane's normal).
+/// Exposed for tests.
+Eigen::Matrix<double, 6, Eigen::Dynamic> contactWrenches(const GraspQualityRequest& request);
+
+}  // namespace hfts::grasp

@@ -1,0 +1,116 @@
+#include "grasp/grasp_configurations.h"
+
+#include <algorithm>
+
+#include "robot/kinematics.h"
+
+namespace hfts::grasp {
+
+const char* toString(ConfigurationLabel label) {
+  switch (label) {
+    case ConfigurationLabel::kCollisionFree:
+      return "collision-free";
+    case ConfigurationLabel::kColliding:
+      return "colliding";
+    default:
+      return "no kinematic solution";
+  }
+}
+
+GraspConfigurator::GraspConfigurator(const robot::RobotModel& model, const robot::ArmIk& ik,
+                                     const HandReachability& hand, robot::CollisionChecker& checker,
+                                     const Eigen::Isometry3d& objectPose,
+                                     const Eigen::Isometry3d& robotBase)
+    : model_(model),
+      ik_(ik),
+      hand_(hand),
+      checker_(checker),
+      objectInBase_(robotBase.inverse() * objectPose) {
+  std::vector<int> joints(static_cast<std::size_t>(model.numDofs()), 0);
+  for (const robot::Joint& j : model.joints())
+    if (j.dof >= 0) ++joints[static_cast<std::size_t>(j.dof)];
+  for (int d = model.numArmDofs(); d < model.numDofs(); ++d)
+    singleFinger_.push_back(joints[static_cast<std::size_t>(d)] == 1);
+}
+
+Eigen::VectorXd GraspConfigurator::openedHand(const Eigen::VectorXd& hand) const {
+  // A DoF opens its finger when it moves the fingertip against the pad
+  // normal (away from the surface the pad pushes on): the sign comes from
+  // the fingertip Jacobian at this posture, so no per-robot table is needed.
+  const int arm = model_.numArmDofs();
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(model_.numDofs());
+  q.tail(hand.size()) = hand;
+  const robot::LinkPoses poses = robot::forwardKinematics(model_, q);
+  Eigen::VectorXd towardsPad = Eigen::VectorXd::Zero(hand.size());
+  for (const robot::Fingertip& tip : model_.fingertips()) {
+    const auto j = jacobian(model_, poses, tip.link, tip.point);
+    const Eigen::Vector3d pad = poses[static_cast<std::size_t>(tip.link)].linear() * tip.normal;
+    towardsPad += (pad.transpose() * j.topRows<3>().rightCols(hand.size())).transpose();
+  }
+  Eigen::VectorXd open = hand;
+  for (Eigen::Index h = 0; h < hand.size(); ++h) {
+    if (!singleFinger_[static_cast<std::size_t>(h)] || towardsPad(h) == 0.0) continue;
+    const double step = towardsPad(h) > 0.0 ? -model_.pregraspOffset() : model_.pregraspOffset();
+    open(h) =
+        std::clamp(hand(h) + step, model_.lowerLimits()(arm + h), model_.upperLimits()(arm + h));
+  }
+  return open;
+}
+
+GraspConfigurations GraspConfigurator::configure(const GraspContacts& grasp, std::mt19937_64& rng) {
+  return configure(grasp, hand_.query(grasp.positions, grasp.outward_normals), rng);
+}
+
+std::vector<GraspConfigurations> GraspConfigurator::configureOtherHands(const GraspContacts& grasp,
+                                                                        double maxPositionError,
+                                                                        std::mt19937_64& rng) {
+  // The posture configure() uses (the same query, so the same answer).
+  const HandQuery used = hand_.query(grasp.positions, grasp.outward_normals);
+  constexpr double kSamePosture = 0.05;  // rad
+  std::vector<GraspConfigurations> out;
+  for (HandQuery& other : hand_.queryAlternatives(grasp.positions, grasp.outward_normals,
+                                                  maxPositionError, kSamePosture))
+    if (!samePosture(other, used, kSamePosture))
+      out.push_back(configure(grasp, std::move(other), rng));
+  return out;
+}
+
+GraspConfigurations GraspConfigurator::configure(const GraspContacts& grasp, HandQuery hand,
+                                                 std::mt19937_64& rng) {
+  GraspConfigurations out;
+  out.hand = std::move(hand);
+  const Eigen::Isometry3d palm = objectInBase_ * out.hand.palm_pose;
+  const std::vector<Eigen::VectorXd> arms = ik_.solvePalm(palm, rng);
+  if (arms.empty()) {
+    out.configurations.emplace_back();
+    return out;
+  }
+  const Eigen::Matrix3Xd contacts = objectInBase_ * grasp.positions;
+  for (const Eigen::VectorXd& arm : arms) {
+    GraspConfiguration c;
+    c.grasp.resize(model_.numDofs());
+    c.grasp << arm, out.hand.hand_configuration;
+    c.pregrasp = c.grasp;
+    c.pregrasp.tail(model_.numHandDofs()) = openedHand(out.hand.hand_configuration);
+    const robot::FingertipFrames tips =
+        robot::fingertipFrames(model_, robot::forwardKinematics(model_, c.grasp));
+    for (Eigen::Index i = 0; i < contacts.cols(); ++i) {
+      const int finger = out.hand.finger_of_contact[static_cast<std::size_t>(i)];
+      c.fingertip_error =
+          std::max(c.fingertip_error, (tips.positions.col(finger) - contacts.col(i)).norm());
+    }
+    const bool free = !checker_.inCollision(c.pregrasp, &c.collision) &&
+                      !checker_.inCollisionAllowingFingertipContact(c.grasp, &c.collision);
+    c.label = free ? ConfigurationLabel::kCollisionFree : ConfigurationLabel::kColliding;
+    if (free) c.collision = {};
+    out.configurations.push_back(std::move(c));
+  }
+  return out;
+}
+
+GraspConfigurations GraspConfigurator::configure(const HftsSpace& space, const HftsNode& node,
+                                                 std::mt19937_64& rng) {
+  return configure(space.representative(node), rng);
+}
+
+}  // namespace hfts::grasp

@@ -1,0 +1,52 @@
+#include "grasp/grasp_objective.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "grasp/grasp_quality.h"
+
+namespace hfts::grasp {
+
+GraspObjective::GraspObjective(const HftsSpace& space, const HandReachability& reachability,
+                               ObjectiveOptions options)
+    : space_(space), reachability_(reachability), options_(options) {
+  if (!(options_.alpha > 0.0)) throw std::invalid_argument("objective: alpha must be > 0");
+}
+
+GraspObjective::Slot& GraspObjective::slotOf(const HftsNode& node) {
+  const std::size_t mask = slots_.size() - 1;  // the size is a power of two
+  const std::size_t home = HftsNodeHash{}(node)&mask;
+  for (std::size_t i = home;; i = (i + 1) & mask)
+    if (!slots_[i].used || slots_[i].node == node) return slots_[i];
+}
+
+void GraspObjective::grow() {
+  std::vector<Slot> old(std::max<std::size_t>(1024, 2 * slots_.size()));
+  old.swap(slots_);
+  for (const Slot& s : old)
+    if (s.used) slotOf(s.node) = s;
+}
+
+GraspEvaluation GraspObjective::evaluate(const HftsNode& node) {
+  if (2 * (size_ + 1) > slots_.size()) grow();
+  Slot& slot = slotOf(node);
+  if (slot.used) return slot.evaluation;
+  const GraspContacts grasp = space_.representative(node);
+  GraspEvaluation e;
+  GraspQualityRequest q;
+  q.positions = grasp.positions;
+  q.normals = grasp.outward_normals;
+  q.direction = NormalDirection::kOutward;
+  q.center = space_.database().geometry.center_of_mass;
+  q.torque_scale = space_.database().geometry.rho;
+  q.friction = options_.friction;
+  q.cone_edges = options_.cone_edges;
+  e.quality = graspQuality(q).epsilon;
+  e.reachability = reachability_.query(grasp.positions, grasp.outward_normals).residual;
+  e.value = e.quality / (e.reachability + options_.alpha);  // Eq. (1)
+  slot = {node, e, true};
+  ++size_;
+  return e;
+}
+
+}  // namespace hfts::grasp

@@ -1,0 +1,63 @@
+#pragma once
+// Inverse kinematics of the arm for a desired flange (or palm) pose.
+
+#include <Eigen/Geometry>
+
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "robot/robot_model.h"
+
+namespace hfts::robot {
+
+struct IkOptions {
+  double tolerance = 1e-9;  ///< accepted position (m) / orientation (rad) error
+  /// Numerical solver (and fallback): attempts from random seeds.
+  int restarts = 30;
+  int iterations = 200;
+  double damping = 0.05;
+};
+
+/// All arm configurations that put the flange at a pose, within the joint
+/// limits. Uses the closed form when the arm has a spherical wrist on a
+/// planar shoulder-elbow chain (such as the KR5: axis 1 vertical, axes 2 and
+/// 3 parallel, axes 4-6 meeting in one point); otherwise damped least
+/// squares from random seeds. Every returned solution is verified by
+/// forward kinematics.
+class ArmIk {
+ public:
+  /// Throws ModelError if the arm is not a chain of 6 revolute joints from
+  /// the base to the flange link, or the palm is not rigidly fixed to it.
+  explicit ArmIk(const RobotModel& model);
+  ~ArmIk();
+  ArmIk(ArmIk&&) noexcept;
+
+  /// True when the closed form applies (selected from the geometry).
+  bool isAnalytic() const;
+
+  /// All arm solutions (6 values each; extra turns of joints whose range
+  /// exceeds a full turn are separate solutions) for a flange pose in the
+  /// base frame. `rng` seeds the numerical solver (unused by the closed form).
+  std::vector<Eigen::VectorXd> solveFlange(const Eigen::Isometry3d& flange,
+                                           std::mt19937_64& rng) const;
+  /// The same for a palm pose (the palm is rigidly fixed to the flange).
+  std::vector<Eigen::VectorXd> solvePalm(const Eigen::Isometry3d& palm, std::mt19937_64& rng) const;
+
+  /// Damped-least-squares IK from random seeds; distinct solutions found.
+  std::vector<Eigen::VectorXd> solveNumerically(const Eigen::Isometry3d& flange,
+                                                std::mt19937_64& rng) const;
+
+  /// Flange pose of arm configuration `arm` (6 values).
+  Eigen::Isometry3d flangePose(const Eigen::VectorXd& arm) const;
+  /// The palm in the flange frame.
+  const Eigen::Isometry3d& palmInFlange() const;
+
+  IkOptions& options();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hfts::robot

@@ -1,0 +1,97 @@
+#pragma once
+// Collision checking of the robot against a scene and itself (FCL 0.7).
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "hfts_db/object_database.h"
+#include "robot/configuration_metric.h"
+#include "robot/robot_model.h"
+#include "robot/scene.h"
+
+namespace hfts::robot {
+
+/// The first colliding pair found, for diagnostics.
+struct CollisionPair {
+  std::string first;
+  std::string second;
+};
+
+/// The bounding-volume hierarchy of a triangle mesh for collision checks
+/// (FCL's OBBRSS BVH). Building it takes about 2.5 ms per thousand
+/// triangles, so a mesh used by many plans is built once and shared by
+/// their checkers, from any thread: queries only read it.
+class CollisionMesh {
+ public:
+  explicit CollisionMesh(const TriangleMesh& mesh);
+  ~CollisionMesh();
+  CollisionMesh(const CollisionMesh&) = delete;
+  CollisionMesh& operator=(const CollisionMesh&) = delete;
+
+ private:
+  friend class CollisionChecker;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Checks configurations of one robot in one scene. Robot links are the
+/// URDF primitives, obstacles are FCL primitives or BVH meshes in a
+/// broadphase manager, the target object is its mesh from the database.
+/// Not thread-safe (queries move the robot's collision objects): give each
+/// planning thread its own checker.
+class CollisionChecker {
+ public:
+  /// `target` (may be null: no target object) is placed at
+  /// scene.target_pose. `targetMesh`, when given, is the prebuilt hierarchy
+  /// of target's mesh (else it is built here). The model, target and
+  /// targetMesh must outlive the checker.
+  CollisionChecker(const RobotModel& model, const Scene& scene, const db::ObjectGeometry* target,
+                   const CollisionMesh* targetMesh = nullptr);
+  ~CollisionChecker();
+  CollisionChecker(const CollisionChecker&) = delete;
+  CollisionChecker& operator=(const CollisionChecker&) = delete;
+
+  /// True when the robot at q touches an obstacle, the target object, or
+  /// itself (except disabled link pairs). q must be valid (numDofs values).
+  bool inCollision(const Eigen::VectorXd& q, CollisionPair* pair = nullptr);
+
+  /// The grasp-aware rule: like inCollision, but the fingertip links may
+  /// touch the target object.
+  bool inCollisionAllowingFingertipContact(const Eigen::VectorXd& q, CollisionPair* pair = nullptr);
+
+  /// True when the target object intersects an obstacle (a scene that
+  /// places the object inside something).
+  bool targetTouchesObstacles(CollisionPair* pair = nullptr);
+
+  /// Smallest distance between the robot and the environment including the
+  /// target object (m); 0 when in collision.
+  double clearance(const Eigen::VectorXd& q);
+
+  /// Checks the straight segment from a to b (a is assumed valid) at
+  /// `resolution` in the weighted metric of Eq. (3): every intermediate
+  /// state and b itself (b first, then the others in bisection order). `allowFingertipContact`
+  /// selects the grasp rule.
+  bool isMotionValid(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution,
+                     bool allowFingertipContact = false, CollisionPair* pair = nullptr);
+
+  /// The Eq. (3) metric of isMotionValid's resolution: the robot's DoF
+  /// weights unless changed. Shared with the OMPL state space made on this
+  /// checker (makeSpaceInformation), so a weight set on either is set on both.
+  ConfigurationMetric& metric() const;
+  std::shared_ptr<ConfigurationMetric> sharedMetric() const;
+
+  const RobotModel& model() const;
+
+  /// Configurations checked so far (every query above counts each robot
+  /// placement it tests once).
+  std::uint64_t checkCount() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hfts::robot

@@ -1,0 +1,128 @@
+#pragma once
+// The robot: a serial arm carrying a hand, read from a URDF (urdfdom) and a
+// robot config file (JSON). Generic over arms and hands; the default is the
+// KUKA KR5 sixx R850 + Schunk SDH of robots/kr5_sdh/ (docs/robot.md).
+
+#include <Eigen/Geometry>
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hfts::robot {
+
+/// Thrown for a URDF or robot config that cannot be used. The message names
+/// the file and the offending link, joint or key.
+class ModelError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A collision primitive in its link's frame.
+struct CollisionShape {
+  enum class Type { kBox, kCylinder, kSphere };
+  Type type = Type::kSphere;
+  /// Box: edge lengths x, y, z. Cylinder: radius, length (along local z), 0.
+  /// Sphere: radius, 0, 0.
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
+};
+
+struct Link {
+  std::string name;
+  int parent_joint = -1;  ///< index into joints(); -1 for the root
+  std::vector<CollisionShape> shapes;
+};
+
+/// A joint; `dof` is the configuration index that drives it (a mimic joint
+/// is driven by the DoF of the joint it mimics), -1 for fixed joints.
+struct Joint {
+  enum class Type { kFixed, kRevolute, kPrismatic };
+  std::string name;
+  Type type = Type::kFixed;
+  int parent_link = -1;
+  int child_link = -1;
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  int dof = -1;
+  double multiplier = 1.0;  ///< joint value = multiplier * q[dof] + offset
+  double offset = 0.0;
+};
+
+/// A fingertip contact point on a hand link, with the outward pad normal.
+struct Fingertip {
+  std::string name;
+  int link = -1;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitX();
+};
+
+class RobotModel {
+ public:
+  /// Reads the config and the URDF it names (relative to the config).
+  /// Throws ModelError for unreadable files, missing keys, unknown links or
+  /// joints, a URDF that is not a tree, or a config that does not match it.
+  static RobotModel load(const std::filesystem::path& configPath);
+
+  /// The same from in-memory texts; `what` names the source in errors.
+  static RobotModel fromStrings(const std::string& urdfXml, const std::string& configJson,
+                                const std::string& what);
+
+  const std::string& name() const { return name_; }
+  /// Configuration size: arm DoF followed by hand DoF.
+  int numDofs() const { return static_cast<int>(dof_names_.size()); }
+  int numArmDofs() const { return num_arm_dofs_; }
+  int numHandDofs() const { return numDofs() - num_arm_dofs_; }
+  const std::vector<std::string>& dofNames() const { return dof_names_; }
+  const Eigen::VectorXd& lowerLimits() const { return lower_; }
+  const Eigen::VectorXd& upperLimits() const { return upper_; }
+  const Eigen::VectorXd& maxVelocities() const { return velocity_; }
+  const Eigen::VectorXd& dofWeights() const { return weights_; }
+  const Eigen::VectorXd& home() const { return home_; }
+  /// The hand's open posture (hand DoF only) and the pre-grasp opening (rad).
+  const Eigen::VectorXd& handOpen() const { return hand_open_; }
+  double pregraspOffset() const { return pregrasp_offset_; }
+
+  /// Links in topological order (a parent before its children); link 0 is
+  /// the root (the base link).
+  const std::vector<Link>& links() const { return links_; }
+  /// Joints in topological order, parallel to the non-root links.
+  const std::vector<Joint>& joints() const { return joints_; }
+  int linkIndex(const std::string& name) const;  ///< throws ModelError if unknown
+  int flangeLink() const { return flange_link_; }
+  int palmLink() const { return palm_link_; }
+  const std::vector<Fingertip>& fingertips() const { return fingertips_; }
+  /// Pairs of link indices (smaller first) never checked against each other.
+  const std::vector<std::pair<int, int>>& disabledCollisions() const { return disabled_; }
+  bool isCollisionDisabled(int a, int b) const;
+  /// Links whose pose depends on a hand DoF (the hand's moving links) plus
+  /// the palm: the links that may touch a grasped object's surface are only
+  /// the fingertip links among them.
+  bool isHandLink(int link) const { return hand_links_[static_cast<std::size_t>(link)]; }
+
+  /// True when q has numDofs() finite entries within the limits (tolerance
+  /// in radians). `why` (optional) receives the first violation.
+  bool withinLimits(const Eigen::VectorXd& q, double tolerance = 1e-9,
+                    std::string* why = nullptr) const;
+
+ private:
+  RobotModel() = default;
+  friend class RobotModelBuilder;
+
+  std::string name_;
+  std::vector<std::string> dof_names_;
+  int num_arm_dofs_ = 0;
+  Eigen::VectorXd lower_, upper_, velocity_, weights_, home_, hand_open_;
+  double pregrasp_offset_ = 0.0;
+  std::vector<Link> links_;
+  std::vector<Joint> joints_;
+  int flange_link_ = -1;
+  int palm_link_ = -1;
+  std::vector<Fingertip> fingertips_;
+  std::vector<std::pair<int, int>> disabled_;
+  std::vector<bool> hand_links_;
+};
+
+}  // namespace hfts::robot

@@ -1,0 +1,69 @@
+#pragma once
+// Planning scenes: where the robot stands, the obstacles around it, the
+// target object and a start configuration. File format: docs/scenes.md.
+
+#include <Eigen/Geometry>
+
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "hfts_db/triangle_mesh.h"
+#include "robot/robot_model.h"
+
+namespace hfts::robot {
+
+/// Thrown for a scene file that cannot be used; the message names the file
+/// and the offending field.
+class SceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Obstacle {
+  /// The first three match CollisionShape::Type value for value, so code
+  /// that handles primitives can treat robot links and obstacles alike.
+  enum class Type { kBox, kCylinder, kSphere, kMesh };
+  std::string name;
+  Type type = Type::kBox;
+  /// Box: edge lengths. Cylinder: radius, length (along local z), 0.
+  /// Sphere: radius, 0, 0. Mesh: unused.
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();
+  TriangleMesh mesh;  ///< kMesh only: loaded and scaled to metres
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< in the world frame
+};
+
+static_assert(static_cast<int>(Obstacle::Type::kBox) ==
+                      static_cast<int>(CollisionShape::Type::kBox) &&
+                  static_cast<int>(Obstacle::Type::kCylinder) ==
+                      static_cast<int>(CollisionShape::Type::kCylinder) &&
+                  static_cast<int>(Obstacle::Type::kSphere) ==
+                      static_cast<int>(CollisionShape::Type::kSphere),
+              "obstacle and link primitive types must match");
+
+struct Scene {
+  std::string name;
+  std::string description;
+  Eigen::Isometry3d robot_base = Eigen::Isometry3d::Identity();  ///< base link in the world
+  std::vector<Obstacle> obstacles;
+  std::string target_object;                                      ///< object database name
+  Eigen::Isometry3d target_pose = Eigen::Isometry3d::Identity();  ///< object frame in the world
+  std::optional<Eigen::VectorXd> start;  ///< robot configuration; the robot's home if absent
+};
+
+/// Reads a scene file; mesh obstacles are loaded relative to its folder.
+/// Throws SceneError.
+Scene loadScene(const std::filesystem::path& path);
+
+/// Parses scene JSON text; `baseDir` resolves mesh paths, `what` names the
+/// source in errors. Throws SceneError.
+Scene parseScene(const std::string& json, const std::filesystem::path& baseDir,
+                 const std::string& what);
+
+/// True for a name that is safe as a file stem: letters, digits, '_', '-',
+/// '.', not starting with '.', at most 128 characters (no path characters).
+bool isSafeName(const std::string& name);
+
+}  // namespace hfts::robot

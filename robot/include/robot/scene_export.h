@@ -1,0 +1,29 @@
+#pragma once
+// Exporting a scene with the robot in a configuration as glTF, so a person
+// can look at it in any viewer.
+
+#include <Eigen/Core>
+
+#include <filesystem>
+
+#include "hfts_db/object_database.h"
+#include "robot/robot_model.h"
+#include "robot/scene.h"
+
+namespace hfts::robot {
+
+/// Writes the robot at configuration q (collision primitives, tessellated),
+/// the obstacles and the target object (if not null) as a binary glTF
+/// (.glb, assimp's glTF 2 exporter), world frame, metres, z up as in the
+/// scene. Written atomically. Throws std::invalid_argument for a q of the
+/// wrong size or a path not ending in .glb, std::runtime_error if assimp
+/// fails.
+void exportSceneGlb(const RobotModel& model, const Scene& scene, const db::ObjectGeometry* target,
+                    const Eigen::VectorXd& q, const std::filesystem::path& path);
+
+/// Triangle meshes of the primitives (unit tessellation used by the export).
+TriangleMesh boxMesh(const Eigen::Vector3d& size);
+TriangleMesh cylinderMesh(double radius, double length, int segments = 32);
+TriangleMesh sphereMesh(double radius, int segments = 24);
+
+}  // namespace hfts::robot

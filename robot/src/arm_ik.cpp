@@ -1,0 +1,381 @@
+// Arm inverse kinematics: closed form for a spherical wrist on a planar
+// shoulder-elbow chain (geometry read from the model), damped least squares
+// otherwise. The wrist uses the Paden-Kahan subproblems on the axes as they
+// are at the zero configuration (product of exponentials).
+#include "robot/arm_ik.h"
+
+#include <cmath>
+#include <optional>
+
+#include "robot/kinematics.h"
+
+namespace hfts::robot {
+namespace {
+
+constexpr double kGeometryTolerance = 1e-9;
+
+using Vec2 = Eigen::Vector2d;
+
+double angleOf(const Vec2& v) {
+  return std::atan2(v.y(), v.x());
+}
+Vec2 rotated(const Vec2& v, double angle) {
+  return Eigen::Rotation2Dd(angle) * v;
+}
+
+Eigen::Matrix3d rotation(const Eigen::Vector3d& axis, double angle) {
+  return Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+}
+
+/// Paden-Kahan subproblem 1: the angle that rotates p onto q about axis w.
+double subproblem1(const Eigen::Vector3d& w, const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+  const Eigen::Vector3d pp = p - w * w.dot(p), qq = q - w * w.dot(q);
+  return std::atan2(w.dot(pp.cross(qq)), pp.dot(qq));
+}
+
+/// Paden-Kahan subproblem 2: angles (t1, t2) with R(w1,t1) R(w2,t2) p = q,
+/// for intersecting, non-parallel axes through the origin. Up to two.
+std::vector<std::pair<double, double>> subproblem2(const Eigen::Vector3d& w1,
+                                                   const Eigen::Vector3d& w2,
+                                                   const Eigen::Vector3d& p,
+                                                   const Eigen::Vector3d& q) {
+  const double c = w1.dot(w2);
+  const double denominator = c * c - 1.0;
+  const double alpha = (c * w2.dot(p) - w1.dot(q)) / denominator;
+  const double beta = (c * w1.dot(q) - w2.dot(p)) / denominator;
+  const Eigen::Vector3d cross = w1.cross(w2);
+  const double gamma2 =
+      (p.squaredNorm() - alpha * alpha - beta * beta - 2 * alpha * beta * c) / cross.squaredNorm();
+  if (gamma2 < -1e-12) return {};
+  const double gamma = std::sqrt(std::max(0.0, gamma2));
+  std::vector<std::pair<double, double>> out;
+  for (const double sign : {1.0, -1.0}) {
+    const Eigen::Vector3d z = alpha * w1 + beta * w2 + sign * gamma * cross;
+    out.emplace_back(subproblem1(w1, z, q), subproblem1(w2, p, z));
+    if (gamma == 0.0) break;
+  }
+  return out;
+}
+
+double wrapToPi(double a) {
+  return std::remainder(a, 2.0 * M_PI);
+}
+
+}  // namespace
+
+struct ArmIk::Impl {
+  RobotModel model;
+  IkOptions options;
+  std::vector<int> armJoints;  // joint index of arm DoF 0..5
+  Eigen::Isometry3d palmInFlange = Eigen::Isometry3d::Identity();
+  // Product of exponentials of the arm: axes and points at the zero
+  // configuration, and the flange pose there. Much cheaper than full FK.
+  Eigen::Vector3d axis[6], point[6];
+  Eigen::Isometry3d flange0 = Eigen::Isometry3d::Identity();
+  Eigen::Matrix3d frame4Zero = Eigen::Matrix3d::Identity();
+
+  // Closed-form geometry (valid when analytic).
+  bool analytic = false;
+  Eigen::Vector3d o1, eh, er;  // axis-1 point, axis-1 direction, radial direction
+  Vec2 o2, upper, fore;        // shoulder point and link vectors in the (r, h) plane
+  double s2 = 1, s3 = 1;       // axes 2, 3 along +/- (eh x er)
+  Eigen::Vector3d wristInFlange, wrist0;
+  Eigen::Vector3d w4, w5, w6;  // wrist axes in the joint-4 frame at zero
+  Eigen::Matrix3d flangeInWrist0;
+
+  explicit Impl(const RobotModel& m) : model(m) {}
+
+  Eigen::VectorXd full(const Eigen::VectorXd& arm) const {
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(model.numDofs());
+    q.head(6) = arm;
+    return q;
+  }
+
+  Eigen::Isometry3d jointFrame(const LinkPoses& poses, int d) const {
+    const Joint& j =
+        model.joints()[static_cast<std::size_t>(armJoints[static_cast<std::size_t>(d)])];
+    return poses[static_cast<std::size_t>(j.parent_link)] * j.origin;
+  }
+
+  Eigen::Vector3d jointAxis(const LinkPoses& poses, int d) const {
+    const Joint& j =
+        model.joints()[static_cast<std::size_t>(armJoints[static_cast<std::size_t>(d)])];
+    return jointFrame(poses, d).linear() * j.axis;
+  }
+
+  void findChain();
+  void detectClosedForm();
+  std::vector<Eigen::VectorXd> closedForm(const Eigen::Isometry3d& flange) const;
+  void appendWristSolutions(const Eigen::Vector3d& q123, const Eigen::Matrix3d& target,
+                            std::vector<Eigen::VectorXd>& out) const;
+  void appendTurns(const Eigen::VectorXd& base, std::vector<Eigen::VectorXd>& out) const;
+  std::optional<Eigen::VectorXd> descend(const Eigen::Isometry3d& flange,
+                                         Eigen::VectorXd arm) const;
+  bool reaches(const Eigen::VectorXd& arm, const Eigen::Isometry3d& flange) const;
+  Eigen::Isometry3d flangePose(const Eigen::VectorXd& arm) const {
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    for (int d = 0; d < 6; ++d) t = t * screw(d, arm(d));
+    return t * flange0;
+  }
+  /// Where joints 1-3 put the wrist centre (PoE on its zero position).
+  Eigen::Vector3d wristCentre(const Eigen::Vector3d& q123) const {
+    return screw(0, q123(0)) * (screw(1, q123(1)) * (screw(2, q123(2)) * wrist0));
+  }
+  /// exp(xi_d q): rotation about the zero-configuration axis through its point.
+  Eigen::Isometry3d screw(int d, double q) const {
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.linear() = rotation(axis[d], q);
+    t.translation() = point[d] - t.linear() * point[d];
+    return t;
+  }
+};
+
+void ArmIk::Impl::findChain() {
+  if (model.numArmDofs() != 6) throw ModelError("ArmIk: the arm must have 6 DoF");
+  armJoints.assign(6, -1);
+  for (std::size_t j = 0; j < model.joints().size(); ++j) {
+    const Joint& joint = model.joints()[j];
+    if (joint.dof >= 0 && joint.dof < 6) {
+      if (joint.type != Joint::Type::kRevolute || joint.multiplier != 1.0 || joint.offset != 0.0)
+        throw ModelError("ArmIk: arm joint '" + joint.name + "' must be a plain revolute joint");
+      armJoints[static_cast<std::size_t>(joint.dof)] = static_cast<int>(j);
+    }
+  }
+  // Walking from the flange to the root must meet the arm joints 6..1 in order.
+  int expected = 5;
+  for (int l = model.flangeLink(); model.links()[static_cast<std::size_t>(l)].parent_joint >= 0;) {
+    const int j = model.links()[static_cast<std::size_t>(l)].parent_joint;
+    const Joint& joint = model.joints()[static_cast<std::size_t>(j)];
+    if (joint.type != Joint::Type::kFixed) {
+      if (expected < 0 || armJoints[static_cast<std::size_t>(expected)] != j)
+        throw ModelError("ArmIk: the arm joints are not a chain from the base to the flange");
+      --expected;
+    }
+    l = joint.parent_link;
+  }
+  if (expected != -1) throw ModelError("ArmIk: not every arm joint lies between base and flange");
+  for (int l = model.palmLink(); l != model.flangeLink();) {
+    const int j = model.links()[static_cast<std::size_t>(l)].parent_joint;
+    if (j < 0 || model.joints()[static_cast<std::size_t>(j)].type != Joint::Type::kFixed)
+      throw ModelError("ArmIk: the palm must be rigidly fixed below the flange");
+    l = model.joints()[static_cast<std::size_t>(j)].parent_link;
+  }
+  const LinkPoses zero = forwardKinematics(model, Eigen::VectorXd::Zero(model.numDofs()));
+  palmInFlange = zero[static_cast<std::size_t>(model.flangeLink())].inverse() *
+                 zero[static_cast<std::size_t>(model.palmLink())];
+  for (int d = 0; d < 6; ++d) {
+    axis[d] = jointAxis(zero, d);
+    point[d] = jointFrame(zero, d).translation();
+  }
+  flange0 = zero[static_cast<std::size_t>(model.flangeLink())];
+  frame4Zero = jointFrame(zero, 3).linear();
+}
+
+void ArmIk::Impl::detectClosedForm() {
+  const LinkPoses zero = forwardKinematics(model, Eigen::VectorXd::Zero(model.numDofs()));
+  Eigen::Vector3d o[6], u[6];
+  for (int d = 0; d < 6; ++d) {
+    o[d] = jointFrame(zero, d).translation();
+    u[d] = jointAxis(zero, d);
+  }
+  const double tol = kGeometryTolerance;
+  // Wrist centre: where axes 4 and 5 meet; axis 6 must pass through it.
+  const Eigen::Vector3d n45 = u[3].cross(u[4]);
+  if (n45.norm() < 1e-6 || std::abs(n45.normalized().dot(o[4] - o[3])) > tol) return;
+  const double t = (o[4] - o[3]).cross(u[4]).dot(n45) / n45.squaredNorm();
+  const Eigen::Vector3d wrist = o[3] + t * u[3];
+  if ((wrist - o[5]).cross(u[5]).norm() > tol || u[4].cross(u[5]).norm() < 1e-6) return;
+  // Planar shoulder and elbow: axis 1 perpendicular to the parallel axes 2, 3,
+  // and no lateral offset of shoulder, elbow or wrist.
+  o1 = o[0];
+  eh = u[0];
+  const Eigen::Vector3d v = wrist - o1, radial = v - eh * eh.dot(v);
+  if (radial.norm() < 1e-6) return;
+  er = radial.normalized();
+  const Eigen::Vector3d ey = eh.cross(er);
+  if (u[1].cross(ey).norm() > tol || u[2].cross(ey).norm() > tol) return;
+  for (const Eigen::Vector3d& p : {o[1], o[2], wrist})
+    if (std::abs((p - o1).dot(ey)) > tol) return;
+  auto planar = [&](const Eigen::Vector3d& p) { return Vec2((p - o1).dot(er), (p - o1).dot(eh)); };
+  o2 = planar(o[1]);
+  upper = planar(o[2]) - o2;
+  fore = planar(wrist) - planar(o[2]);
+  s2 = u[1].dot(ey) > 0 ? 1.0 : -1.0;
+  s3 = u[2].dot(ey) > 0 ? 1.0 : -1.0;
+  wristInFlange = flange0.inverse() * wrist;
+  wrist0 = wrist;
+  const Eigen::Matrix3d frame4 = jointFrame(zero, 3).linear();
+  w4 = frame4.transpose() * u[3];
+  w5 = frame4.transpose() * u[4];
+  w6 = frame4.transpose() * u[5];
+  flangeInWrist0 = frame4.transpose() * flange0.linear();
+  analytic = true;
+}
+
+std::vector<Eigen::VectorXd> ArmIk::Impl::closedForm(const Eigen::Isometry3d& flange) const {
+  std::vector<Eigen::VectorXd> out;
+  const Eigen::Vector3d v = flange * wristInFlange - o1;
+  const Eigen::Vector3d radial = v - eh * eh.dot(v);
+  const Eigen::Vector3d ey = eh.cross(er);
+  // Axis 1 turns the arm plane about eh: e_r(q1) = cos q1 er + sin q1 (eh x er).
+  const double front = radial.norm() < 1e-12 ? 0.0 : std::atan2(radial.dot(ey), radial.dot(er));
+  for (const int side : {1, -1}) {
+    const double q1 = wrapToPi(side > 0 ? front : front + M_PI);
+    const Vec2 target(side * radial.norm(), v.dot(eh));
+    // Elbow: |target - o2|^2 = |A|^2 + |B|^2 + 2|A||B| cos(delta + phi3).
+    const Vec2 d = target - o2;
+    const double a = upper.norm(), b = fore.norm();
+    const double c = (d.squaredNorm() - a * a - b * b) / (2 * a * b);
+    if (std::abs(c) > 1.0 + 1e-12) continue;
+    const double delta = angleOf(fore) - angleOf(upper);
+    for (const int elbow : {1, -1}) {
+      const double phi3 = elbow * std::acos(std::clamp(c, -1.0, 1.0)) - delta;
+      const double phi2 = angleOf(d) - angleOf(upper + rotated(fore, phi3));
+      // A rotation by q about +ey turns the (r, h) plane by -q.
+      const Eigen::Vector3d q123(q1, -s2 * phi2, -s3 * phi3);
+      if ((wristCentre(q123) - (o1 + v)).norm() <= options.tolerance)
+        appendWristSolutions(q123, flange.linear(), out);
+      if (c >= 1.0 || c <= -1.0) break;
+    }
+  }
+  return out;
+}
+
+void ArmIk::Impl::appendWristSolutions(const Eigen::Vector3d& q123, const Eigen::Matrix3d& target,
+                                       std::vector<Eigen::VectorXd>& out) const {
+  Eigen::VectorXd arm = Eigen::VectorXd::Zero(6);
+  arm.head<3>() = q123;
+  // The joint-4 frame turns with the first three rotations (PoE).
+  const Eigen::Matrix3d frame4 = rotation(axis[0], q123(0)) * rotation(axis[1], q123(1)) *
+                                 rotation(axis[2], q123(2)) * frame4Zero;
+  const Eigen::Matrix3d m = frame4.transpose() * target * flangeInWrist0.transpose();
+  const Eigen::Vector3d probe = w6.unitOrthogonal();
+  for (const auto& [q4, q5] : subproblem2(w4, w5, w6, m * w6)) {
+    const Eigen::Matrix3d r45 = rotation(w4, q4) * rotation(w5, q5);
+    const double q6 = subproblem1(w6, probe, r45.transpose() * m * probe);
+    // Verify: the wrist orientation must reproduce m (the position was
+    // checked with the wrist centre by the caller).
+    const double error = (r45 * rotation(w6, q6) - m).cwiseAbs().maxCoeff();
+    if (error > options.tolerance) continue;
+    arm.tail<3>() << q4, q5, q6;
+    out.push_back(arm);
+  }
+}
+
+/// Adds every variant of `base` whose angles differ by whole turns and lie
+/// within the limits.
+void ArmIk::Impl::appendTurns(const Eigen::VectorXd& base,
+                              std::vector<Eigen::VectorXd>& out) const {
+  std::vector<std::vector<double>> turns(6);
+  for (int d = 0; d < 6; ++d) {
+    const double wrapped = wrapToPi(base(d));
+    for (int k = -2; k <= 2; ++k) {
+      const double value = wrapped + 2.0 * M_PI * k;
+      if (value >= model.lowerLimits()(d) - 1e-12 && value <= model.upperLimits()(d) + 1e-12)
+        turns[static_cast<std::size_t>(d)].push_back(
+            std::clamp(value, model.lowerLimits()(d), model.upperLimits()(d)));
+    }
+    if (turns[static_cast<std::size_t>(d)].empty()) return;
+  }
+  std::vector<std::size_t> pick(6, 0);
+  while (true) {
+    Eigen::VectorXd arm(6);
+    for (int d = 0; d < 6; ++d)
+      arm(d) = turns[static_cast<std::size_t>(d)][pick[static_cast<std::size_t>(d)]];
+    out.push_back(arm);
+    int d = 0;
+    while (d < 6 &&
+           ++pick[static_cast<std::size_t>(d)] == turns[static_cast<std::size_t>(d)].size())
+      pick[static_cast<std::size_t>(d++)] = 0;
+    if (d == 6) break;
+  }
+}
+
+bool ArmIk::Impl::reaches(const Eigen::VectorXd& arm, const Eigen::Isometry3d& flange) const {
+  const Eigen::Isometry3d reached = flangePose(arm);
+  const double position = (reached.translation() - flange.translation()).norm();
+  const double angle = Eigen::AngleAxisd(reached.linear().transpose() * flange.linear()).angle();
+  return position <= std::max(options.tolerance, 1e-9) &&
+         std::abs(angle) <= std::max(options.tolerance, 1e-9);
+}
+
+std::optional<Eigen::VectorXd> ArmIk::Impl::descend(const Eigen::Isometry3d& flange,
+                                                    Eigen::VectorXd arm) const {
+  const double lambda2 = options.damping * options.damping;
+  for (int it = 0; it < options.iterations; ++it) {
+    const LinkPoses poses = forwardKinematics(model, full(arm));
+    const Eigen::Isometry3d& at = poses[static_cast<std::size_t>(model.flangeLink())];
+    Eigen::Matrix<double, 6, 1> error;
+    error.head<3>() = flange.translation() - at.translation();
+    const Eigen::AngleAxisd rot(flange.linear() * at.linear().transpose());
+    error.tail<3>() = rot.angle() * rot.axis();
+    if (error.norm() < 1e-12) break;
+    const Eigen::Matrix<double, 6, 6> j =
+        jacobian(model, poses, model.flangeLink(), Eigen::Vector3d::Zero()).leftCols<6>();
+    // Less damping near the goal gives quadratic convergence at the end.
+    const double damping = error.norm() < 1e-3 ? 1e-9 : lambda2;
+    const Eigen::Matrix<double, 6, 1> step =
+        j.transpose() *
+        (j * j.transpose() + damping * Eigen::Matrix<double, 6, 6>::Identity()).ldlt().solve(error);
+    arm = (arm + step).cwiseMax(model.lowerLimits().head(6)).cwiseMin(model.upperLimits().head(6));
+  }
+  if (!reaches(arm, flange)) return std::nullopt;
+  return arm;
+}
+
+ArmIk::ArmIk(const RobotModel& model) : impl_(std::make_unique<Impl>(model)) {
+  impl_->findChain();
+  impl_->detectClosedForm();
+}
+
+ArmIk::~ArmIk() = default;
+ArmIk::ArmIk(ArmIk&&) noexcept = default;
+
+bool ArmIk::isAnalytic() const {
+  return impl_->analytic;
+}
+IkOptions& ArmIk::options() {
+  return impl_->options;
+}
+const Eigen::Isometry3d& ArmIk::palmInFlange() const {
+  return impl_->palmInFlange;
+}
+Eigen::Isometry3d ArmIk::flangePose(const Eigen::VectorXd& arm) const {
+  return impl_->flangePose(arm);
+}
+
+std::vector<Eigen::VectorXd> ArmIk::solveFlange(const Eigen::Isometry3d& flange,
+                                                std::mt19937_64& rng) const {
+  if (!impl_->analytic) return solveNumerically(flange, rng);
+  std::vector<Eigen::VectorXd> out;
+  // The closed form verifies each branch (wrist centre and orientation);
+  // whole turns do not change the pose, so their variants are added as is.
+  for (const Eigen::VectorXd& arm : impl_->closedForm(flange)) impl_->appendTurns(arm, out);
+  return out;
+}
+
+std::vector<Eigen::VectorXd> ArmIk::solvePalm(const Eigen::Isometry3d& palm,
+                                              std::mt19937_64& rng) const {
+  return solveFlange(palm * impl_->palmInFlange.inverse(), rng);
+}
+
+std::vector<Eigen::VectorXd> ArmIk::solveNumerically(const Eigen::Isometry3d& flange,
+                                                     std::mt19937_64& rng) const {
+  const RobotModel& model = impl_->model;
+  std::vector<Eigen::VectorXd> out;
+  for (int r = 0; r < impl_->options.restarts; ++r) {
+    Eigen::VectorXd seed(6);
+    for (int d = 0; d < 6; ++d)
+      seed(d) = std::uniform_real_distribution<double>(model.lowerLimits()(d),
+                                                       model.upperLimits()(d))(rng);
+    const std::optional<Eigen::VectorXd> found = impl_->descend(flange, seed);
+    if (!found) continue;
+    const bool known = std::any_of(out.begin(), out.end(), [&](const Eigen::VectorXd& s) {
+      return (s - *found).cwiseAbs().maxCoeff() < 1e-6;
+    });
+    if (!known) out.push_back(*found);
+  }
+  return out;
+}
+
+}  // namespace hfts::robot

@@ -1,0 +1,307 @@
+// FCL is confined to this file: its headers are template-heavy.
+#include "robot/collision_checker.h"
+
+#include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <fcl/geometry/shape/sphere.h>
+#include <fcl/narrowphase/collision.h>
+#include <fcl/narrowphase/distance.h>
+
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <queue>
+
+#include "hfts_db/invalid_argument.h"
+#include "robot/kinematics.h"
+
+namespace hfts::robot {
+namespace {
+
+using Object = fcl::CollisionObjectd;
+using Geometry = std::shared_ptr<fcl::CollisionGeometryd>;
+
+/// What a collision object stands for.
+struct Tag {
+  int link = -1;        ///< robot link, or -1 for the environment
+  bool target = false;  ///< the target object
+  bool fingertip = false;
+  std::string name;
+};
+
+/// `type`: a CollisionShape::Type or Obstacle::Type value (they agree, see
+/// scene.h) other than kMesh.
+Geometry primitive(int type, const Eigen::Vector3d& size) {
+  switch (type) {
+    case 0:
+      return std::make_shared<fcl::Boxd>(size.x(), size.y(), size.z());
+    case 1:
+      return std::make_shared<fcl::Cylinderd>(size.x(), size.y());
+    default:
+      return std::make_shared<fcl::Sphered>(size.x());
+  }
+}
+
+Geometry meshGeometry(const TriangleMesh& mesh) {
+  auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  std::vector<fcl::Vector3d> points;
+  std::vector<fcl::Triangle> triangles;
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) points.emplace_back(mesh.vertices.row(v));
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
+    triangles.emplace_back(mesh.triangles(t, 0), mesh.triangles(t, 1), mesh.triangles(t, 2));
+  model->beginModel();
+  model->addSubModel(points, triangles);
+  model->endModel();
+  return model;
+}
+
+}  // namespace
+
+struct CollisionMesh::Impl {
+  Geometry geometry;
+  /// Making a collision object of a geometry writes the geometry's local
+  /// bounding box (the same values every time) and placing the object
+  /// reads it: one checker at a time. Queries do not touch it.
+  std::mutex objectCreation;
+};
+
+CollisionMesh::CollisionMesh(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>()) {
+  impl_->geometry = meshGeometry(mesh);
+}
+
+CollisionMesh::~CollisionMesh() = default;
+
+namespace {
+
+struct QueryData {
+  const RobotModel* model = nullptr;
+  bool allowFingertipContact = false;
+  bool collision = false;
+  CollisionPair pair;
+  double distance = std::numeric_limits<double>::infinity();
+};
+
+bool ignored(const Tag& a, const Tag& b, const QueryData& data) {
+  if (a.link >= 0 && b.link >= 0)
+    return a.link == b.link || data.model->isCollisionDisabled(a.link, b.link);
+  if (a.link < 0 && b.link < 0) return true;  // environment against itself
+  if (data.allowFingertipContact && ((a.target && b.fingertip) || (b.target && a.fingertip)))
+    return true;
+  return false;
+}
+
+bool collideCallback(Object* o1, Object* o2, void* raw) {
+  auto* data = static_cast<QueryData*>(raw);
+  const Tag& a = *static_cast<const Tag*>(o1->getUserData());
+  const Tag& b = *static_cast<const Tag*>(o2->getUserData());
+  if (ignored(a, b, *data)) return false;
+  fcl::CollisionRequestd request;
+  fcl::CollisionResultd result;
+  if (fcl::collide(o1, o2, request, result) == 0) return false;
+  data->collision = true;
+  data->pair = {a.name, b.name};
+  return true;  // stop at the first contact
+}
+
+bool distanceCallback(Object* o1, Object* o2, void* raw, double& minimum) {
+  auto* data = static_cast<QueryData*>(raw);
+  const Tag& a = *static_cast<const Tag*>(o1->getUserData());
+  const Tag& b = *static_cast<const Tag*>(o2->getUserData());
+  if (a.link < 0 || ignored(a, b, *data)) {
+    minimum = data->distance;
+    return false;
+  }
+  fcl::DistanceRequestd request;
+  fcl::DistanceResultd result;
+  fcl::distance(o1, o2, request, result);
+  data->distance = std::min(data->distance, std::max(0.0, result.min_distance));
+  minimum = data->distance;
+  return data->distance <= 0.0;
+}
+
+bool targetCallback(Object* o1, Object* o2, void* raw) {
+  const Tag& a = *static_cast<const Tag*>(o1->getUserData());
+  const Tag& b = *static_cast<const Tag*>(o2->getUserData());
+  if (a.target == b.target) return false;
+  fcl::CollisionRequestd request;
+  fcl::CollisionResultd result;
+  if (fcl::collide(o1, o2, request, result) == 0) return false;
+  auto* data = static_cast<QueryData*>(raw);
+  data->collision = true;
+  data->pair = {a.name, b.name};
+  return true;
+}
+
+}  // namespace
+
+struct CollisionChecker::Impl {
+  const RobotModel& model;
+  Eigen::Isometry3d base;
+  std::vector<std::unique_ptr<Tag>> tags;
+  std::vector<std::unique_ptr<Object>> robotObjects, environmentObjects;
+  std::vector<std::pair<int, Eigen::Isometry3d>> robotShapes;  // link, shape origin
+  fcl::DynamicAABBTreeCollisionManagerd robot, environment;
+  LinkPoses poses;
+  std::uint64_t checks = 0;
+  std::shared_ptr<ConfigurationMetric> metric;  // Eq. (3)
+
+  Impl(const RobotModel& m, const Scene& scene)
+      : model(m),
+        base(scene.robot_base),
+        metric(std::make_shared<ConfigurationMetric>(m.dofWeights())) {}
+
+  Tag* tag(Tag value) {
+    tags.push_back(std::make_unique<Tag>(std::move(value)));
+    return tags.back().get();
+  }
+
+  void addEnvironment(const Geometry& geometry, const Eigen::Isometry3d& pose, Tag value,
+                      std::mutex* creation = nullptr) {
+    std::unique_ptr<Object> object;
+    {
+      std::unique_lock<std::mutex> lock;
+      if (creation != nullptr) lock = std::unique_lock<std::mutex>(*creation);
+      object = std::make_unique<Object>(geometry, pose.linear(), pose.translation());
+      object->computeAABB();  // reads the geometry's local box
+    }
+    object->setUserData(tag(std::move(value)));
+    environment.registerObject(object.get());
+    environmentObjects.push_back(std::move(object));
+  }
+
+  void addRobot() {
+    std::vector<bool> fingertip(model.links().size(), false);
+    for (const Fingertip& f : model.fingertips())
+      fingertip[static_cast<std::size_t>(f.link)] = true;
+    for (std::size_t l = 0; l < model.links().size(); ++l) {
+      for (const CollisionShape& shape : model.links()[l].shapes) {
+        auto object = std::make_unique<Object>(primitive(static_cast<int>(shape.type), shape.size));
+        object->setUserData(tag({static_cast<int>(l), false, fingertip[l], model.links()[l].name}));
+        robot.registerObject(object.get());
+        robotObjects.push_back(std::move(object));
+        robotShapes.emplace_back(static_cast<int>(l), shape.origin);
+      }
+    }
+    robot.setup();
+  }
+
+  void place(const Eigen::VectorXd& q) {
+    forwardKinematics(model, q, poses);
+    for (std::size_t i = 0; i < robotObjects.size(); ++i) {
+      const Eigen::Isometry3d pose =
+          base * poses[static_cast<std::size_t>(robotShapes[i].first)] * robotShapes[i].second;
+      robotObjects[i]->setTransform(pose.linear(), pose.translation());
+      robotObjects[i]->computeAABB();
+    }
+    robot.update();
+  }
+
+  bool collide(const Eigen::VectorXd& q, bool allowFingertips, CollisionPair* pair) {
+    ++checks;
+    place(q);
+    QueryData data;
+    data.model = &model;
+    data.allowFingertipContact = allowFingertips;
+    robot.collide(&environment, &data, collideCallback);
+    if (!data.collision) robot.collide(&data, collideCallback);  // self-collision
+    if (data.collision && pair != nullptr) *pair = data.pair;
+    return data.collision;
+  }
+};
+
+CollisionChecker::CollisionChecker(const RobotModel& model, const Scene& scene,
+                                   const db::ObjectGeometry* target,
+                                   const CollisionMesh* targetMesh)
+    : impl_(std::make_unique<Impl>(model, scene)) {
+  for (const Obstacle& o : scene.obstacles) {
+    const Geometry geometry = o.type == Obstacle::Type::kMesh
+                                  ? meshGeometry(o.mesh)
+                                  : primitive(static_cast<int>(o.type), o.size);
+    impl_->addEnvironment(geometry, o.pose, {-1, false, false, "obstacle '" + o.name + "'"});
+  }
+  if (target != nullptr) {
+    Tag tag{-1, true, false, "target '" + scene.target_object + "'"};
+    if (targetMesh != nullptr) {
+      impl_->addEnvironment(targetMesh->impl_->geometry, scene.target_pose, std::move(tag),
+                            &targetMesh->impl_->objectCreation);
+    } else {
+      const TriangleMesh mesh{target->mesh_vertices, target->mesh_triangles};
+      impl_->addEnvironment(meshGeometry(mesh), scene.target_pose, std::move(tag));
+    }
+  }
+  impl_->environment.setup();
+  impl_->addRobot();
+}
+
+CollisionChecker::~CollisionChecker() = default;
+
+const RobotModel& CollisionChecker::model() const {
+  return impl_->model;
+}
+
+bool CollisionChecker::inCollision(const Eigen::VectorXd& q, CollisionPair* pair) {
+  return impl_->collide(q, false, pair);
+}
+
+bool CollisionChecker::inCollisionAllowingFingertipContact(const Eigen::VectorXd& q,
+                                                           CollisionPair* pair) {
+  return impl_->collide(q, true, pair);
+}
+
+bool CollisionChecker::targetTouchesObstacles(CollisionPair* pair) {
+  QueryData data;
+  impl_->environment.collide(&data, targetCallback);
+  if (data.collision && pair != nullptr) *pair = data.pair;
+  return data.collision;
+}
+
+std::uint64_t CollisionChecker::checkCount() const {
+  return impl_->checks;
+}
+
+double CollisionChecker::clearance(const Eigen::VectorXd& q) {
+  if (impl_->collide(q, false, nullptr)) return 0.0;
+  QueryData data;
+  data.model = &impl_->model;
+  impl_->robot.distance(&impl_->environment, &data, distanceCallback);
+  return data.distance;
+}
+
+ConfigurationMetric& CollisionChecker::metric() const {
+  return *impl_->metric;
+}
+
+std::shared_ptr<ConfigurationMetric> CollisionChecker::sharedMetric() const {
+  return impl_->metric;
+}
+
+bool CollisionChecker::isMotionValid(const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                                     double resolution, bool allowFingertipContact,
+                                     CollisionPair* pair) {
+  if (!(resolution > 0.0)) throw InvalidArgument("resolution", "must be > 0");
+  const int steps =
+      std::max(1, static_cast<int>(std::ceil(impl_->metric->distance(a, b) / resolution)));
+  auto collidesAt = [&](int s) {
+    return impl_->collide(a + (b - a) * (static_cast<double>(s) / steps), allowFingertipContact,
+                          pair);
+  };
+  if (collidesAt(steps)) return false;
+  // The same states in bisection order (as OMPL's DiscreteMotionValidator):
+  // a colliding segment is usually found after a few checks, not halfway.
+  std::queue<std::pair<int, int>> open;  // exclusive ranges (low, high) still unchecked
+  open.emplace(0, steps);
+  while (!open.empty()) {
+    const auto [low, high] = open.front();
+    open.pop();
+    if (high - low < 2) continue;
+    const int mid = (low + high) / 2;
+    if (collidesAt(mid)) return false;
+    open.emplace(low, mid);
+    open.emplace(mid, high);
+  }
+  return true;
+}
+
+}  // namespace hfts::robot

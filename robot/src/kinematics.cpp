@@ -1,0 +1,71 @@
+#include "robot/kinematics.h"
+
+namespace hfts::robot {
+namespace {
+
+Eigen::Isometry3d jointMotion(const Joint& joint, const Eigen::VectorXd& q) {
+  Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+  if (joint.type == Joint::Type::kFixed) return motion;
+  const double value = joint.multiplier * q(joint.dof) + joint.offset;
+  if (joint.type == Joint::Type::kRevolute)
+    motion.linear() = Eigen::AngleAxisd(value, joint.axis).toRotationMatrix();
+  else
+    motion.translation() = value * joint.axis;
+  return motion;
+}
+
+}  // namespace
+
+void forwardKinematics(const RobotModel& model, const Eigen::VectorXd& q, LinkPoses& poses) {
+  const std::vector<Joint>& joints = model.joints();
+  poses.resize(model.links().size());
+  poses[0].setIdentity();
+  for (const Joint& joint : joints) {
+    poses[static_cast<std::size_t>(joint.child_link)] =
+        poses[static_cast<std::size_t>(joint.parent_link)] * joint.origin * jointMotion(joint, q);
+  }
+}
+
+LinkPoses forwardKinematics(const RobotModel& model, const Eigen::VectorXd& q) {
+  LinkPoses poses;
+  forwardKinematics(model, q, poses);
+  return poses;
+}
+
+Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian(const RobotModel& model, const LinkPoses& poses,
+                                                  int link, const Eigen::Vector3d& point) {
+  Eigen::Matrix<double, 6, Eigen::Dynamic> j =
+      Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, model.numDofs());
+  const Eigen::Vector3d p = poses[static_cast<std::size_t>(link)] * point;
+  for (int l = link; model.links()[static_cast<std::size_t>(l)].parent_joint >= 0;) {
+    const Joint& joint = model.joints()[static_cast<std::size_t>(
+        model.links()[static_cast<std::size_t>(l)].parent_joint)];
+    l = joint.parent_link;
+    if (joint.type == Joint::Type::kFixed) continue;
+    // The joint frame is the parent pose times the origin; the motion about
+    // (or along) the axis does not move the axis itself.
+    const Eigen::Isometry3d frame =
+        poses[static_cast<std::size_t>(joint.parent_link)] * joint.origin;
+    const Eigen::Vector3d axis = frame.linear() * joint.axis;
+    if (joint.type == Joint::Type::kRevolute) {
+      j.col(joint.dof).head<3>() += joint.multiplier * axis.cross(p - frame.translation());
+      j.col(joint.dof).tail<3>() += joint.multiplier * axis;
+    } else {
+      j.col(joint.dof).head<3>() += joint.multiplier * axis;
+    }
+  }
+  return j;
+}
+
+FingertipFrames fingertipFrames(const RobotModel& model, const LinkPoses& poses) {
+  const std::vector<Fingertip>& tips = model.fingertips();
+  FingertipFrames out{Eigen::Matrix3Xd(3, tips.size()), Eigen::Matrix3Xd(3, tips.size())};
+  for (std::size_t i = 0; i < tips.size(); ++i) {
+    const Eigen::Isometry3d& pose = poses[static_cast<std::size_t>(tips[i].link)];
+    out.positions.col(static_cast<Eigen::Index>(i)) = pose * tips[i].point;
+    out.normals.col(static_cast<Eigen::Index>(i)) = pose.linear() * tips[i].normal;
+  }
+  return out;
+}
+
+}  // namespace hfts::robot

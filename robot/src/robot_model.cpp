@@ -1,0 +1,371 @@
+// Loading a robot from URDF (urdfdom) and its config file (JSON).
+#include "robot/robot_model.h"
+
+#include <urdf_parser/urdf_parser.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace hfts::robot {
+namespace {
+
+using nlohmann::json;
+
+std::string readFile(const std::filesystem::path& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ModelError(what + ": cannot read '" + path.string() + "'");
+  std::ostringstream out;
+  out << in.rdbuf();
+  return out.str();
+}
+
+Eigen::Isometry3d toIsometry(const urdf::Pose& pose) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translation() << pose.position.x, pose.position.y, pose.position.z;
+  t.linear() =
+      Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z)
+          .normalized()
+          .toRotationMatrix();
+  return t;
+}
+
+CollisionShape toShape(const urdf::Collision& collision, const std::string& where) {
+  CollisionShape shape;
+  shape.origin = toIsometry(collision.origin);
+  const urdf::GeometrySharedPtr& g = collision.geometry;
+  if (!g) throw ModelError(where + ": collision without geometry");
+  switch (g->type) {
+    case urdf::Geometry::BOX: {
+      const auto& box = dynamic_cast<const urdf::Box&>(*g);
+      shape.type = CollisionShape::Type::kBox;
+      shape.size << box.dim.x, box.dim.y, box.dim.z;
+      break;
+    }
+    case urdf::Geometry::CYLINDER: {
+      const auto& cylinder = dynamic_cast<const urdf::Cylinder&>(*g);
+      shape.type = CollisionShape::Type::kCylinder;
+      shape.size << cylinder.radius, cylinder.length, 0.0;
+      break;
+    }
+    case urdf::Geometry::SPHERE:
+      shape.type = CollisionShape::Type::kSphere;
+      shape.size << dynamic_cast<const urdf::Sphere&>(*g).radius, 0.0, 0.0;
+      break;
+    default:
+      throw ModelError(where + ": only box, cylinder and sphere collision shapes are supported");
+  }
+  if (!shape.size.allFinite() || (shape.size.array() < 0).any() || shape.size[0] <= 0)
+    throw ModelError(where + ": collision shape with invalid size");
+  return shape;
+}
+
+/// Reads one required key of the config, naming it in errors.
+class ConfigReader {
+ public:
+  ConfigReader(const json& root, std::string what) : root_(root), what_(std::move(what)) {}
+
+  const json& at(const char* key) const {
+    if (!root_.contains(key)) fail(std::string("missing key '") + key + "'");
+    return root_.at(key);
+  }
+  std::string string(const char* key) const {
+    const json& v = at(key);
+    if (!v.is_string()) fail(std::string("'") + key + "' must be a string");
+    return v.get<std::string>();
+  }
+  std::vector<std::string> strings(const char* key) const {
+    const json& v = at(key);
+    if (!v.is_array()) fail(std::string("'") + key + "' must be an array of names");
+    std::vector<std::string> out;
+    for (const json& item : v) {
+      if (!item.is_string()) fail(std::string("'") + key + "' must be an array of names");
+      out.push_back(item.get<std::string>());
+    }
+    return out;
+  }
+  Eigen::VectorXd numbers(const json& v, const std::string& key, long expected) const {
+    if (!v.is_array() || (expected >= 0 && static_cast<long>(v.size()) != expected))
+      fail("'" + key + "' must be an array of " + std::to_string(expected) + " numbers");
+    Eigen::VectorXd out(static_cast<Eigen::Index>(v.size()));
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
+        fail("'" + key + "' must hold finite numbers");
+      out(static_cast<Eigen::Index>(i)) = v[i].get<double>();
+    }
+    return out;
+  }
+  Eigen::VectorXd numbers(const char* key, long expected) const {
+    return numbers(at(key), key, expected);
+  }
+  double number(const char* key) const {
+    const json& v = at(key);
+    if (!v.is_number() || !std::isfinite(v.get<double>()))
+      fail(std::string("'") + key + "' must be a finite number");
+    return v.get<double>();
+  }
+  [[noreturn]] void fail(const std::string& problem) const {
+    throw ModelError(what_ + ": " + problem);
+  }
+
+ private:
+  const json& root_;
+  std::string what_;
+};
+
+}  // namespace
+
+/// Builds a RobotModel step by step; every step validates what it adds.
+class RobotModelBuilder {
+ public:
+  RobotModelBuilder(const urdf::ModelInterface& urdf, const json& config, const std::string& what)
+      : urdf_(urdf), config_(config, what), what_(what) {}
+
+  RobotModel build() {
+    model_.name_ = config_.string("name");
+    addTree();
+    addDofs();
+    addLimitsAndPostures();
+    addFingertips();
+    addDisabledCollisions();
+    markHandLinks();
+    return std::move(model_);
+  }
+
+ private:
+  /// Breadth-first from the base link, so parents precede children.
+  void addTree() {
+    const std::string base = config_.string("base_link");
+    if (!urdf_.getLink(base)) config_.fail("base_link '" + base + "' is not in the URDF");
+    std::deque<std::pair<urdf::LinkConstSharedPtr, int>> queue{{urdf_.getLink(base), -1}};
+    while (!queue.empty()) {
+      const auto [link, parentJoint] = queue.front();
+      queue.pop_front();
+      const int index = static_cast<int>(model_.links_.size());
+      Link out{link->name, parentJoint, {}};
+      for (const auto& collision : link->collision_array)
+        out.shapes.push_back(toShape(*collision, what_ + ": link '" + link->name + "'"));
+      model_.links_.push_back(std::move(out));
+      if (parentJoint >= 0)
+        model_.joints_[static_cast<std::size_t>(parentJoint)].child_link = index;
+      for (const auto& child : link->child_joints) {
+        Joint joint;
+        joint.name = child->name;
+        joint.parent_link = index;
+        joint.origin = toIsometry(child->parent_to_joint_origin_transform);
+        joint.axis = Eigen::Vector3d(child->axis.x, child->axis.y, child->axis.z);
+        joint.type = jointType(*child);
+        if (joint.type != Joint::Type::kFixed) {
+          if (joint.axis.norm() < 1e-9) config_.fail("joint '" + child->name + "' has no axis");
+          joint.axis.normalize();
+        }
+        model_.joints_.push_back(joint);
+        queue.emplace_back(urdf_.getLink(child->child_link_name),
+                           static_cast<int>(model_.joints_.size()) - 1);
+      }
+    }
+  }
+
+  Joint::Type jointType(const urdf::Joint& joint) const {
+    switch (joint.type) {
+      case urdf::Joint::FIXED:
+        return Joint::Type::kFixed;
+      case urdf::Joint::REVOLUTE:
+      case urdf::Joint::CONTINUOUS:
+        return Joint::Type::kRevolute;
+      case urdf::Joint::PRISMATIC:
+        return Joint::Type::kPrismatic;
+      default:
+        config_.fail("joint '" + joint.name + "' has an unsupported type (floating/planar)");
+    }
+  }
+
+  int jointIndex(const std::string& name) const {
+    for (std::size_t j = 0; j < model_.joints_.size(); ++j)
+      if (model_.joints_[j].name == name) return static_cast<int>(j);
+    return -1;
+  }
+
+  void addDofs() {
+    const std::vector<std::string> arm = config_.strings("arm_joints");
+    const std::vector<std::string> hand = config_.strings("hand_joints");
+    if (arm.empty()) config_.fail("'arm_joints' is empty");
+    model_.num_arm_dofs_ = static_cast<int>(arm.size());
+    model_.dof_names_ = arm;
+    model_.dof_names_.insert(model_.dof_names_.end(), hand.begin(), hand.end());
+    for (std::size_t d = 0; d < model_.dof_names_.size(); ++d) {
+      const int j = jointIndex(model_.dof_names_[d]);
+      if (j < 0)
+        config_.fail("joint '" + model_.dof_names_[d] +
+                     "' is not in the URDF (reachable from the base link)");
+      Joint& joint = model_.joints_[static_cast<std::size_t>(j)];
+      if (joint.type == Joint::Type::kFixed) config_.fail("joint '" + joint.name + "' is fixed");
+      if (joint.dof >= 0) config_.fail("joint '" + joint.name + "' is listed twice");
+      joint.dof = static_cast<int>(d);
+    }
+    for (Joint& joint : model_.joints_) {
+      if (joint.type == Joint::Type::kFixed || joint.dof >= 0) continue;
+      const urdf::JointConstSharedPtr source = urdf_.getJoint(joint.name);
+      if (!source->mimic)
+        config_.fail("joint '" + joint.name + "' is movable but neither listed nor a mimic joint");
+      const int mimicked = jointIndex(source->mimic->joint_name);
+      if (mimicked < 0 || model_.joints_[static_cast<std::size_t>(mimicked)].dof < 0)
+        config_.fail("joint '" + joint.name + "' mimics '" + source->mimic->joint_name +
+                     "', which is not a listed joint");
+      joint.dof = model_.joints_[static_cast<std::size_t>(mimicked)].dof;
+      joint.multiplier = source->mimic->multiplier;
+      joint.offset = source->mimic->offset;
+    }
+  }
+
+  void addLimitsAndPostures() {
+    const auto n = static_cast<Eigen::Index>(model_.dof_names_.size());
+    model_.lower_.resize(n);
+    model_.upper_.resize(n);
+    model_.velocity_.resize(n);
+    for (Eigen::Index d = 0; d < n; ++d) {
+      const auto& name = model_.dof_names_[static_cast<std::size_t>(d)];
+      const urdf::JointConstSharedPtr joint = urdf_.getJoint(name);
+      if (!joint->limits || joint->type == urdf::Joint::CONTINUOUS)
+        config_.fail("joint '" + name + "' needs position limits");
+      model_.lower_(d) = joint->limits->lower;
+      model_.upper_(d) = joint->limits->upper;
+      model_.velocity_(d) = joint->limits->velocity;
+      if (!(model_.lower_(d) < model_.upper_(d)))
+        config_.fail("joint '" + name + "' has an empty range");
+    }
+    model_.weights_ = config_.numbers("dof_weights", n);
+    if ((model_.weights_.array() <= 0).any()) config_.fail("'dof_weights' must be positive");
+    model_.home_ = config_.numbers("home", n);
+    std::string why;
+    if (!model_.withinLimits(model_.home_, 1e-9, &why)) config_.fail("'home' " + why);
+    model_.hand_open_ = config_.numbers("hand_open", n - model_.num_arm_dofs_);
+    Eigen::VectorXd open = model_.home_;
+    open.tail(n - model_.num_arm_dofs_) = model_.hand_open_;
+    if (!model_.withinLimits(open, 1e-9, &why)) config_.fail("'hand_open' " + why);
+    model_.pregrasp_offset_ = config_.number("pregrasp_offset");
+    model_.flange_link_ = linkOf("flange_link");
+    model_.palm_link_ = linkOf("palm_link");
+  }
+
+  int linkOf(const char* key) const {
+    const std::string name = config_.string(key);
+    for (std::size_t l = 0; l < model_.links_.size(); ++l)
+      if (model_.links_[l].name == name) return static_cast<int>(l);
+    config_.fail(std::string("'") + key + "' names link '" + name + "', which is not in the URDF");
+  }
+
+  void addFingertips() {
+    const json& tips = config_.at("fingertips");
+    if (!tips.is_array() || tips.empty()) config_.fail("'fingertips' must be a non-empty array");
+    for (const json& tip : tips) {
+      const ConfigReader reader(tip, what_ + ": fingertip");
+      Fingertip f;
+      f.name = reader.string("name");
+      const std::string link = reader.string("link");
+      f.link = -1;
+      for (std::size_t l = 0; l < model_.links_.size(); ++l)
+        if (model_.links_[l].name == link) f.link = static_cast<int>(l);
+      if (f.link < 0) config_.fail("fingertip '" + f.name + "' is on unknown link '" + link + "'");
+      f.point = reader.numbers("point", 3);
+      f.normal = reader.numbers("normal", 3);
+      if (f.normal.norm() < 1e-9) config_.fail("fingertip '" + f.name + "' has a zero normal");
+      f.normal.normalize();
+      model_.fingertips_.push_back(f);
+    }
+  }
+
+  void addDisabledCollisions() {
+    const json& pairs = config_.at("disabled_collisions");
+    if (!pairs.is_array()) config_.fail("'disabled_collisions' must be an array of name pairs");
+    for (const json& pair : pairs) {
+      if (!pair.is_array() || pair.size() != 2 || !pair[0].is_string() || !pair[1].is_string())
+        config_.fail("'disabled_collisions' entries must be pairs of link names");
+      const int a = model_.linkIndex(pair[0].get<std::string>());
+      const int b = model_.linkIndex(pair[1].get<std::string>());
+      model_.disabled_.emplace_back(std::min(a, b), std::max(a, b));
+    }
+    std::sort(model_.disabled_.begin(), model_.disabled_.end());
+    model_.disabled_.erase(std::unique(model_.disabled_.begin(), model_.disabled_.end()),
+                           model_.disabled_.end());
+  }
+
+  void markHandLinks() {
+    model_.hand_links_.assign(model_.links_.size(), false);
+    model_.hand_links_[static_cast<std::size_t>(model_.palm_link_)] = true;
+    for (const Joint& joint : model_.joints_) {
+      const bool parentInHand = model_.hand_links_[static_cast<std::size_t>(joint.parent_link)];
+      if (parentInHand) model_.hand_links_[static_cast<std::size_t>(joint.child_link)] = true;
+    }
+  }
+
+  const urdf::ModelInterface& urdf_;
+  ConfigReader config_;
+  std::string what_;
+  RobotModel model_;
+};
+
+RobotModel RobotModel::load(const std::filesystem::path& configPath) {
+  const std::string what = "robot config '" + configPath.string() + "'";
+  const std::string configText = readFile(configPath, what);
+  json config;
+  try {
+    config = json::parse(configText);
+  } catch (const json::exception& e) {
+    throw ModelError(what + ": not valid JSON (" + e.what() + ")");
+  }
+  if (!config.is_object() || !config.contains("urdf") || !config["urdf"].is_string())
+    throw ModelError(what + ": missing key 'urdf'");
+  const std::filesystem::path urdfPath =
+      configPath.parent_path() / config["urdf"].get<std::string>();
+  return fromStrings(readFile(urdfPath, what), configText, what);
+}
+
+RobotModel RobotModel::fromStrings(const std::string& urdfXml, const std::string& configJson,
+                                   const std::string& what) {
+  json config;
+  try {
+    config = json::parse(configJson);
+  } catch (const json::exception& e) {
+    throw ModelError(what + ": not valid JSON (" + e.what() + ")");
+  }
+  if (!config.is_object()) throw ModelError(what + ": the config must be a JSON object");
+  const urdf::ModelInterfaceSharedPtr urdf = urdf::parseURDF(urdfXml);
+  if (!urdf) throw ModelError(what + ": the URDF cannot be parsed");
+  return RobotModelBuilder(*urdf, config, what).build();
+}
+
+int RobotModel::linkIndex(const std::string& name) const {
+  for (std::size_t l = 0; l < links_.size(); ++l)
+    if (links_[l].name == name) return static_cast<int>(l);
+  throw ModelError("robot '" + name_ + "' has no link '" + name + "'");
+}
+
+bool RobotModel::isCollisionDisabled(int a, int b) const {
+  return std::binary_search(disabled_.begin(), disabled_.end(),
+                            std::make_pair(std::min(a, b), std::max(a, b)));
+}
+
+bool RobotModel::withinLimits(const Eigen::VectorXd& q, double tolerance, std::string* why) const {
+  auto fail = [&](const std::string& text) {
+    if (why != nullptr) *why = text;
+    return false;
+  };
+  if (q.size() != numDofs())
+    return fail("has " + std::to_string(q.size()) + " values, expected " +
+                std::to_string(numDofs()));
+  for (Eigen::Index d = 0; d < q.size(); ++d) {
+    const std::string& name = dof_names_[static_cast<std::size_t>(d)];
+    if (!std::isfinite(q(d))) return fail("value of '" + name + "' is not finite");
+    if (q(d) < lower_(d) - tolerance || q(d) > upper_(d) + tolerance)
+      return fail("value " + std::to_string(q(d)) + " of '" + name + "' is outside [" +
+                  std::to_string(lower_(d)) + ", " + std::to_string(upper_(d)) + "]");
+  }
+  return true;
+}
+
+}  // namespace hfts::robot

@@ -1,0 +1,152 @@
+#include "robot/scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace hfts::robot {
+namespace {
+
+using nlohmann::json;
+
+/// Field access that names the field in every error.
+class Fields {
+ public:
+  Fields(const json& object, std::string where, const std::string& what)
+      : object_(object), where_(std::move(where)), what_(what) {
+    if (!object_.is_object()) fail("must be a JSON object");
+  }
+  [[noreturn]] void fail(const std::string& problem) const {
+    throw SceneError(what_ + ": " + where_ + " " + problem);
+  }
+  bool has(const char* key) const { return object_.contains(key); }
+  const json& at(const char* key) const {
+    if (!has(key)) fail(std::string("needs '") + key + "'");
+    return object_.at(key);
+  }
+  std::string string(const char* key) const {
+    if (!at(key).is_string()) fail(std::string("'") + key + "' must be a string");
+    return at(key).get<std::string>();
+  }
+  double positive(const char* key) const {
+    const json& v = at(key);
+    if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() <= 0)
+      fail(std::string("'") + key + "' must be a positive number");
+    return v.get<double>();
+  }
+  Eigen::VectorXd numbers(const char* key, Eigen::Index n) const {
+    return numbersOf(at(key), std::string("'") + key + "'", n);
+  }
+  Eigen::VectorXd numbersOf(const json& v, const std::string& name, Eigen::Index n) const {
+    if (!v.is_array() || (n >= 0 && static_cast<Eigen::Index>(v.size()) != n))
+      fail(name + " must be an array of " + std::to_string(n) + " numbers");
+    Eigen::VectorXd out(static_cast<Eigen::Index>(v.size()));
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
+        fail(name + " must hold finite numbers");
+      out(static_cast<Eigen::Index>(i)) = v[i].get<double>();
+    }
+    return out;
+  }
+  Eigen::Isometry3d pose(const char* key) const {
+    const Fields p(at(key), where_ + " '" + key + "'", what_);
+    Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+    out.translation() = p.numbers("position", 3);
+    const Eigen::VectorXd q = p.numbers("orientation", 4);  // x, y, z, w (ROS order)
+    if (q.norm() < 1e-9) p.fail("'orientation' is a quaternion of zero norm");
+    out.linear() = Eigen::Quaterniond(q(3), q(0), q(1), q(2)).normalized().toRotationMatrix();
+    return out;
+  }
+
+ private:
+  const json& object_;
+  std::string where_;
+  const std::string& what_;
+};
+
+Obstacle parseObstacle(const json& item, std::size_t index, const std::filesystem::path& baseDir,
+                       const std::string& what) {
+  const Fields f(item, "obstacle " + std::to_string(index), what);
+  Obstacle o;
+  o.name = f.string("name");
+  if (o.name.empty()) f.fail("has an empty name");
+  o.pose = f.pose("pose");
+  const std::string type = f.string("type");
+  if (type == "box") {
+    o.type = Obstacle::Type::kBox;
+    o.size = f.numbers("size", 3);
+    if ((o.size.array() <= 0).any()) f.fail("'size' must be positive");
+  } else if (type == "cylinder") {
+    o.type = Obstacle::Type::kCylinder;
+    o.size << f.positive("radius"), f.positive("length"), 0.0;
+  } else if (type == "sphere") {
+    o.type = Obstacle::Type::kSphere;
+    o.size << f.positive("radius"), 0.0, 0.0;
+  } else if (type == "mesh") {
+    o.type = Obstacle::Type::kMesh;
+    const double scale = f.has("scale") ? f.positive("scale") : 1.0;
+    try {
+      o.mesh = loadMesh(baseDir / f.string("mesh"), scale).mesh;
+    } catch (const MeshError& e) {
+      f.fail(std::string("'mesh': ") + e.what());
+    }
+  } else {
+    f.fail("has unknown type '" + type + "' (box, cylinder, sphere or mesh)");
+  }
+  return o;
+}
+
+}  // namespace
+
+bool isSafeName(const std::string& name) {
+  if (name.empty() || name.size() > 128 || name[0] == '.') return false;
+  for (const char c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.')
+      return false;
+  return true;
+}
+
+Scene parseScene(const std::string& text, const std::filesystem::path& baseDir,
+                 const std::string& what) {
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::exception& e) {
+    throw SceneError(what + ": not valid JSON (" + e.what() + ")");
+  }
+  const Fields f(root, "scene", what);
+  Scene scene;
+  scene.name = f.string("name");
+  if (!isSafeName(scene.name)) f.fail("'name' must be a simple name (letters, digits, _ - .)");
+  if (f.has("description")) scene.description = f.string("description");
+  scene.robot_base = f.pose("robot_base");
+  const json& obstacles = f.at("obstacles");
+  if (!obstacles.is_array()) f.fail("'obstacles' must be an array");
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < obstacles.size(); ++i) {
+    scene.obstacles.push_back(parseObstacle(obstacles[i], i, baseDir, what));
+    if (!names.insert(scene.obstacles.back().name).second)
+      f.fail("has two obstacles named '" + scene.obstacles.back().name + "'");
+  }
+  const Fields target(f.at("target"), "target", what);
+  scene.target_object = target.string("object");
+  if (!isSafeName(scene.target_object))
+    target.fail("'object' must be a database name without path characters");
+  scene.target_pose = target.pose("pose");
+  if (f.has("start")) scene.start = f.numbersOf(f.at("start"), "'start'", -1);
+  return scene;
+}
+
+Scene loadScene(const std::filesystem::path& path) {
+  const std::string what = "scene '" + path.string() + "'";
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(what + ": cannot read the file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parseScene(text.str(), path.parent_path(), what);
+}
+
+}  // namespace hfts::robot

@@ -1,0 +1,122 @@
+#include "grasp/grasp_configurations.h"
+
+#include <gtest/gtest.h>
+
+#include "bundled_objects.h"
+#include "grasp/grasp_optimizer.h"
+#include "robot_fixture.h"
+
+namespace hfts::grasp {
+namespace {
+
+const robot::RobotModel& m() {
+  return test::kr5Sdh();
+}
+
+const db::HandMap& handMap() {
+  static const db::HandMap map = buildHandMap(m());
+  return map;
+}
+
+/// An empty scene with the object floating in front of the robot.
+robot::Scene freeSpace(const std::string& object, const Eigen::Vector3d& at) {
+  robot::Scene scene;
+  scene.target_object = object;
+  scene.target_pose.translation() = at;
+  return scene;
+}
+
+TEST(GraspConfigurations, GraspsInFreeSpaceGiveFreeGoalsWithFingertipsOnTheContacts) {
+  const HandReachability fast(m(), handMap());
+  const HandReachability thorough(m(), handMap(), HandQueryOptions::thorough());
+  const robot::ArmIk ik(m());
+  for (const auto& [name, database] : test::bundledObjects()) {
+    SCOPED_TRACE(name);
+    const robot::Scene scene = freeSpace(name, {0.6, 0.0, 0.15});
+    robot::CollisionChecker checker(m(), scene, &database.geometry);
+    GraspConfigurator configurator(m(), ik, thorough, checker, scene.target_pose, scene.robot_base);
+    const HftsSpace space(database, 3);
+    GraspObjective objective(space, fast);
+    std::mt19937_64 rng(8);
+    bool found = false;
+    for (int restart = 0; restart < 40 && !found; ++restart) {
+      const ClimbResult leaf = optimizeToLeaf(objective, 30, rng);
+      if (leaf.evaluation.quality <= 0) continue;
+      const auto all = configurator.configure(space, leaf.best, rng);
+      for (const GraspConfiguration& c : all.configurations) {
+        if (c.label != ConfigurationLabel::kCollisionFree) continue;
+        EXPECT_TRUE(m().withinLimits(c.pregrasp));
+        EXPECT_FALSE(checker.inCollision(c.pregrasp));
+        found = c.fingertip_error < 0.005;
+        if (found) break;
+      }
+    }
+    EXPECT_TRUE(found) << "no collision-free goal with fingertips within 5 mm";
+  }
+}
+
+TEST(GraspConfigurations, UnreachableAndBlockedGraspsAreLabelled) {
+  const HandReachability thorough(m(), handMap(), HandQueryOptions::thorough());
+  const robot::ArmIk ik(m());
+  const db::ObjectDatabase& box = test::bundledObjects().at("box");
+  const HftsSpace space(box, 3);
+  std::mt19937_64 rng(9);
+  const HftsNode node = space.child(space.root(), 777);
+
+  robot::Scene far = freeSpace("box", {2.5, 0.0, 0.1});
+  robot::CollisionChecker farChecker(m(), far, &box.geometry);
+  GraspConfigurator unreachable(m(), ik, thorough, farChecker, far.target_pose, far.robot_base);
+  const auto none = unreachable.configure(space, node, rng).configurations;
+  ASSERT_EQ(none.size(), 1u);
+  EXPECT_EQ(none[0].label, ConfigurationLabel::kNoKinematicSolution);
+  EXPECT_EQ(none[0].pregrasp.size(), 0);
+
+  // Find a grasp with IK solutions in free space, then put a ball where its
+  // palm goes: every configuration of that grasp must now collide with it.
+  robot::Scene open = freeSpace("box", {0.6, 0.0, 0.15});
+  robot::CollisionChecker openChecker(m(), open, &box.geometry);
+  GraspConfigurator freeConfigurator(m(), ik, thorough, openChecker, open.target_pose,
+                                     open.robot_base);
+  HftsNode reachable = node;
+  GraspConfigurations found;
+  for (std::uint64_t i = 0; i < 200; ++i) {
+    reachable = space.child(space.root(), i * 37);
+    found = freeConfigurator.configure(space, reachable, rng);
+    if (found.configurations[0].label != ConfigurationLabel::kNoKinematicSolution) break;
+  }
+  ASSERT_NE(found.configurations[0].label, ConfigurationLabel::kNoKinematicSolution);
+  robot::Scene blocked = open;
+  robot::Obstacle ball;
+  ball.name = "ball";
+  ball.type = robot::Obstacle::Type::kSphere;
+  ball.size << 0.03, 0, 0;
+  ball.pose.translation() = open.target_pose * found.hand.palm_pose.translation();
+  blocked.obstacles.push_back(ball);
+  robot::CollisionChecker blockedChecker(m(), blocked, &box.geometry);
+  GraspConfigurator configurator(m(), ik, thorough, blockedChecker, blocked.target_pose,
+                                 blocked.robot_base);
+  int colliding = 0;
+  for (const GraspConfiguration& c : configurator.configure(space, reachable, rng).configurations) {
+    EXPECT_EQ(c.label, ConfigurationLabel::kColliding);
+    colliding += c.label == ConfigurationLabel::kColliding;
+    EXPECT_FALSE(c.collision.first.empty());
+  }
+  EXPECT_GT(colliding, 0);
+}
+
+TEST(GraspConfigurations, PregraspOpensSingleFingerJointsOnly) {
+  const HandReachability fast(m(), handMap());
+  const robot::ArmIk ik(m());
+  robot::Scene scene;
+  robot::CollisionChecker checker(m(), scene, nullptr);
+  const GraspConfigurator configurator(m(), ik, fast, checker, scene.target_pose, scene.robot_base);
+  Eigen::VectorXd hand(7);
+  hand << 0.7, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5;
+  const Eigen::VectorXd open = configurator.openedHand(hand);
+  EXPECT_DOUBLE_EQ(open(0), 0.7);  // the knuckle drives two fingers: unchanged
+  // Positive flex closes an SDH finger: opening lowers every flex joint.
+  for (int h = 1; h < 7; ++h) EXPECT_NEAR(open(h), hand(h) - m().pregraspOffset(), 1e-12);
+}
+
+}  // namespace
+}  // namespace hfts::grasp

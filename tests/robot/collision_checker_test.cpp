@@ -1,0 +1,245 @@
+#include "robot/collision_checker.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <random>
+#include <thread>
+
+#include "bundled_objects.h"
+#include "robot/arm_ik.h"
+#include "robot/kinematics.h"
+#include "robot_fixture.h"
+#include "test_meshes.h"
+
+namespace hfts::robot {
+namespace {
+
+const RobotModel& m() {
+  return test::kr5Sdh();
+}
+
+const std::map<std::string, db::ObjectDatabase>& objects() {
+  return test::bundledObjects();
+}
+
+Scene bundledScene(const std::string& name) {
+  return loadScene(test::sourcePath("objects/scenes/" + name + ".json"));
+}
+
+const char* kScenes[] = {"table", "shelf", "bin"};
+
+/// Calls check(scene, object database, checker) with every bundled object
+/// placed at the target pose of every bundled scene.
+template <typename Check>
+void forEveryObjectInEveryScene(Check check) {
+  for (const char* name : kScenes) {
+    Scene scene = bundledScene(name);
+    for (const auto& [object, db] : objects()) {
+      SCOPED_TRACE(std::string(name) + " / " + object);
+      scene.target_object = object;
+      CollisionChecker checker(m(), scene, &db.geometry);
+      check(scene, db, checker);
+    }
+  }
+}
+
+TEST(CollisionChecker, EveryBundledObjectFitsEveryScene) {
+  forEveryObjectInEveryScene(
+      [](const Scene& scene, const db::ObjectDatabase&, CollisionChecker& checker) {
+        CollisionPair pair;
+        EXPECT_FALSE(checker.targetTouchesObstacles(&pair)) << pair.first << " / " << pair.second;
+        const Eigen::VectorXd start = scene.start ? *scene.start : m().home();
+        EXPECT_FALSE(checker.inCollision(start, &pair)) << pair.first << " / " << pair.second;
+        EXPECT_GT(checker.clearance(start), 0.0);  // the base stands 1 mm above the table
+      });
+}
+
+/// Palm poses around the object: palm z pointing at the object's centre
+/// from above and from the sides, the palm `standoff` from the centre.
+std::vector<Eigen::Isometry3d> approaches(const Scene& scene, const db::ObjectGeometry& g,
+                                          double standoff) {
+  const Eigen::Vector3d centre = scene.target_pose * (0.5 * (g.bbox_min + g.bbox_max));
+  std::vector<Eigen::Isometry3d> out;
+  for (int elevation = 0; elevation <= 90; elevation += 15) {
+    for (int azimuth = 0; azimuth < 360; azimuth += 20) {
+      const double el = elevation * M_PI / 180, az = azimuth * M_PI / 180;
+      const Eigen::Vector3d from(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
+                                 std::sin(el));
+      for (double roll = 0; roll < M_PI; roll += M_PI / 4) {
+        Eigen::Isometry3d palm = Eigen::Isometry3d::Identity();
+        const Eigen::Vector3d z = -from;
+        const Eigen::Vector3d x = z.unitOrthogonal();
+        palm.linear().col(0) = Eigen::AngleAxisd(roll, z) * x;
+        palm.linear().col(2) = z;
+        palm.linear().col(1) = z.cross(palm.linear().col(0));
+        palm.translation() = centre + standoff * from;
+        out.push_back(scene.robot_base.inverse() * palm);
+      }
+    }
+  }
+  return out;
+}
+
+TEST(CollisionChecker, EveryObjectIsWithinReachInEveryScene) {
+  const ArmIk ik(m());
+  std::mt19937_64 rng(1);
+  forEveryObjectInEveryScene(
+      [&](const Scene& scene, const db::ObjectDatabase& db, CollisionChecker& checker) {
+        const double radius = 0.5 * (db.geometry.bbox_max - db.geometry.bbox_min).norm();
+        int free = 0, reachable = 0, tried = 0;
+        for (const Eigen::Isometry3d& palm : approaches(scene, db.geometry, radius + 0.24)) {
+          ++tried;
+          const auto solutions = ik.solvePalm(palm, rng);
+          reachable += !solutions.empty();
+          for (const Eigen::VectorXd& arm : solutions) {
+            Eigen::VectorXd q(13);
+            q << arm, m().handOpen();
+            if (!checker.inCollision(q)) {
+              ++free;
+              break;
+            }
+          }
+        }
+        EXPECT_GT(reachable, tried / 4);
+        EXPECT_GT(free, 0);
+        // Cluttered: many approaches are blocked.
+        EXPECT_LT(free, reachable);
+      });
+}
+
+TEST(CollisionChecker, PalmInsideTheTargetCollidesInEveryScene) {
+  const ArmIk ik(m());
+  std::mt19937_64 rng(2);
+  for (const char* name : kScenes) {
+    SCOPED_TRACE(name);
+    const Scene scene = bundledScene(name);
+    const db::ObjectDatabase& target = objects().at(scene.target_object);
+    CollisionChecker checker(m(), scene, &target.geometry);
+    // The palm, pointing down, at the middle of the object's bounding box.
+    Eigen::Isometry3d palm = Eigen::Isometry3d::Identity();
+    palm.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    palm.translation() = scene.robot_base.inverse() * scene.target_pose *
+                         (0.5 * (target.geometry.bbox_min + target.geometry.bbox_max));
+    const auto solutions = ik.solvePalm(palm, rng);
+    ASSERT_FALSE(solutions.empty());
+    for (const Eigen::VectorXd& arm : solutions) {
+      Eigen::VectorXd q(13);
+      q << arm, m().handOpen();
+      CollisionPair pair;
+      EXPECT_TRUE(checker.inCollision(q, &pair));
+      EXPECT_DOUBLE_EQ(checker.clearance(q), 0.0);
+    }
+  }
+}
+
+TEST(CollisionChecker, FoldedArmCollidesWithItself) {
+  Scene empty;
+  CollisionChecker checker(m(), empty, nullptr);
+  Eigen::VectorXd q = m().home();
+  EXPECT_FALSE(checker.inCollision(q));
+  q(2) = m().upperLimits()(2);  // fold the forearm back down onto the robot
+  CollisionPair pair;
+  ASSERT_TRUE(checker.inCollision(q, &pair));
+  EXPECT_GE(m().linkIndex(pair.first), 0);
+  EXPECT_GE(m().linkIndex(pair.second), 0);
+}
+
+/// A 1 cm cube object placed at a point of the world.
+db::ObjectGeometry smallCube() {
+  const TriangleMesh cube = test::cube(0.01);
+  db::ObjectGeometry g;
+  g.mesh_vertices = cube.vertices;
+  g.mesh_triangles = cube.triangles;
+  return g;
+}
+
+TEST(CollisionChecker, OnlyFingertipsMayTouchTheTargetUnderTheGraspRule) {
+  const Eigen::VectorXd q = m().home();
+  const FingertipFrames tips = fingertipFrames(m(), forwardKinematics(m(), q));
+  const db::ObjectGeometry cube = smallCube();
+  Scene scene;
+  scene.target_pose.translation() = tips.positions.col(0) + 0.004 * tips.normals.col(0);
+  CollisionChecker touching(m(), scene, &cube);
+  CollisionPair pair;
+  EXPECT_TRUE(touching.inCollision(q, &pair));
+  EXPECT_FALSE(touching.inCollisionAllowingFingertipContact(q, &pair)) << pair.first;
+
+  const LinkPoses poses = forwardKinematics(m(), q);
+  scene.target_pose.translation() =
+      poses[static_cast<std::size_t>(m().palmLink())] * Eigen::Vector3d(0, 0, 0.04);
+  CollisionChecker palm(m(), scene, &cube);
+  EXPECT_TRUE(palm.inCollisionAllowingFingertipContact(q, &pair));
+  EXPECT_EQ(pair.second.find("target"), 0u) << pair.first << " / " << pair.second;
+}
+
+TEST(CollisionChecker, ASharedCollisionMeshGivesTheSameAnswersFromAnyThread) {
+  // Random configurations around a palm-down pose over the mug (alone in
+  // the scene): some touch it.
+  Scene scene;
+  scene.target_object = "mug";
+  scene.target_pose = bundledScene("table").target_pose;
+  const db::ObjectDatabase& mug = objects().at("mug");
+  const CollisionMesh shared(TriangleMesh{mug.geometry.mesh_vertices, mug.geometry.mesh_triangles});
+  const ArmIk ik(m());
+  std::mt19937_64 rng(5);
+  Eigen::Isometry3d palm = Eigen::Isometry3d::Identity();
+  palm.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  palm.translation() = scene.robot_base.inverse() * scene.target_pose * Eigen::Vector3d(0, 0, 0.34);
+  const auto solutions = ik.solvePalm(palm, rng);
+  ASSERT_FALSE(solutions.empty());
+  std::vector<Eigen::VectorXd> qs;
+  std::normal_distribution<double> noise(0.0, 0.05);
+  for (int i = 0; i < 200; ++i) {
+    Eigen::VectorXd q(13);
+    q << solutions.front(), m().handOpen();
+    for (Eigen::Index d = 0; d < 6; ++d) q(d) += noise(rng);
+    qs.push_back(q);
+  }
+  CollisionChecker own(m(), scene, &mug.geometry);
+  std::vector<char> expected;
+  for (const Eigen::VectorXd& q : qs) expected.push_back(own.inCollision(q) ? 1 : 0);
+  const auto hits = std::count(expected.begin(), expected.end(), 1);
+  ASSERT_GT(hits, 20);
+  ASSERT_LT(hits, 180);
+  // Four threads, each with its own checker on the one hierarchy.
+  std::vector<std::vector<char>> answers(4);
+  std::vector<std::thread> threads;
+  for (auto& out : answers)
+    threads.emplace_back([&, out = &out] {
+      CollisionChecker checker(m(), scene, &mug.geometry, &shared);
+      for (int round = 0; round < 3; ++round) {
+        out->clear();
+        for (const Eigen::VectorXd& q : qs) out->push_back(checker.inCollision(q) ? 1 : 0);
+      }
+    });
+  for (std::thread& t : threads) t.join();
+  for (const auto& out : answers) EXPECT_EQ(out, expected);
+}
+
+TEST(CollisionChecker, MotionIsCheckedAtTheGivenResolution) {
+  // A thin wall in the plane y = 0 in front of the robot: turning joint 1
+  // from one side to the other sweeps the hand through it.
+  Scene scene;
+  Obstacle wall;
+  wall.name = "wall";
+  wall.size << 0.6, 0.01, 0.5;
+  wall.pose.translation() << 0.6, 0.0, 0.5;
+  scene.obstacles.push_back(wall);
+  CollisionChecker checker(m(), scene, nullptr);
+  Eigen::VectorXd a = m().home(), b = m().home();
+  a(0) = 0.8;
+  b(0) = -0.8;
+  ASSERT_FALSE(checker.inCollision(a));
+  ASSERT_FALSE(checker.inCollision(b));
+  CollisionPair pair;
+  EXPECT_FALSE(checker.isMotionValid(a, b, 0.01, false, &pair));
+  EXPECT_EQ(pair.second, "obstacle 'wall'");
+  EXPECT_TRUE(checker.isMotionValid(a, b, 10.0));  // one step: only the end is checked
+  EXPECT_NEAR(checker.metric().distance(a, b), 1.6, 1e-12);
+  EXPECT_THROW(checker.isMotionValid(a, b, 0.0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace hfts::robot

@@ -1,0 +1,112 @@
+#include "robot/robot_model.h"
+
+#include <gtest/gtest.h>
+
+#include "robot_fixture.h"
+#include "test_meshes.h"
+
+namespace hfts::robot {
+namespace {
+
+TEST(RobotModel, Kr5SdhHas13ActuatedDofInConfigOrder) {
+  const RobotModel& m = test::kr5Sdh();
+  EXPECT_EQ(m.numDofs(), 13);
+  EXPECT_EQ(m.numArmDofs(), 6);
+  EXPECT_EQ(m.numHandDofs(), 7);
+  EXPECT_EQ(m.dofNames().front(), "a1");
+  EXPECT_EQ(m.dofNames()[6], "knuckle");
+  EXPECT_EQ(m.dofNames().back(), "thumb_distal_joint");
+  EXPECT_EQ(m.fingertips().size(), 3u);
+  EXPECT_NEAR(m.lowerLimits()(0), -170.0 * M_PI / 180.0, 1e-9);
+  EXPECT_NEAR(m.upperLimits()(5), 358.0 * M_PI / 180.0, 1e-9);
+  EXPECT_NEAR(m.maxVelocities()(0), 375.0 * M_PI / 180.0, 1e-9);
+  EXPECT_DOUBLE_EQ(m.dofWeights()(0), 1.0);
+  EXPECT_DOUBLE_EQ(m.dofWeights()(12), 0.25);
+  EXPECT_TRUE(m.withinLimits(m.home()));
+}
+
+TEST(RobotModel, TheKnuckleMimicFollowsTheKnuckle) {
+  const RobotModel& m = test::kr5Sdh();
+  int mimics = 0;
+  for (const Joint& j : m.joints()) {
+    if (j.name != "knuckle_mimic") continue;
+    EXPECT_EQ(m.dofNames()[static_cast<std::size_t>(j.dof)], "knuckle");
+    EXPECT_DOUBLE_EQ(j.multiplier, 1.0);
+    ++mimics;
+  }
+  EXPECT_EQ(mimics, 1);
+}
+
+TEST(RobotModel, LinksAreTopologicalAndTheHandIsMarked) {
+  const RobotModel& m = test::kr5Sdh();
+  EXPECT_EQ(m.links()[0].name, "base_link");
+  for (const Joint& j : m.joints()) EXPECT_LT(j.parent_link, j.child_link);
+  EXPECT_TRUE(m.isHandLink(m.linkIndex("thumb_distal")));
+  EXPECT_TRUE(m.isHandLink(m.palmLink()));
+  EXPECT_FALSE(m.isHandLink(m.linkIndex("link_6")));
+  EXPECT_TRUE(m.isCollisionDisabled(m.linkIndex("link_1"), m.linkIndex("base_link")));
+  EXPECT_FALSE(m.isCollisionDisabled(m.linkIndex("base_link"), m.linkIndex("thumb_distal")));
+  EXPECT_THROW(m.linkIndex("no_such_link"), ModelError);
+}
+
+TEST(RobotModel, WithinLimitsNamesTheViolation) {
+  const RobotModel& m = test::kr5Sdh();
+  Eigen::VectorXd q = m.home();
+  q(1) = 2.0;  // a2 allows at most 45 deg
+  std::string why;
+  EXPECT_FALSE(m.withinLimits(q, 1e-9, &why));
+  EXPECT_NE(why.find("'a2'"), std::string::npos) << why;
+  EXPECT_FALSE(m.withinLimits(Eigen::VectorXd::Zero(12), 1e-9, &why));
+  q = m.home();
+  q(3) = std::nan("");
+  EXPECT_FALSE(m.withinLimits(q));
+}
+
+struct Sources {
+  std::string urdf = test::readBytes(test::sourcePath("robots/kr5_sdh/kr5_sdh.urdf"));
+  std::string config = test::readBytes(test::sourcePath("robots/kr5_sdh/kr5_sdh.json"));
+};
+
+void expectModelError(const std::string& urdf, const std::string& config,
+                      const std::string& problem) {
+  test::expectErrorMentioning<ModelError>(
+      [&] { RobotModel::fromStrings(urdf, config, "robot 'x'"); }, {"robot 'x'", problem});
+}
+
+void replaceOnce(std::string& text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  ASSERT_NE(at, std::string::npos) << from;
+  text.replace(at, from.size(), to);
+}
+
+TEST(RobotModel, ConfigThatDoesNotMatchTheUrdfGivesClearErrors) {
+  Sources s;
+  std::string config = s.config;
+  replaceOnce(config, "\"a6\"]", "\"a7\"]");
+  expectModelError(s.urdf, config, "joint 'a7' is not in the URDF");
+  config = s.config;
+  replaceOnce(config, "\"palm_link\": \"palm\"", "\"palm_link\": \"hand\"");
+  expectModelError(s.urdf, config, "link 'hand'");
+  config = s.config;
+  replaceOnce(config, "\"link\": \"finger_1_distal\"", "\"link\": \"finger_9\"");
+  expectModelError(s.urdf, config, "unknown link 'finger_9'");
+  config = s.config;
+  replaceOnce(config, "\"pregrasp_offset\": 0.1,", "");
+  expectModelError(s.urdf, config, "missing key 'pregrasp_offset'");
+  config = s.config;
+  replaceOnce(config, "\"home\": [0,", "\"home\": [9,");
+  expectModelError(s.urdf, config, "'home' value 9");
+  expectModelError(s.urdf, "{not json", "not valid JSON");
+  expectModelError("<robot name='broken'><link name='a'/>", s.config, "URDF cannot be parsed");
+  std::string urdf = s.urdf;
+  replaceOnce(urdf, "<mimic joint=\"knuckle\"", "<nomimic joint=\"knuckle\"");
+  expectModelError(urdf, s.config, "'knuckle_mimic' is movable but neither listed nor a mimic");
+}
+
+TEST(RobotModel, MissingFilesAreNamed) {
+  test::expectErrorMentioning<ModelError>([] { RobotModel::load("/nonexistent/robot.json"); },
+                                          {"/nonexistent/robot.json"});
+}
+
+}  // namespace
+}  // namespace hfts::robot
