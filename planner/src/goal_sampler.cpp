@@ -40,7 +40,7 @@ class WithApproximateGoals : public FreeSpaceDistances {
 
 }  // namespace
 
-GoalSampler::GoalSampler(GoalSamplingContext context) : context_(context) {
+GraspGoalSampler::GraspGoalSampler(GoalSamplingContext context) : context_(context) {
   if (context.space == nullptr || context.objective == nullptr || context.configurator == nullptr ||
       context.checker == nullptr || context.rng == nullptr)
     throw std::invalid_argument("goal sampler: incomplete context");
@@ -50,8 +50,8 @@ GoalSampler::GoalSampler(GoalSamplingContext context) : context_(context) {
     throw std::invalid_argument("goal sampler: max_fingertip_error must be > 0");
 }
 
-std::vector<CachedConfiguration> GoalSampler::configurationsOf(const grasp::HftsNode& node,
-                                                               double epsilon) {
+std::vector<CachedConfiguration> GraspGoalSampler::configurationsOf(const grasp::HftsNode& node,
+                                                                    double epsilon) {
   const grasp::GraspConfigurations all =
       context_.configurator->configure(*context_.space, node, *context_.rng);
   ++stats_.configured_nodes;
@@ -70,8 +70,8 @@ std::vector<CachedConfiguration> GoalSampler::configurationsOf(const grasp::Hfts
   return {std::move(colliding[pick])};
 }
 
-std::vector<CachedConfiguration> GoalSampler::otherHandConfigurationsOf(const grasp::HftsNode& node,
-                                                                        double epsilon) {
+std::vector<CachedConfiguration> GraspGoalSampler::otherHandConfigurationsOf(
+    const grasp::HftsNode& node, double epsilon) {
   std::vector<CachedConfiguration> free, colliding;
   for (const grasp::GraspConfigurations& posture : context_.configurator->configureOtherHands(
            context_.space->representative(node), context_.max_fingertip_error, *context_.rng))
@@ -79,10 +79,10 @@ std::vector<CachedConfiguration> GoalSampler::otherHandConfigurationsOf(const gr
   return free;
 }
 
-void GoalSampler::label(const grasp::HftsNode& node, double epsilon,
-                        const grasp::GraspConfigurations& all,
-                        std::vector<CachedConfiguration>& free,
-                        std::vector<CachedConfiguration>& colliding) {
+void GraspGoalSampler::label(const grasp::HftsNode& node, double epsilon,
+                             const grasp::GraspConfigurations& all,
+                             std::vector<CachedConfiguration>& free,
+                             std::vector<CachedConfiguration>& colliding) {
   const bool stableLeaf = context_.space->isLeaf(node) && epsilon > 0.0;
   for (const grasp::GraspConfiguration& c : all.configurations) {
     if (c.label == grasp::ConfigurationLabel::kNoKinematicSolution) continue;
@@ -99,8 +99,8 @@ void GoalSampler::label(const grasp::HftsNode& node, double epsilon,
   }
 }
 
-GoalSample GoalSampler::describe(const grasp::HftsNode& node, const CachedConfiguration& config,
-                                 GoalKind kind) {
+GoalSample GraspGoalSampler::describe(const grasp::HftsNode& node,
+                                      const CachedConfiguration& config, GoalKind kind) {
   GoalSample s;
   s.kind = kind;
   s.configuration = config.pregrasp;
@@ -117,7 +117,7 @@ GoalSample GoalSampler::describe(const grasp::HftsNode& node, const CachedConfig
 }
 
 HftsGoalSampler::HftsGoalSampler(GoalSamplingContext context, HftsGoalSamplerOptions options)
-    : GoalSampler(context), options_(options), cache_(*context.space, options.weights) {
+    : GraspGoalSampler(context), options_(options), cache_(*context.space, options.weights) {
   if (options.samples < 1) throw std::invalid_argument("goal sampler: kappa must be >= 1");
   if (options.min_iterations < 0 || options.max_iterations < options.min_iterations)
     throw std::invalid_argument("goal sampler: need 0 <= i_min <= i_max");
@@ -209,7 +209,7 @@ const CachedConfiguration* HftsGoalSampler::sampleNullSpace(int node) {
 }
 
 DecoupledGoalSampler::DecoupledGoalSampler(GoalSamplingContext context, int iterations)
-    : GoalSampler(context), iterations_(iterations) {
+    : GraspGoalSampler(context), iterations_(iterations) {
   if (iterations < 1) throw std::invalid_argument("decoupled sampler: iterations must be >= 1");
 }
 

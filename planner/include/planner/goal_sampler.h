@@ -63,9 +63,10 @@ struct GoalSamplingContext {
   double max_fingertip_error = 0.005;
 };
 
+/// SAMPLEGOAL of Algorithm 1 (line 11): where the multi-tree planner gets
+/// the roots of its backward trees.
 class GoalSampler {
  public:
-  explicit GoalSampler(GoalSamplingContext context);
   virtual ~GoalSampler() = default;
   GoalSampler(const GoalSampler&) = delete;
   GoalSampler& operator=(const GoalSampler&) = delete;
@@ -76,6 +77,19 @@ class GoalSampler {
                             const std::function<bool()>& stop) = 0;
 
   const GoalSamplerStatistics& statistics() const { return stats_; }
+
+ protected:
+  GoalSampler() = default;
+  GoalSamplerStatistics stats_;
+};
+
+/// The samplers of the paper: HFTS grasps, turned into robot configurations
+/// by Phi(h) and labelled (collision-free, goal) here.
+class GraspGoalSampler : public GoalSampler {
+ public:
+  /// Throws std::invalid_argument for a context with a null member or a
+  /// resolution or fingertip tolerance that is not > 0.
+  explicit GraspGoalSampler(GoalSamplingContext context);
 
  protected:
   /// Phi(h) for a node, each configuration marked collision-free and, for
@@ -97,7 +111,6 @@ class GoalSampler {
 
  protected:
   GoalSamplingContext context_;
-  GoalSamplerStatistics stats_;
 };
 
 /// Settings of the coupled sampler (paper Fig. 6 and Sec. IV).
@@ -109,7 +122,7 @@ struct HftsGoalSamplerOptions {
 };
 
 /// Algorithm 2 with the goal hierarchy cache (Algorithms 3 and 4).
-class HftsGoalSampler : public GoalSampler {
+class HftsGoalSampler : public GraspGoalSampler {
  public:
   /// Throws std::invalid_argument for kappa < 1 or i_min > i_max or i_min < 0.
   HftsGoalSampler(GoalSamplingContext context, HftsGoalSamplerOptions options);
@@ -141,7 +154,7 @@ class HftsGoalSampler : public GoalSampler {
 /// the root to a leaf with a fixed number of iterations per level,
 /// ignoring reachability and connectability, and returns the leaf's goal
 /// configuration when it has one.
-class DecoupledGoalSampler : public GoalSampler {
+class DecoupledGoalSampler : public GraspGoalSampler {
  public:
   /// Throws std::invalid_argument for iterations < 1.
   DecoupledGoalSampler(GoalSamplingContext context, int iterations);
