@@ -40,11 +40,11 @@ AlgorithmSummary summarize(const std::vector<RunRecord>& records, const std::str
   double gs = 0.0, vgs = 0.0, gns = 0.0;
   for (const RunRecord& r : records) {
     if (r.algorithm != algorithm) continue;
-    times.push_back(r.time);
+    times.push_back(r.stats.planning_time);
     s.successes += r.success ? 1 : 0;
-    gs += static_cast<double>(r.gs);
-    vgs += static_cast<double>(r.vgs);
-    gns += static_cast<double>(r.gns);
+    gs += static_cast<double>(r.stats.goal_sampling_calls);
+    vgs += static_cast<double>(r.stats.valid_goal_samples);
+    gns += static_cast<double>(r.stats.hfts_nodes_explored);
   }
   s.runs = times.size();
   if (s.runs == 0) return s;
@@ -79,7 +79,7 @@ std::string describeRun(const RunRecord& r) {
   std::ostringstream text;
   text << r.scene << " " << r.object << " " << r.algorithm << " seed " << r.seed << ": "
        << (r.success ? "success" : "failure " + r.failure) << " " << std::fixed
-       << std::setprecision(2) << r.time << " s";
+       << std::setprecision(2) << r.stats.planning_time << " s";
   return text.str();
 }
 

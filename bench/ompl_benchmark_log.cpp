@@ -52,19 +52,19 @@ std::string text(double value) {
 
 ot::Benchmark::RunProperties propertiesOf(const RunRecord& r) {
   ot::Benchmark::RunProperties p;
-  p["time REAL"] = text(r.time);
+  p["time REAL"] = text(r.stats.planning_time);
   p["solved BOOLEAN"] = r.success ? "1" : "0";
   p["status ENUM"] = std::to_string(static_cast<int>(statusOf(r.failure)));
   p["cpu time REAL"] = text(r.cpu_time);
   p["seed INTEGER"] = std::to_string(r.seed);
-  p["goal sampling calls INTEGER"] = std::to_string(r.gs);
-  p["valid goal samples INTEGER"] = std::to_string(r.vgs);
-  p["hfts nodes explored INTEGER"] = std::to_string(r.gns);
-  p["collision checks INTEGER"] = std::to_string(r.collision_checks);
+  p["goal sampling calls INTEGER"] = std::to_string(r.stats.goal_sampling_calls);
+  p["valid goal samples INTEGER"] = std::to_string(r.stats.valid_goal_samples);
+  p["hfts nodes explored INTEGER"] = std::to_string(r.stats.hfts_nodes_explored);
+  p["collision checks INTEGER"] = std::to_string(r.stats.collision_checks);
   // Failed runs have no grasp and no path: empty, which the statistics
   // script stores as NULL.
   p["grasp epsilon REAL"] = r.success ? text(r.epsilon) : "";
-  p["solution length REAL"] = r.success ? text(r.path_length) : "";
+  p["solution length REAL"] = r.success ? text(r.stats.path_length_smoothed) : "";
   return p;
 }
 

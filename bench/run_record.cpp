@@ -1,8 +1,9 @@
 #include "run_record.h"
 
-#include <fstream>
 #include <iomanip>
-#include <stdexcept>
+#include <sstream>
+
+#include "hfts_db/atomic_file.h"
 
 namespace hfts::bench {
 namespace {
@@ -20,16 +21,18 @@ std::string csvField(const std::string& text) {
 }
 
 void writeRow(std::ostream& out, const RunRecord& r) {
+  const planner::PlanStatistics& s = r.stats;
   out << csvField(r.scene) << ',' << csvField(r.object) << ',' << csvField(r.algorithm) << ','
       << r.seed << ',' << (r.success ? 1 : 0) << ',' << r.failure << ',' << std::fixed
-      << std::setprecision(6) << r.time << ',' << r.gs << ',' << r.vgs << ',' << r.gns << ',';
+      << std::setprecision(6) << s.planning_time << ',' << s.goal_sampling_calls << ','
+      << s.valid_goal_samples << ',' << s.hfts_nodes_explored << ',';
   // A failed run has no grasp and no path: empty fields, not zeros that
   // would pull averages down.
   if (r.success)
-    out << std::setprecision(8) << r.epsilon << ',' << r.path_length;
+    out << std::setprecision(8) << r.epsilon << ',' << s.path_length_smoothed;
   else
     out << ',';
-  out << ',' << r.collision_checks << ',' << std::setprecision(6) << r.cpu_time << '\n';
+  out << ',' << s.collision_checks << ',' << std::setprecision(6) << r.cpu_time << '\n';
 }
 
 }  // namespace
@@ -44,33 +47,17 @@ RunRecord makeRunRecord(const std::string& scene, const std::string& object,
   r.seed = seed;
   r.success = result.success;
   r.failure = planner::toString(result.failure);
-  r.time = result.stats.planning_time;
-  r.gs = result.stats.goal_sampling_calls;
-  r.vgs = result.stats.valid_goal_samples;
-  r.gns = result.stats.hfts_nodes_explored;
-  r.epsilon = result.grasp.epsilon;
-  r.path_length = result.stats.path_length_smoothed;
-  r.collision_checks = result.stats.collision_checks;
   r.cpu_time = cpuTime;
+  r.epsilon = result.grasp.epsilon;
+  r.stats = result.stats;
   return r;
 }
 
 void writeCsvAtomically(const std::filesystem::path& out, const std::vector<RunRecord>& records) {
-  std::filesystem::path tmp = out;
-  tmp += ".tmp";
-  {
-    std::ofstream file(tmp, std::ios::binary | std::ios::trunc);
-    if (!file) throw std::runtime_error("cannot write '" + tmp.string() + "'");
-    file << kHeader << '\n';
-    for (const RunRecord& r : records) writeRow(file, r);
-    file.flush();
-    if (!file) throw std::runtime_error("error while writing '" + tmp.string() + "'");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, out, ec);
-  if (ec)
-    throw std::runtime_error("cannot rename '" + tmp.string() + "' to '" + out.string() +
-                             "': " + ec.message());
+  std::ostringstream text;
+  text << kHeader << '\n';
+  for (const RunRecord& r : records) writeRow(text, r);
+  db::writeFileAtomically(out, text.str());
 }
 
 }  // namespace hfts::bench

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "hfts_db/invalid_argument.h"
+
 #include "grasp/grasp_quality.h"
 
 namespace hfts::grasp {
@@ -10,7 +12,7 @@ namespace hfts::grasp {
 GraspObjective::GraspObjective(const HftsSpace& space, const HandReachability& reachability,
                                ObjectiveOptions options)
     : space_(space), reachability_(reachability), options_(options) {
-  if (!(options_.alpha > 0.0)) throw std::invalid_argument("objective: alpha must be > 0");
+  if (!(options_.alpha > 0.0)) throw InvalidArgument("ObjectiveOptions::alpha", "must be > 0");
 }
 
 GraspObjective::Slot& GraspObjective::slotOf(const HftsNode& node) {

@@ -4,6 +4,8 @@
 
 #include "wrench_hull.h"
 
+#include "hfts_db/invalid_argument.h"
+
 extern "C" {
 #include <libqhull_r/qhull_ra.h>
 }
@@ -20,22 +22,22 @@ namespace {
 
 constexpr double kUnitTolerance = 1e-6;
 
-void check(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument("grasp quality: " + what);
+void check(bool ok, const std::string& field, const std::string& problem) {
+  if (!ok) throw InvalidArgument(field, problem);
 }
 
 void validate(const GraspQualityRequest& r) {
-  check(r.positions.cols() > 0, "'contacts' is empty");
-  check(r.positions.cols() == r.normals.cols(), "'positions' and 'normals' differ in count");
-  check(r.positions.allFinite(), "contact positions must be finite");
-  check(r.normals.allFinite(), "contact normals must be finite");
+  check(r.positions.cols() > 0, "positions", "no contacts");
+  check(r.positions.cols() == r.normals.cols(), "normals", "one per contact position expected");
+  check(r.positions.allFinite(), "positions", "must be finite");
+  check(r.normals.allFinite(), "normals", "must be finite");
   for (Eigen::Index i = 0; i < r.normals.cols(); ++i)
     check(std::abs(r.normals.col(i).norm() - 1.0) <= kUnitTolerance,
-          "normal " + std::to_string(i) + " is not a unit vector");
-  check(r.center.allFinite(), "'center' must be finite");
-  check(std::isfinite(r.torque_scale) && r.torque_scale > 0, "'torque_scale' must be > 0");
-  check(std::isfinite(r.friction) && r.friction > 0, "'friction' must be > 0");
-  check(r.cone_edges >= 3 && r.cone_edges <= 64, "'cone_edges' must be in 3..64");
+          "normals[" + std::to_string(i) + "]", "must be a unit vector");
+  check(r.center.allFinite(), "center", "must be finite");
+  check(std::isfinite(r.torque_scale) && r.torque_scale > 0, "torque_scale", "must be > 0");
+  check(std::isfinite(r.friction) && r.friction > 0, "friction", "must be > 0");
+  check(r.cone_edges >= 3 && r.cone_edges <= 64, "cone_edges", "must be in 3..64");
 }
 
 /// Qhull's error messages go to a FILE; ours are exceptions or a 0 result.

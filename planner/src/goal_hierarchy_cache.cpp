@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "hfts_db/invalid_argument.h"
+
 namespace hfts::planner {
 
 namespace {
@@ -33,8 +35,8 @@ FreeSpaceDistance FreeSpaceDistances::distances(const Eigen::VectorXd& q,
 GoalHierarchyCache::GoalHierarchyCache(const grasp::HftsSpace& space, RatingWeights weights)
     : space_(space), weights_(weights) {
   if (!(weights.w_f > 0.0) || !(weights.w_c > 0.0))
-    throw std::invalid_argument("goal hierarchy cache: w_f and w_c must be > 0");
-  if (weights.max_active < 1) throw std::invalid_argument("goal hierarchy cache: N_a must be >= 1");
+    throw InvalidArgument(weights.w_f > 0.0 ? "parameters.w_c" : "parameters.w_f", "must be > 0");
+  if (weights.max_active < 1) throw InvalidArgument("parameters.n_a", "must be >= 1");
   CacheNode root;
   root.hfts = space.root();
   root.possible_leaves = space.numLeaves(root.hfts);

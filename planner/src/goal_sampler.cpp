@@ -4,6 +4,9 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
+
+#include "hfts_db/invalid_argument.h"
 
 namespace hfts::planner {
 
@@ -43,11 +46,11 @@ class WithApproximateGoals : public FreeSpaceDistances {
 GraspGoalSampler::GraspGoalSampler(GoalSamplingContext context) : context_(context) {
   if (context.space == nullptr || context.objective == nullptr || context.configurator == nullptr ||
       context.checker == nullptr || context.rng == nullptr)
-    throw std::invalid_argument("goal sampler: incomplete context");
+    throw std::invalid_argument("GoalSamplingContext: a tool is missing (null)");
   if (!(context.approach_resolution > 0.0))
-    throw std::invalid_argument("goal sampler: approach_resolution must be > 0");
+    throw InvalidArgument("GoalSamplingContext::approach_resolution", "must be > 0");
   if (!(context.max_fingertip_error > 0.0))
-    throw std::invalid_argument("goal sampler: max_fingertip_error must be > 0");
+    throw InvalidArgument("parameters.max_fingertip_error", "must be > 0");
 }
 
 std::vector<CachedConfiguration> GraspGoalSampler::configurationsOf(const grasp::HftsNode& node,
@@ -118,9 +121,14 @@ GoalSample GraspGoalSampler::describe(const grasp::HftsNode& node,
 
 HftsGoalSampler::HftsGoalSampler(GoalSamplingContext context, HftsGoalSamplerOptions options)
     : GraspGoalSampler(context), options_(options), cache_(*context.space, options.weights) {
-  if (options.samples < 1) throw std::invalid_argument("goal sampler: kappa must be >= 1");
-  if (options.min_iterations < 0 || options.max_iterations < options.min_iterations)
-    throw std::invalid_argument("goal sampler: need 0 <= i_min <= i_max");
+  // Field names as in a plan request: these options are its parameters.
+  if (options.samples < 1) throw InvalidArgument("parameters.kappa", "must be >= 1");
+  if (options.min_iterations < 0) throw InvalidArgument("parameters.i_min", "must be >= 0");
+  if (options.max_iterations < options.min_iterations)
+    throw InvalidArgument(
+        "parameters.i_min",
+        "must be <= i_max, got i_min = " + std::to_string(options.min_iterations) +
+            " > i_max = " + std::to_string(options.max_iterations));
 }
 
 GoalSample HftsGoalSampler::sample(const FreeSpaceDistances& planner,
@@ -210,7 +218,7 @@ const CachedConfiguration* HftsGoalSampler::sampleNullSpace(int node) {
 
 DecoupledGoalSampler::DecoupledGoalSampler(GoalSamplingContext context, int iterations)
     : GraspGoalSampler(context), iterations_(iterations) {
-  if (iterations < 1) throw std::invalid_argument("decoupled sampler: iterations must be >= 1");
+  if (iterations < 1) throw InvalidArgument("parameters.iterations", "must be >= 1");
 }
 
 GoalSample DecoupledGoalSampler::sample(const FreeSpaceDistances& /*knowledge*/,
@@ -232,6 +240,19 @@ GoalSample DecoupledGoalSampler::sample(const FreeSpaceDistances& /*knowledge*/,
   for (const CachedConfiguration& c : configurationsOf(node, climb.evaluation.quality))
     if (c.goal) return describe(node, c, GoalKind::kGoal);
   return {};
+}
+
+void declareParameters(ompl::base::ParamSet& params, GoalSamplingSettings& settings) {
+  HftsGoalSamplerOptions& c = settings.coupled;
+  declareParameter(params, "w_f", {1e-6, 0.1, 1000.0}, c.weights.w_f);
+  declareParameter(params, "w_c", {1e-6, 0.1, 1000.0}, c.weights.w_c);
+  declareParameter(params, "n_a", {1, 1, 100000}, c.weights.max_active);
+  declareParameter(params, "kappa", {1, 1, 1000}, c.samples);
+  declareParameter(params, "i_min", {0, 1, 100000}, c.min_iterations);
+  declareParameter(params, "i_max", {0, 1, 100000}, c.max_iterations);
+  declareParameter(params, "iterations", {1, 1, 100000}, settings.decoupled_iterations);
+  declareParameter(params, "max_fingertip_error", {1e-9, 0.001, 0.1}, settings.max_fingertip_error);
+  declareParameters(params, settings.objective);
 }
 
 }  // namespace hfts::planner

@@ -4,12 +4,14 @@
 #include <ompl/base/ProblemDefinition.h>
 #include <ompl/util/Console.h>
 
-#include <algorithm>
 #include <chrono>
-#include <stdexcept>
+#include <cmath>
+#include <utility>
 
+#include "hfts_db/invalid_argument.h"
 #include "planner/lazy_goal_baseline.h"
 #include "planner/multi_tree_cbirrt.h"
+#include "planner/sampling_tools.h"
 
 namespace hfts::planner {
 
@@ -47,32 +49,173 @@ void quietOmpl() {
   (void)once;
 }
 
-std::shared_ptr<MultiTreeCBiRRT> makePlanner(const ob::SpaceInformationPtr& si,
-                                             const PlanRequest& request) {
-  auto planner = std::make_shared<MultiTreeCBiRRT>(si);
-  if (request.time_limit) planner->setTimeLimit(*request.time_limit);
-  std::map<std::string, std::string> parameters = request.parameters;
-  if (request.iterations) parameters["iterations"] = std::to_string(*request.iterations);
-  for (const auto& [name, value] : parameters) {
-    if (!planner->params().hasParam(name))
-      throw std::invalid_argument("parameters: unknown planner parameter '" + name + "'");
-    if (!planner->params().setParam(name, value))
-      throw std::invalid_argument("parameters: '" + value + "' is not a valid value for '" + name +
-                                  "' (range " + planner->params()[name].getRangeSuggestion() + ")");
+/// Every parameter a request may set, in one set: the multi-tree planner's
+/// own (its smoothing's included) and goal sampling's (the samplers' and
+/// the objective's), merged. The RRTConnect baseline reads the same names.
+struct PlanParameters {
+  explicit PlanParameters(const ob::SpaceInformationPtr& si)
+      : planner(std::make_shared<MultiTreeCBiRRT>(si)) {
+    all.include(planner->params());
+    declareParameters(all, goals);
   }
-  return planner;
-}
+  PlanParameters(const PlanParameters&) = delete;
+  PlanParameters& operator=(const PlanParameters&) = delete;
+
+  /// The request's parameters, then its top-level `iterations`.
+  void set(const PlanRequest& request) {
+    for (const auto& [name, value] : request.parameters) setParameter(all, name, value);
+    if (!request.iterations) return;
+    try {
+      setParameter(all, "iterations", std::to_string(*request.iterations));
+    } catch (const InvalidArgument& e) {
+      throw InvalidArgument("iterations", e.problem());
+    }
+  }
+
+  std::shared_ptr<MultiTreeCBiRRT> planner;
+  GoalSamplingSettings goals;
+  ob::ParamSet all;
+};
 
 Eigen::VectorXd startOf(const robot::RobotModel& robot, const PlanRequest& request) {
   const Eigen::VectorXd start =
       request.start ? *request.start : request.scene.start.value_or(robot.home());
   if (start.size() != robot.numDofs())
-    throw std::invalid_argument("start: " + std::to_string(robot.numDofs()) +
-                                " values expected, got " + std::to_string(start.size()));
-  if (!start.allFinite()) throw std::invalid_argument("start: values must be finite");
+    throw InvalidArgument("start", std::to_string(robot.numDofs()) + " values expected, got " +
+                                       std::to_string(start.size()));
+  if (!start.allFinite()) throw InvalidArgument("start", "values must be finite");
   std::string which;
-  if (!robot.withinLimits(start, 1e-9, &which)) throw std::invalid_argument("start: " + which);
+  if (!robot.withinLimits(start, 1e-9, &which)) throw InvalidArgument("start", which);
   return start;
+}
+
+/// One plan's problem, set up in order: the scene as requested, its
+/// collision checker and OMPL space information, the parameters, the
+/// object's HFTS.
+struct Problem {
+  Problem(const PlanningWorld& w, const db::ObjectDatabase& o, const PlanRequest& request,
+          Eigen::VectorXd q0)
+      : world(w),
+        object(o),
+        scene(sceneOf(request, o.name)),
+        start(std::move(q0)),
+        seed(request.seed),
+        checker(w.robot(), scene, &o.geometry, w.collisionMesh(o.name)),
+        si(makeSpaceInformation(w.robot(), checker, kTreeResolution)),
+        parameters(si),
+        space(o, static_cast<int>(w.robot().fingertips().size())) {
+    parameters.set(request);
+  }
+
+  static robot::Scene sceneOf(const PlanRequest& request, const std::string& object) {
+    robot::Scene s = request.scene;
+    s.target_object = object;
+    if (request.object_pose) s.target_pose = *request.object_pose;
+    return s;
+  }
+
+  const PlanningWorld& world;
+  const db::ObjectDatabase& object;
+  const robot::Scene scene;
+  const Eigen::VectorXd start;
+  const std::uint64_t seed;
+  robot::CollisionChecker checker;
+  const ob::SpaceInformationPtr si;
+  PlanParameters parameters;
+  const grasp::HftsSpace space;
+};
+
+/// Why planning cannot start in this scene (kNone: it can).
+std::pair<PlanFailure, std::string> checkScene(Problem& p) {
+  robot::CollisionPair pair;
+  if (p.checker.targetTouchesObstacles(&pair))
+    return {PlanFailure::kObjectInCollision,
+            "the target object intersects " + pair.second + " in this scene"};
+  if (p.checker.inCollision(p.start, &pair))
+    return {PlanFailure::kStartInCollision,
+            "the start configuration is in collision: " + pair.first + " touches " + pair.second};
+  return {PlanFailure::kNone, ""};
+}
+
+/// The time limit (counted from `began`) or the cancel flag.
+ob::PlannerTerminationCondition terminationCondition(double timeLimit,
+                                                     std::chrono::steady_clock::time_point began,
+                                                     const std::atomic<bool>* cancel) {
+  const double spent =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+  return ob::plannerOrTerminationCondition(
+      ob::timedPlannerTerminationCondition(std::max(0.0, timeLimit - spent)),
+      ob::PlannerTerminationCondition(
+          [cancel] { return cancel != nullptr && cancel->load(std::memory_order_relaxed); }));
+}
+
+/// What a search found (a path from the start to a goal's pre-grasp) and
+/// how it went.
+struct SearchOutcome {
+  bool solved = false;
+  std::vector<Eigen::VectorXd> path;
+  GoalSample goal;
+  GoalSamplerStatistics goals;
+  PlanStatistics stats;
+};
+
+/// The multi-tree CBiRRT (Algorithm 1) with the coupled goal sampler
+/// (Algorithm 2) or the decoupled one.
+SearchOutcome searchMultiTree(Problem& p, bool coupled,
+                              const ob::PlannerTerminationCondition& ptc) {
+  MultiTreeCBiRRT& planner = *p.parameters.planner;
+  SamplingTools tools(p.world, p.scene, p.space, p.checker, p.parameters.goals.objective);
+  const std::unique_ptr<GraspGoalSampler> sampler = tools.makeSampler(
+      coupled, planner.rng(), p.parameters.goals, planner.smoothing().final_resolution);
+  planner.setProjection(std::make_shared<BackwardProjection>(
+      p.world.robot(), p.scene.robot_base, p.scene.target_pose * p.object.geometry.center_of_mass,
+      planner.getProjectionDistance()));
+  auto pdef = std::make_shared<ob::ProblemDefinition>(p.si);
+  ob::ScopedState<> startState(p.si);
+  weightedSpace(p.si).fromVector(p.start, startState.get());
+  pdef->addStartState(startState);
+  pdef->setGoal(std::make_shared<GraspGoal>(p.si, *sampler));
+  planner.setProblemDefinition(pdef);
+  planner.setSeed(p.seed);
+  planner.setup();
+
+  SearchOutcome out;
+  out.solved = planner.solve(ptc) == ob::PlannerStatus::EXACT_SOLUTION;
+  out.goals = sampler->statistics();
+  out.stats = planStatistics(planner.statistics(), out.goals, tools.objective.evaluations(),
+                             p.checker.checkCount());
+  if (out.solved) {
+    out.path = planner.solutionPath();
+    out.goal = planner.reachedGoal();
+  }
+  return out;
+}
+
+/// The outside baseline: OMPL's RRTConnect towards lazily sampled
+/// decoupled goals.
+SearchOutcome searchBaseline(Problem& p, const ob::PlannerTerminationCondition& ptc) {
+  LazyGoalRrtConnect baseline(p.si, p.world, p.scene, p.object, p.space,
+                              {p.parameters.goals, p.parameters.planner->smoothing(), p.seed});
+  LazyGoalOutcome found = baseline.solve(p.start, ptc);
+  SearchOutcome out;
+  out.solved = found.solved;
+  out.path = std::move(found.path);
+  out.goal = std::move(found.goal);
+  out.goals = found.goals;
+  out.stats = planStatistics(found.trees, found.goals, found.objective_evaluations,
+                             p.checker.checkCount() + found.sampling_collision_checks);
+  return out;
+}
+
+/// Why a search found nothing.
+std::pair<PlanFailure, std::string> failureOf(const GoalSamplerStatistics& goals,
+                                              const std::atomic<bool>* cancel) {
+  if (cancel != nullptr && cancel->load()) return {PlanFailure::kCancelled, "cancelled"};
+  if (goals.configured_nodes > 0 && goals.kinematic_solutions == 0)
+    return {PlanFailure::kObjectUnreachable,
+            "none of the " + std::to_string(goals.configured_nodes) +
+                " grasps tried has an arm IK solution: the object is out of reach"};
+  return {PlanFailure::kTimeLimit, "no grasp reached within the time limit"};
 }
 
 PlannedGrasp describeGrasp(const robot::RobotModel& robot, const GoalSample& goal,
@@ -90,43 +233,44 @@ PlannedGrasp describeGrasp(const robot::RobotModel& robot, const GoalSample& goa
   return g;
 }
 
-/// The time limit (counted from `began`) or the cancel flag.
-ob::PlannerTerminationCondition terminationCondition(double timeLimit,
-                                                     std::chrono::steady_clock::time_point began,
-                                                     const std::atomic<bool>* cancel) {
-  const double spent =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
-  return ob::plannerOrTerminationCondition(
-      ob::timedPlannerTerminationCondition(std::max(0.0, timeLimit - spent)),
-      ob::PlannerTerminationCondition(
-          [cancel] { return cancel != nullptr && cancel->load(std::memory_order_relaxed); }));
+PlanResult failed(PlanResult result, std::pair<PlanFailure, std::string> why) {
+  result.failure = why.first;
+  result.message = std::move(why.second);
+  return result;
 }
 
-/// The baseline reads the multi-tree planner's parameters of the same meaning.
-LazyGoalSettings lazyGoalSettings(const MultiTreeCBiRRT& planner, std::uint64_t seed) {
-  const GoalSamplingParameters& g = planner.goalSampling();
-  LazyGoalSettings s;
-  s.iterations = g.decoupled_iterations;
-  s.objective = {g.alpha, g.friction, g.cone_edges};
-  s.max_fingertip_error = g.max_fingertip_error;
-  s.smoothing.steps = planner.getSmoothingSteps();
-  s.smoothing.final_resolution = planner.getFinalCheckResolution();
-  s.seed = seed;
-  return s;
-}
+/// planGrasp without the planning time, which counts the teardown of
+/// everything this builds (trees, caches, checkers, the sampling thread).
+PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningWorld& world,
+                    const PlanRequest& request, const std::atomic<bool>* cancel) {
+  quietOmpl();
+  PlanResult result;
+  result.joint_names = world.robot().dofNames();
+  Eigen::VectorXd start = startOf(world.robot(), request);
+  if (!(request.time_limit >= 0.0) || !std::isfinite(request.time_limit))
+    throw InvalidArgument("time_limit", "must be a finite number >= 0");
+  const std::string name = request.object.empty() ? request.scene.target_object : request.object;
+  const db::ObjectDatabase* object = world.object(name);
+  if (object == nullptr)
+    return failed(std::move(result),
+                  {PlanFailure::kUnknownObject, "unknown object '" + name + "'"});
 
-void recordBaseline(const LazyGoalOutcome& out, std::uint64_t plannerChecks, PlanStatistics& s) {
-  s.iterations = out.iterations;
-  s.goal_sampling_calls = out.goals.calls;
-  s.valid_goal_samples = out.goals.valid_goals;
-  s.hfts_nodes_explored = out.goals.nodes_explored;
-  s.objective_evaluations = out.objective_evaluations;
-  s.goal_trees = out.goal_states_taken;
-  s.collision_checks = plannerChecks + out.sampling_collision_checks;
-  s.forward_tree_size = out.start_tree_size;
-  s.backward_tree_nodes = out.goal_tree_size;
-  s.path_length_raw = out.path_length_raw;
-  s.path_length_smoothed = out.path_length_smoothed;
+  Problem problem(world, *object, request, std::move(start));
+  if (auto why = checkScene(problem); why.first != PlanFailure::kNone)
+    return failed(std::move(result), std::move(why));
+  const ob::PlannerTerminationCondition ptc =
+      terminationCondition(request.time_limit, began, cancel);
+  SearchOutcome found =
+      request.algorithm == PlanAlgorithm::kRrtConnect
+          ? searchBaseline(problem, ptc)
+          : searchMultiTree(problem, request.algorithm == PlanAlgorithm::kCoupled, ptc);
+  result.stats = found.stats;
+  if (!found.solved) return failed(std::move(result), failureOf(found.goals, cancel));
+  result.success = true;
+  result.path = std::move(found.path);
+  result.path.push_back(found.goal.grasp);
+  result.grasp = describeGrasp(world.robot(), found.goal, problem.scene.target_pose);
+  return result;
 }
 
 }  // namespace
@@ -134,132 +278,12 @@ void recordBaseline(const LazyGoalOutcome& out, std::uint64_t plannerChecks, Pla
 std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world) {
   quietOmpl();
   robot::CollisionChecker checker(world.robot(), robot::Scene{}, nullptr);
-  const auto si = makeSpaceInformation(world.robot(), checker, kTreeResolution);
-  MultiTreeCBiRRT planner(si);
+  const PlanParameters parameters(makeSpaceInformation(world.robot(), checker, kTreeResolution));
   std::vector<PlannerParameterInfo> out;
-  for (const auto& [name, param] : planner.params().getParams())
+  for (const auto& [name, param] : parameters.all.getParams())
     out.push_back({name, param->getValue(), param->getRangeSuggestion()});
   return out;
 }
-
-namespace {
-
-/// planGrasp without the planning time, which counts the teardown of
-/// everything this builds (trees, caches, checkers, the sampling thread).
-PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningWorld& world,
-                    const PlanRequest& request, const std::atomic<bool>* cancel) {
-  quietOmpl();
-  const robot::RobotModel& robot = world.robot();
-  PlanResult result;
-  result.joint_names = robot.dofNames();
-  const std::string name = request.object.empty() ? request.scene.target_object : request.object;
-  const Eigen::VectorXd start = startOf(robot, request);
-  if (request.time_limit && !(*request.time_limit >= 0.0))
-    throw std::invalid_argument("time_limit must be a number >= 0");
-  const db::ObjectDatabase* object = world.object(name);
-  auto finish = [&](PlanFailure failure, std::string message) {
-    result.failure = failure;
-    result.message = std::move(message);
-    return result;
-  };
-  if (object == nullptr)
-    return finish(PlanFailure::kUnknownObject, "unknown object '" + name + "'");
-
-  robot::Scene scene = request.scene;
-  scene.target_object = name;
-  if (request.object_pose) scene.target_pose = *request.object_pose;
-  robot::CollisionChecker checker(robot, scene, &object->geometry, world.collisionMesh(name));
-  const auto si = makeSpaceInformation(robot, checker, kTreeResolution);
-  const std::shared_ptr<MultiTreeCBiRRT> planner = makePlanner(si, request);
-  robot::CollisionPair pair;
-  if (checker.targetTouchesObstacles(&pair))
-    return finish(PlanFailure::kObjectInCollision,
-                  "the target object intersects " + pair.second + " in this scene");
-  if (checker.inCollision(start, &pair))
-    return finish(PlanFailure::kStartInCollision, "the start configuration is in collision: " +
-                                                      pair.first + " touches " + pair.second);
-
-  const GoalSamplingParameters& g = planner->goalSampling();
-  const grasp::HftsSpace space(*object, static_cast<int>(robot.fingertips().size()));
-  auto succeed = [&](std::vector<Eigen::VectorXd> path, const GoalSample& goal) {
-    result.success = true;
-    result.path = std::move(path);
-    result.path.push_back(goal.grasp);
-    result.grasp = describeGrasp(robot, goal, scene.target_pose);
-    return finish(PlanFailure::kNone, "");
-  };
-  auto fail = [&](const GoalSamplerStatistics& goals) {
-    if (cancel != nullptr && cancel->load()) return finish(PlanFailure::kCancelled, "cancelled");
-    if (goals.configured_nodes > 0 && goals.kinematic_solutions == 0)
-      return finish(PlanFailure::kObjectUnreachable,
-                    "none of the " + std::to_string(goals.configured_nodes) +
-                        " grasps tried has an arm IK solution: the object is out of reach");
-    return finish(PlanFailure::kTimeLimit, "no grasp reached within the time limit");
-  };
-  if (request.algorithm == PlanAlgorithm::kRrtConnect) {
-    LazyGoalRrtConnect baseline(si, world, scene, *object, space,
-                                lazyGoalSettings(*planner, request.seed));
-    const LazyGoalOutcome out =
-        baseline.solve(start, terminationCondition(planner->getTimeLimit(), began, cancel));
-    recordBaseline(out, checker.checkCount(), result.stats);
-    return out.solved ? succeed(out.path, out.goal) : fail(out.goals);
-  }
-  grasp::GraspObjective objective(space, world.handMap(), {g.alpha, g.friction, g.cone_edges});
-  grasp::GraspConfigurator configurator(robot, world.ik(), world.thoroughHandMap(), checker,
-                                        scene.target_pose, scene.robot_base);
-  GoalSamplingContext context{&space,
-                              &objective,
-                              &configurator,
-                              &checker,
-                              &planner->rng(),
-                              planner->getFinalCheckResolution(),
-                              g.max_fingertip_error};
-  std::unique_ptr<GoalSampler> sampler;
-  if (request.algorithm == PlanAlgorithm::kCoupled)
-    sampler = std::make_unique<HftsGoalSampler>(
-        context, HftsGoalSamplerOptions{g.weights, g.kappa, g.i_min, g.i_max});
-  else
-    sampler = std::make_unique<DecoupledGoalSampler>(context, g.decoupled_iterations);
-  planner->setProjection(std::make_shared<BackwardProjection>(
-      robot, scene.robot_base, scene.target_pose * object->geometry.center_of_mass,
-      planner->getProjectionDistance()));
-
-  auto pdef = std::make_shared<ob::ProblemDefinition>(si);
-  ob::ScopedState<> startState(si);
-  si->getStateSpace()->as<WeightedStateSpace>()->fromVector(start, startState.get());
-  pdef->addStartState(startState);
-  pdef->setGoal(std::make_shared<GraspGoal>(si, *sampler));
-  planner->setProblemDefinition(pdef);
-  planner->setSeed(request.seed);
-  planner->setup();
-
-  const ob::PlannerStatus status =
-      planner->solve(terminationCondition(planner->getTimeLimit(), began, cancel));
-
-  const TreeStatistics& trees = planner->statistics();
-  const GoalSamplerStatistics& goals = sampler->statistics();
-  PlanStatistics& s = result.stats;
-  s.iterations = trees.iterations;
-  s.goal_sampling_calls = goals.calls;
-  s.valid_goal_samples = goals.valid_goals;
-  s.hfts_nodes_explored = goals.nodes_explored;
-  s.objective_evaluations = objective.evaluations();
-  s.goal_trees = trees.goal_trees;
-  s.approximate_trees = trees.approximate_trees;
-  s.merged_trees = trees.merged_trees;
-  s.rejected_paths = trees.rejected_paths;
-  s.collision_checks = checker.checkCount();
-  s.forward_tree_size = trees.forward_tree_size;
-  s.backward_tree_nodes = trees.backward_tree_nodes;
-  s.path_length_raw = trees.path_length_raw;
-  s.path_length_smoothed = trees.path_length_smoothed;
-
-  if (status == ob::PlannerStatus::EXACT_SOLUTION)
-    return succeed(planner->solutionPath(), planner->reachedGoal());
-  return fail(goals);
-}
-
-}  // namespace
 
 PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
                      const std::atomic<bool>* cancel) {

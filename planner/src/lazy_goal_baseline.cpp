@@ -16,7 +16,9 @@
 #include <thread>
 #include <utility>
 
+#include "hfts_db/invalid_argument.h"
 #include "planner/configuration_space.h"
+#include "planner/sampling_tools.h"
 
 namespace hfts::planner {
 
@@ -24,14 +26,6 @@ namespace ob = ompl::base;
 namespace og = ompl::geometric;
 
 namespace {
-
-const WeightedStateSpace& weighted(const ob::SpaceInformationPtr& si) {
-  const auto* space = dynamic_cast<const WeightedStateSpace*>(si->getStateSpace().get());
-  if (space == nullptr)
-    throw std::invalid_argument(
-        "LazyGoalRrtConnect needs a WeightedStateSpace (makeSpaceInformation)");
-  return *space;
-}
 
 /// The decoupled optimiser ignores what the motion planner knows.
 class NoFreeSpaceKnowledge : public FreeSpaceDistances {
@@ -44,38 +38,35 @@ class NoFreeSpaceKnowledge : public FreeSpaceDistances {
   }
 };
 
-/// makeSpaceInformation() on `checker` with the planning thread's metric.
-ob::SpaceInformationPtr spaceInformationWithWeights(const robot::RobotModel& robot,
-                                                    robot::CollisionChecker& checker,
-                                                    const Eigen::VectorXd& weights,
-                                                    double resolution) {
-  checker.metric().setWeights(weights);
+/// makeSpaceInformation() on `checker` with a copy of the planning
+/// thread's metric: the threads share nothing mutable.
+ob::SpaceInformationPtr spaceInformationWithMetric(const robot::RobotModel& robot,
+                                                   robot::CollisionChecker& checker,
+                                                   const robot::ConfigurationMetric& metric,
+                                                   double resolution) {
+  checker.metric().setWeights(metric.weights());
   return makeSpaceInformation(robot, checker, resolution);
 }
 
 /// What OMPL's goal sampling thread works with, shared with nobody: its
 /// own collision checker (FCL objects move on every query), space
 /// information for GoalLazySamples' validity check of each goal state, the
-/// Eq. (1) objective, Phi(h), a generator and the decoupled sampler.
+/// sampling tools (Eq. (1), Phi(h)), a generator and the decoupled sampler.
 struct SamplingThreadTools {
   SamplingThreadTools(const PlanningWorld& world, const robot::Scene& scene,
                       const db::ObjectDatabase& object, const grasp::HftsSpace& space,
                       const LazyGoalSettings& settings, const WeightedStateSpace& plannerSpace,
                       double resolution)
       : checker(world.robot(), scene, &object.geometry, world.collisionMesh(object.name)),
-        si(spaceInformationWithWeights(world.robot(), checker, plannerSpace.weights(), resolution)),
-        objective(space, world.handMap(), settings.objective),
-        configurator(world.robot(), world.ik(), world.thoroughHandMap(), checker, scene.target_pose,
-                     scene.robot_base),
+        si(spaceInformationWithMetric(world.robot(), checker, plannerSpace.metric(), resolution)),
+        tools(world, scene, space, checker, settings.goals.objective),
         rng(settings.seed),
-        sampler({&space, &objective, &configurator, &checker, &rng,
-                 settings.smoothing.final_resolution, settings.max_fingertip_error},
-                settings.iterations) {}
+        sampler(tools.context(rng, settings.goals, settings.smoothing.final_resolution),
+                settings.goals.decoupled_iterations) {}
 
   robot::CollisionChecker checker;
   ob::SpaceInformationPtr si;
-  grasp::GraspObjective objective;
-  grasp::GraspConfigurator configurator;
+  SamplingTools tools;
   std::mt19937_64 rng;
   DecoupledGoalSampler sampler;
 };
@@ -129,7 +120,7 @@ class LazyGraspGoal : public ob::GoalLazySamples {
       while (!stopped()) {
         GoalSample sample = tools_->sampler.sample(none, stopped);
         if (sample.kind != GoalKind::kGoal) continue;
-        weighted(tools_->si).fromVector(sample.configuration, state);
+        weightedSpace(tools_->si).fromVector(sample.configuration, state);
         const std::lock_guard<std::mutex> lock(foundMutex_);
         found_.push_back(std::move(sample));
         return true;
@@ -223,7 +214,7 @@ void searchUntilChecked(SeededRrtConnect& planner, ob::ProblemDefinition& pdef,
                         PathSmoothing smoothing, const ob::PlannerTerminationCondition& ptc,
                         LazyGoalOutcome& out) {
   const ob::SpaceInformationPtr& si = planner.getSpaceInformation();
-  const WeightedStateSpace& space = weighted(si);
+  const WeightedStateSpace& space = weightedSpace(si);
   while (!ptc() && planner.solve(ptc) == ob::PlannerStatus::EXACT_SOLUTION) {
     const std::vector<Eigen::VectorXd> raw =
         toVectors(space, *pdef.getSolutionPath()->as<og::PathGeometric>());
@@ -231,11 +222,11 @@ void searchUntilChecked(SeededRrtConnect& planner, ob::ProblemDefinition& pdef,
     if (auto path = smoothAndRecheck(si, raw, smoothing, ptc)) {
       out.solved = true;
       out.path = std::move(*path);
-      out.path_length_raw = pathLength(space, raw);
-      out.path_length_smoothed = pathLength(space, out.path);
+      out.trees.path_length_raw = pathLength(space, raw);
+      out.trees.path_length_smoothed = pathLength(space, out.path);
       return;
     }
-    ++out.rejected_paths;
+    ++out.trees.rejected_paths;
     planner.clear();
     pdef.clearSolutionPaths();
   }
@@ -252,15 +243,14 @@ LazyGoalRrtConnect::LazyGoalRrtConnect(ob::SpaceInformationPtr si, const Plannin
       object_(object),
       space_(space),
       settings_(settings) {
-  weighted(si_);
-  if (settings_.iterations < 1)
-    throw std::invalid_argument("LazyGoalRrtConnect: iterations must be >= 1, got " +
-                                std::to_string(settings_.iterations));
+  weightedSpace(si_);
+  if (settings_.goals.decoupled_iterations < 1)
+    throw InvalidArgument("parameters.iterations", "must be >= 1");
 }
 
 LazyGoalOutcome LazyGoalRrtConnect::solve(const Eigen::VectorXd& start,
                                           const ob::PlannerTerminationCondition& ptc) {
-  const WeightedStateSpace& space = weighted(si_);
+  const WeightedStateSpace& space = weightedSpace(si_);
   const auto* validator =
       dynamic_cast<const CollisionMotionValidator*>(si_->getMotionValidator().get());
   const double resolution = validator != nullptr ? validator->resolution() : 0.02;
@@ -290,12 +280,12 @@ LazyGoalOutcome LazyGoalRrtConnect::solve(const Eigen::VectorXd& start,
   }
   const SamplingThreadTools& tools = goal->tools();
   out.goals = tools.sampler.statistics();
-  out.objective_evaluations = tools.objective.evaluations();
+  out.objective_evaluations = tools.tools.objective.evaluations();
   out.sampling_collision_checks = tools.checker.checkCount();
-  out.iterations = planner->samples();
-  out.goal_states_taken = planner->goalsTaken();
-  out.start_tree_size = planner->startTreeSize();
-  out.goal_tree_size = planner->goalTreeSize();
+  out.trees.iterations = planner->samples();
+  out.trees.goal_trees = planner->goalsTaken();
+  out.trees.forward_tree_size = planner->startTreeSize();
+  out.trees.backward_tree_nodes = planner->goalTreeSize();
   return out;
 }
 

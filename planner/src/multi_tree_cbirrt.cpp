@@ -94,27 +94,8 @@ class MultiTreeCBiRRT::Knowledge : public FreeSpaceDistances {
   const MultiTreeCBiRRT& planner_;
 };
 
-namespace {
-
-WeightedStateSpace& weighted(const ob::SpaceInformationPtr& si) {
-  auto* space = dynamic_cast<WeightedStateSpace*>(si->getStateSpace().get());
-  if (space == nullptr)
-    throw std::invalid_argument(
-        "MultiTreeCBiRRT needs a WeightedStateSpace (makeSpaceInformation)");
-  return *space;
-}
-
-void requireRange(const char* name, double value, double low, double high) {
-  if (!(value >= low && value <= high))
-    throw std::invalid_argument(std::string("parameter ") + name + " must be in [" +
-                                std::to_string(low) + ", " + std::to_string(high) + "], got " +
-                                std::to_string(value));
-}
-
-}  // namespace
-
 MultiTreeCBiRRT::MultiTreeCBiRRT(const ob::SpaceInformationPtr& si)
-    : ob::Planner(si, "MultiTreeCBiRRT"), space_(weighted(si)) {
+    : ob::Planner(si, "MultiTreeCBiRRT"), space_(weightedSpace(si)) {
   validator_ = std::dynamic_pointer_cast<CollisionMotionValidator>(si->getMotionValidator());
   if (!validator_) throw std::invalid_argument("MultiTreeCBiRRT needs a CollisionMotionValidator");
   const auto& bounds = space_.getBounds();
@@ -132,69 +113,35 @@ MultiTreeCBiRRT::~MultiTreeCBiRRT() {
 }
 
 void MultiTreeCBiRRT::declareParameters() {
-  GoalSamplingParameters& g = goalSampling_;
-  declareParam<double>("step_size", this, &MultiTreeCBiRRT::setRange, &MultiTreeCBiRRT::getRange,
-                       "0.01:0.01:1.0");
-  declareParam<double>("p_max", this, &MultiTreeCBiRRT::setGoalProbabilityMax,
-                       &MultiTreeCBiRRT::getGoalProbabilityMax, "0.:.05:1.");
-  declareParam<double>("p_min", this, &MultiTreeCBiRRT::setGoalProbabilityMin,
-                       &MultiTreeCBiRRT::getGoalProbabilityMin, "0.:.01:1.");
-  declareParam<double>("p_w", this, &MultiTreeCBiRRT::setGoalProbabilityDecay,
-                       &MultiTreeCBiRRT::getGoalProbabilityDecay, "0.:.1:10.");
-  declareParam<double>("p_goal_tree", this, &MultiTreeCBiRRT::setGoalTreeBias,
-                       &MultiTreeCBiRRT::getGoalTreeBias, "0.:.05:1.");
-  declareParam<double>("d_m", this, &MultiTreeCBiRRT::setProjectionDistance,
-                       &MultiTreeCBiRRT::getProjectionDistance, "0.:.05:2.");
-  declareParam<double>("final_resolution", this, &MultiTreeCBiRRT::setFinalCheckResolution,
-                       &MultiTreeCBiRRT::getFinalCheckResolution, "0.0005:0.0005:0.1");
-  declareParam<unsigned>("smoothing_steps", this, &MultiTreeCBiRRT::setSmoothingSteps,
-                         &MultiTreeCBiRRT::getSmoothingSteps, "0:10:10000");
-  declareParam<double>("time_limit", this, &MultiTreeCBiRRT::setTimeLimit,
-                       &MultiTreeCBiRRT::getTimeLimit, "0.:1.:3600.");
-  params().declareParam<double>(
-      "collision_resolution", [this](double r) { validator_->setResolution(r); },
+  // Each with the one range that OMPL shows and the setter enforces
+  // (parameters.h); Fig. 6 of the paper gives the defaults.
+  ob::ParamSet& p = params();
+  declareParameter(p, "step_size", {0.001, 0.01, 10.0}, range_);
+  declareParameter(p, "p_max", {0.0, 0.05, 1.0}, pMax_);
+  declareParameter(p, "p_min", {0.0, 0.01, 1.0}, pMin_);
+  declareParameter(p, "p_w", {0.0, 0.1, 100.0}, pW_);
+  declareParameter(p, "p_goal_tree", {0.0, 0.05, 1.0}, pGoalTree_);
+  declareParameter<double>(
+      p, "d_m", {0.0, 0.05, 10.0},
+      [this](double d) {
+        dM_ = d;
+        if (projection_) projection_->setMaxDistance(d);
+      },
+      [this] { return dM_; });
+  planner::declareParameters(p, smoothing_);
+  declareParameter<double>(
+      p, "collision_resolution", {1e-4, 1e-4, 1.0},
+      [this](double r) { validator_->setResolution(r); },
       [this] { return validator_->resolution(); });
-  params().declareParam<double>(
-      "weight_arm", [this](double w) { setGroupWeight("weight_arm", true, w); },
+  declareParameter<double>(
+      p, "weight_arm", {0.0, 0.05, 100.0}, [this](double w) { setGroupWeight(true, w); },
       [this] { return space_.weights()(0); });
-  params().declareParam<double>(
-      "weight_hand", [this](double w) { setGroupWeight("weight_hand", false, w); },
+  declareParameter<double>(
+      p, "weight_hand", {0.0, 0.05, 100.0}, [this](double w) { setGroupWeight(false, w); },
       [this] { return space_.weights()(space_.weights().size() - 1); });
-  auto positive = [](const char* name, double& field) {
-    return [name, &field](double v) {
-      requireRange(name, v, 1e-12, 1e12);
-      field = v;
-    };
-  };
-  auto count = [](const char* name, int& field, int low, int high) {
-    return [name, &field, low, high](int v) {
-      requireRange(name, v, low, high);
-      field = v;
-    };
-  };
-  params().declareParam<double>("w_f", positive("w_f", g.weights.w_f),
-                                [&g] { return g.weights.w_f; });
-  params().declareParam<double>("w_c", positive("w_c", g.weights.w_c),
-                                [&g] { return g.weights.w_c; });
-  params().declareParam<int>("n_a", count("n_a", g.weights.max_active, 1, 100000),
-                             [&g] { return g.weights.max_active; });
-  params().declareParam<int>("kappa", count("kappa", g.kappa, 1, 1000), [&g] { return g.kappa; });
-  params().declareParam<int>("i_min", count("i_min", g.i_min, 0, 100000), [&g] { return g.i_min; });
-  params().declareParam<int>("i_max", count("i_max", g.i_max, 0, 100000), [&g] { return g.i_max; });
-  params().declareParam<int>("iterations", count("iterations", g.decoupled_iterations, 1, 100000),
-                             [&g] { return g.decoupled_iterations; });
-  params().declareParam<double>("alpha", positive("alpha", g.alpha), [&g] { return g.alpha; });
-  params().declareParam<double>("friction", positive("friction", g.friction),
-                                [&g] { return g.friction; });
-  params().declareParam<int>("cone_edges", count("cone_edges", g.cone_edges, 3, 64),
-                             [&g] { return g.cone_edges; });
-  params().declareParam<double>("max_fingertip_error",
-                                positive("max_fingertip_error", g.max_fingertip_error),
-                                [&g] { return g.max_fingertip_error; });
 }
 
-void MultiTreeCBiRRT::setGroupWeight(const char* name, bool arm, double weight) {
-  requireRange(name, weight, 0.0, 100.0);
+void MultiTreeCBiRRT::setGroupWeight(bool arm, double weight) {
   Eigen::VectorXd weights = space_.weights();
   const int armDofs = space_.armDofs();
   if (arm)
@@ -203,40 +150,6 @@ void MultiTreeCBiRRT::setGroupWeight(const char* name, bool arm, double weight) 
     weights.tail(weights.size() - armDofs).setConstant(weight);
   // One metric for trees, motion checks and goal-sampler ratings.
   space_.setWeights(weights);
-}
-
-void MultiTreeCBiRRT::setRange(double range) {
-  requireRange("step_size", range, 1e-4, 10.0);
-  range_ = range;
-}
-void MultiTreeCBiRRT::setGoalProbabilityMax(double p) {
-  requireRange("p_max", p, 0.0, 1.0);
-  pMax_ = p;
-}
-void MultiTreeCBiRRT::setGoalProbabilityMin(double p) {
-  requireRange("p_min", p, 0.0, 1.0);
-  pMin_ = p;
-}
-void MultiTreeCBiRRT::setGoalProbabilityDecay(double w) {
-  requireRange("p_w", w, 0.0, 1e6);
-  pW_ = w;
-}
-void MultiTreeCBiRRT::setGoalTreeBias(double p) {
-  requireRange("p_goal_tree", p, 0.0, 1.0);
-  pGoalTree_ = p;
-}
-void MultiTreeCBiRRT::setProjectionDistance(double d) {
-  requireRange("d_m", d, 0.0, 100.0);
-  dM_ = d;
-  if (projection_) projection_->setMaxDistance(d);
-}
-void MultiTreeCBiRRT::setFinalCheckResolution(double r) {
-  requireRange("final_resolution", r, 1e-5, 1.0);
-  finalResolution_ = r;
-}
-void MultiTreeCBiRRT::setTimeLimit(double seconds) {
-  requireRange("time_limit", seconds, 0.0, 86400.0);
-  timeLimit_ = seconds;
 }
 
 void MultiTreeCBiRRT::setProjection(std::shared_ptr<BackwardProjection> projection) {
@@ -494,7 +407,8 @@ bool MultiTreeCBiRRT::extractAndShortcutPath(int index, Motion* forwardEnd, Moti
   // Smoothed and re-checked at the final resolution: a path that fails
   // the re-check is never returned (path_smoothing.h).
   std::optional<std::vector<Eigen::VectorXd>> checked = smoothAndRecheck(
-      si_, path, {smoothingSteps_, finalResolution_, static_cast<std::uint32_t>(rng_())}, ptc);
+      si_, path,
+      {smoothing_.steps, smoothing_.final_resolution, static_cast<std::uint32_t>(rng_())}, ptc);
   if (!checked) {
     ++stats_.rejected_paths;
     dropTree(index);

@@ -24,13 +24,6 @@ class SeededSimplifier : public og::PathSimplifier {
   }
 };
 
-const WeightedStateSpace& weightedSpace(const ob::SpaceInformationPtr& si) {
-  const auto* space = dynamic_cast<const WeightedStateSpace*>(si->getStateSpace().get());
-  if (space == nullptr)
-    throw std::invalid_argument("path smoothing needs a WeightedStateSpace (makeSpaceInformation)");
-  return *space;
-}
-
 /// A path found at the time limit is still re-checked, never returned
 /// unchecked, but for at most kGrace after the limit: then it is dropped,
 /// so a planner returns within its limit plus about kGrace. The grace runs
@@ -208,6 +201,11 @@ double pathLength(const WeightedStateSpace& space, const std::vector<Eigen::Vect
   double length = 0.0;
   for (std::size_t i = 1; i < path.size(); ++i) length += space.distance(path[i - 1], path[i]);
   return length;
+}
+
+void declareParameters(ompl::base::ParamSet& params, PathSmoothing& smoothing) {
+  declareParameter(params, "smoothing_steps", {0, 10, 100000}, smoothing.steps);
+  declareParameter(params, "final_resolution", {1e-4, 1e-4, 1.0}, smoothing.final_resolution);
 }
 
 }  // namespace hfts::planner

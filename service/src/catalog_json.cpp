@@ -99,8 +99,8 @@ json graspQualityJson(const json& params, const PlanningCatalog& catalog) {
   try {
     const grasp::GraspQualityRequest r = grasp::graspQualityRequestFromJson(request.dump());
     return {{"epsilon", grasp::graspQuality(r).epsilon}};
-  } catch (const std::invalid_argument& e) {
-    throw invalidParamFromPlanner(e.what());
+  } catch (const InvalidArgument& e) {
+    throw invalidParam(e);
   }
 }
 

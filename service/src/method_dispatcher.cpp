@@ -178,8 +178,8 @@ MethodDispatcher::Outcome MethodDispatcher::runPlan(const PlanningCatalog& catal
     }
     return {planResultToJson(result, request), std::nullopt,
             result.success ? "success" : planner::toString(result.failure)};
-  } catch (const std::invalid_argument& e) {  // planGrasp checks parameter values
-    return {json(), invalidParamFromPlanner(e.what()), ""};
+  } catch (const InvalidArgument& e) {  // planGrasp checks parameter values
+    return {json(), invalidParam(e), ""};
   } catch (const std::exception& e) {
     return {json(), RpcError(ErrorCode::kInternalError, std::string("internal error: ") + e.what()),
             ""};

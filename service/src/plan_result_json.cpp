@@ -35,21 +35,9 @@ json graspJson(const planner::PlannedGrasp& g, const std::vector<std::string>& j
 }
 
 json statsJson(const planner::PlanStatistics& s) {
-  return {{"planning_time", s.planning_time},
-          {"iterations", s.iterations},
-          {"goal_sampling_calls", s.goal_sampling_calls},
-          {"valid_goal_samples", s.valid_goal_samples},
-          {"hfts_nodes_explored", s.hfts_nodes_explored},
-          {"objective_evaluations", s.objective_evaluations},
-          {"goal_trees", s.goal_trees},
-          {"approximate_trees", s.approximate_trees},
-          {"merged_trees", s.merged_trees},
-          {"rejected_paths", s.rejected_paths},
-          {"collision_checks", s.collision_checks},
-          {"forward_tree_size", s.forward_tree_size},
-          {"backward_tree_nodes", s.backward_tree_nodes},
-          {"path_length_raw", s.path_length_raw},
-          {"path_length_smoothed", s.path_length_smoothed}};
+  json out = json::object();
+  planner::forEachStatistic(s, [&out](const char* name, auto value) { out[name] = value; });
+  return out;
 }
 
 }  // namespace
@@ -66,7 +54,7 @@ json planResultToJson(const planner::PlanResult& result, const planner::PlanRequ
           {"object_pose", poseJson(request.object_pose.value_or(request.scene.target_pose))},
           {"algorithm", coupled ? "coupled" : "decoupled"},
           {"seed", request.seed},
-          {"time_limit", request.time_limit.value_or(0.0)},
+          {"time_limit", request.time_limit},
           {"joint_names", result.joint_names},
           {"path", std::move(path)},
           {"grasp", result.success ? graspJson(result.grasp, result.joint_names) : json()},

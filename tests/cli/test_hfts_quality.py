@@ -46,17 +46,17 @@ class HftsQuality(unittest.TestCase):
 
     def test_bad_requests_name_the_field(self):
         cases = [
-            ("{", "not valid JSON"),
-            ("[]", "JSON object"),
-            (json.dumps({"contacts": []}), "'contacts'"),
-            (json.dumps(equator([0, 120], friction=-1)), "'friction'"),
-            (json.dumps(equator([0, 120], cone_edges=2.5)), "'cone_edges'"),
-            (json.dumps(equator([0, 120], normals="sideways")), "'normals'"),
-            (json.dumps(equator([0, 120], weight=3)), "unknown field 'weight'"),
+            ("{", "request: not valid JSON"),
+            ("[]", "request: must be a JSON object"),
+            (json.dumps({"contacts": []}), "contacts: must be a non-empty array"),
+            (json.dumps(equator([0, 120], friction=-1)), "friction: must be > 0"),
+            (json.dumps(equator([0, 120], cone_edges=2.5)), "cone_edges: must be an integer"),
+            (json.dumps(equator([0, 120], normals="sideways")), "normals: must be"),
+            (json.dumps(equator([0, 120], weight=3)), "weight: unknown field"),
             (json.dumps({"contacts": [{"position": [0, 0], "normal": [1, 0, 0]}]}),
-             "'contacts[0].position'"),
+             "contacts[0].position: must be an array of 3 numbers"),
             (json.dumps({"contacts": [{"position": [0, 0, 0], "normal": [2, 0, 0]}]}),
-             "unit vector"),
+             "contacts[0].normal: must be a unit vector"),
         ]
         for text, problem in cases:
             result = quality(text)

@@ -3,6 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "hfts_db/invalid_argument.h"
+#include "planner/parameters.h"
 
 #include "plan_checks.h"
 #include "test_meshes.h"
@@ -109,33 +114,109 @@ TEST(GraspMotionPlanner, UnreachableObjectIsReported) {
   EXPECT_EQ(result.failure, PlanFailure::kObjectUnreachable) << result.message;
 }
 
+/// What planGrasp rejects `r` with ("" when it accepts it).
+std::string rejection(const PlanRequest& r, std::string* field = nullptr) {
+  try {
+    planGrasp(world(), r);
+  } catch (const InvalidArgument& e) {
+    if (field != nullptr) *field = e.field();
+    return e.what();
+  }
+  return "";
+}
+
 TEST(GraspMotionPlanner, MalformedRequestsThrowNamingTheField) {
   PlanRequest r = request("table", "mug", 1);
+  r.time_limit = 0.0;  // only the checks matter here
+  std::string field;
   r.start = Eigen::VectorXd::Zero(5);
-  test::expectErrorMentioning<std::invalid_argument>([&] { planGrasp(world(), r); }, {"start"});
+  EXPECT_EQ(rejection(r, &field), "start: 13 values expected, got 5");
+  EXPECT_EQ(field, "start");
   r.start = world().robot().home();
   (*r.start)(0) = 10.0;
-  test::expectErrorMentioning<std::invalid_argument>([&] { planGrasp(world(), r); }, {"a1"});
+  EXPECT_NE(rejection(r, &field).find("start: value 10.000000 of 'a1' is outside"),
+            std::string::npos);
   r.start.reset();
-  r.parameters["no_such"] = "1";
-  test::expectErrorMentioning<std::invalid_argument>([&] { planGrasp(world(), r); }, {"no_such"});
+  r.time_limit = -1.0;
+  EXPECT_EQ(rejection(r, &field), "time_limit: must be a finite number >= 0");
+  EXPECT_EQ(field, "time_limit");
+  r.time_limit = 0.0;
+  r.parameters = {{"no_such", "1"}};
+  EXPECT_EQ(rejection(r, &field), "parameters.no_such: unknown planner parameter");
+  EXPECT_EQ(field, "parameters.no_such");
+  r.parameters = {{"time_limit", "5"}};  // a request field, not a parameter
+  EXPECT_EQ(rejection(r), "parameters.time_limit: unknown planner parameter");
   r.parameters = {{"p_max", "2"}};
-  test::expectErrorMentioning<std::invalid_argument>([&] { planGrasp(world(), r); }, {"p_max"});
+  EXPECT_EQ(rejection(r, &field), "parameters.p_max: must be in [0, 1], got 2");
+  EXPECT_EQ(field, "parameters.p_max");
   r.parameters = {{"kappa", "many"}};
-  test::expectErrorMentioning<std::invalid_argument>([&] { planGrasp(world(), r); }, {"kappa"});
+  EXPECT_EQ(rejection(r), "parameters.kappa: must be an integer, got 'many'");
+  r.parameters = {{"kappa", "2.5"}};
+  EXPECT_EQ(rejection(r), "parameters.kappa: must be an integer, got '2.5'");
+  r.parameters = {{"i_min", "50"}, {"i_max", "30"}};
+  EXPECT_EQ(rejection(r, &field),
+            "parameters.i_min: must be <= i_max, got i_min = 50 > i_max = 30");
+  EXPECT_EQ(field, "parameters.i_min");
   r.parameters.clear();
+  r.algorithm = PlanAlgorithm::kDecoupled;
   r.iterations = 0;
-  test::expectErrorMentioning<std::invalid_argument>([&] { planGrasp(world(), r); },
-                                                     {"iterations"});
+  EXPECT_EQ(rejection(r, &field), "iterations: must be in [1, 100000], got 0");
+  EXPECT_EQ(field, "iterations");
+}
+
+TEST(GraspMotionPlanner, EveryParameterEnforcesTheRangeItDeclares) {
+  for (const PlannerParameterInfo& p : plannerParameters(world())) {
+    SCOPED_TRACE(p.name + " " + p.range);
+    const std::string low = p.range.substr(0, p.range.find(':'));
+    const std::string high = p.range.substr(p.range.rfind(':') + 1);
+    const ParameterRange range = ParameterRange::fromSuggestion(p.range);
+    ASSERT_LT(range.low, range.high);
+    PlanRequest r = request("table", "mug", 1);
+    r.time_limit = 0.0;  // only the parameters matter here
+    // i_min <= i_max holds at both ends of either range.
+    if (p.name == "i_min") r.parameters["i_max"] = "100000";
+    if (p.name == "i_max") r.parameters["i_min"] = "0";
+    for (const std::string& inside : {low, high}) {
+      r.parameters[p.name] = inside;
+      EXPECT_EQ(rejection(r), "") << inside;
+    }
+    // One below and one above (whole numbers when the bounds are).
+    std::ostringstream below, above;
+    below.precision(17);
+    above.precision(17);
+    below << range.low - 1.0;
+    above << range.high + 1.0;
+    for (const std::string& outside : {below.str(), above.str()}) {
+      r.parameters[p.name] = outside;
+      EXPECT_EQ(rejection(r), "parameters." + p.name + ": must be in [" + low + ", " + high +
+                                  "], got " + outside);
+    }
+  }
 }
 
 TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
-  std::map<std::string, double> expected = {
-      {"p_max", 0.9},       {"p_goal_tree", 0.7}, {"p_min", 0.01},     {"d_m", 0.4},
-      {"w_f", 0.5},         {"n_a", 20},          {"w_c", 4.0},        {"alpha", 1e-6},
-      {"kappa", 4},         {"p_w", 1.2},         {"weight_arm", 1.0}, {"weight_hand", 0.25},
-      {"i_min", 20},        {"i_max", 100},       {"friction", 0.5},   {"cone_edges", 8},
-      {"time_limit", 60.0}, {"step_size", 0.1}};
+  std::map<std::string, double> expected = {{"p_max", 0.9},
+                                            {"p_goal_tree", 0.7},
+                                            {"p_min", 0.01},
+                                            {"d_m", 0.4},
+                                            {"w_f", 0.5},
+                                            {"n_a", 20},
+                                            {"w_c", 4.0},
+                                            {"alpha", 1e-6},
+                                            {"kappa", 4},
+                                            {"p_w", 1.2},
+                                            {"weight_arm", 1.0},
+                                            {"weight_hand", 0.25},
+                                            {"i_min", 20},
+                                            {"i_max", 100},
+                                            {"friction", 0.5},
+                                            {"cone_edges", 8},
+                                            {"step_size", 0.1},
+                                            {"iterations", 20},
+                                            {"smoothing_steps", 200},
+                                            {"final_resolution", 0.0025},
+                                            {"collision_resolution", 0.02},
+                                            {"max_fingertip_error", 0.005}};
   for (const PlannerParameterInfo& p : plannerParameters(world())) {
     const auto it = expected.find(p.name);
     if (it == expected.end()) continue;
@@ -143,6 +224,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
     expected.erase(it);
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
+  EXPECT_EQ(plannerParameters(world()).size(), 22u) << "a parameter was added or removed";
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <chrono>
 
+#include "hfts_db/invalid_argument.h"
 #include "plan_checks.h"
 #include "planner/multi_tree_cbirrt.h"
 #include "test_meshes.h"
@@ -93,13 +94,13 @@ TEST(LazyGoalRrtConnect, RejectsIterationsBelowOne) {
   robot::CollisionChecker checker(world().robot(), scene, &mug.geometry);
   const grasp::HftsSpace space(mug, static_cast<int>(world().robot().fingertips().size()));
   LazyGoalSettings settings;
-  settings.iterations = 0;
-  test::expectErrorMentioning<std::invalid_argument>(
+  settings.goals.decoupled_iterations = 0;
+  test::expectErrorMentioning<InvalidArgument>(
       [&] {
         LazyGoalRrtConnect(makeSpaceInformation(world().robot(), checker, 0.02), world(), scene,
                            mug, space, settings);
       },
-      {"iterations"});
+      {"parameters.iterations: must be >= 1"});
 }
 
 TEST(LazyGoalRrtConnect, ReadsTheSharedParameters) {
@@ -112,7 +113,8 @@ TEST(LazyGoalRrtConnect, ReadsTheSharedParameters) {
   test::expectValidPlan(world(), r, result, kFinalResolution);
   EXPECT_DOUBLE_EQ(result.stats.path_length_smoothed, result.stats.path_length_raw);
   r.parameters["kappa"] = "many";  // validated like every parameter, used or not
-  test::expectErrorMentioning<std::invalid_argument>([&] { planGrasp(world(), r); }, {"kappa"});
+  test::expectErrorMentioning<InvalidArgument>([&] { planGrasp(world(), r); },
+                                               {"parameters.kappa: must be an integer"});
 }
 
 }  // namespace

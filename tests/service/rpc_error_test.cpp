@@ -16,21 +16,16 @@ TEST(RpcError, InvalidParamsNameTheirField) {
   }
 }
 
-TEST(RpcError, ThePlannersMessagesTakeTheServicesForm) {
-  const RpcError quoted = invalidParamFromPlanner("'contacts[0].normal' must be a unit vector");
-  EXPECT_EQ(quoted.field(), "contacts[0].normal");
-  EXPECT_STREQ(quoted.what(), "contacts[0].normal: must be a unit vector");
-  const RpcError parameter =
-      invalidParamFromPlanner("parameters: '5' is not a valid value for 'p_max' (range 0.:.05:1.)");
-  EXPECT_EQ(parameter.field(), "parameters.p_max");
-  EXPECT_STREQ(parameter.what(),
-               "parameters.p_max: '5' is not a valid value for 'p_max' (range 0.:.05:1.)");
-  const RpcError prefixed = invalidParamFromPlanner("start: values must be finite");
-  EXPECT_EQ(prefixed.field(), "start");
-  EXPECT_STREQ(prefixed.what(), "start: values must be finite");
-  const RpcError plain = invalidParamFromPlanner("the request must be a JSON object");
-  EXPECT_EQ(plain.field(), "");
+TEST(RpcError, ALibrarysInvalidArgumentKeepsItsFieldAndForm) {
+  const RpcError plain =
+      invalidParam(InvalidArgument("contacts[0].normal", "must be a unit vector"));
   EXPECT_EQ(plain.code(), ErrorCode::kInvalidParams);
+  EXPECT_EQ(plain.field(), "contacts[0].normal");
+  EXPECT_STREQ(plain.what(), "contacts[0].normal: must be a unit vector");
+  const RpcError nested =
+      invalidParam(InvalidArgument("obstacles[2].size", "must be > 0"), "scene.");
+  EXPECT_EQ(nested.field(), "scene.obstacles[2].size");
+  EXPECT_STREQ(nested.what(), "scene.obstacles[2].size: must be > 0");
 }
 
 TEST(RpcError, CodesFollowJsonRpcAndTheProtocol) {

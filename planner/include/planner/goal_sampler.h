@@ -15,6 +15,8 @@
 #include "grasp/grasp_configurations.h"
 #include "grasp/grasp_optimizer.h"
 #include "planner/goal_hierarchy_cache.h"
+#include "planner/parameters.h"
+#include "planner/plan_statistics.h"
 
 namespace hfts::planner {
 
@@ -34,17 +36,6 @@ struct GoalSample {
   double epsilon = 0.0;
   double reachability = 0.0;  ///< R(h) (m)
   double fingertip_error = 0.0;
-};
-
-struct GoalSamplerStatistics {
-  std::uint64_t calls = 0;        ///< GS
-  std::uint64_t valid_goals = 0;  ///< VGS
-  std::uint64_t approximate_goals = 0;
-  /// GNS: distinct HFTS nodes the sampler settled on (the local optima of
-  /// each level it searched), the paper's "explored" nodes of Fig. 5 and 8.
-  std::uint64_t nodes_explored = 0;
-  std::uint64_t configured_nodes = 0;     ///< nodes whose grasp went through Phi(h)
-  std::uint64_t kinematic_solutions = 0;  ///< of those, nodes with at least one IK solution
 };
 
 /// What both samplers share: the object's HFTS, Eq. (1), Phi(h) and the
@@ -166,5 +157,19 @@ class DecoupledGoalSampler : public GraspGoalSampler {
   int iterations_;
   std::unordered_set<grasp::HftsNode, grasp::HftsNodeHash> explored_;
 };
+
+/// What goal sampling is set up with besides its tools (paper Fig. 6 and
+/// Sec. IV). Every field is a planner parameter (declareParameters).
+struct GoalSamplingSettings {
+  HftsGoalSamplerOptions coupled;     ///< "w_f", "w_c", "n_a", "kappa", "i_min", "i_max"
+  int decoupled_iterations = 20;      ///< i of the decoupled sampler ("iterations")
+  grasp::ObjectiveOptions objective;  ///< "alpha", "friction", "cone_edges"
+  /// Largest fingertip-to-contact distance of a goal, m ("max_fingertip_error").
+  double max_fingertip_error = 0.005;
+};
+
+/// Declares every field of `settings` in `params` under the names above,
+/// each with its range (`settings` must outlive `params`).
+void declareParameters(ompl::base::ParamSet& params, GoalSamplingSettings& settings);
 
 }  // namespace hfts::planner

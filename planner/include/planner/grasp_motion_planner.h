@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "grasp/hfts_space.h"
+#include "planner/plan_statistics.h"
 #include "planner/planning_world.h"
 #include "robot/scene.h"
 
@@ -35,7 +36,9 @@ struct PlanRequest {
   PlanAlgorithm algorithm = PlanAlgorithm::kCoupled;
   std::optional<int> iterations;  ///< decoupled, rrtconnect: i per level (default 20)
   std::uint64_t seed = 1;
-  std::optional<double> time_limit;  ///< s; default the planner's (60 s, Fig. 6)
+  /// s, counted from the call; feeds the search's termination condition
+  /// (60 s: Fig. 6 of the paper).
+  double time_limit = 60.0;
   /// Any declared planner parameter by name (see plannerParameters()),
   /// value as text, e.g. {"p_max", "0.8"}.
   std::map<std::string, std::string> parameters;
@@ -66,25 +69,6 @@ struct PlannedGrasp {
   Eigen::VectorXd hand_configuration;
 };
 
-struct PlanStatistics {
-  double planning_time = 0.0;  ///< s, wall clock of the whole request
-  std::uint64_t iterations = 0;
-  std::uint64_t goal_sampling_calls = 0;  ///< GS
-  std::uint64_t valid_goal_samples = 0;   ///< VGS
-  std::uint64_t hfts_nodes_explored = 0;  ///< GNS
-  std::uint64_t objective_evaluations = 0;
-  std::uint64_t goal_trees = 0;
-  std::uint64_t approximate_trees = 0;
-  std::uint64_t merged_trees = 0;
-  /// Connections whose path failed the dense re-check (its goal tree dropped).
-  std::uint64_t rejected_paths = 0;
-  std::uint64_t collision_checks = 0;
-  std::uint64_t forward_tree_size = 0;
-  std::uint64_t backward_tree_nodes = 0;
-  double path_length_raw = 0.0;  ///< Eq. (3) metric
-  double path_length_smoothed = 0.0;
-};
-
 struct PlanResult {
   bool success = false;
   PlanFailure failure = PlanFailure::kNone;
@@ -98,8 +82,9 @@ struct PlanResult {
   PlanStatistics stats;
 };
 
-/// A declared planner parameter: name, default value and allowed range
-/// (OMPL's "low:step:high" notation).
+/// A declared planner parameter: name, default value and the range a value
+/// must be in (OMPL's "low:step:high" notation; low and high are enforced,
+/// the step is a hint).
 struct PlannerParameterInfo {
   std::string name;
   std::string default_value;
@@ -112,9 +97,10 @@ std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world);
 /// the same result unless the time limit cuts it short (kRrtConnect: see
 /// LazyGoalRrtConnect::solve).
 /// `cancel` (may be null) stops it from another thread. Throws
-/// std::invalid_argument naming the field for a malformed request (wrong
-/// start size or start outside the joint limits, non-finite values,
-/// unknown parameter name or bad parameter value).
+/// InvalidArgument naming the field ("start", "time_limit", "iterations",
+/// "parameters.<name>") for a malformed request: a start of the wrong size,
+/// not finite or outside the joint limits, a negative or non-finite time
+/// limit, an unknown parameter or a value outside its range.
 PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
                      const std::atomic<bool>* cancel = nullptr);
 

@@ -25,9 +25,9 @@ namespace hfts::planner {
 /// The baseline's settings; the request's planner parameters of the same
 /// names set them (see planGrasp).
 struct LazyGoalSettings {
-  int iterations = 20;                ///< decoupled i per HFTS level
-  grasp::ObjectiveOptions objective;  ///< Eq. (1): alpha, friction, cone edges
-  double max_fingertip_error = 0.005;
+  /// The decoupled sampler's: i per HFTS level, Eq. (1), the fingertip
+  /// tolerance (the coupled options are unused).
+  GoalSamplingSettings goals;
   PathSmoothing smoothing;  ///< also the closing motion's check resolution
   std::uint64_t seed = 1;
 };
@@ -39,15 +39,12 @@ struct LazyGoalOutcome {
   std::vector<Eigen::VectorXd> path;
   GoalSample goal;              ///< the goal the path reaches (kGoal when solved)
   GoalSamplerStatistics goals;  ///< of the sampling thread: GS, VGS, GNS
+  /// RRTConnect's: iterations (one uniform sample each), goal_trees (goal
+  /// states it took as roots of its goal tree), forward_tree_size (start
+  /// tree), backward_tree_nodes (goal tree), rejected_paths, path lengths.
+  TreeStatistics trees;
   std::uint64_t objective_evaluations = 0;
-  std::uint64_t iterations = 0;         ///< RRTConnect's loop (one uniform sample each)
-  std::uint64_t goal_states_taken = 0;  ///< goal states RRTConnect added as goal-tree roots
-  std::uint64_t start_tree_size = 0;
-  std::uint64_t goal_tree_size = 0;
-  std::uint64_t rejected_paths = 0;  ///< connections whose path failed the dense re-check
   std::uint64_t sampling_collision_checks = 0;  ///< made by the sampling thread
-  double path_length_raw = 0.0;                 ///< Eq. (3) metric
-  double path_length_smoothed = 0.0;
 };
 
 /// RRTConnect with lazily sampled HFTS goals. Two threads: the caller's
@@ -59,7 +56,7 @@ class LazyGoalRrtConnect {
   /// `si` from makeSpaceInformation() on the planning thread's checker (its
   /// weights are copied to the sampling thread's). `world`, `scene`,
   /// `object` and `space` must outlive the object. Throws
-  /// std::invalid_argument for iterations < 1.
+  /// InvalidArgument ("parameters.iterations") for iterations < 1.
   LazyGoalRrtConnect(ompl::base::SpaceInformationPtr si, const PlanningWorld& world,
                      const robot::Scene& scene, const db::ObjectDatabase& object,
                      const grasp::HftsSpace& space, LazyGoalSettings settings);

@@ -20,6 +20,7 @@
 #include "planner/backward_projection.h"
 #include "planner/configuration_space.h"
 #include "planner/goal_sampler.h"
+#include "planner/path_smoothing.h"
 
 namespace hfts::planner {
 
@@ -35,33 +36,6 @@ class GraspGoal : public ompl::base::Goal {
 
  private:
   GoalSampler& sampler_;
-};
-
-/// The settings the planner passes on to goal sampling (Fig. 6 and Sec. IV);
-/// declared as parameters of the planner so that a request can set them.
-struct GoalSamplingParameters {
-  RatingWeights weights;
-  int kappa = 4;
-  int i_min = 20;
-  int i_max = 100;
-  double alpha = 1e-6;
-  double friction = 0.5;
-  int cone_edges = 8;
-  int decoupled_iterations = 20;  ///< i of the decoupled baseline
-  double max_fingertip_error = 0.005;
-};
-
-struct TreeStatistics {
-  std::uint64_t iterations = 0;  ///< of Algorithm 1's loop
-  std::uint64_t goal_trees = 0;  ///< backward trees rooted at goals
-  std::uint64_t approximate_trees = 0;
-  std::uint64_t merged_trees = 0;    ///< approximate trees joined to T_f
-  std::uint64_t rejected_paths = 0;  ///< paths that failed the dense re-check
-  std::uint64_t projections = 0;     ///< backward steps bent by the heuristic
-  std::uint64_t forward_tree_size = 0;
-  std::uint64_t backward_tree_nodes = 0;  ///< in live backward trees
-  double path_length_raw = 0.0;           ///< Eq. (3) metric, before smoothing
-  double path_length_smoothed = 0.0;
 };
 
 class MultiTreeCBiRRT : public ompl::base::Planner {
@@ -80,27 +54,17 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   void setSeed(std::uint64_t seed) { seed_ = seed; }
   std::mt19937_64& rng() { return rng_; }
 
-  // Parameters (declared under the names in parentheses).
-  double getRange() const { return range_; }  ///< step size Delta phi ("step_size")
-  void setRange(double range);
+  // Parameters: set them by name through params() (checked against their
+  // declared ranges); the names are in parentheses.
+  double getRange() const { return range_; }              ///< step size Delta phi ("step_size")
   double getGoalProbabilityMax() const { return pMax_; }  ///< "p_max"
-  void setGoalProbabilityMax(double p);
   double getGoalProbabilityMin() const { return pMin_; }  ///< "p_min"
-  void setGoalProbabilityMin(double p);
   double getGoalProbabilityDecay() const { return pW_; }  ///< "p_w"
-  void setGoalProbabilityDecay(double w);
-  double getGoalTreeBias() const { return pGoalTree_; }  ///< "p_goal_tree"
-  void setGoalTreeBias(double p);
-  double getProjectionDistance() const { return dM_; }  ///< D_m ("d_m")
-  void setProjectionDistance(double d);
-  double getFinalCheckResolution() const { return finalResolution_; }  ///< "final_resolution"
-  void setFinalCheckResolution(double r);
-  unsigned getSmoothingSteps() const { return smoothingSteps_; }  ///< "smoothing_steps"
-  void setSmoothingSteps(unsigned steps) { smoothingSteps_ = steps; }
-  double getTimeLimit() const { return timeLimit_; }  ///< "time_limit" (s)
-  void setTimeLimit(double seconds);
-  GoalSamplingParameters& goalSampling() { return goalSampling_; }
-  const GoalSamplingParameters& goalSampling() const { return goalSampling_; }
+  double getGoalTreeBias() const { return pGoalTree_; }   ///< "p_goal_tree"
+  double getProjectionDistance() const { return dM_; }    ///< D_m ("d_m")
+  /// "smoothing_steps" and "final_resolution" (path_smoothing.h): also the
+  /// resolution a goal's closing motion is checked at.
+  const PathSmoothing& smoothing() const { return smoothing_; }
 
   /// After a successful solve(): the path from the start to the goal's
   /// pre-grasp (smoothed and re-checked) and the goal it reaches.
@@ -121,8 +85,8 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   Motion* addMotion(int tree, const Eigen::VectorXd& q, Motion* parent);
   int addTree(TreeKind kind, const Eigen::VectorXd& root);
   void sampleGoal(GoalSampler& sampler, const ompl::base::PlannerTerminationCondition& ptc);
-  /// The Eq. (3) weight of all arm (or all hand) DoF, in the space and the checker.
-  void setGroupWeight(const char* name, bool arm, double weight);
+  /// The Eq. (3) weight of all arm (or all hand) DoF.
+  void setGroupWeight(bool arm, double weight);
   /// Algorithm 1 line 16: returns the index of a connected backward tree,
   /// or -1; the joining nodes land in `forwardEnd` / `backwardEnd`.
   int extendTrees(const ompl::base::PlannerTerminationCondition& ptc, Motion*& forwardEnd,
@@ -161,13 +125,11 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   std::uint64_t seed_ = 1;
   std::mt19937_64 rng_;
 
+  // Fig. 6 of the paper, and Sec. IV for the step size.
   double range_ = 0.1;
   double pMax_ = 0.9, pMin_ = 0.01, pW_ = 1.2, pGoalTree_ = 0.7;
   double dM_ = 0.4;
-  double finalResolution_ = 0.0025;
-  unsigned smoothingSteps_ = 200;
-  double timeLimit_ = 60.0;
-  GoalSamplingParameters goalSampling_;
+  PathSmoothing smoothing_;
 
   std::deque<Motion> motions_;                // every node of every tree (stable addresses)
   ConfigurationArena configurations_;         // their configurations

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "planner/configuration_space.h"
+#include "planner/parameters.h"
 
 namespace hfts::planner {
 
@@ -26,6 +27,10 @@ struct PathSmoothing {
   double final_resolution = 0.0025;  ///< of the dense re-check (Eq. (3) metric)
   std::uint32_t seed = 1;            ///< of OMPL's PathSimplifier
 };
+
+/// Declares "smoothing_steps" and "final_resolution" of `smoothing` in
+/// `params`, with their ranges (`smoothing` must outlive `params`).
+void declareParameters(ompl::base::ParamSet& params, PathSmoothing& smoothing);
 
 /// Shortens `path` with OMPL's PathSimplifier on `si` (whose motion
 /// validator checks the shortcuts): up to `steps` of vertex reduction,

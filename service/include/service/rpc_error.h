@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "hfts_db/invalid_argument.h"
+
 namespace hfts::service {
 
 /// JSON-RPC 2.0 error codes (-32700 .. -32600) and the application codes of
@@ -45,10 +47,9 @@ const char* toString(ErrorCode code);
 /// Throws RpcError(kInvalidParams) with the message "<field>: <problem>".
 [[noreturn]] void throwInvalidParam(const std::string& field, const std::string& problem);
 
-/// The planner's std::invalid_argument messages ("'contacts[0].normal' must
-/// be a unit vector", "parameters: '5' is not a valid value for 'p_max' ...")
-/// as RpcError(kInvalidParams) in the service's form "<field>: <problem>"
-/// (field "parameters.p_max" for a parameter value).
-RpcError invalidParamFromPlanner(const std::string& plannerMessage);
+/// A library's InvalidArgument as RpcError(kInvalidParams) with its field:
+/// the message stays "<field>: <problem>". `prefix` (e.g. "scene.") is put
+/// before the field when the library's request is part of a larger one.
+RpcError invalidParam(const InvalidArgument& error, const std::string& prefix = {});
 
 }  // namespace hfts::service

@@ -1,0 +1,82 @@
+#pragma once
+// What a plan reports about its search: the trees of Algorithm 1 (or the
+// baseline's), goal sampling, and the two together as PlanStatistics, the
+// "stats" of a plan result (docs/protocol.md) and the columns of
+// hfts-bench's CSV (docs/benchmarks.md).
+
+#include <cstdint>
+
+namespace hfts::planner {
+
+/// How the trees grew.
+struct TreeStatistics {
+  std::uint64_t iterations = 0;  ///< of Algorithm 1's loop
+  std::uint64_t goal_trees = 0;  ///< backward trees rooted at goals
+  std::uint64_t approximate_trees = 0;
+  std::uint64_t merged_trees = 0;    ///< approximate trees joined to T_f
+  std::uint64_t rejected_paths = 0;  ///< paths that failed the dense re-check
+  std::uint64_t projections = 0;     ///< backward steps bent by the heuristic
+  std::uint64_t forward_tree_size = 0;
+  std::uint64_t backward_tree_nodes = 0;  ///< in live backward trees
+  double path_length_raw = 0.0;           ///< Eq. (3) metric, before smoothing
+  double path_length_smoothed = 0.0;
+};
+
+/// What a goal sampler did.
+struct GoalSamplerStatistics {
+  std::uint64_t calls = 0;        ///< GS
+  std::uint64_t valid_goals = 0;  ///< VGS
+  std::uint64_t approximate_goals = 0;
+  /// GNS: distinct HFTS nodes the sampler settled on (the local optima of
+  /// each level it searched), the paper's "explored" nodes of Fig. 5 and 8.
+  std::uint64_t nodes_explored = 0;
+  std::uint64_t configured_nodes = 0;     ///< nodes whose grasp went through Phi(h)
+  std::uint64_t kinematic_solutions = 0;  ///< of those, nodes with at least one IK solution
+};
+
+struct PlanStatistics {
+  double planning_time = 0.0;  ///< s, wall clock of the whole request
+  std::uint64_t iterations = 0;
+  std::uint64_t goal_sampling_calls = 0;  ///< GS
+  std::uint64_t valid_goal_samples = 0;   ///< VGS
+  std::uint64_t hfts_nodes_explored = 0;  ///< GNS
+  std::uint64_t objective_evaluations = 0;
+  std::uint64_t goal_trees = 0;
+  std::uint64_t approximate_trees = 0;
+  std::uint64_t merged_trees = 0;
+  /// Connections whose path failed the dense re-check (its goal tree dropped).
+  std::uint64_t rejected_paths = 0;
+  std::uint64_t collision_checks = 0;
+  std::uint64_t forward_tree_size = 0;
+  std::uint64_t backward_tree_nodes = 0;
+  double path_length_raw = 0.0;  ///< Eq. (3) metric
+  double path_length_smoothed = 0.0;
+};
+
+/// The statistics of a finished search; planning_time is left to the
+/// caller, who knows when the request began and ends.
+PlanStatistics planStatistics(const TreeStatistics& trees, const GoalSamplerStatistics& goals,
+                              std::uint64_t objectiveEvaluations, std::uint64_t collisionChecks);
+
+/// Calls f(name, value) for each field of PlanStatistics, in declaration
+/// order: the one list of the statistics' names (JSON members, CSV header).
+template <typename F>
+void forEachStatistic(const PlanStatistics& s, F&& f) {
+  f("planning_time", s.planning_time);
+  f("iterations", s.iterations);
+  f("goal_sampling_calls", s.goal_sampling_calls);
+  f("valid_goal_samples", s.valid_goal_samples);
+  f("hfts_nodes_explored", s.hfts_nodes_explored);
+  f("objective_evaluations", s.objective_evaluations);
+  f("goal_trees", s.goal_trees);
+  f("approximate_trees", s.approximate_trees);
+  f("merged_trees", s.merged_trees);
+  f("rejected_paths", s.rejected_paths);
+  f("collision_checks", s.collision_checks);
+  f("forward_tree_size", s.forward_tree_size);
+  f("backward_tree_nodes", s.backward_tree_nodes);
+  f("path_length_raw", s.path_length_raw);
+  f("path_length_smoothed", s.path_length_smoothed);
+}
+
+}  // namespace hfts::planner

@@ -1,0 +1,47 @@
+#pragma once
+// What one thread samples goals with in one plan. The planning thread of
+// planGrasp and the RRTConnect baseline's sampling thread each build their
+// own: the collision checker's FCL objects move on every query and the
+// objective caches, so no two threads may share them.
+
+#include <memory>
+#include <random>
+
+#include "grasp/grasp_configurations.h"
+#include "grasp/grasp_objective.h"
+#include "grasp/hfts_space.h"
+#include "planner/goal_sampler.h"
+#include "planner/planning_world.h"
+#include "robot/collision_checker.h"
+#include "robot/scene.h"
+
+namespace hfts::planner {
+
+/// The Eq. (1) objective and Phi(h) on one thread's collision checker.
+struct SamplingTools {
+  /// `world`, `scene`, `space` and `checker` must outlive the tools;
+  /// `scene` holds the target's pose.
+  SamplingTools(const PlanningWorld& world, const robot::Scene& scene,
+                const grasp::HftsSpace& space, robot::CollisionChecker& checker,
+                const grasp::ObjectiveOptions& objective);
+
+  /// What a goal sampler on these tools works with: random decisions from
+  /// `rng`, closing motions checked at `approachResolution`, the fingertip
+  /// tolerance of `settings`.
+  GoalSamplingContext context(std::mt19937_64& rng, const GoalSamplingSettings& settings,
+                              double approachResolution);
+
+  /// The coupled sampler (Algorithm 2) or the decoupled one, set up from
+  /// `settings`, drawing from `rng`. Throws InvalidArgument ("parameters.*")
+  /// for inconsistent settings.
+  std::unique_ptr<GraspGoalSampler> makeSampler(bool coupled, std::mt19937_64& rng,
+                                                const GoalSamplingSettings& settings,
+                                                double approachResolution);
+
+  const grasp::HftsSpace& space;
+  robot::CollisionChecker& checker;
+  grasp::GraspObjective objective;
+  grasp::GraspConfigurator configurator;
+};
+
+}  // namespace hfts::planner
