@@ -4,8 +4,6 @@
 
 #include "wrench_hull.h"
 
-#include "hfts_db/invalid_argument.h"
-
 extern "C" {
 #include <libqhull_r/qhull_ra.h>
 }
@@ -16,6 +14,8 @@ extern "C" {
 #include <cmath>
 #include <cstdio>
 #include <string>
+
+#include "hfts_db/invalid_argument.h"
 
 namespace hfts::grasp {
 namespace {

@@ -9,6 +9,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "hfts_db/invalid_argument.h"
 #include "robot/hand_chain.h"
 
 namespace hfts::grasp {
@@ -45,16 +46,16 @@ Eigen::Vector3d unitOrZero(const Eigen::Vector3d& v) {
 }
 
 void checkOptions(const HandMapOptions& o) {
-  if (o.num_samples == 0) throw std::invalid_argument("HandMapOptions::num_samples must be > 0");
+  if (o.num_samples == 0) throw InvalidArgument("HandMapOptions::num_samples", "must be > 0");
   if (o.max_draws < o.num_samples)
-    throw std::invalid_argument("HandMapOptions::max_draws must be >= num_samples");
+    throw InvalidArgument("HandMapOptions::max_draws", "must be >= num_samples");
   if (!(o.normal_weight > 0.0) || !std::isfinite(o.normal_weight))
-    throw std::invalid_argument("HandMapOptions::normal_weight must be positive, got " +
-                                std::to_string(o.normal_weight));
+    throw InvalidArgument("HandMapOptions::normal_weight",
+                          "must be positive, got " + std::to_string(o.normal_weight));
   if (!(o.min_fingertip_distance >= 0.0) || !std::isfinite(o.min_fingertip_distance))
-    throw std::invalid_argument("HandMapOptions::min_fingertip_distance must be >= 0");
+    throw InvalidArgument("HandMapOptions::min_fingertip_distance", "must be >= 0");
   if (!(o.friction >= 0.0) || !std::isfinite(o.friction))
-    throw std::invalid_argument("HandMapOptions::friction must be >= 0");
+    throw InvalidArgument("HandMapOptions::friction", "must be >= 0");
 }
 
 /// Uniform in [0, 1) from 53 random bits: the same on every platform,

@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "hand_alignment.h"
+#include "hfts_db/invalid_argument.h"
 #include "robot/hand_chain.h"
 
 namespace hfts::grasp {
@@ -63,8 +64,9 @@ struct Candidate {
 void checkOptions(const HandQueryOptions& o) {
   const auto atLeast = [](int value, int minimum, const char* name) {
     if (value < minimum)
-      throw std::invalid_argument(std::string("HandQueryOptions::") + name + " must be >= " +
-                                  std::to_string(minimum) + ", got " + std::to_string(value));
+      throw InvalidArgument(
+          std::string("HandQueryOptions::") + name,
+          "must be >= " + std::to_string(minimum) + ", got " + std::to_string(value));
   };
   atLeast(o.neighbours, 1, "neighbours");
   atLeast(o.refined_candidates, 1, "refined_candidates");
@@ -73,24 +75,22 @@ void checkOptions(const HandQueryOptions& o) {
   atLeast(o.finished_candidates, 1, "finished_candidates");
   atLeast(o.refine_iterations, 0, "refine_iterations");
   if (o.neighbours > static_cast<int>(kMaxNeighbours))
-    throw std::invalid_argument(
-        "HandQueryOptions::neighbours must be <= " + std::to_string(kMaxNeighbours) + ", got " +
-        std::to_string(o.neighbours));
+    throw InvalidArgument(
+        "HandQueryOptions::neighbours",
+        "must be <= " + std::to_string(kMaxNeighbours) + ", got " + std::to_string(o.neighbours));
   if (!(o.search_tolerance >= 0.0) || !std::isfinite(o.search_tolerance))
-    throw std::invalid_argument("HandQueryOptions::search_tolerance must be >= 0");
+    throw InvalidArgument("HandQueryOptions::search_tolerance", "must be >= 0");
 }
 
 void checkInput(const Eigen::Matrix3Xd& m, const char* name, bool unit) {
   if (m.cols() != 3)
-    throw std::invalid_argument(std::string(name) +
-                                " must be 3 x 3 (one column per contact), got 3 x " +
-                                std::to_string(m.cols()));
-  if (!m.allFinite()) throw std::invalid_argument(std::string(name) + " holds a non-finite value");
+    throw InvalidArgument(
+        name, "must be 3 x 3 (one column per contact), got 3 x " + std::to_string(m.cols()));
+  if (!m.allFinite()) throw InvalidArgument(name, "holds a non-finite value");
   for (int c = 0; unit && c < 3; ++c)
     if (std::abs(m.col(c).norm() - 1.0) > 1e-3)
-      throw std::invalid_argument(std::string(name) + " column " + std::to_string(c) +
-                                  " is not a unit vector (norm " + std::to_string(m.col(c).norm()) +
-                                  ")");
+      throw InvalidArgument(name, "column " + std::to_string(c) + " is not a unit vector (norm " +
+                                      std::to_string(m.col(c).norm()) + ")");
 }
 
 robot::hand::Tips tipsOf(const db::RowMatrixXd& rows, std::uint32_t sample) {
@@ -330,10 +330,8 @@ std::vector<HandQuery> HandReachability::queryAlternatives(
     double maxPositionError, double minHandDifference) const {
   checkInput(contactPositions, "contactPositions", false);
   checkInput(outwardContactNormals, "outwardContactNormals", true);
-  if (!(maxPositionError >= 0.0))
-    throw std::invalid_argument("hand query: maxPositionError must be >= 0");
-  if (!(minHandDifference >= 0.0))
-    throw std::invalid_argument("hand query: minHandDifference must be >= 0");
+  if (!(maxPositionError >= 0.0)) throw InvalidArgument("maxPositionError", "must be >= 0");
+  if (!(minHandDifference >= 0.0)) throw InvalidArgument("minHandDifference", "must be >= 0");
   return impl_->queryAlternatives(contactPositions, outwardContactNormals, maxPositionError,
                                   minHandDifference);
 }

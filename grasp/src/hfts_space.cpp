@@ -1,6 +1,9 @@
 #include "grasp/hfts_space.h"
 
 #include <stdexcept>
+#include <string>
+
+#include "hfts_db/invalid_argument.h"
 
 namespace hfts::grasp {
 
@@ -13,7 +16,8 @@ std::size_t HftsNodeHash::operator()(const HftsNode& n) const {
 HftsSpace::HftsSpace(const db::ObjectDatabase& database, int fingers)
     : database_(database), fingers_(fingers) {
   if (fingers < 1 || fingers > kMaxFingers)
-    throw std::invalid_argument("HftsSpace: fingers must be in 1.." + std::to_string(kMaxFingers));
+    throw InvalidArgument("fingers", "must be in 1.." + std::to_string(kMaxFingers) + ", got " +
+                                         std::to_string(fingers));
   // parent_[l][p]: parent partition (in level l - 1) of partition p of level l.
   parent_.resize(database.levels.size() + 1);
   for (std::size_t l = 0; l + 1 < database.levels.size(); ++l) {

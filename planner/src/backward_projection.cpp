@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "hfts_db/invalid_argument.h"
 #include "robot/kinematics.h"
 
 namespace hfts::planner {
@@ -16,7 +17,7 @@ BackwardProjection::BackwardProjection(const robot::RobotModel& model,
 
 void BackwardProjection::setMaxDistance(double maxDistance) {
   if (!(maxDistance >= 0.0) || !std::isfinite(maxDistance))
-    throw std::invalid_argument("projection: D_m must be finite and >= 0");
+    throw InvalidArgument("parameters.d_m", "must be finite and >= 0");
   maxDistance_ = maxDistance;
 }
 

@@ -8,6 +8,8 @@
 #include <functional>
 #include <stdexcept>
 
+#include "hfts_db/invalid_argument.h"
+
 namespace hfts::preprocess {
 namespace {
 
@@ -63,7 +65,7 @@ const Filter& lookup(const std::string& name) {
     if (known == name) return filter;
   std::string list;
   for (const std::string& known : knownFilters()) list += (list.empty() ? "" : ", ") + known;
-  throw std::invalid_argument("unknown contact filter '" + name + "' (known: " + list + ")");
+  throw InvalidArgument("filters", "unknown contact filter '" + name + "' (known: " + list + ")");
 }
 
 }  // namespace
@@ -82,7 +84,7 @@ void checkFilterNames(const std::vector<std::string>& names) {
     lookup(names[i]);
     if (std::find(names.begin(), names.begin() + static_cast<std::ptrdiff_t>(i), names[i]) !=
         names.begin() + static_cast<std::ptrdiff_t>(i))
-      throw std::invalid_argument("contact filter '" + names[i] + "' is listed twice");
+      throw InvalidArgument("filters", "contact filter '" + names[i] + "' is listed twice");
   }
 }
 

@@ -8,6 +8,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "hfts_db/invalid_argument.h"
 #include "preprocess/contact_filters.h"
 #include "preprocess/contact_set.h"
 #include "preprocess/convex_hull.h"
@@ -36,7 +37,7 @@ class Stopwatch {
 
 void requirePositive(double value, const char* name) {
   if (!(value > 0.0) || !std::isfinite(value))
-    throw std::invalid_argument(std::string(name) + " must be a positive number");
+    throw InvalidArgument(name, "must be a positive number");
 }
 
 db::Points3 reordered(const Vertices& m, const std::vector<std::uint32_t>& order) {
@@ -54,20 +55,20 @@ std::string producerName() {
 
 void checkBuildParameters(const db::BuildParameters& p) {
   requirePositive(p.scale, "scale");
-  requirePositive(p.sample_density, "sample density");
-  requirePositive(p.patch_radius, "patch radius");
-  if (p.max_samples == 0) throw std::invalid_argument("max samples must be at least 1");
-  if (p.viewpoints < 8) throw std::invalid_argument("viewpoints must be at least 8");
-  if (!(p.max_curvature >= 0.0)) throw std::invalid_argument("max curvature must be >= 0");
-  if (!(p.max_hull_distance >= 0.0)) throw std::invalid_argument("max hull distance must be >= 0");
+  requirePositive(p.sample_density, "sample_density");
+  requirePositive(p.patch_radius, "patch_radius");
+  if (p.max_samples == 0) throw InvalidArgument("max_samples", "must be at least 1");
+  if (p.viewpoints < 8) throw InvalidArgument("viewpoints", "must be at least 8");
+  if (!(p.max_curvature >= 0.0)) throw InvalidArgument("max_curvature", "must be >= 0");
+  if (!(p.max_hull_distance >= 0.0)) throw InvalidArgument("max_hull_distance", "must be >= 0");
   if (!(p.length_scale >= 0.0) || !std::isfinite(p.length_scale))
-    throw std::invalid_argument("length scale must be >= 0 (0 selects rho)");
+    throw InvalidArgument("length_scale", "must be >= 0 (0 selects rho)");
   if (!(p.normal_weight >= 0.0) || !std::isfinite(p.normal_weight))
-    throw std::invalid_argument("normal weight must be >= 0");
+    throw InvalidArgument("normal_weight", "must be >= 0");
   if (p.branching.empty() || p.branching.size() > 16)
-    throw std::invalid_argument("branching needs 1 to 16 levels");
+    throw InvalidArgument("branching", "needs 1 to 16 levels");
   for (std::uint32_t b : p.branching)
-    if (b == 0) throw std::invalid_argument("branching factors must be >= 1");
+    if (b == 0) throw InvalidArgument("branching", "factors must be >= 1");
   checkFilterNames(p.filters);
 }
 

@@ -64,50 +64,54 @@ CollisionShape toShape(const urdf::Collision& collision, const std::string& wher
   return shape;
 }
 
-/// Reads one required key of the config, naming it in errors.
+/// Reads the config's keys; every error is "<source>: <field>: <problem>"
+/// with the key's path in the config as the field.
 class ConfigReader {
  public:
-  ConfigReader(const json& root, std::string what) : root_(root), what_(std::move(what)) {}
+  ConfigReader(const json& root, std::string what, std::string prefix = {})
+      : root_(root), what_(std::move(what)), prefix_(std::move(prefix)) {}
 
   const json& at(const char* key) const {
-    if (!root_.contains(key)) fail(std::string("missing key '") + key + "'");
+    if (!root_.contains(key)) failAt(key, "is required");
     return root_.at(key);
   }
   std::string string(const char* key) const {
     const json& v = at(key);
-    if (!v.is_string()) fail(std::string("'") + key + "' must be a string");
+    if (!v.is_string()) failAt(key, "must be a string");
     return v.get<std::string>();
   }
   std::vector<std::string> strings(const char* key) const {
     const json& v = at(key);
-    if (!v.is_array()) fail(std::string("'") + key + "' must be an array of names");
+    if (!v.is_array()) failAt(key, "must be an array of names");
     std::vector<std::string> out;
     for (const json& item : v) {
-      if (!item.is_string()) fail(std::string("'") + key + "' must be an array of names");
+      if (!item.is_string()) failAt(key, "must be an array of names");
       out.push_back(item.get<std::string>());
     }
     return out;
   }
-  Eigen::VectorXd numbers(const json& v, const std::string& key, long expected) const {
+  Eigen::VectorXd numbers(const char* key, long expected) const {
+    const json& v = at(key);
     if (!v.is_array() || (expected >= 0 && static_cast<long>(v.size()) != expected))
-      fail("'" + key + "' must be an array of " + std::to_string(expected) + " numbers");
+      failAt(key, "must be an array of " + std::to_string(expected) + " numbers");
     Eigen::VectorXd out(static_cast<Eigen::Index>(v.size()));
     for (std::size_t i = 0; i < v.size(); ++i) {
       if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
-        fail("'" + key + "' must hold finite numbers");
+        failAt(key, "must hold finite numbers");
       out(static_cast<Eigen::Index>(i)) = v[i].get<double>();
     }
     return out;
   }
-  Eigen::VectorXd numbers(const char* key, long expected) const {
-    return numbers(at(key), key, expected);
-  }
   double number(const char* key) const {
     const json& v = at(key);
-    if (!v.is_number() || !std::isfinite(v.get<double>()))
-      fail(std::string("'") + key + "' must be a finite number");
+    if (!v.is_number() || !std::isfinite(v.get<double>())) failAt(key, "must be a finite number");
     return v.get<double>();
   }
+  /// A problem of the key `key` (a path below this reader's prefix).
+  [[noreturn]] void failAt(const std::string& key, const std::string& problem) const {
+    throw ModelError(what_ + ": " + prefix_ + key + ": " + problem);
+  }
+  /// A problem that is not one key's (the URDF's structure).
   [[noreturn]] void fail(const std::string& problem) const {
     throw ModelError(what_ + ": " + problem);
   }
@@ -115,6 +119,7 @@ class ConfigReader {
  private:
   const json& root_;
   std::string what_;
+  std::string prefix_;  // the path of root_ in the config, e.g. "fingertips[1]."
 };
 
 }  // namespace
@@ -140,7 +145,7 @@ class RobotModelBuilder {
   /// Breadth-first from the base link, so parents precede children.
   void addTree() {
     const std::string base = config_.string("base_link");
-    if (!urdf_.getLink(base)) config_.fail("base_link '" + base + "' is not in the URDF");
+    if (!urdf_.getLink(base)) config_.failAt("base_link", "'" + base + "' is not in the URDF");
     std::deque<std::pair<urdf::LinkConstSharedPtr, int>> queue{{urdf_.getLink(base), -1}};
     while (!queue.empty()) {
       const auto [link, parentJoint] = queue.front();
@@ -193,18 +198,20 @@ class RobotModelBuilder {
   void addDofs() {
     const std::vector<std::string> arm = config_.strings("arm_joints");
     const std::vector<std::string> hand = config_.strings("hand_joints");
-    if (arm.empty()) config_.fail("'arm_joints' is empty");
+    if (arm.empty()) config_.failAt("arm_joints", "is empty");
     model_.num_arm_dofs_ = static_cast<int>(arm.size());
     model_.dof_names_ = arm;
     model_.dof_names_.insert(model_.dof_names_.end(), hand.begin(), hand.end());
     for (std::size_t d = 0; d < model_.dof_names_.size(); ++d) {
+      const std::string key = d < arm.size() ? "arm_joints" : "hand_joints";
       const int j = jointIndex(model_.dof_names_[d]);
       if (j < 0)
-        config_.fail("joint '" + model_.dof_names_[d] +
-                     "' is not in the URDF (reachable from the base link)");
+        config_.failAt(key, "joint '" + model_.dof_names_[d] +
+                                "' is not in the URDF (reachable from the base link)");
       Joint& joint = model_.joints_[static_cast<std::size_t>(j)];
-      if (joint.type == Joint::Type::kFixed) config_.fail("joint '" + joint.name + "' is fixed");
-      if (joint.dof >= 0) config_.fail("joint '" + joint.name + "' is listed twice");
+      if (joint.type == Joint::Type::kFixed)
+        config_.failAt(key, "joint '" + joint.name + "' is fixed");
+      if (joint.dof >= 0) config_.failAt(key, "joint '" + joint.name + "' is listed twice");
       joint.dof = static_cast<int>(d);
     }
     for (Joint& joint : model_.joints_) {
@@ -239,14 +246,14 @@ class RobotModelBuilder {
         config_.fail("joint '" + name + "' has an empty range");
     }
     model_.weights_ = config_.numbers("dof_weights", n);
-    if ((model_.weights_.array() <= 0).any()) config_.fail("'dof_weights' must be positive");
+    if ((model_.weights_.array() <= 0).any()) config_.failAt("dof_weights", "must be positive");
     model_.home_ = config_.numbers("home", n);
     std::string why;
-    if (!model_.withinLimits(model_.home_, 1e-9, &why)) config_.fail("'home' " + why);
+    if (!model_.withinLimits(model_.home_, 1e-9, &why)) config_.failAt("home", why);
     model_.hand_open_ = config_.numbers("hand_open", n - model_.num_arm_dofs_);
     Eigen::VectorXd open = model_.home_;
     open.tail(n - model_.num_arm_dofs_) = model_.hand_open_;
-    if (!model_.withinLimits(open, 1e-9, &why)) config_.fail("'hand_open' " + why);
+    if (!model_.withinLimits(open, 1e-9, &why)) config_.failAt("hand_open", why);
     model_.pregrasp_offset_ = config_.number("pregrasp_offset");
     model_.flange_link_ = linkOf("flange_link");
     model_.palm_link_ = linkOf("palm_link");
@@ -256,24 +263,27 @@ class RobotModelBuilder {
     const std::string name = config_.string(key);
     for (std::size_t l = 0; l < model_.links_.size(); ++l)
       if (model_.links_[l].name == name) return static_cast<int>(l);
-    config_.fail(std::string("'") + key + "' names link '" + name + "', which is not in the URDF");
+    config_.failAt(key, "names link '" + name + "', which is not in the URDF");
   }
 
   void addFingertips() {
     const json& tips = config_.at("fingertips");
-    if (!tips.is_array() || tips.empty()) config_.fail("'fingertips' must be a non-empty array");
-    for (const json& tip : tips) {
-      const ConfigReader reader(tip, what_ + ": fingertip");
+    if (!tips.is_array() || tips.empty()) config_.failAt("fingertips", "must be a non-empty array");
+    for (std::size_t i = 0; i < tips.size(); ++i) {
+      const json& tip = tips[i];
+      if (!tip.is_object())
+        config_.failAt("fingertips[" + std::to_string(i) + "]", "must be a JSON object");
+      const ConfigReader reader(tip, what_, "fingertips[" + std::to_string(i) + "].");
       Fingertip f;
       f.name = reader.string("name");
       const std::string link = reader.string("link");
       f.link = -1;
       for (std::size_t l = 0; l < model_.links_.size(); ++l)
         if (model_.links_[l].name == link) f.link = static_cast<int>(l);
-      if (f.link < 0) config_.fail("fingertip '" + f.name + "' is on unknown link '" + link + "'");
+      if (f.link < 0) reader.failAt("link", "names unknown link '" + link + "'");
       f.point = reader.numbers("point", 3);
       f.normal = reader.numbers("normal", 3);
-      if (f.normal.norm() < 1e-9) config_.fail("fingertip '" + f.name + "' has a zero normal");
+      if (f.normal.norm() < 1e-9) reader.failAt("normal", "must not be zero");
       f.normal.normalize();
       model_.fingertips_.push_back(f);
     }
@@ -281,10 +291,10 @@ class RobotModelBuilder {
 
   void addDisabledCollisions() {
     const json& pairs = config_.at("disabled_collisions");
-    if (!pairs.is_array()) config_.fail("'disabled_collisions' must be an array of name pairs");
+    if (!pairs.is_array()) config_.failAt("disabled_collisions", "must be an array of name pairs");
     for (const json& pair : pairs) {
       if (!pair.is_array() || pair.size() != 2 || !pair[0].is_string() || !pair[1].is_string())
-        config_.fail("'disabled_collisions' entries must be pairs of link names");
+        config_.failAt("disabled_collisions", "entries must be pairs of link names");
       const int a = model_.linkIndex(pair[0].get<std::string>());
       const int b = model_.linkIndex(pair[1].get<std::string>());
       model_.disabled_.emplace_back(std::min(a, b), std::max(a, b));
@@ -319,7 +329,7 @@ RobotModel RobotModel::load(const std::filesystem::path& configPath) {
     throw ModelError(what + ": not valid JSON (" + e.what() + ")");
   }
   if (!config.is_object() || !config.contains("urdf") || !config["urdf"].is_string())
-    throw ModelError(what + ": missing key 'urdf'");
+    throw ModelError(what + ": urdf: is required (the URDF file, relative to the config)");
   const std::filesystem::path urdfPath =
       configPath.parent_path() / config["urdf"].get<std::string>();
   return fromStrings(readFile(urdfPath, what), configText, what);

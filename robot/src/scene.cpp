@@ -12,51 +12,60 @@ namespace {
 
 using nlohmann::json;
 
-/// Field access that names the field in every error.
+/// `where` + "." + `key`, or `key` at the top.
+std::string pathOf(const std::string& where, const std::string& key) {
+  return where.empty() ? key : where + "." + key;
+}
+
+/// Field access that names the field's path in every error.
 class Fields {
  public:
-  Fields(const json& object, std::string where, const std::string& what)
-      : object_(object), where_(std::move(where)), what_(what) {
+  Fields(const json& object, std::string where, const std::string& source)
+      : object_(object), where_(std::move(where)), source_(source) {
     if (!object_.is_object()) fail("must be a JSON object");
   }
+  /// A problem of this object as a whole.
   [[noreturn]] void fail(const std::string& problem) const {
-    throw SceneError(what_ + ": " + where_ + " " + problem);
+    throw SceneError(source_, where_, problem);
+  }
+  /// A problem of its member `key`.
+  [[noreturn]] void failAt(const std::string& key, const std::string& problem) const {
+    throw SceneError(source_, pathOf(where_, key), problem);
   }
   bool has(const char* key) const { return object_.contains(key); }
   const json& at(const char* key) const {
-    if (!has(key)) fail(std::string("needs '") + key + "'");
+    if (!has(key)) failAt(key, "is required");
     return object_.at(key);
   }
   std::string string(const char* key) const {
-    if (!at(key).is_string()) fail(std::string("'") + key + "' must be a string");
+    if (!at(key).is_string()) failAt(key, "must be a string");
     return at(key).get<std::string>();
   }
   double positive(const char* key) const {
     const json& v = at(key);
     if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() <= 0)
-      fail(std::string("'") + key + "' must be a positive number");
+      failAt(key, "must be a positive number");
     return v.get<double>();
   }
   Eigen::VectorXd numbers(const char* key, Eigen::Index n) const {
-    return numbersOf(at(key), std::string("'") + key + "'", n);
-  }
-  Eigen::VectorXd numbersOf(const json& v, const std::string& name, Eigen::Index n) const {
+    const json& v = at(key);
     if (!v.is_array() || (n >= 0 && static_cast<Eigen::Index>(v.size()) != n))
-      fail(name + " must be an array of " + std::to_string(n) + " numbers");
+      failAt(key, n >= 0 ? "must be an array of " + std::to_string(n) + " numbers"
+                         : "must be an array of numbers");
     Eigen::VectorXd out(static_cast<Eigen::Index>(v.size()));
     for (std::size_t i = 0; i < v.size(); ++i) {
       if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
-        fail(name + " must hold finite numbers");
+        failAt(key, "must hold finite numbers");
       out(static_cast<Eigen::Index>(i)) = v[i].get<double>();
     }
     return out;
   }
   Eigen::Isometry3d pose(const char* key) const {
-    const Fields p(at(key), where_ + " '" + key + "'", what_);
+    const Fields p(at(key), pathOf(where_, key), source_);
     Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
     out.translation() = p.numbers("position", 3);
     const Eigen::VectorXd q = p.numbers("orientation", 4);  // x, y, z, w (ROS order)
-    if (q.norm() < 1e-9) p.fail("'orientation' is a quaternion of zero norm");
+    if (q.norm() < 1e-9) p.failAt("orientation", "is a quaternion of zero norm");
     out.linear() = Eigen::Quaterniond(q(3), q(0), q(1), q(2)).normalized().toRotationMatrix();
     return out;
   }
@@ -64,21 +73,21 @@ class Fields {
  private:
   const json& object_;
   std::string where_;
-  const std::string& what_;
+  const std::string& source_;
 };
 
 Obstacle parseObstacle(const json& item, std::size_t index, const std::filesystem::path& baseDir,
-                       const std::string& what) {
-  const Fields f(item, "obstacle " + std::to_string(index), what);
+                       const std::string& source) {
+  const Fields f(item, "obstacles[" + std::to_string(index) + "]", source);
   Obstacle o;
   o.name = f.string("name");
-  if (o.name.empty()) f.fail("has an empty name");
+  if (o.name.empty()) f.failAt("name", "must not be empty");
   o.pose = f.pose("pose");
   const std::string type = f.string("type");
   if (type == "box") {
     o.type = Obstacle::Type::kBox;
     o.size = f.numbers("size", 3);
-    if ((o.size.array() <= 0).any()) f.fail("'size' must be positive");
+    if ((o.size.array() <= 0).any()) f.failAt("size", "must be positive");
   } else if (type == "cylinder") {
     o.type = Obstacle::Type::kCylinder;
     o.size << f.positive("radius"), f.positive("length"), 0.0;
@@ -91,15 +100,20 @@ Obstacle parseObstacle(const json& item, std::size_t index, const std::filesyste
     try {
       o.mesh = loadMesh(baseDir / f.string("mesh"), scale).mesh;
     } catch (const MeshError& e) {
-      f.fail(std::string("'mesh': ") + e.what());
+      f.failAt("mesh", e.what());
     }
   } else {
-    f.fail("has unknown type '" + type + "' (box, cylinder, sphere or mesh)");
+    f.failAt("type", "must be box, cylinder, sphere or mesh, got '" + type + "'");
   }
   return o;
 }
 
 }  // namespace
+
+SceneError::SceneError(const std::string& source, std::string field, std::string problem)
+    : std::runtime_error(source + ": " + (field.empty() ? "" : field + ": ") + problem),
+      field_(std::move(field)),
+      problem_(std::move(problem)) {}
 
 bool isSafeName(const std::string& name) {
   if (name.empty() || name.size() > 128 || name[0] == '.') return false;
@@ -115,35 +129,36 @@ Scene parseScene(const std::string& text, const std::filesystem::path& baseDir,
   try {
     root = json::parse(text);
   } catch (const json::exception& e) {
-    throw SceneError(what + ": not valid JSON (" + e.what() + ")");
+    throw SceneError(what, "", std::string("not valid JSON (") + e.what() + ")");
   }
-  const Fields f(root, "scene", what);
+  const Fields f(root, "", what);
   Scene scene;
   scene.name = f.string("name");
-  if (!isSafeName(scene.name)) f.fail("'name' must be a simple name (letters, digits, _ - .)");
+  if (!isSafeName(scene.name)) f.failAt("name", "must be a simple name (letters, digits, _ - .)");
   if (f.has("description")) scene.description = f.string("description");
   scene.robot_base = f.pose("robot_base");
   const json& obstacles = f.at("obstacles");
-  if (!obstacles.is_array()) f.fail("'obstacles' must be an array");
+  if (!obstacles.is_array()) f.failAt("obstacles", "must be an array");
   std::set<std::string> names;
   for (std::size_t i = 0; i < obstacles.size(); ++i) {
     scene.obstacles.push_back(parseObstacle(obstacles[i], i, baseDir, what));
     if (!names.insert(scene.obstacles.back().name).second)
-      f.fail("has two obstacles named '" + scene.obstacles.back().name + "'");
+      f.failAt("obstacles[" + std::to_string(i) + "].name",
+               "'" + scene.obstacles.back().name + "' is used by another obstacle");
   }
   const Fields target(f.at("target"), "target", what);
   scene.target_object = target.string("object");
   if (!isSafeName(scene.target_object))
-    target.fail("'object' must be a database name without path characters");
+    target.failAt("object", "must be a database name without path characters");
   scene.target_pose = target.pose("pose");
-  if (f.has("start")) scene.start = f.numbersOf(f.at("start"), "'start'", -1);
+  if (f.has("start")) scene.start = f.numbers("start", -1);
   return scene;
 }
 
 Scene loadScene(const std::filesystem::path& path) {
   const std::string what = "scene '" + path.string() + "'";
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(what + ": cannot read the file");
+  if (!in) throw SceneError(what, "", "cannot read the file");
   std::ostringstream text;
   text << in.rdbuf();
   return parseScene(text.str(), path.parent_path(), what);

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "hfts_db/atomic_file.h"
+#include "hfts_db/invalid_argument.h"
 #include "robot/kinematics.h"
 
 namespace hfts::robot {
@@ -157,11 +158,10 @@ TriangleMesh sphereMesh(double radius, int segments) {
 void exportSceneGlb(const RobotModel& model, const Scene& scene, const db::ObjectGeometry* target,
                     const Eigen::VectorXd& q, const std::filesystem::path& path) {
   if (q.size() != model.numDofs())
-    throw std::invalid_argument("configuration has " + std::to_string(q.size()) +
-                                " values, the robot " + std::to_string(model.numDofs()));
+    throw InvalidArgument("configuration", std::to_string(model.numDofs()) +
+                                               " values expected, got " + std::to_string(q.size()));
   if (path.extension() != ".glb")
-    throw std::invalid_argument("scene export writes binary glTF: '" + path.string() +
-                                "' must end in .glb");
+    throw InvalidArgument("path", "'" + path.string() + "' must end in .glb (binary glTF)");
   std::vector<Part> parts = robotParts(model, scene, q);
   for (const Obstacle& o : scene.obstacles) {
     TriangleMesh mesh =

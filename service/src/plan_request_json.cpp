@@ -30,7 +30,7 @@ robot::Scene inlineScene(const JsonFields& f, const PlanningCatalog& catalog) {
   try {
     return robot::parseScene(scene.dump(), catalog.sceneDir(), "inline scene");
   } catch (const robot::SceneError& e) {
-    f.fail("scene", e.what());
+    f.fail(e.field().empty() ? "scene" : "scene." + e.field(), e.problem());
   }
 }
 

@@ -79,8 +79,9 @@ class Malformed(ServerTest):
             ({"scene": "table", "parameters": {"warp": 9}}, "parameters.warp", "unknown"),
             ({"scene": "table", "parameters": {"time_limit": 9}}, "parameters.time_limit",
              "top-level"),
-            ({"scene": "table", "parameters": {"p_max": 5}}, "parameters.p_max", "p_max"),
-            ({"scene": {"name": "x"}}, "scene", "robot_base"),
+            ({"scene": "table", "parameters": {"p_max": 5}}, "parameters.p_max",
+             "must be in [0, 1], got 5"),
+            ({"scene": {"name": "x"}}, "scene.robot_base", "is required"),
         ]
         for params, field, words in cases:
             with self.subTest(field=field, params=params):

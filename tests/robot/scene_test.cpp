@@ -12,9 +12,18 @@ const char* kMinimal =
     R"({"name": "s", "robot_base": {"position": [0,0,0], "orientation": [0,0,0,1]},
   "obstacles": [], "target": {"object": "mug", "pose": {"position": [0.5,0,0], "orientation": [0,0,0,1]}}})";
 
-void expectSceneError(const std::string& text, const std::string& problem) {
-  test::expectErrorMentioning<SceneError>([&] { parseScene(text, ".", "scene 'x'"); },
-                                          {"scene 'x'", problem});
+/// The scene's error names the bad field's path and the problem.
+void expectSceneError(const std::string& text, const std::string& field,
+                      const std::string& problem) {
+  try {
+    parseScene(text, ".", "scene 'x'");
+    ADD_FAILURE() << "accepted; expected " << field << ": " << problem;
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.field(), field);
+    EXPECT_EQ(e.problem().substr(0, problem.size()), problem) << e.what();
+    const std::string prefix = "scene 'x': " + (field.empty() ? "" : field + ": ");
+    EXPECT_EQ(std::string(e.what()).substr(0, prefix.size()), prefix) << e.what();
+  }
 }
 
 std::string withObstacle(const std::string& obstacle) {
@@ -51,33 +60,41 @@ TEST(Scene, MeshObstaclesLoadRelativeToTheSceneFile) {
 }
 
 TEST(Scene, MalformedScenesGiveClearErrors) {
-  expectSceneError("{", "not valid JSON");
-  expectSceneError("[]", "must be a JSON object");
+  expectSceneError("{", "", "not valid JSON");
+  expectSceneError("[]", "", "must be a JSON object");
   std::string text = kMinimal;
-  expectSceneError(text.substr(0, text.find("\"target\"") - 2) + "}", "needs 'target'");
+  expectSceneError(text.substr(0, text.find("\"target\"") - 2) + "}", "target", "is required");
   expectSceneError(
       withObstacle(
           R"({"name": "b", "type": "cone", "pose": {"position": [0,0,0], "orientation": [0,0,0,1]}})"),
-      "unknown type 'cone'");
+      "obstacles[0].type", "must be box, cylinder, sphere or mesh, got 'cone'");
   expectSceneError(
       withObstacle(
           R"({"name": "b", "type": "box", "size": [1,-2,3], "pose": {"position": [0,0,0], "orientation": [0,0,0,1]}})"),
-      "'size' must be positive");
+      "obstacles[0].size", "must be positive");
   expectSceneError(
       withObstacle(
           R"({"name": "b", "type": "sphere", "radius": 0.1, "pose": {"position": [0,0,0], "orientation": [0,0,0,0]}})"),
-      "zero norm");
+      "obstacles[0].pose.orientation", "is a quaternion of zero norm");
   expectSceneError(
       withObstacle(
           R"({"name": "b", "type": "sphere", "radius": 0.1, "pose": {"position": [0,0], "orientation": [0,0,0,1]}})"),
-      "'position' must be an array of 3 numbers");
+      "obstacles[0].pose.position", "must be an array of 3 numbers");
   expectSceneError(
       withObstacle(
           R"({"name": "b", "type": "mesh", "mesh": "missing.stl", "pose": {"position": [0,0,0], "orientation": [0,0,0,1]}})"),
-      "missing.stl");
+      "obstacles[0].mesh", "");
+  test::expectErrorMentioning<SceneError>(
+      [] {
+        parseScene(
+            withObstacle(
+                R"({"name": "b", "type": "mesh", "mesh": "missing.stl", "pose": {"position": [0,0,0], "orientation": [0,0,0,1]}})"),
+            ".", "x");
+      },
+      {"obstacles[0].mesh: ", "missing.stl"});
   text = kMinimal;
   text.replace(text.find("\"mug\""), 5, "\"../etc/passwd\"");
-  expectSceneError(text, "without path characters");
+  expectSceneError(text, "target.object", "must be a database name without path characters");
   test::expectErrorMentioning<SceneError>([] { loadScene("/nonexistent/scene.json"); },
                                           {"/nonexistent/scene.json", "cannot read"});
 }

@@ -101,7 +101,7 @@ TEST(PlanRequestJson, AcceptsAnInlineSceneOfPrimitives) {
   expectRejected({{"scene", withMesh}}, "scene.obstacles[1]", "may not load mesh files");
   json broken = scene;
   broken["obstacles"][0]["size"] = {2, 2, -1};
-  expectRejected({{"scene", broken}}, "scene", "'size' must be positive");
+  expectRejected({{"scene", broken}}, "scene.obstacles[0].size", "must be positive");
 }
 
 TEST(PlanRequestJson, RejectsUnknownAndUnsafeNames) {

@@ -17,9 +17,20 @@ namespace hfts::robot {
 
 /// Thrown for a scene file that cannot be used; the message names the file
 /// and the offending field.
+/// A scene that cannot be read. `field` is the path of the bad member in
+/// the scene's JSON ("obstacles[2].size", "target.pose.orientation"; empty
+/// for the file or text as a whole); what() is
+/// "<source>: <field>: <problem>", e.g. "scene 'shelf.json': obstacles[2].size:
+/// must be positive".
 class SceneError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  SceneError(const std::string& source, std::string field, std::string problem);
+  const std::string& field() const { return field_; }
+  const std::string& problem() const { return problem_; }
+
+ private:
+  std::string field_;
+  std::string problem_;
 };
 
 struct Obstacle {
