@@ -9,7 +9,10 @@
 #include <deque>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
+
+#include "json_numbers.h"
 
 namespace hfts::robot {
 namespace {
@@ -90,17 +93,11 @@ class ConfigReader {
     }
     return out;
   }
-  Eigen::VectorXd numbers(const char* key, long expected) const {
-    const json& v = at(key);
-    if (!v.is_array() || (expected >= 0 && static_cast<long>(v.size()) != expected))
-      failAt(key, "must be an array of " + std::to_string(expected) + " numbers");
-    Eigen::VectorXd out(static_cast<Eigen::Index>(v.size()));
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
-        failAt(key, "must hold finite numbers");
-      out(static_cast<Eigen::Index>(i)) = v[i].get<double>();
-    }
-    return out;
+  Eigen::VectorXd numbers(const char* key, Eigen::Index expected) const {
+    std::string problem;
+    std::optional<Eigen::VectorXd> values = finiteNumbers(at(key), expected, problem);
+    if (!values) failAt(key, problem);
+    return *values;
   }
   double number(const char* key) const {
     const json& v = at(key);

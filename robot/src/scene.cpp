@@ -4,8 +4,11 @@
 
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
+
+#include "json_numbers.h"
 
 namespace hfts::robot {
 namespace {
@@ -48,17 +51,10 @@ class Fields {
     return v.get<double>();
   }
   Eigen::VectorXd numbers(const char* key, Eigen::Index n) const {
-    const json& v = at(key);
-    if (!v.is_array() || (n >= 0 && static_cast<Eigen::Index>(v.size()) != n))
-      failAt(key, n >= 0 ? "must be an array of " + std::to_string(n) + " numbers"
-                         : "must be an array of numbers");
-    Eigen::VectorXd out(static_cast<Eigen::Index>(v.size()));
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
-        failAt(key, "must hold finite numbers");
-      out(static_cast<Eigen::Index>(i)) = v[i].get<double>();
-    }
-    return out;
+    std::string problem;
+    std::optional<Eigen::VectorXd> values = finiteNumbers(at(key), n, problem);
+    if (!values) failAt(key, problem);
+    return *values;
   }
   Eigen::Isometry3d pose(const char* key) const {
     const Fields p(at(key), pathOf(where_, key), source_);

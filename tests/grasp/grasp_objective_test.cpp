@@ -3,15 +3,13 @@
 #include <gtest/gtest.h>
 
 #include "bundled_objects.h"
-#include "grasp/hand_map_builder.h"
-#include "robot_fixture.h"
+#include "hand_fixture.h"
 
 namespace hfts::grasp {
 namespace {
 
 const HandReachability& reachability() {
-  static const HandReachability r(test::kr5Sdh(), buildHandMap(test::kr5Sdh()));
-  return r;
+  return test::kr5SdhReachability();
 }
 
 TEST(GraspObjective, UsesBothQualityAndReachability) {
