@@ -5,10 +5,13 @@
 #include <set>
 #include <sstream>
 
+#include "planner/goal_sampler.h"
+
 namespace hfts::bench {
 namespace {
 
-constexpr int kMaxIterations = 1000000;
+// The planner's range of "iterations": decoupledN is checked before any run.
+constexpr int kMaxIterations = static_cast<int>(planner::kDecoupledIterationsRange.high);
 
 std::string joined(const std::vector<std::string>& names) {
   std::string out;

@@ -1,6 +1,6 @@
 #pragma once
-// A 6-D convex hull specialised for grasp wrench sets (private to the
-// planner): beneath-beyond insertion on a triangulated hull, where every
+// A 6-D convex hull specialised for grasp wrench sets (private to
+// grasp_quality.cpp): beneath-beyond insertion on a triangulated hull, where every
 // new facet's plane is a combination of the two planes meeting at its
 // horizon ridge, so no facet ever needs a determinant. Only the part of
 // the hull that decides the origin's depth is built: points go in while

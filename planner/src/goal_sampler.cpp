@@ -250,7 +250,7 @@ void declareParameters(ompl::base::ParamSet& params, GoalSamplingSettings& setti
   declareParameter(params, "kappa", {1, 1, 1000}, c.samples);
   declareParameter(params, "i_min", {0, 1, 100000}, c.min_iterations);
   declareParameter(params, "i_max", {0, 1, 100000}, c.max_iterations);
-  declareParameter(params, "iterations", {1, 1, 100000}, settings.decoupled_iterations);
+  declareParameter(params, "iterations", kDecoupledIterationsRange, settings.decoupled_iterations);
   declareParameter(params, "max_fingertip_error", {1e-9, 0.001, 0.1}, settings.max_fingertip_error);
   declareParameters(params, settings.objective);
 }

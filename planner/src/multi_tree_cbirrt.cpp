@@ -134,10 +134,10 @@ void MultiTreeCBiRRT::declareParameters() {
       [this](double r) { validator_->setResolution(r); },
       [this] { return validator_->resolution(); });
   declareParameter<double>(
-      p, "weight_arm", {0.0, 0.05, 100.0}, [this](double w) { setGroupWeight(true, w); },
+      p, "weight_arm", {0.001, 0.05, 100.0}, [this](double w) { setGroupWeight(true, w); },
       [this] { return space_.weights()(0); });
   declareParameter<double>(
-      p, "weight_hand", {0.0, 0.05, 100.0}, [this](double w) { setGroupWeight(false, w); },
+      p, "weight_hand", {0.001, 0.05, 100.0}, [this](double w) { setGroupWeight(false, w); },
       [this] { return space_.weights()(space_.weights().size() - 1); });
 }
 

@@ -8,8 +8,9 @@ namespace hfts::robot {
 namespace {
 
 void checkWeights(const Eigen::VectorXd& weights) {
-  if (!weights.allFinite() || (weights.array() < 0.0).any())
-    throw InvalidArgument("weights", "must be finite and >= 0");
+  // A zero weight would let motion checks step over that DoF's motion.
+  if (!weights.allFinite() || (weights.array() <= 0.0).any())
+    throw InvalidArgument("weights", "must be finite and > 0");
 }
 
 }  // namespace

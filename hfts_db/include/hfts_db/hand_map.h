@@ -1,8 +1,8 @@
 #pragma once
 // The hand reachability map: fingertip positions and pad normals of a
 // hand, sampled over its joint space, in the palm frame. Built once per hand
-// by hfts::planner::buildHandMap and stored as one HDF5 file (schema:
-// docs/database.md, "Hand reachability map"); the planner answers R(h) of
+// by hfts::grasp::buildHandMap and stored as one HDF5 file (schema:
+// docs/database.md, "Hand reachability map"); hfts::grasp answers R(h) of
 // the paper's Eq. (1) from it (docs/hand_reachability.md).
 
 #include <Eigen/Core>

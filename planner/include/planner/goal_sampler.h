@@ -168,6 +168,10 @@ struct GoalSamplingSettings {
   double max_fingertip_error = 0.005;
 };
 
+/// The range of the decoupled sampler's i ("iterations"), for programs
+/// that check a request before planning (hfts-bench's decoupledN).
+inline constexpr ParameterRange kDecoupledIterationsRange{1, 1, 100000};
+
 /// Declares every field of `settings` in `params` under the names above,
 /// each with its range (`settings` must outlive `params`).
 void declareParameters(ompl::base::ParamSet& params, GoalSamplingSettings& settings);

@@ -14,7 +14,8 @@ namespace hfts::robot {
 /// sqrt(sum_i w_i (a_i - b_i)^2) over the robot's DoF.
 class ConfigurationMetric {
  public:
-  /// Throws InvalidArgument ("weights") unless every weight is finite and >= 0.
+  /// Throws InvalidArgument ("weights") unless every weight is finite and
+  /// > 0 (a zero weight would let motion checks step over that DoF).
   explicit ConfigurationMetric(Eigen::VectorXd weights);
 
   double distance(const Eigen::Ref<const Eigen::VectorXd>& a,
@@ -24,7 +25,7 @@ class ConfigurationMetric {
 
   const Eigen::VectorXd& weights() const { return weights_; }
   /// Throws InvalidArgument ("weights") for another number of weights or a
-  /// negative or non-finite one.
+  /// weight that is not finite and > 0.
   void setWeights(const Eigen::VectorXd& weights);
 
  private:

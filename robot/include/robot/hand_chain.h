@@ -1,7 +1,7 @@
 #pragma once
 // Fingertip kinematics of the hand alone, in the palm frame: positions,
-// pad normals and their derivatives with respect to the hand DoF. Private
-// to the hand reachability code, which evaluates it millions of times
+// pad normals and their derivatives with respect to the hand DoF. Made for
+// the hand reachability code (grasp/), which evaluates it millions of times
 // (map building) or a few dozen times per query (refinement), so it walks
 // only the joints between the palm and each fingertip and never allocates.
 

@@ -15,8 +15,6 @@
 
 namespace hfts::robot {
 
-/// Thrown for a scene file that cannot be used; the message names the file
-/// and the offending field.
 /// A scene that cannot be read. `field` is the path of the bad member in
 /// the scene's JSON ("obstacles[2].size", "target.pose.orientation"; empty
 /// for the file or text as a whole); what() is
