@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "table_mug.h"
 
@@ -72,6 +75,166 @@ TEST(HftsGoalSampler, NoNullSpaceWithoutAGoal) {
     EXPECT_EQ(sampler.sampleNullSpace(static_cast<int>(n)), nullptr);
     EXPECT_FALSE(node.other_hands_sampled) << "searched other hands of a grasp without a goal";
   }
+}
+
+// Algorithm 2: what one call of SAMPLEGOAL may do.
+
+const std::function<bool()> kNever = [] { return false; };
+const std::function<bool()> kAlways = [] { return true; };
+
+/// Whether a call could have taken Alg. 2 lines 7-13 (which spend the
+/// budget without a new child): an inner cached node whose children are
+/// all cached.
+bool someInnerNodeFullyCovered(const GoalHierarchyCache& cache) {
+  for (std::size_t n = 0; n < cache.size(); ++n)
+    if (!cache.isLeaf(static_cast<int>(n)) && cache.coverage(static_cast<int>(n)) >= 1.0)
+      return true;
+  return false;
+}
+
+/// The table with the mug and nothing else on it: more of the sampled
+/// configurations are free (the other objects block many).
+test::TableMug bareTable() {
+  robot::Scene scene = test::TableMug::table();
+  scene.obstacles.erase(std::remove_if(scene.obstacles.begin(), scene.obstacles.end(),
+                                       [](const robot::Obstacle& o) { return o.name != "table"; }),
+                        scene.obstacles.end());
+  return test::TableMug(scene);
+}
+
+class KappaBudget : public ::testing::TestWithParam<int> {};
+
+TEST_P(KappaBudget, OneCallMakesAtMostKappaNewChildren) {
+  // Alg. 2 line 3: each new child (line 17) costs one of kappa samples; so
+  // does a failed null-space sample (line 13), descending costs nothing.
+  const int kappa = GetParam();
+  test::TableMug setup = bareTable();
+  HftsGoalSamplerOptions options;
+  options.samples = kappa;
+  HftsGoalSampler sampler(setup.context, options);
+  int fullBudget = 0;
+  for (int call = 0; call < 25; ++call) {
+    SCOPED_TRACE("call " + std::to_string(call));
+    const std::size_t cached = sampler.cache().size();
+    const std::uint64_t explored = sampler.statistics().nodes_explored;
+    const GoalSample s = sampler.sample(setup.knowledge, kNever);
+    const auto made = static_cast<int>(sampler.cache().size() - cached);
+    EXPECT_EQ(sampler.statistics().nodes_explored - explored, static_cast<std::uint64_t>(made));
+    EXPECT_LE(made, kappa);
+    // Without a goal to return and without lines 7-13, the whole budget
+    // goes into new children.
+    if (s.kind != GoalKind::kGoal && !someInnerNodeFullyCovered(sampler.cache())) {
+      EXPECT_EQ(made, kappa);
+    }
+    fullBudget += made == kappa;
+  }
+  EXPECT_GE(fullBudget, 5);
+}
+
+INSTANTIATE_TEST_SUITE_P(Kappa, KappaBudget, ::testing::Values(1, 2, 4));
+
+TEST(HftsGoalSampler, WithoutAGoalACallReturnsAnApproximateGoalTakenOutOfA) {
+  // Alg. 2 lines 25-26 put the free configuration of each new child without
+  // a goal into A; lines 28-32 return one of A when the call finds no goal,
+  // removing it.
+  test::TableMug setup = bareTable();
+  HftsGoalSampler sampler(setup.context, {});
+  int approximate = 0;
+  for (int call = 0; call < 40; ++call) {
+    SCOPED_TRACE("call " + std::to_string(call));
+    std::vector<Eigen::VectorXd> pool = sampler.approximateGoals();
+    const std::size_t cached = sampler.cache().size();
+    const GoalSamplerStatistics before = sampler.statistics();
+    const GoalSample s = sampler.sample(setup.knowledge, kNever);
+    for (std::size_t n = cached; n < sampler.cache().size(); ++n) {
+      const auto& configurations = sampler.cache().node(static_cast<int>(n)).configurations;
+      if (!configurations.empty() && configurations.front().collision_free &&
+          std::none_of(configurations.begin(), configurations.end(),
+                       [](const CachedConfiguration& c) { return c.goal; }))
+        pool.push_back(configurations.front().pregrasp);
+    }
+    const std::vector<Eigen::VectorXd>& after = sampler.approximateGoals();
+    if (s.kind == GoalKind::kGoal) {
+      EXPECT_EQ(after, pool);
+      continue;
+    }
+    if (s.kind == GoalKind::kNone) {
+      EXPECT_TRUE(pool.empty());
+      EXPECT_TRUE(after.empty());
+      continue;
+    }
+    ++approximate;
+    EXPECT_EQ(sampler.statistics().approximate_goals, before.approximate_goals + 1);
+    EXPECT_FALSE(setup.checker.inCollision(s.configuration));
+    const auto taken = std::find(pool.begin(), pool.end(), s.configuration);
+    ASSERT_NE(taken, pool.end()) << "not from A";
+    pool.erase(taken);
+    EXPECT_EQ(after, pool);
+    // The node it came from, whose first configuration it is.
+    const int n = cacheIndexOf(sampler, s.node);
+    ASSERT_NE(n, GoalHierarchyCache::kNone);
+    EXPECT_EQ(sampler.cache().node(n).configurations.front().pregrasp, s.configuration);
+  }
+  EXPECT_GE(approximate, 5);  // 11 of 40
+}
+
+TEST(HftsGoalSampler, StoppedCallsDrainAThenReturnNothing) {
+  // A call stopped before its search does lines 28-32 only: each returns
+  // an element of A and removes it, until A is empty and the answer is
+  // "bottom" (kNone). (A grows when calls add more free configurations
+  // than they take: a large kappa.)
+  test::TableMug setup = bareTable();
+  HftsGoalSamplerOptions options;
+  options.samples = 16;
+  HftsGoalSampler sampler(setup.context, options);
+  for (int call = 0; call < 60 && sampler.approximateGoals().size() < 4; ++call)
+    sampler.sample(setup.knowledge, kNever);
+  std::vector<Eigen::VectorXd> a = sampler.approximateGoals();
+  ASSERT_GE(a.size(), 4u);  // after 19 calls
+  const std::size_t held = a.size();
+  const std::size_t cached = sampler.cache().size();
+  const GoalSamplerStatistics before = sampler.statistics();
+  while (!a.empty()) {
+    const GoalSample s = sampler.sample(setup.knowledge, kAlways);
+    ASSERT_EQ(s.kind, GoalKind::kApproximate);
+    const auto taken = std::find(a.begin(), a.end(), s.configuration);
+    ASSERT_NE(taken, a.end()) << "not from A";
+    a.erase(taken);
+    EXPECT_EQ(sampler.approximateGoals(), a);
+    EXPECT_FALSE(setup.checker.inCollision(s.configuration));
+  }
+  for (int more = 0; more < 3; ++more) {
+    const GoalSample s = sampler.sample(setup.knowledge, kAlways);
+    EXPECT_EQ(s.kind, GoalKind::kNone);
+    EXPECT_EQ(s.configuration.size(), 0);
+  }
+  EXPECT_EQ(sampler.cache().size(), cached) << "a stopped call searched";
+  EXPECT_EQ(sampler.statistics().nodes_explored, before.nodes_explored);
+  EXPECT_EQ(sampler.statistics().approximate_goals, before.approximate_goals + held);
+  EXPECT_EQ(sampler.statistics().calls, before.calls + held + 3);
+}
+
+TEST(HftsGoalSampler, NothingWhenAIsEmptyAndNoGoalIsFound) {
+  // The mug 3 m away: no grasp has an IK solution, so no child brings a
+  // goal or a free configuration; every call spends its budget on new
+  // children and returns "bottom".
+  robot::Scene scene = test::TableMug::table();
+  scene.target_pose = Eigen::Translation3d(3.0, 0.0, 0.0);
+  test::TableMug setup(scene);
+  HftsGoalSampler sampler(setup.context, {});
+  for (int call = 0; call < 5; ++call) {
+    const std::size_t cached = sampler.cache().size();
+    const GoalSample s = sampler.sample(setup.knowledge, kNever);
+    EXPECT_EQ(s.kind, GoalKind::kNone);
+    EXPECT_EQ(s.configuration.size(), 0);
+    EXPECT_TRUE(sampler.approximateGoals().empty());
+    EXPECT_EQ(sampler.cache().size() - cached, 4u);  // kappa
+  }
+  const GoalSamplerStatistics& stats = sampler.statistics();
+  EXPECT_EQ(stats.calls, 5u);
+  EXPECT_EQ(stats.configured_nodes, 20u);
+  EXPECT_EQ(stats.kinematic_solutions, 0u);
+  EXPECT_EQ(stats.valid_goals + stats.approximate_goals, 0u);
 }
 
 }  // namespace

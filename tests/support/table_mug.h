@@ -30,9 +30,14 @@ class StartOnly : public planner::FreeSpaceDistances {
 
 /// The table scene with the mug: the pieces planGrasp gives a sampler.
 struct TableMug {
+  TableMug() = default;
+  /// The same pieces in another scene (e.g. table() changed).
+  explicit TableMug(robot::Scene s) : scene(std::move(s)) {}
+  static robot::Scene table() { return robot::loadScene(sourcePath("objects/scenes/table.json")); }
+
   const planner::PlanningWorld& world = bundledWorld();
   const db::ObjectDatabase& object = *world.object("mug");
-  robot::Scene scene = robot::loadScene(sourcePath("objects/scenes/table.json"));
+  robot::Scene scene = table();
   robot::CollisionChecker checker{world.robot(), scene, &object.geometry,
                                   world.collisionMesh("mug")};
   grasp::HftsSpace space{object, static_cast<int>(world.robot().fingertips().size())};
