@@ -229,7 +229,7 @@ TEST(MultiTreeCBiRRT, ConnectedApproximateTreeIsMergedIntoTheForwardTree) {
 
 /// A goal with the arm in a slot between two thin plates (4 mm, at y =
 /// +-0.1), the start beside the slot. The trees check only the ends of
-/// their steps (collision_resolution 100, steps up to 10), so they connect
+/// their steps (motion resolution 100, steps up to 10), so they connect
 /// through a plate: every straight motion into the slot from a random free
 /// configuration crosses one (measured: 557 of 557; the test's path is
 /// rejected with each of seeds 1-200).
@@ -240,9 +240,12 @@ struct SlotProblem {
                  {"p_min", 0.0},
                  {"p_w", 10.0},
                  {"step_size", 10.0},
-                 {"collision_resolution", 100.0},
                  {"final_resolution", finalResolution},
                  {"smoothing_steps", 40.0}});
+    // Coarser than the collision_resolution parameter allows (at most 1):
+    // set on the motion validator itself.
+    std::dynamic_pointer_cast<planner::CollisionMotionValidator>(problem.si->getMotionValidator())
+        ->setResolution(100.0);
     problem.sampler.addProbe(goal());
     problem.planner->setSeed(2);
   }

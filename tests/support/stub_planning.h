@@ -25,6 +25,7 @@
 
 #include "planner/configuration_space.h"
 #include "planner/multi_tree_cbirrt.h"
+#include "planner/parameters.h"
 #include "robot/collision_checker.h"
 #include "robot_fixture.h"
 
@@ -116,7 +117,8 @@ struct StubProblem {
     planner->setProblemDefinition(pdef);
   }
 
-  /// A planner parameter by its declared name; throws for a rejected one.
+  /// A planner parameter by its declared name; throws InvalidArgument for a
+  /// rejected one.
   void set(const std::string& name, double value) {
     std::ostringstream text;
     text.precision(17);
@@ -124,9 +126,13 @@ struct StubProblem {
     // (OMPL reports every parameter it sets at its debug level.)
     const ompl::msg::LogLevel level = ompl::msg::getLogLevel();
     ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
-    const bool accepted = planner->params().setParam(name, text.str());
+    try {
+      planner::setParameter(planner->params(), name, text.str());
+    } catch (...) {
+      ompl::msg::setLogLevel(level);
+      throw;
+    }
     ompl::msg::setLogLevel(level);
-    if (!accepted) throw std::invalid_argument("parameter " + name + " rejected");
   }
   void set(std::initializer_list<std::pair<const char*, double>> parameters) {
     for (const auto& [name, value] : parameters) set(name, value);
