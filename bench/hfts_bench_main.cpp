@@ -34,7 +34,7 @@ using hfts::robot::Scene;
 
 struct Options {
   std::string db, robot, sceneDir, out, experiment, outDir, python = "/usr/bin/python3";
-  std::vector<std::string> scenes, objects,
+  std::vector<std::string> scenes, objects, placements{"target"},
       algorithms{"coupled", "decoupled20", "decoupled60", "decoupled100"};
   int runs = 10;
   double timeLimit = 60.0;
@@ -48,10 +48,12 @@ struct Given {
   CLI::Option *scenes, *objects, *algorithms, *runs, *timeLimit;
 };
 
-/// One scene with one object at its target pose.
+/// One scene with one object at one placement (the scene's target pose, or
+/// another of its placements, made the target's).
 struct Case {
   Scene scene;
   std::string object;
+  std::string placement;
 };
 
 /// Everything the runs need, checked: a bad argument never costs a run.
@@ -80,6 +82,11 @@ Given addOptions(CLI::App& app, Options& o) {
                              "Objects placed at each scene's target pose (default: each scene's "
                              "target)")
                   ->delimiter(',');
+  app.add_option("--placements", o.placements,
+                 "Where each object stands: target (the scene's target pose), names of the "
+                 "scenes' placements, or all")
+      ->delimiter(',')
+      ->capture_default_str();
   g.algorithms = app.add_option("--algorithms", o.algorithms,
                                 "coupled, decoupledN (N iterations/level), rrtconnect[N]")
                      ->delimiter(',')
@@ -154,18 +161,32 @@ std::vector<std::string> objectsFor(const Scene& scene, const Options& o) {
   return {scene.target_object};
 }
 
+/// The placements of a scene that --placements names ("all": every one).
+std::vector<std::string> placementsOf(const Scene& scene, const Options& o) {
+  std::vector<std::string> all{"target"};
+  for (const hfts::robot::Placement& p : scene.placements) all.push_back(p.name);
+  if (o.placements.size() == 1 && o.placements.front() == "all") return all;
+  try {
+    hfts::bench::requireKnown(o.placements, all, "placement");
+  } catch (const UsageError& e) {
+    throw UsageError("--placements: in scene '" + scene.name + "': " + e.what());
+  }
+  return o.placements;
+}
+
 std::vector<Case> casesOf(const std::vector<Scene>& scenes, const PlanningWorld& world,
                           const Options& o) {
   if (!o.objects.empty()) hfts::bench::requireKnown(o.objects, world.objectNames(), "object");
   std::vector<Case> cases;
   for (const Scene& scene : scenes)
-    for (const std::string& object : objectsFor(scene, o)) {
-      if (world.object(object) == nullptr)
-        throw std::runtime_error("scene '" + scene.name + "' targets '" + object +
-                                 "', which has no database in --db (build it with "
-                                 "hfts-preprocess, or choose --objects)");
-      cases.push_back({scene, object});
-    }
+    for (const std::string& placement : placementsOf(scene, o))
+      for (const std::string& object : objectsFor(scene, o)) {
+        if (world.object(object) == nullptr)
+          throw std::runtime_error("scene '" + scene.name + "' targets '" + object +
+                                   "', which has no database in --db (build it with "
+                                   "hfts-preprocess, or choose --objects)");
+        cases.push_back({scene.withPlacement(placement), object, placement});
+      }
   return cases;
 }
 
@@ -199,8 +220,8 @@ RunRecord runOnce(const Experiment& e, const Case& c, const Algorithm& algorithm
   request.time_limit = e.timeLimit;
   const double cpu = processCpuSeconds();
   const auto result = hfts::planner::planGrasp(*e.world, request);
-  return hfts::bench::makeRunRecord(c.scene.name, c.object, algorithm.name, request.seed, result,
-                                    processCpuSeconds() - cpu);
+  return hfts::bench::makeRunRecord({c.scene.name, c.object, c.placement}, algorithm.name,
+                                    request.seed, result, processCpuSeconds() - cpu);
 }
 
 std::vector<std::string> namesOf(const std::vector<Algorithm>& algorithms) {
@@ -222,12 +243,14 @@ void writeLog(const Experiment& e, const Case& c, const std::vector<RunRecord>& 
   log.setup =
       "hfts-bench: integrated grasp and motion planning (HFTS, ICRA 2017)\n"
       "scene " +
-      c.scene.name + ", object " + c.object + " at the scene's target pose\n" +
+      c.scene.name + ", object " + c.object + " at placement '" + c.placement + "'\n" +
       "one planGrasp call per run, seeds 1.." + std::to_string(e.runs) +
       "; rrtconnect samples goals in a second thread\n" + "command: " + commandLine + "\n";
   fs::create_directories(e.outDir / "ompl");
-  hfts::bench::writeOmplBenchmarkLog(e.outDir / "ompl" / (c.scene.name + "_" + c.object + ".log"),
-                                     log, records, namesOf(e.algorithms));
+  const std::string at = c.placement == "target" ? "" : "_" + c.placement;
+  hfts::bench::writeOmplBenchmarkLog(
+      e.outDir / "ompl" / (c.scene.name + "_" + c.object + at + ".log"), log, records,
+      namesOf(e.algorithms));
 }
 
 std::size_t runCount(const Experiment& e) {

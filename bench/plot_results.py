@@ -56,7 +56,11 @@ def read_runs(path):
         for row in csv.DictReader(f):
             success = row["success"] == "1"
             runs.append({
-                "case": row["scene"] + " / " + row["object"],
+                # Placements other than the scene's target pose name the case too
+                # (CSVs written before placements existed have no such column).
+                "case": row["scene"] + " / " + row["object"]
+                + ("" if row.get("placement", "target") == "target"
+                   else " / " + row["placement"]),
                 "scene": row["scene"],
                 "object": row["object"],
                 "algorithm": row["algorithm"],

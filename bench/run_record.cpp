@@ -10,7 +10,7 @@ namespace {
 
 constexpr const char* kHeader =
     "scene,object,algorithm,seed,success,failure,time,gs,vgs,gns,epsilon,path_length,"
-    "collision_checks,cpu_time";
+    "collision_checks,cpu_time,placement";
 
 /// RFC 4180 quoting; names from file stems may hold commas or quotes.
 std::string csvField(const std::string& text) {
@@ -32,17 +32,18 @@ void writeRow(std::ostream& out, const RunRecord& r) {
     out << std::setprecision(8) << r.epsilon << ',' << s.path_length_smoothed;
   else
     out << ',';
-  out << ',' << s.collision_checks << ',' << std::setprecision(6) << r.cpu_time << '\n';
+  out << ',' << s.collision_checks << ',' << std::setprecision(6) << r.cpu_time << ','
+      << csvField(r.placement) << '\n';
 }
 
 }  // namespace
 
-RunRecord makeRunRecord(const std::string& scene, const std::string& object,
-                        const std::string& algorithm, std::uint64_t seed,
+RunRecord makeRunRecord(const CaseName& c, const std::string& algorithm, std::uint64_t seed,
                         const planner::PlanResult& result, double cpuTime) {
   RunRecord r;
-  r.scene = scene;
-  r.object = object;
+  r.scene = c.scene;
+  r.object = c.object;
+  r.placement = c.placement;
   r.algorithm = algorithm;
   r.seed = seed;
   r.success = result.success;

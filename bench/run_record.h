@@ -11,9 +11,17 @@
 namespace hfts::bench {
 
 /// What one planGrasp call reports, in the CSV's columns (docs/benchmarks.md).
+/// What a run planned for: a scene, an object, a placement of the scene.
+struct CaseName {
+  std::string scene;
+  std::string object;
+  std::string placement = "target";
+};
+
 struct RunRecord {
   std::string scene;
   std::string object;
+  std::string placement = "target";
   std::string algorithm;
   std::uint64_t seed = 0;
   bool success = false;
@@ -27,8 +35,7 @@ struct RunRecord {
   planner::PlanStatistics stats;
 };
 
-RunRecord makeRunRecord(const std::string& scene, const std::string& object,
-                        const std::string& algorithm, std::uint64_t seed,
+RunRecord makeRunRecord(const CaseName& c, const std::string& algorithm, std::uint64_t seed,
                         const planner::PlanResult& result, double cpuTime);
 
 /// Writes the header and one row per record to `out` atomically

@@ -97,7 +97,7 @@ struct Problem {
           Eigen::VectorXd q0)
       : world(w),
         object(o),
-        scene(sceneOf(request, o.name)),
+        scene(sceneOf(request, o)),
         start(std::move(q0)),
         seed(request.seed),
         checker(w.robot(), scene, &o.geometry, w.collisionMesh(o.name)),
@@ -107,10 +107,15 @@ struct Problem {
     parameters.set(request);
   }
 
-  static robot::Scene sceneOf(const PlanRequest& request, const std::string& object) {
+  /// The request's object where the request puts it: at object_pose, or
+  /// at the scene's target pose (resting on its support when it has one).
+  static robot::Scene sceneOf(const PlanRequest& request, const db::ObjectDatabase& object) {
     robot::Scene s = request.scene;
-    s.target_object = object;
-    if (request.object_pose) s.target_pose = *request.object_pose;
+    s.target_object = object.name;
+    s.target_pose = request.object_pose
+                        ? *request.object_pose
+                        : robot::targetPose(request.scene, object.geometry.mesh_vertices);
+    s.target_rest_on.clear();  // placed
     return s;
   }
 
@@ -246,6 +251,7 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
   quietOmpl();
   PlanResult result;
   result.joint_names = world.robot().dofNames();
+  result.object_pose = request.object_pose.value_or(request.scene.target_pose);
   Eigen::VectorXd start = startOf(world.robot(), request);
   if (!(request.time_limit >= 0.0) || !std::isfinite(request.time_limit))
     throw InvalidArgument("time_limit", "must be a finite number >= 0");
@@ -256,6 +262,7 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
                   {PlanFailure::kUnknownObject, "unknown object '" + name + "'"});
 
   Problem problem(world, *object, request, std::move(start));
+  result.object_pose = problem.scene.target_pose;
   if (auto why = checkScene(problem); why.first != PlanFailure::kNone)
     return failed(std::move(result), std::move(why));
   const ob::PlannerTerminationCondition ptc =

@@ -2,8 +2,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -104,7 +106,82 @@ Obstacle parseObstacle(const json& item, std::size_t index, const std::filesyste
   return o;
 }
 
+/// A pose with an optional `rest_on` naming an obstacle of `scene`.
+Placement parsePlacement(const Fields& f, const Scene& scene, std::string name) {
+  Placement out;
+  out.name = std::move(name);
+  out.pose = f.pose("pose");
+  if (f.has("rest_on")) {
+    out.rest_on = f.string("rest_on");
+    if (scene.obstacle(out.rest_on) == nullptr)
+      f.failAt("rest_on", "names no obstacle of the scene: '" + out.rest_on + "'");
+  }
+  return out;
+}
+
 }  // namespace
+
+const Obstacle* Scene::obstacle(const std::string& obstacleName) const {
+  for (const Obstacle& o : obstacles)
+    if (o.name == obstacleName) return &o;
+  return nullptr;
+}
+
+Scene Scene::withPlacement(const std::string& placementName) const {
+  if (placementName == "target") return *this;
+  for (const Placement& p : placements) {
+    if (p.name != placementName) continue;
+    Scene out = *this;
+    out.target_pose = p.pose;
+    out.target_rest_on = p.rest_on;
+    return out;
+  }
+  std::string known = "target";
+  for (const Placement& p : placements) known += ", " + p.name;
+  throw SceneError("scene '" + name + "'", "placements",
+                   "no placement '" + placementName + "' (known: " + known + ")");
+}
+
+double topOf(const Obstacle& o) {
+  const Eigen::Matrix3d& r = o.pose.linear();
+  const double z = o.pose.translation().z();
+  switch (o.type) {
+    case Obstacle::Type::kBox:  // the highest corner: half extents along each axis
+      return z + 0.5 * (r.row(2).cwiseAbs().dot(o.size));
+    case Obstacle::Type::kCylinder: {  // a cap's rim: the axis end plus the radius sideways
+      const double axisZ = std::abs(r(2, 2));
+      return z + 0.5 * o.size(1) * axisZ +
+             o.size(0) * std::sqrt(std::max(0.0, 1.0 - axisZ * axisZ));
+    }
+    case Obstacle::Type::kSphere:
+      return z + o.size(0);
+    case Obstacle::Type::kMesh:
+      break;
+  }
+  double top = -std::numeric_limits<double>::infinity();
+  for (Eigen::Index v = 0; v < o.mesh.vertices.rows(); ++v)
+    top = std::max(top, (o.pose * o.mesh.vertices.row(v).transpose()).z());
+  return top;
+}
+
+Eigen::Isometry3d restingPose(const Eigen::Isometry3d& pose, const Vertices& vertices,
+                              const Obstacle& support) {
+  if (vertices.rows() == 0) return pose;
+  // The lowest vertex of the object turned as `pose` turns it.
+  const double lowest = (vertices * pose.linear().row(2).transpose()).minCoeff();
+  Eigen::Isometry3d out = pose;
+  out.translation().z() = topOf(support) + kRestingClearance - lowest;
+  return out;
+}
+
+Eigen::Isometry3d targetPose(const Scene& scene, const Vertices& vertices) {
+  if (scene.target_rest_on.empty()) return scene.target_pose;
+  const Obstacle* support = scene.obstacle(scene.target_rest_on);
+  if (support == nullptr)
+    throw SceneError("scene '" + scene.name + "'", "target.rest_on",
+                     "names no obstacle of the scene: '" + scene.target_rest_on + "'");
+  return restingPose(scene.target_pose, vertices, *support);
+}
 
 SceneError::SceneError(const std::string& source, std::string field, std::string problem)
     : std::runtime_error(source + ": " + (field.empty() ? "" : field + ": ") + problem),
@@ -146,7 +223,21 @@ Scene parseScene(const std::string& text, const std::filesystem::path& baseDir,
   scene.target_object = target.string("object");
   if (!isSafeName(scene.target_object))
     target.failAt("object", "must be a database name without path characters");
-  scene.target_pose = target.pose("pose");
+  const Placement own = parsePlacement(target, scene, "target");
+  scene.target_pose = own.pose;
+  scene.target_rest_on = own.rest_on;
+  if (f.has("placements")) {
+    const json& placements = f.at("placements");
+    if (!placements.is_array()) f.failAt("placements", "must be an array");
+    std::set<std::string> placementNames{"target"};
+    for (std::size_t i = 0; i < placements.size(); ++i) {
+      const Fields p(placements[i], "placements[" + std::to_string(i) + "]", what);
+      const std::string name = p.string("name");
+      if (!isSafeName(name)) p.failAt("name", "must be a simple name (letters, digits, _ - .)");
+      if (!placementNames.insert(name).second) p.failAt("name", "'" + name + "' is used twice");
+      scene.placements.push_back(parsePlacement(p, scene, name));
+    }
+  }
   if (f.has("start")) scene.start = f.numbers("start", -1);
   return scene;
 }

@@ -169,9 +169,9 @@ void exportSceneGlb(const RobotModel& model, const Scene& scene, const db::Objec
     parts.push_back({transformed(std::move(mesh), o.pose), kObstacle, o.name});
   }
   if (target != nullptr)
-    parts.push_back(
-        {transformed({target->mesh_vertices, target->mesh_triangles}, scene.target_pose), kTarget,
-         scene.target_object});
+    parts.push_back({transformed({target->mesh_vertices, target->mesh_triangles},
+                                 targetPose(scene, target->mesh_vertices)),
+                     kTarget, scene.target_object});
 
   aiScene ai;
   ai.mRootNode = new aiNode("scene");

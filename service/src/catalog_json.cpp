@@ -72,10 +72,15 @@ json scenesJson(const PlanningCatalog& catalog) {
     json obstacles = json::array();
     for (const robot::Obstacle& o : scene.obstacles)
       obstacles.push_back({{"name", o.name}, {"type", typeName(o.type)}});
+    json placements = json::array();
+    for (const robot::Placement& p : scene.placements)
+      placements.push_back({{"name", p.name}, {"pose", poseJson(p.pose)}, {"rest_on", p.rest_on}});
     scenes.push_back({{"name", name},
                       {"description", scene.description},
                       {"target_object", scene.target_object},
                       {"target_pose", poseJson(scene.target_pose)},
+                      {"target_rest_on", scene.target_rest_on},
+                      {"placements", std::move(placements)},
                       {"obstacles", std::move(obstacles)},
                       {"start", scene.start ? vectorJson(*scene.start) : json()}});
   }

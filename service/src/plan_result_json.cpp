@@ -51,7 +51,7 @@ json planResultToJson(const planner::PlanResult& result, const planner::PlanRequ
           {"message", result.message},
           {"scene", request.scene.name},
           {"object", request.object},
-          {"object_pose", poseJson(request.object_pose.value_or(request.scene.target_pose))},
+          {"object_pose", poseJson(result.object_pose)},
           {"algorithm", coupled ? "coupled" : "decoupled"},
           {"seed", request.seed},
           {"time_limit", request.time_limit},

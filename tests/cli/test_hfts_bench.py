@@ -17,7 +17,7 @@ BENCH = None
 PREPROCESS = None
 SOURCE_DIR = None
 HEADER = ["scene", "object", "algorithm", "seed", "success", "failure", "time", "gs", "vgs",
-          "gns", "epsilon", "path_length", "collision_checks", "cpu_time"]
+          "gns", "epsilon", "path_length", "collision_checks", "cpu_time", "placement"]
 TIME_LIMIT = 10
 
 
@@ -108,6 +108,11 @@ class BenchCli(unittest.TestCase):
         self.assertIn("table", scenes)
         err = self.usage_error("--scenes", "table,kitchen")
         self.assertIn(f"unknown scene 'kitchen' (valid: {', '.join(scenes)})", err)
+
+    def test_unknown_placement_is_a_usage_error_naming_the_scenes_ones(self):
+        err = self.usage_error("--scenes", "table", "--placements", "upside_down")
+        self.assertIn("--placements: in scene 'table': unknown placement 'upside_down' "
+                      "(valid: target", err)
 
     def test_unknown_algorithm_is_a_usage_error(self):
         err = self.usage_error("--algorithms", "coupled,decoupledX")

@@ -101,6 +101,27 @@ TEST(GraspMotionPlanner, StartInCollisionIsReported) {
   EXPECT_NE(result.message.find("table"), std::string::npos) << result.message;
 }
 
+TEST(GraspMotionPlanner, AnObjectThatRestsOnASupportIsPutOnItsTop) {
+  PlanRequest r = request("table", "bottle", 1);
+  r.time_limit = 0.0;
+  r.scene.target_pose.translation().z() = 0.3;  // floating above the table ...
+  r.scene.target_rest_on = "table";             // ... until it is put on it
+  const PlanResult result = planGrasp(world(), r);
+  const double tableTop = robot::topOf(*r.scene.obstacle("table")) + robot::kRestingClearance;
+  const double lowest = world().object("bottle")->geometry.mesh_vertices.col(2).minCoeff();
+  EXPECT_NEAR(result.object_pose.translation().z(), tableTop - lowest, 1e-12);
+  EXPECT_NE(result.failure, PlanFailure::kObjectInCollision);
+  // Lying on its side, it rests on its curved surface.
+  r.scene.target_pose.linear() =
+      Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const PlanResult lying = planGrasp(world(), r);
+  const double radius = -world().object("bottle")->geometry.mesh_vertices.col(1).minCoeff();
+  EXPECT_NEAR(lying.object_pose.translation().z(), tableTop + radius, 1e-9);
+  // An explicit object pose is used as it is.
+  r.object_pose = Eigen::Isometry3d(Eigen::Translation3d(0.55, 0, 0.2));
+  EXPECT_NEAR(planGrasp(world(), r).object_pose.translation().z(), 0.2, 1e-12);
+}
+
 TEST(GraspMotionPlanner, UnknownObjectIsReported) {
   const PlanResult result = planGrasp(world(), request("table", "teapot", 1));
   EXPECT_FALSE(result.success);

@@ -111,3 +111,104 @@ TEST(Scene, SafeNamesHaveNoPathCharacters) {
 
 }  // namespace
 }  // namespace hfts::robot
+
+namespace hfts::robot {
+namespace {
+
+const char* kShelfWithPlacements = R"({
+  "name": "s", "robot_base": {"position": [0,0,0], "orientation": [0,0,0,1]},
+  "obstacles": [
+    {"name": "board", "type": "box", "size": [0.4, 0.6, 0.02],
+     "pose": {"position": [0.6, 0, 0.29], "orientation": [0,0,0,1]}},
+    {"name": "floor", "type": "box", "size": [2, 2, 0.1],
+     "pose": {"position": [0, 0, -0.05], "orientation": [0,0,0,1]}}],
+  "target": {"object": "mug", "rest_on": "board",
+             "pose": {"position": [0.6, 0, 0.9], "orientation": [0,0,0,1]}},
+  "placements": [
+    {"name": "lying", "rest_on": "floor",
+     "pose": {"position": [0.5, 0.1, 0], "orientation": [0.7071067811865476, 0, 0, 0.7071067811865476]}},
+    {"name": "floating", "pose": {"position": [0.4, 0, 0.5], "orientation": [0,0,0,1]}}]})";
+
+/// A 10 cm cube centred on its frame's origin.
+Vertices cubeCorners() {
+  Vertices v(8, 3);
+  for (int i = 0; i < 8; ++i)
+    v.row(i) << (i & 1 ? 0.05 : -0.05), (i & 2 ? 0.05 : -0.05), (i & 4 ? 0.05 : -0.05);
+  return v;
+}
+
+TEST(Scene, PlacementsAndRestOnAreRead) {
+  const Scene s = parseScene(kShelfWithPlacements, ".", "x");
+  EXPECT_EQ(s.target_rest_on, "board");
+  ASSERT_EQ(s.placements.size(), 2u);
+  EXPECT_EQ(s.placements[0].name, "lying");
+  EXPECT_EQ(s.placements[0].rest_on, "floor");
+  EXPECT_EQ(s.placements[1].rest_on, "");
+  const Scene lying = s.withPlacement("lying");
+  EXPECT_EQ(lying.target_rest_on, "floor");
+  EXPECT_TRUE(lying.target_pose.isApprox(s.placements[0].pose));
+  EXPECT_TRUE(s.withPlacement("target").target_pose.isApprox(s.target_pose));
+  try {
+    s.withPlacement("upside_down");
+    ADD_FAILURE() << "an unknown placement was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.field(), "placements");
+    EXPECT_NE(e.problem().find("known: target, lying, floating"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Scene, RestOnMustNameAnObstacle) {
+  std::string text = kShelfWithPlacements;
+  text.replace(text.find("\"rest_on\": \"board\""), 18, "\"rest_on\": \"shelf\"");
+  expectSceneError(text, "target.rest_on", "names no obstacle of the scene: 'shelf'");
+  text = kShelfWithPlacements;
+  text.replace(text.find("\"rest_on\": \"floor\""), 18, "\"rest_on\": 5");
+  expectSceneError(text, "placements[0].rest_on", "must be a string");
+  text = kShelfWithPlacements;
+  text.replace(text.find("\"floating\""), 10, "\"lying\"");
+  expectSceneError(text, "placements[1].name", "'lying' is used twice");
+}
+
+TEST(Scene, TopOfAnObstacleIsItsHighestPoint) {
+  Obstacle box;
+  box.size << 1.0, 1.4, 0.04;
+  box.pose.translation() << 0.5, 0, -0.02;
+  EXPECT_NEAR(topOf(box), 0.0, 1e-12);
+  box.pose.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  EXPECT_NEAR(topOf(box), -0.02 + 0.7, 1e-12);  // stood on its long edge
+  Obstacle can;
+  can.type = Obstacle::Type::kCylinder;
+  can.size << 0.03, 0.2, 0;
+  can.pose.translation() << 0, 0, 0.1;
+  EXPECT_NEAR(topOf(can), 0.2, 1e-12);
+  can.pose.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  EXPECT_NEAR(topOf(can), 0.13, 1e-12);  // lying: its radius above the axis
+  Obstacle ball;
+  ball.type = Obstacle::Type::kSphere;
+  ball.size << 0.04, 0, 0;
+  ball.pose.translation() << 0, 0, 0.5;
+  EXPECT_NEAR(topOf(ball), 0.54, 1e-12);
+}
+
+TEST(Scene, RestingPosePutsTheLowestPointOnTheSupport) {
+  const Scene s = parseScene(kShelfWithPlacements, ".", "x");
+  const Vertices cube = cubeCorners();
+  // The board's top is at 0.30: the cube's centre goes to 0.35 (and the
+  // clearance), x and y stay.
+  const double gap = kRestingClearance;
+  const Eigen::Isometry3d onBoard = targetPose(s, cube);
+  EXPECT_NEAR(onBoard.translation().z(), 0.35 + gap, 1e-12);
+  EXPECT_NEAR(onBoard.translation().x(), 0.6, 1e-12);
+  // Turned 45 degrees about x, its lowest edge is 0.05 sqrt(2) below the centre.
+  Scene turned = s;
+  turned.target_pose.linear() =
+      Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  EXPECT_NEAR(targetPose(turned, cube).translation().z(), 0.30 + gap + 0.05 * std::sqrt(2.0),
+              1e-12);
+  // Without rest_on the pose is kept as it is.
+  EXPECT_TRUE(targetPose(s.withPlacement("floating"), cube).isApprox(s.placements[1].pose));
+  EXPECT_NEAR(targetPose(s.withPlacement("lying"), cube).translation().z(), 0.05 + gap, 1e-12);
+}
+
+}  // namespace
+}  // namespace hfts::robot

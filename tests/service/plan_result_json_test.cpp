@@ -74,7 +74,9 @@ TEST(PlanResultJson, EchoesTheRequestAndStatistics) {
   planner::PlanRequest r = request();
   r.algorithm = planner::PlanAlgorithm::kDecoupled;
   r.object_pose = Eigen::Isometry3d(Eigen::Translation3d(0.1, 0.2, 0.3));
-  const json j = planResultToJson(success(), r);
+  planner::PlanResult result = success();
+  result.object_pose = *r.object_pose;  // where planGrasp put the object
+  const json j = planResultToJson(result, r);
   EXPECT_EQ(j.at("scene"), "table");
   EXPECT_EQ(j.at("object"), "mug");
   EXPECT_EQ(j.at("algorithm"), "decoupled");
@@ -93,6 +95,7 @@ TEST(PlanResultJson, AFailureHasAReasonAndNoGrasp) {
   failed.failure = planner::PlanFailure::kStartInCollision;
   failed.message = "the start configuration is in collision";
   failed.joint_names = test::kr5Sdh().dofNames();
+  failed.object_pose = request().scene.target_pose;
   const json j = planResultToJson(failed, request());
   EXPECT_EQ(j.at("success"), false);
   EXPECT_EQ(j.at("reason"), "start_in_collision");

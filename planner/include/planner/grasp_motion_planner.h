@@ -31,8 +31,9 @@ enum class PlanAlgorithm {
 struct PlanRequest {
   robot::Scene scene;  ///< obstacles, robot base, target pose and start
   std::string object;  ///< object database name; empty: scene.target_object
-  std::optional<Eigen::Isometry3d> object_pose;  ///< overrides scene.target_pose
-  std::optional<Eigen::VectorXd> start;          ///< overrides the scene's start
+  /// Overrides scene.target_pose and its rest_on (the object is put exactly here).
+  std::optional<Eigen::Isometry3d> object_pose;
+  std::optional<Eigen::VectorXd> start;  ///< overrides the scene's start
   PlanAlgorithm algorithm = PlanAlgorithm::kCoupled;
   std::optional<int> iterations;  ///< decoupled, rrtconnect: i per level (default 20)
   std::uint64_t seed = 1;
@@ -78,6 +79,9 @@ struct PlanResult {
   /// full rule at the planner's final resolution.
   std::vector<Eigen::VectorXd> path;
   std::vector<std::string> joint_names;
+  /// Where the object was: the request's object_pose, or the scene's
+  /// target pose (resting on its support when the scene says so).
+  Eigen::Isometry3d object_pose = Eigen::Isometry3d::Identity();
   PlannedGrasp grasp;
   PlanStatistics stats;
 };

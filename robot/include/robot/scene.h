@@ -52,6 +52,16 @@ static_assert(static_cast<int>(Obstacle::Type::kBox) ==
                       static_cast<int>(CollisionShape::Type::kSphere),
               "obstacle and link primitive types must match");
 
+/// Where a target stands: a pose, and optionally the obstacle it rests on.
+struct Placement {
+  std::string name;  ///< "target" for the scene's own; otherwise as the file names it
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< object frame in the world
+  /// An obstacle of the scene, or empty. When set, the pose's z is not
+  /// used as given: the object is lowered (or raised) until its lowest
+  /// point lies on the obstacle's top (restingPose).
+  std::string rest_on;
+};
+
 struct Scene {
   std::string name;
   std::string description;
@@ -59,8 +69,36 @@ struct Scene {
   std::vector<Obstacle> obstacles;
   std::string target_object;                                      ///< object database name
   Eigen::Isometry3d target_pose = Eigen::Isometry3d::Identity();  ///< object frame in the world
+  std::string target_rest_on;  ///< obstacle the target rests on, or empty (Placement::rest_on)
+  /// Other named places for the target (`placements` in the file), e.g.
+  /// lying or near a wall; withPlacement() makes one the target's.
+  std::vector<Placement> placements;
   std::optional<Eigen::VectorXd> start;  ///< robot configuration; the robot's home if absent
+
+  /// The obstacle named `name`, or nullptr.
+  const Obstacle* obstacle(const std::string& name) const;
+  /// The scene with placement `name` as the target's ("target": the
+  /// scene's own). Throws SceneError (field "placements") for an unknown name.
+  Scene withPlacement(const std::string& name) const;
 };
+
+/// The highest point of an obstacle in the world (its top face when the
+/// top is level, as for a table, a shelf board or a bin floor).
+double topOf(const Obstacle& obstacle);
+
+/// Gap between a resting object and its support (m): touching would count
+/// as a collision of the target with an obstacle.
+inline constexpr double kRestingClearance = 0.001;
+
+/// `pose` moved along the world z axis until the lowest of `vertices`
+/// (object frame, one per row) lies kRestingClearance above the top of
+/// `support`.
+Eigen::Isometry3d restingPose(const Eigen::Isometry3d& pose, const Vertices& vertices,
+                              const Obstacle& support);
+
+/// Where the target with these vertices stands in `scene`: target_pose,
+/// resting on target_rest_on when that is set.
+Eigen::Isometry3d targetPose(const Scene& scene, const Vertices& vertices);
 
 /// Reads a scene file; mesh obstacles are loaded relative to its folder.
 /// Throws SceneError.
