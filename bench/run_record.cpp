@@ -10,7 +10,8 @@ namespace {
 
 constexpr const char* kHeader =
     "scene,object,algorithm,seed,success,failure,time,gs,vgs,gns,epsilon,path_length,"
-    "collision_checks,cpu_time,placement";
+    "collision_checks,cpu_time,placement,rejected_unstable,rejected_no_arm_ik,"
+    "rejected_out_of_hand_reach,rejected_colliding,rejected_closing_blocked";
 
 /// RFC 4180 quoting; names from file stems may hold commas or quotes.
 std::string csvField(const std::string& text) {
@@ -33,7 +34,13 @@ void writeRow(std::ostream& out, const RunRecord& r) {
   else
     out << ',';
   out << ',' << s.collision_checks << ',' << std::setprecision(6) << r.cpu_time << ','
-      << csvField(r.placement) << '\n';
+      << csvField(r.placement);
+  const planner::GraspRejections& rejected = s.rejected;
+  for (const std::uint64_t count :
+       {rejected.unstable, rejected.no_arm_ik, rejected.out_of_hand_reach, rejected.colliding,
+        rejected.closing_blocked})
+    out << ',' << count;
+  out << '\n';
 }
 
 }  // namespace

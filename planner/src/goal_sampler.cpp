@@ -61,6 +61,7 @@ std::vector<CachedConfiguration> GraspGoalSampler::configurationsOf(const grasp:
   std::vector<CachedConfiguration> free, colliding;
   label(node, epsilon, all, free, colliding);
   if (!free.empty() || !colliding.empty()) ++stats_.kinematic_solutions;
+  if (context_.space->isLeaf(node)) countRejection(epsilon, all, free);
   // C_n holds the free configurations, or else one colliding configuration
   // (Sec. III-B.3): it still tells how close the grasp is to C_free. One,
   // as in the paper: the best of all IK branches would rate a grasp that
@@ -100,6 +101,28 @@ void GraspGoalSampler::label(const grasp::HftsNode& node, double epsilon,
                                                /*allowFingertipContact=*/true);
     (out.collision_free ? free : colliding).push_back(std::move(out));
   }
+}
+
+void GraspGoalSampler::countRejection(double epsilon, const grasp::GraspConfigurations& all,
+                                      const std::vector<CachedConfiguration>& free) {
+  GraspRejections& r = stats_.rejected;
+  const auto hasIk = [](const grasp::GraspConfiguration& c) {
+    return c.label != grasp::ConfigurationLabel::kNoKinematicSolution;
+  };
+  const double tolerance = context_.max_fingertip_error;
+  const auto reaches = [tolerance](const auto& c) { return c.fingertip_error <= tolerance; };
+  if (!(epsilon > 0.0))
+    ++r.unstable;
+  else if (std::none_of(all.configurations.begin(), all.configurations.end(), hasIk))
+    ++r.no_arm_ik;
+  else if (std::none_of(all.configurations.begin(), all.configurations.end(),
+                        [&](const grasp::GraspConfiguration& c) { return hasIk(c) && reaches(c); }))
+    ++r.out_of_hand_reach;
+  else if (std::none_of(free.begin(), free.end(), reaches))
+    ++r.colliding;
+  else if (std::none_of(free.begin(), free.end(),
+                        [](const CachedConfiguration& c) { return c.goal; }))
+    ++r.closing_blocked;
 }
 
 GoalSample GraspGoalSampler::describe(const grasp::HftsNode& node,
@@ -236,7 +259,11 @@ GoalSample DecoupledGoalSampler::sample(const FreeSpaceDistances& /*knowledge*/,
     else if (space.isLeaf(node))
       return {};  // this leaf was tried before
   }
-  if (!(climb.evaluation.quality > 0.0) || stop()) return {};
+  if (!(climb.evaluation.quality > 0.0)) {
+    ++stats_.rejected.unstable;  // not worth Phi(h)
+    return {};
+  }
+  if (stop()) return {};
   for (const CachedConfiguration& c : configurationsOf(node, climb.evaluation.quality))
     if (c.goal) return describe(node, c, GoalKind::kGoal);
   return {};

@@ -33,6 +33,8 @@ const char* toString(PlanFailure failure) {
       return "object_unreachable";
     case PlanFailure::kUnknownObject:
       return "unknown_object";
+    case PlanFailure::kNoValidGoal:
+      return "no_valid_goal";
   }
   return "unknown";
 }
@@ -212,6 +214,18 @@ SearchOutcome searchBaseline(Problem& p, const ob::PlannerTerminationCondition& 
   return out;
 }
 
+/// "a unstable, b without arm IK, ..." for the reasons that occurred.
+std::string rejectionText(const GraspRejections& r) {
+  std::string out;
+  for (const auto& [count, what] :
+       {std::pair{r.unstable, "unstable (no force closure)"},
+        std::pair{r.no_arm_ik, "without arm IK solution"},
+        std::pair{r.out_of_hand_reach, "out of the hand's reach"},
+        std::pair{r.colliding, "colliding"}, std::pair{r.closing_blocked, "closing blocked"}})
+    if (count > 0) out += (out.empty() ? "" : ", ") + std::to_string(count) + " " + what;
+  return out.empty() ? "none tried" : out;
+}
+
 /// Why a search found nothing.
 std::pair<PlanFailure, std::string> failureOf(const GoalSamplerStatistics& goals,
                                               const std::atomic<bool>* cancel) {
@@ -220,7 +234,12 @@ std::pair<PlanFailure, std::string> failureOf(const GoalSamplerStatistics& goals
     return {PlanFailure::kObjectUnreachable,
             "none of the " + std::to_string(goals.configured_nodes) +
                 " grasps tried has an arm IK solution: the object is out of reach"};
-  return {PlanFailure::kTimeLimit, "no grasp reached within the time limit"};
+  if (goals.valid_goals == 0)
+    return {PlanFailure::kNoValidGoal, "no valid goal within the time limit; of the " +
+                                           std::to_string(goals.rejected.total()) +
+                                           " leaf grasps tried: " + rejectionText(goals.rejected)};
+  return {PlanFailure::kTimeLimit, "no path to any of the " + std::to_string(goals.valid_goals) +
+                                       " goals found within the time limit"};
 }
 
 PlannedGrasp describeGrasp(const robot::RobotModel& robot, const GoalSample& goal,

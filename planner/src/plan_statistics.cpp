@@ -19,6 +19,7 @@ PlanStatistics planStatistics(const TreeStatistics& trees, const GoalSamplerStat
   s.backward_tree_nodes = trees.backward_tree_nodes;
   s.path_length_raw = trees.path_length_raw;
   s.path_length_smoothed = trees.path_length_smoothed;
+  s.rejected = goals.rejected;
   return s;
 }
 

@@ -116,7 +116,7 @@ class CommandLine(ClientTest):
         result = self.client("plan", "--scene", "table", "--object-pose",
                              "3,0,0,0,0,0,1", "--time-limit", "0.3")
         self.assertEqual(result.returncode, 3, result.stderr)
-        self.assertRegex(result.stdout, r"^plan: no plan, (object_unreachable|time_limit): ")
+        self.assertRegex(result.stdout, r"^plan: no plan, (object_unreachable|no_valid_goal): ")
 
     def test_quality_from_a_file_and_from_stdin(self):
         request = os.path.join(self.tmp, "quality.json")

@@ -87,7 +87,8 @@ TEST(PlanResultJson, EchoesTheRequestAndStatistics) {
   EXPECT_EQ(j.at("stats").at("planning_time"), 0.5);
   EXPECT_EQ(j.at("stats").at("iterations"), 42);
   EXPECT_EQ(j.at("stats").at("path_length_smoothed"), 1.5);
-  EXPECT_EQ(j.at("stats").size(), 15u);
+  EXPECT_EQ(j.at("stats").size(), 20u);
+  EXPECT_EQ(j.at("stats").at("rejected_colliding"), 0);
 }
 
 TEST(PlanResultJson, AFailureHasAReasonAndNoGrasp) {

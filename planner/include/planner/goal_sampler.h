@@ -93,6 +93,9 @@ class GraspGoalSampler : public GoalSampler {
                                                              double epsilon);
   GoalSample describe(const grasp::HftsNode& node, const CachedConfiguration& config,
                       GoalKind kind);
+  /// Counts a leaf grasp that gave no goal under its first reason.
+  void countRejection(double epsilon, const grasp::GraspConfigurations& all,
+                      const std::vector<CachedConfiguration>& free);
 
  private:
   /// Sorts Phi(h)'s configurations into free and colliding ones and marks

@@ -53,6 +53,9 @@ enum class PlanFailure {
   kObjectInCollision,  ///< the target object intersects an obstacle
   kObjectUnreachable,  ///< no sampled grasp had an arm IK solution
   kUnknownObject,
+  /// The time ran out without one valid goal; the statistics' `rejected`
+  /// counts say why the grasps tried were rejected.
+  kNoValidGoal,
 };
 
 /// Snake-case name used in JSON and CSV ("time_limit", ...).

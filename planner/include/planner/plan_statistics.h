@@ -22,6 +22,21 @@ struct TreeStatistics {
   double path_length_smoothed = 0.0;
 };
 
+/// Why leaf grasps that went through Phi(h) gave no goal, each counted
+/// once, by the first reason in this order (the order Phi(h) decides them).
+struct GraspRejections {
+  std::uint64_t unstable = 0;   ///< epsilon = 0: no force closure
+  std::uint64_t no_arm_ik = 0;  ///< no arm IK solution for the palm pose
+  std::uint64_t out_of_hand_reach =
+      0;                              ///< no fingertips within max_fingertip_error of the contacts
+  std::uint64_t colliding = 0;        ///< every configuration reaching the contacts collides
+  std::uint64_t closing_blocked = 0;  ///< the closing motion (pre-grasp -> grasp) collides
+
+  std::uint64_t total() const {
+    return unstable + no_arm_ik + out_of_hand_reach + colliding + closing_blocked;
+  }
+};
+
 /// What a goal sampler did.
 struct GoalSamplerStatistics {
   std::uint64_t calls = 0;        ///< GS
@@ -32,6 +47,7 @@ struct GoalSamplerStatistics {
   std::uint64_t nodes_explored = 0;
   std::uint64_t configured_nodes = 0;     ///< nodes whose grasp went through Phi(h)
   std::uint64_t kinematic_solutions = 0;  ///< of those, nodes with at least one IK solution
+  GraspRejections rejected;               ///< leaf grasps without a goal, by reason
 };
 
 struct PlanStatistics {
@@ -51,6 +67,7 @@ struct PlanStatistics {
   std::uint64_t backward_tree_nodes = 0;
   double path_length_raw = 0.0;  ///< Eq. (3) metric
   double path_length_smoothed = 0.0;
+  GraspRejections rejected;  ///< leaf grasps that gave no goal, by reason
 };
 
 /// The statistics of a finished search; planning_time is left to the
@@ -77,6 +94,11 @@ void forEachStatistic(const PlanStatistics& s, F&& f) {
   f("backward_tree_nodes", s.backward_tree_nodes);
   f("path_length_raw", s.path_length_raw);
   f("path_length_smoothed", s.path_length_smoothed);
+  f("rejected_unstable", s.rejected.unstable);
+  f("rejected_no_arm_ik", s.rejected.no_arm_ik);
+  f("rejected_out_of_hand_reach", s.rejected.out_of_hand_reach);
+  f("rejected_colliding", s.rejected.colliding);
+  f("rejected_closing_blocked", s.rejected.closing_blocked);
 }
 
 }  // namespace hfts::planner
