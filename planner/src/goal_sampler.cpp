@@ -279,6 +279,7 @@ void declareParameters(ompl::base::ParamSet& params, GoalSamplingSettings& setti
   declareParameter(params, "i_max", {0, 1, 100000}, c.max_iterations);
   declareParameter(params, "iterations", kDecoupledIterationsRange, settings.decoupled_iterations);
   declareParameter(params, "max_fingertip_error", {1e-9, 0.001, 0.1}, settings.max_fingertip_error);
+  declareParameter(params, "mask_contacts", {0, 1, 1}, settings.mask_contacts);
   declareParameters(params, settings.objective);
 }
 

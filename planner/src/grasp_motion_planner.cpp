@@ -6,8 +6,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 #include <utility>
 
+#include "grasp/contact_mask.h"
 #include "hfts_db/invalid_argument.h"
 #include "planner/lazy_goal_baseline.h"
 #include "planner/multi_tree_cbirrt.h"
@@ -35,6 +38,8 @@ const char* toString(PlanFailure failure) {
       return "unknown_object";
     case PlanFailure::kNoValidGoal:
       return "no_valid_goal";
+    case PlanFailure::kNoStableGraspClearOfSupport:
+      return "no_stable_grasp_clear_of_support";
   }
   return "unknown";
 }
@@ -59,6 +64,10 @@ struct PlanParameters {
       : planner(std::make_shared<MultiTreeCBiRRT>(si)) {
     all.include(planner->params());
     declareParameters(all, goals);
+  }
+  PlanParameters(const ob::SpaceInformationPtr& si, const PlanRequest& request)
+      : PlanParameters(si) {
+    set(request);
   }
   PlanParameters(const PlanParameters&) = delete;
   PlanParameters& operator=(const PlanParameters&) = delete;
@@ -104,10 +113,14 @@ struct Problem {
         seed(request.seed),
         checker(w.robot(), scene, &o.geometry, w.collisionMesh(o.name)),
         si(makeSpaceInformation(w.robot(), checker, kTreeResolution)),
-        parameters(si),
-        space(o, static_cast<int>(w.robot().fingertips().size())) {
-    parameters.set(request);
-  }
+        parameters(si, request),
+        // A robot whose fingertips have no measurable pad is not masked.
+        usable(
+            parameters.goals.mask_contacts == 0 || w.padRadius() <= grasp::kContactMaskClearance
+                ? std::vector<bool>{}
+                : grasp::fingertipReachableContacts(o, scene.target_pose, checker, w.padRadius())),
+        space(o, static_cast<int>(w.robot().fingertips().size()),
+              usable.empty() ? nullptr : &usable) {}
 
   /// The request's object where the request puts it: at object_pose, or
   /// at the scene's target pose (resting on its support when it has one).
@@ -129,6 +142,8 @@ struct Problem {
   robot::CollisionChecker checker;
   const ob::SpaceInformationPtr si;
   PlanParameters parameters;
+  /// Contacts a fingertip can touch here (empty: mask_contacts off, all).
+  const std::vector<bool> usable;
   const grasp::HftsSpace space;
 };
 
@@ -142,6 +157,18 @@ std::pair<PlanFailure, std::string> checkScene(Problem& p) {
     return {PlanFailure::kStartInCollision,
             "the start configuration is in collision: " + pair.first + " touches " + pair.second};
   return {PlanFailure::kNone, ""};
+}
+
+/// Why no grasp can be stable where the object stands (kNone: one may be).
+std::pair<PlanFailure, std::string> checkGraspable(const Problem& p) {
+  if (p.usable.empty() || grasp::stableGraspPossible(p.space, p.parameters.goals.objective))
+    return {PlanFailure::kNone, ""};
+  std::ostringstream why;
+  why << "no stable grasp is possible with the " << p.space.usableContacts() << " of the object's "
+      << p.object.numContacts() << " contacts that a fingertip (pad radius " << std::setprecision(3)
+      << 1000.0 * p.world.padRadius()
+      << " mm) can touch clear of the support and the other obstacles";
+  return {PlanFailure::kNoStableGraspClearOfSupport, why.str()};
 }
 
 /// The time limit (counted from `began`) or the cancel flag.
@@ -283,6 +310,8 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
   Problem problem(world, *object, request, std::move(start));
   result.object_pose = problem.scene.target_pose;
   if (auto why = checkScene(problem); why.first != PlanFailure::kNone)
+    return failed(std::move(result), std::move(why));
+  if (auto why = checkGraspable(problem); why.first != PlanFailure::kNone)
     return failed(std::move(result), std::move(why));
   const ob::PlannerTerminationCondition ptc =
       terminationCondition(request.time_limit, began, cancel);

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "robot/collision_checker.h"
+#include "robot/fingertip_geometry.h"
 
 namespace hfts::planner {
 
@@ -13,7 +14,8 @@ PlanningWorld::PlanningWorld(robot::RobotModel robot, db::HandMap handMap,
       ik_(robot_),
       fast_(robot_, handMap),
       thorough_(robot_, std::move(handMap), grasp::HandQueryOptions::thorough()),
-      objects_(std::move(objects)) {
+      objects_(std::move(objects)),
+      padRadius_(robot::smallestPadRadius(robot_)) {
   for (const auto& [name, database] : objects_)
     collisionMeshes_.emplace(
         name, std::make_unique<const robot::CollisionMesh>(

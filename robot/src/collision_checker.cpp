@@ -250,6 +250,32 @@ bool CollisionChecker::inCollisionAllowingFingertipContact(const Eigen::VectorXd
   return impl_->collide(q, true, pair);
 }
 
+bool CollisionChecker::sphereTouchesObstacles(const Eigen::Vector3d& center, double radius,
+                                              CollisionPair* pair) {
+  if (!(radius > 0.0) || !std::isfinite(radius) || !center.allFinite())
+    throw InvalidArgument("sphere", "needs a finite centre and a radius > 0");
+  Object sphere(std::make_shared<fcl::Sphered>(radius), Eigen::Matrix3d::Identity(), center);
+  sphere.computeAABB();
+  Tag tag{-1, false, false, "sphere"};
+  sphere.setUserData(&tag);
+  QueryData data;
+  impl_->environment.collide(&sphere, &data, [](Object* o1, Object* o2, void* raw) {
+    if (static_cast<const Tag*>(o1->getUserData())->target ||
+        static_cast<const Tag*>(o2->getUserData())->target)
+      return false;
+    fcl::CollisionRequestd request;
+    fcl::CollisionResultd result;
+    if (fcl::collide(o1, o2, request, result) == 0) return false;
+    auto* d = static_cast<QueryData*>(raw);
+    d->collision = true;
+    d->pair = {static_cast<const Tag*>(o1->getUserData())->name,
+               static_cast<const Tag*>(o2->getUserData())->name};
+    return true;
+  });
+  if (data.collision && pair != nullptr) *pair = data.pair;
+  return data.collision;
+}
+
 bool CollisionChecker::targetTouchesObstacles(CollisionPair* pair) {
   QueryData data;
   impl_->environment.collide(&data, targetCallback);

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -123,6 +124,77 @@ TEST(GraspMotionPlanner, AnObjectThatRestsOnASupportIsPutOnItsTop) {
   // An explicit object pose is used as it is.
   r.object_pose = Eigen::Isometry3d(Eigen::Translation3d(0.55, 0, 0.2));
   EXPECT_NEAR(planGrasp(world(), r).object_pose.translation().z(), 0.2, 1e-12);
+}
+
+/// The box standing in a tight slot on the table: walls 1 mm from its four
+/// sides leave a fingertip only its top face.
+PlanRequest boxInASlot(double timeLimit) {
+  PlanRequest r = request("table", "box", 1);
+  r.time_limit = timeLimit;
+  robot::Scene& s = r.scene;
+  s.obstacles.erase(std::remove_if(s.obstacles.begin(), s.obstacles.end(),
+                                   [](const robot::Obstacle& o) { return o.name != "table"; }),
+                    s.obstacles.end());
+  const Eigen::Vector3d at = s.target_pose.translation();
+  const auto wall = [&](const char* name, double dx, double dy, double sx, double sy) {
+    robot::Obstacle o;
+    o.name = name;
+    o.size << sx, sy, 0.25;
+    o.pose.translation() = at + Eigen::Vector3d(dx, dy, 0.125);
+    s.obstacles.push_back(o);
+  };
+  wall("left", 0, -0.031 - 0.01, 0.3, 0.02);  // the box is 8 x 6 cm
+  wall("right", 0, 0.031 + 0.01, 0.3, 0.02);
+  wall("front", 0.041 + 0.01, 0, 0.02, 0.3);
+  wall("back", -0.041 - 0.01, 0, 0.02, 0.3);
+  s.target_rest_on = "table";
+  return r;
+}
+
+TEST(GraspMotionPlanner, FailsAtOnceWhenNoStableGraspIsClearOfTheSupport) {
+  const PlanResult result = planGrasp(world(), boxInASlot(10.0));
+  EXPECT_EQ(result.failure, PlanFailure::kNoStableGraspClearOfSupport) << result.message;
+  EXPECT_LT(result.stats.planning_time, 1.0);
+  EXPECT_EQ(result.stats.goal_sampling_calls, 0u);
+  EXPECT_NE(result.message.find("pad radius 14 mm"), std::string::npos) << result.message;
+  // Without the mask the search has every contact and runs to its limit.
+  PlanRequest unmasked = boxInASlot(0.5);
+  unmasked.parameters["mask_contacts"] = "0";
+  const PlanResult searched = planGrasp(world(), unmasked);
+  EXPECT_FALSE(searched.success);
+  EXPECT_NE(searched.failure, PlanFailure::kNoStableGraspClearOfSupport);
+  EXPECT_GE(searched.stats.planning_time, 0.5);
+}
+
+TEST(GraspMotionPlanner, MaskedGraspsNeverUseContactsAFingertipCannotTouch) {
+  // The box on the bare table: its lowest 13 mm are out of a fingertip's
+  // reach; every planned contact lies higher.
+  PlanRequest r = request("table", "box", 1);
+  r.scene.obstacles.erase(r.scene.obstacles.begin() + 1, r.scene.obstacles.end());
+  r.scene.target_rest_on = "table";
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    r.seed = seed;
+    const PlanResult result = planGrasp(world(), r);
+    ASSERT_TRUE(result.success) << result.message;
+    const double bottom = result.object_pose.translation().z();
+    for (Eigen::Index f = 0; f < result.grasp.contacts_world.cols(); ++f) {
+      const Eigen::Vector3d c = result.grasp.contacts_world.col(f);
+      const Eigen::Vector3d outward = -result.grasp.inward_normals_world.col(f);
+      // The pad's sphere (radius 14 mm, less the 1 mm clearance) clears the table top.
+      EXPECT_GT((c + 0.014 * outward).z() - 0.013, bottom - 0.001 - 1e-9) << "seed " << seed;
+    }
+  }
+}
+
+TEST(GraspMotionPlanner, GoalsWithoutAPathEndAtTheTimeLimit) {
+  // Only goal sampling, no tree growth (p_g = 1): goals are found, no path.
+  PlanRequest r = request("table", "mug", 1);
+  r.time_limit = 1.0;
+  r.parameters = {{"p_max", "1"}, {"p_min", "1"}};
+  const PlanResult result = planGrasp(world(), r);
+  EXPECT_EQ(result.failure, PlanFailure::kTimeLimit) << result.message;
+  EXPECT_GT(result.stats.valid_goal_samples, 0u);
+  EXPECT_NE(result.message.find("no path"), std::string::npos) << result.message;
 }
 
 TEST(GraspMotionPlanner, UnknownObjectIsReported) {
@@ -248,7 +320,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
     expected.erase(it);
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
-  EXPECT_EQ(plannerParameters(world()).size(), 22u) << "a parameter was added or removed";
+  EXPECT_EQ(plannerParameters(world()).size(), 23u) << "a parameter was added or removed";
 }
 
 }  // namespace

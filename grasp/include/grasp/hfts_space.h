@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "hfts_db/object_database.h"
 
@@ -34,46 +35,73 @@ struct GraspContacts {
   Eigen::Matrix3Xd outward_normals;
 };
 
-/// The HFTS of one object database for an m-finger hand. The database must
-/// outlive the space.
+/// The HFTS of one object database for an m-finger hand, optionally
+/// restricted to the contacts a placement leaves usable (contact_mask.h):
+/// a partition without a usable contact is then no node's partition, so no
+/// node that needs it is ever proposed, and a partition's representative
+/// grasp uses its usable contacts only.
 class HftsSpace {
  public:
-  /// Throws std::invalid_argument unless 1 <= fingers <= kMaxFingers.
-  HftsSpace(const db::ObjectDatabase& database, int fingers);
+  /// `usable` (may be null: every contact) holds one flag per contact of
+  /// the database. The database must outlive the space. Throws
+  /// InvalidArgument unless 1 <= fingers <= kMaxFingers and `usable` has
+  /// one flag per contact.
+  HftsSpace(const db::ObjectDatabase& database, int fingers,
+            const std::vector<bool>* usable = nullptr);
 
   int fingers() const { return fingers_; }
   int numLevels() const { return static_cast<int>(database_.levels.size()); }
   HftsNode root() const { return HftsNode{}; }
   bool isLeaf(const HftsNode& node) const { return node.level == numLevels(); }
   const db::ObjectDatabase& database() const { return database_; }
+  /// Contacts usable at all (all of them without a mask).
+  std::size_t usableContacts() const { return usableContacts_; }
 
   /// Number of children: the product over fingers of the partitions'
-  /// child counts (8000 for the root of a 20-4-4 space). 0 for leaves.
+  /// usable child counts (8000 for the root of a full 20-4-4 space). 0 for
+  /// leaves, and for the root when no contact is usable.
   std::uint64_t numChildren(const HftsNode& node) const;
   /// Child number `index` (0 <= index < numChildren) in mixed radix over
-  /// the fingers' child partitions.
+  /// the fingers' usable child partitions.
   HftsNode child(const HftsNode& parent, std::uint64_t index) const;
   /// The inverse of child(); the parent is implied by the child's partitions.
   std::uint64_t childIndex(const HftsNode& child) const;
   HftsNode parent(const HftsNode& node) const;
   /// Number of leaves in the branch rooted at `node` (1 for a leaf): the
-  /// product over fingers of the leaf partitions below each partition.
+  /// product over fingers of the usable leaf partitions below each partition.
   double numLeaves(const HftsNode& node) const;
 
   /// The node's representative grasp: per finger, the representative
-  /// contact of its partition, with the partition's normalised mean
-  /// (outward) normal. Root: throws std::invalid_argument.
+  /// contact of its partition (the usable contact nearest to the mean of
+  /// the usable ones; the database's own when all are usable), with the
+  /// normalised mean (outward) normal of those contacts. Root: throws
+  /// std::invalid_argument.
   GraspContacts representative(const HftsNode& node) const;
 
+  /// Every usable leaf partition's representative contact, one column
+  /// each (all the contacts any leaf grasp of the space can use).
+  GraspContacts leafContacts() const;
+
  private:
-  /// Children of partition `part` of `level` (0: the root) as a range of
-  /// partitions of level + 1.
-  std::pair<std::uint32_t, std::uint32_t> childRange(int level, std::uint32_t part) const;
+  /// Per partition of a level (level 0: the root, one partition).
+  struct Partition {
+    std::vector<std::uint32_t> children;  ///< usable partitions of the next level
+    std::uint32_t slot = 0;               ///< index among its parent's children
+    std::uint32_t parent = 0;             ///< partition of the level above
+    double leaves = 0.0;                  ///< usable leaf partitions below (1 for a leaf)
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< representative contact
+    Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();   ///< mean outward normal
+  };
+  const Partition& partition(int level, std::uint32_t part) const {
+    return levels_[static_cast<std::size_t>(level)][part];
+  }
+  void representWithUsableContacts(Partition& out, const db::HierarchyNode& node,
+                                   const std::vector<bool>& usable) const;
 
   const db::ObjectDatabase& database_;
   int fingers_;
-  std::vector<std::vector<std::uint32_t>> parent_;  // parent partition per level (1-based)
-  std::vector<std::vector<double>> leaves_;         // leaf partitions below, per level (1-based)
+  std::size_t usableContacts_ = 0;
+  std::vector<std::vector<Partition>> levels_;  // [0]: the root; [l]: database level l - 1
 };
 
 }  // namespace hfts::grasp

@@ -169,6 +169,11 @@ struct GoalSamplingSettings {
   grasp::ObjectiveOptions objective;  ///< "alpha", "friction", "cone_edges"
   /// Largest fingertip-to-contact distance of a goal, m ("max_fingertip_error").
   double max_fingertip_error = 0.005;
+  /// 1: the HFTS holds only the contacts a fingertip can touch where the
+  /// object stands (grasp/contact_mask.h), and a plan fails at once when
+  /// those allow no stable grasp; 0: every contact, as in the paper
+  /// ("mask_contacts").
+  int mask_contacts = 1;
 };
 
 /// The range of the decoupled sampler's i ("iterations"), for programs

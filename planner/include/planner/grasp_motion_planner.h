@@ -56,6 +56,9 @@ enum class PlanFailure {
   /// The time ran out without one valid goal; the statistics' `rejected`
   /// counts say why the grasps tried were rejected.
   kNoValidGoal,
+  /// No grasp can be stable with the contacts a fingertip can touch where
+  /// the object stands (mask_contacts): decided before any search.
+  kNoStableGraspClearOfSupport,
 };
 
 /// Snake-case name used in JSON and CSV ("time_limit", ...).

@@ -52,6 +52,9 @@ class PlanningWorld {
   /// world; nullptr for an unknown name.
   const robot::CollisionMesh* collisionMesh(const std::string& name) const;
   std::vector<std::string> objectNames() const;
+  /// The smallest fingertip's pad radius (robot::smallestPadRadius): the
+  /// room a finger needs beside a contact.
+  double padRadius() const { return padRadius_; }
 
  private:
   robot::RobotModel robot_;
@@ -60,6 +63,7 @@ class PlanningWorld {
   grasp::HandReachability thorough_;
   std::map<std::string, db::ObjectDatabase> objects_;
   std::map<std::string, std::unique_ptr<const robot::CollisionMesh>> collisionMeshes_;
+  double padRadius_ = 0.0;
 };
 
 }  // namespace hfts::planner

@@ -66,6 +66,15 @@ class CollisionChecker {
   /// places the object inside something).
   bool targetTouchesObstacles(CollisionPair* pair = nullptr);
 
+  /// True when a sphere (world frame) intersects an obstacle (touching
+  /// counts; the target object is not an obstacle); `pair` gets "sphere"
+  /// and the obstacle. For asking where a fingertip fits
+  /// (grasp/contact_mask.h); the robot is not involved and checkCount()
+  /// does not change. Throws InvalidArgument for a radius that is not > 0
+  /// or a non-finite centre.
+  bool sphereTouchesObstacles(const Eigen::Vector3d& center, double radius,
+                              CollisionPair* pair = nullptr);
+
   /// Smallest distance between the robot and the environment including the
   /// target object (m); 0 when in collision.
   double clearance(const Eigen::VectorXd& q);
