@@ -26,9 +26,17 @@ nlohmann::json parametersJson(const db::BuildParameters& p) {
           {"seed", p.seed}};
 }
 
+nlohmann::json graspabilityJson(const GraspabilityReport& r) {
+  if (!r.value) return {{"robot", r.robot}, {"note", r.note}};
+  return {
+      {"robot", r.robot},          {"fraction", r.value->fraction()}, {"sampled", r.value->sampled},
+      {"stable", r.value->stable}, {"reachable", r.value->reachable}, {"tolerance", r.tolerance}};
+}
+
 }  // namespace
 
-nlohmann::json databaseSummaryJson(const db::ObjectDatabase& db) {
+nlohmann::json databaseSummaryJson(const db::ObjectDatabase& db,
+                                   const GraspabilityReport& graspability) {
   nlohmann::json nodes = nlohmann::json::array();
   for (const auto& level : db.levels) nodes.push_back(level.size());
   nlohmann::json filters = nlohmann::json::array();
@@ -54,10 +62,12 @@ nlohmann::json databaseSummaryJson(const db::ObjectDatabase& db) {
           {"bbox_max", vec3(g.bbox_max)},
           {"hull_vertices", g.hull_vertices.rows()},
           {"hull_faces", g.hull_faces.rows()},
-          {"parameters", parametersJson(db.parameters)}};
+          {"parameters", parametersJson(db.parameters)},
+          {"graspability", graspabilityJson(graspability)}};
 }
 
-std::string databaseSummaryText(const db::ObjectDatabase& db) {
+std::string databaseSummaryText(const db::ObjectDatabase& db,
+                                const GraspabilityReport& graspability) {
   const db::ObjectGeometry& g = db.geometry;
   std::ostringstream out;
   out.precision(4);
@@ -80,6 +90,16 @@ std::string databaseSummaryText(const db::ObjectDatabase& db) {
       << "] m\n"
       << "convex hull     " << g.hull_vertices.rows() << " vertices, " << g.hull_faces.rows()
       << " triangles\n";
+  out << "graspability    ";
+  if (const auto& v = graspability.value) {
+    out.precision(3);
+    out << v->fraction() << " for " << graspability.robot << " in free space: " << v->reachable
+        << " of " << v->sampled
+        << " sampled leaf grasps stable and within R(h) <= " << 1000.0 * graspability.tolerance
+        << " mm (" << v->stable << " stable)\n";
+  } else {
+    out << "unknown: " << graspability.note << "\n";
+  }
   return out.str();
 }
 

@@ -67,12 +67,13 @@ void addBuildOptions(CLI::App& app, BuildParameters& p) {
   app.add_option("--seed", p.seed, "Seed of sampling and clustering")->capture_default_str();
 }
 
-int inspect(const std::string& file, bool json) {
+int inspect(const std::string& file, bool json, const std::string& robotConfig) {
   const hfts::db::ObjectDatabase db = hfts::db::loadObjectDatabase(file);
+  const auto graspability = hfts::preprocess::graspabilityReport(db, file, robotConfig);
   if (json)
-    std::cout << hfts::preprocess::databaseSummaryJson(db).dump(2) << "\n";
+    std::cout << hfts::preprocess::databaseSummaryJson(db, graspability).dump(2) << "\n";
   else
-    std::cout << hfts::preprocess::databaseSummaryText(db);
+    std::cout << hfts::preprocess::databaseSummaryText(db, graspability);
   return 0;
 }
 
@@ -139,7 +140,8 @@ int main(int argc, char** argv) {
       ->delimiter(',')
       ->needs(sceneOpt);
   app.add_option("--robot", sceneOptions.robot,
-                 "Robot config (default robots/kr5_sdh/kr5_sdh.json)");
+                 "Robot config, of --export-scene and of --inspect's graspability (default "
+                 "robots/kr5_sdh/kr5_sdh.json)");
   app.add_option("--db", sceneOptions.databases,
                  "With --export-scene: directory of object databases (default build/databases)")
       ->needs(sceneOpt);
@@ -154,7 +156,10 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
-    if (!inspectFile.empty()) return inspect(inspectFile, json);
+    if (!inspectFile.empty())
+      return inspect(inspectFile, json,
+                     hfts::preprocess::repositoryPath(sceneOptions.robot,
+                                                      "robots/kr5_sdh/kr5_sdh.json", argv[0]));
     if (!plyArgs.empty()) return exportPly(plyArgs);
     if (!handConfig.empty()) {
       if (outDir.empty()) throw std::invalid_argument("--hand needs -o DIR");

@@ -26,6 +26,13 @@ const char* typeName(robot::Obstacle::Type type) {
   return "unknown";
 }
 
+json graspabilityJson(const grasp::Graspability& g) {
+  return {{"fraction", g.fraction()},
+          {"sampled", g.sampled},
+          {"stable", g.stable},
+          {"reachable", g.reachable}};
+}
+
 }  // namespace
 
 json robotJson(const robot::RobotModel& robot) {
@@ -61,6 +68,7 @@ json objectsJson(const PlanningCatalog& catalog) {
                        {"nodes_per_level", nodes},
                        {"center_of_mass", vectorJson(o.geometry.center_of_mass)},
                        {"rho", o.geometry.rho},
+                       {"graspability", graspabilityJson(catalog.graspability(name))},
                        {"source_mesh", o.source_mesh}});
   }
   return {{"objects", std::move(objects)}, {"skipped", catalog.skipped()}};

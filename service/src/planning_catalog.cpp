@@ -14,7 +14,13 @@ PlanningCatalog::PlanningCatalog(std::shared_ptr<const planner::PlanningWorld> w
       scenes_(std::move(scenes)),
       scene_dir_(std::move(sceneDir)),
       parameters_(planner::plannerParameters(*world_)),
-      skipped_(std::move(skipped)) {}
+      skipped_(std::move(skipped)) {
+  const int fingers = static_cast<int>(world_->robot().fingertips().size());
+  for (const std::string& name : world_->objectNames())
+    graspability_.emplace(name,
+                          grasp::graspability(grasp::HftsSpace(*world_->object(name), fingers),
+                                              world_->handMap(), world_->thoroughHandMap()));
+}
 
 std::shared_ptr<const PlanningCatalog> PlanningCatalog::load(const CatalogSources& sources) {
   if (!fs::is_directory(sources.scene_dir))

@@ -176,6 +176,21 @@ class PreprocessCli(unittest.TestCase):
                 open(os.path.join(second, "kr5_sdh_hand_map.h5"), "rb") as b:
             self.assertEqual(a.read(), b.read())
         self.assertEqual(run("--hand", robot).returncode, 2)
+        # With the hand map beside the database, --inspect reports graspability.
+        database = os.path.join(first, "mug.h5")
+        shutil.copy(os.path.join(self.out, "mug.h5"), database)
+        summary = json.loads(run("--inspect", database, "--json", check=0).stdout)["graspability"]
+        self.assertEqual((summary["robot"], summary["sampled"], summary["tolerance"]),
+                         ("kr5_sdh", 1000, 0.005))
+        self.assertGreater(summary["reachable"], 0)
+        self.assertLessEqual(summary["reachable"], summary["stable"])
+        self.assertAlmostEqual(summary["fraction"], summary["reachable"] / 1000)
+        text = run("--inspect", database, check=0).stdout
+        self.assertRegex(text, r"graspability    0\.\d+ for kr5_sdh in free space: \d+ of 1000")
+        # Without one it says how to build it.
+        text = run("--inspect", os.path.join(self.out, "mug.h5"), check=0).stdout
+        self.assertIn("graspability    unknown: no hand map", text)
+        self.assertIn("hfts-preprocess --hand", text)
         result = run("--hand", os.path.join(self.tmp, "missing.json"), "-o", first)
         self.assertEqual(result.returncode, 1)
         self.assertIn("missing.json", result.stderr)

@@ -40,6 +40,13 @@ TEST(CatalogJson, ListsTheObjectsWithTheirHierarchy) {
   EXPECT_EQ(mug.at("rho"), db.geometry.rho);
   EXPECT_EQ(mug.at("source_mesh"), "mug.ply");
   EXPECT_EQ(o.at("skipped"), json::array());
+  // Graspability in free space: some, not all, sampled leaf grasps.
+  const json& g = mug.at("graspability");
+  EXPECT_EQ(g.at("sampled"), 1000);
+  EXPECT_GT(g.at("reachable").get<int>(), 0);
+  EXPECT_LE(g.at("reachable").get<int>(), g.at("stable").get<int>());
+  EXPECT_LT(g.at("stable").get<int>(), 1000);
+  EXPECT_DOUBLE_EQ(g.at("fraction").get<double>(), g.at("reachable").get<double>() / 1000.0);
 }
 
 TEST(CatalogJson, ListsTheScenes) {
