@@ -30,19 +30,43 @@ std::optional<int> positiveInteger(const std::string& digits) {
 
 }  // namespace
 
-Algorithm parseAlgorithm(const std::string& text) {
-  if (text == "coupled") return {text, planner::PlanAlgorithm::kCoupled, std::nullopt};
-  if (text == "rrtconnect") return {text, planner::PlanAlgorithm::kRrtConnect, std::nullopt};
+namespace {
+
+/// The algorithm part of a name (without ":parameter=value" settings).
+Algorithm parseBase(const std::string& text) {
+  if (text == "coupled") return {text, planner::PlanAlgorithm::kCoupled, std::nullopt, {}};
+  if (text == "rrtconnect") return {text, planner::PlanAlgorithm::kRrtConnect, std::nullopt, {}};
   for (const auto& [prefix, algorithm] :
        {std::pair{std::string("decoupled"), planner::PlanAlgorithm::kDecoupled},
         std::pair{std::string("rrtconnect"), planner::PlanAlgorithm::kRrtConnect}}) {
     if (text.rfind(prefix, 0) != 0) continue;
-    if (const auto n = positiveInteger(text.substr(prefix.size()))) return {text, algorithm, n};
+    if (const auto n = positiveInteger(text.substr(prefix.size()))) return {text, algorithm, n, {}};
   }
   throw UsageError("unknown algorithm '" + text +
                    "' (valid: coupled, decoupledN and rrtconnect[N] with N = 1.." +
                    std::to_string(kMaxIterations) +
-                   " iterations per level, e.g. decoupled20, rrtconnect)");
+                   " iterations per level, e.g. decoupled20, rrtconnect; any of them with "
+                   "planner parameters as :name=value, e.g. coupled:mask_contacts=0)");
+}
+
+}  // namespace
+
+Algorithm parseAlgorithm(const std::string& text) {
+  std::size_t colon = text.find(':');
+  Algorithm a = parseBase(text.substr(0, colon));
+  a.name = text;
+  while (colon != std::string::npos) {
+    const std::size_t next = text.find(':', colon + 1);
+    const std::string setting = text.substr(colon + 1, next - colon - 1);
+    const std::size_t equals = setting.find('=');
+    if (equals == std::string::npos || equals == 0 || equals + 1 == setting.size())
+      throw UsageError("algorithm '" + text + "': '" + setting +
+                       "' is not a planner parameter setting name=value");
+    if (!a.parameters.emplace(setting.substr(0, equals), setting.substr(equals + 1)).second)
+      throw UsageError("algorithm '" + text + "' sets '" + setting.substr(0, equals) + "' twice");
+    colon = next;
+  }
+  return a;
 }
 
 std::vector<Algorithm> parseAlgorithms(const std::vector<std::string>& names) {

@@ -3,6 +3,7 @@
 // the checks that turn a bad argument into a usage error naming it.
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -20,12 +21,17 @@ class UsageError : public std::invalid_argument {
 
 /// One benchmarked planner variant, named as on the command line.
 struct Algorithm {
-  std::string name;  ///< "coupled" or "decoupledN"
+  std::string name;  ///< as given: "coupled", "decoupledN", "coupled:mask_contacts=0", ...
   planner::PlanAlgorithm algorithm = planner::PlanAlgorithm::kCoupled;
   std::optional<int> iterations;  ///< decoupled only: N iterations per level
+  /// Planner parameters of every run (the ":name=value" settings).
+  std::map<std::string, std::string> parameters;
 };
 
-/// Parses "coupled" or "decoupledN" (N >= 1). Throws UsageError.
+/// Parses "coupled", "decoupledN" or "rrtconnect[N]" (N >= 1), each
+/// optionally followed by planner parameter settings ":name=value", e.g.
+/// "coupled:mask_contacts=0:other_postures=1" (names and values are
+/// checked by the planner). Throws UsageError.
 Algorithm parseAlgorithm(const std::string& text);
 
 /// Parses every name; duplicates are a UsageError (they would count twice).

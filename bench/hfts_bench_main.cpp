@@ -5,6 +5,7 @@
 #include <unistd.h>
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <iomanip>
@@ -190,12 +191,25 @@ std::vector<Case> casesOf(const std::vector<Scene>& scenes, const PlanningWorld&
   return cases;
 }
 
+/// The planner parameters the algorithms set must exist (values are
+/// checked by the first run).
+void checkParameterNames(const std::vector<Algorithm>& algorithms, const PlanningWorld& world) {
+  std::vector<std::string> declared;
+  for (const auto& p : hfts::planner::plannerParameters(world)) declared.push_back(p.name);
+  for (const Algorithm& a : algorithms)
+    for (const auto& setting : a.parameters)
+      if (std::find(declared.begin(), declared.end(), setting.first) == declared.end())
+        throw UsageError("algorithm '" + a.name + "': unknown planner parameter '" + setting.first +
+                         "' (see docs/planning.md#parameters)");
+}
+
 Experiment prepare(const Options& o) {
   Experiment e;
   e.algorithms = hfts::bench::parseAlgorithms(o.algorithms);
   hfts::bench::checkRunsAndTimeLimit(o.runs, o.timeLimit);
   const std::vector<Scene> scenes = loadScenes(o);
   e.world = loadWorld(o);
+  checkParameterNames(e.algorithms, *e.world);
   e.cases = casesOf(scenes, *e.world, o);
   e.runs = o.runs;
   e.timeLimit = o.timeLimit;
@@ -216,6 +230,7 @@ RunRecord runOnce(const Experiment& e, const Case& c, const Algorithm& algorithm
   request.object = c.object;
   request.algorithm = algorithm.algorithm;
   request.iterations = algorithm.iterations;
+  request.parameters = algorithm.parameters;
   request.seed = static_cast<std::uint64_t>(seed);
   request.time_limit = e.timeLimit;
   const double cpu = processCpuSeconds();

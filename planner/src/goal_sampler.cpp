@@ -54,14 +54,28 @@ GraspGoalSampler::GraspGoalSampler(GoalSamplingContext context) : context_(conte
 }
 
 std::vector<CachedConfiguration> GraspGoalSampler::configurationsOf(const grasp::HftsNode& node,
-                                                                    double epsilon) {
-  const grasp::GraspConfigurations all =
-      context_.configurator->configure(*context_.space, node, *context_.rng);
+                                                                    double epsilon,
+                                                                    bool* otherHandsSampled) {
+  std::vector<grasp::GraspConfigurations> postures{
+      context_.configurator->configure(*context_.space, node, *context_.rng)};
   ++stats_.configured_nodes;
   std::vector<CachedConfiguration> free, colliding;
-  label(node, epsilon, all, free, colliding);
+  label(node, epsilon, postures.front(), free, colliding);
+  const bool leaf = context_.space->isLeaf(node);
+  const auto isGoal = [](const CachedConfiguration& c) { return c.goal; };
+  if (context_.other_postures && leaf && epsilon > 0.0 &&
+      std::none_of(free.begin(), free.end(), isGoal)) {
+    // The first posture gives no goal: try the hand's other ways of taking
+    // the same contacts (another finger on a contact, the palm turned).
+    for (grasp::GraspConfigurations& other : context_.configurator->configureOtherHands(
+             context_.space->representative(node), context_.max_fingertip_error, *context_.rng)) {
+      label(node, epsilon, other, free, colliding);
+      postures.push_back(std::move(other));
+    }
+    if (otherHandsSampled != nullptr) *otherHandsSampled = true;
+  }
   if (!free.empty() || !colliding.empty()) ++stats_.kinematic_solutions;
-  if (context_.space->isLeaf(node)) countRejection(epsilon, all, free);
+  if (leaf) countRejection(epsilon, postures, free);
   // C_n holds the free configurations, or else one colliding configuration
   // (Sec. III-B.3): it still tells how close the grasp is to C_free. One,
   // as in the paper: the best of all IK branches would rate a grasp that
@@ -103,20 +117,23 @@ void GraspGoalSampler::label(const grasp::HftsNode& node, double epsilon,
   }
 }
 
-void GraspGoalSampler::countRejection(double epsilon, const grasp::GraspConfigurations& all,
+void GraspGoalSampler::countRejection(double epsilon,
+                                      const std::vector<grasp::GraspConfigurations>& postures,
                                       const std::vector<CachedConfiguration>& free) {
   GraspRejections& r = stats_.rejected;
-  const auto hasIk = [](const grasp::GraspConfiguration& c) {
-    return c.label != grasp::ConfigurationLabel::kNoKinematicSolution;
-  };
   const double tolerance = context_.max_fingertip_error;
   const auto reaches = [tolerance](const auto& c) { return c.fingertip_error <= tolerance; };
+  const auto any = [&](auto&& predicate) {
+    for (const grasp::GraspConfigurations& p : postures)
+      for (const grasp::GraspConfiguration& c : p.configurations)
+        if (c.label != grasp::ConfigurationLabel::kNoKinematicSolution && predicate(c)) return true;
+    return false;
+  };
   if (!(epsilon > 0.0))
     ++r.unstable;
-  else if (std::none_of(all.configurations.begin(), all.configurations.end(), hasIk))
+  else if (!any([](const grasp::GraspConfiguration&) { return true; }))
     ++r.no_arm_ik;
-  else if (std::none_of(all.configurations.begin(), all.configurations.end(),
-                        [&](const grasp::GraspConfiguration& c) { return hasIk(c) && reaches(c); }))
+  else if (!any(reaches))
     ++r.out_of_hand_reach;
   else if (std::none_of(free.begin(), free.end(), reaches))
     ++r.colliding;
@@ -212,7 +229,11 @@ int HftsGoalSampler::sampleNewChild(int parent, int iterations) {
   if (!best.found) return GoalHierarchyCache::kNone;
   ++stats_.nodes_explored;
   const double epsilon = best.evaluation.quality;
-  return cache_.addChild(parent, best.best, configurationsOf(best.best, epsilon), epsilon);
+  bool otherHands = false;
+  const int child = cache_.addChild(parent, best.best,
+                                    configurationsOf(best.best, epsilon, &otherHands), epsilon);
+  cache_.node(child).other_hands_sampled = otherHands;
+  return child;
 }
 
 const CachedConfiguration* HftsGoalSampler::sampleNullSpace(int node) {
@@ -280,6 +301,7 @@ void declareParameters(ompl::base::ParamSet& params, GoalSamplingSettings& setti
   declareParameter(params, "iterations", kDecoupledIterationsRange, settings.decoupled_iterations);
   declareParameter(params, "max_fingertip_error", {1e-9, 0.001, 0.1}, settings.max_fingertip_error);
   declareParameter(params, "mask_contacts", {0, 1, 1}, settings.mask_contacts);
+  declareParameter(params, "other_postures", {0, 1, 1}, settings.other_postures);
   declareParameters(params, settings.objective);
 }
 

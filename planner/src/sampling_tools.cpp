@@ -20,7 +20,8 @@ GoalSamplingContext SamplingTools::context(std::mt19937_64& rng,
           &checker,
           &rng,
           approachResolution,
-          settings.max_fingertip_error};
+          settings.max_fingertip_error,
+          settings.other_postures != 0};
 }
 
 std::unique_ptr<GraspGoalSampler> SamplingTools::makeSampler(bool coupled, std::mt19937_64& rng,

@@ -116,6 +116,24 @@ class BenchCli(unittest.TestCase):
         self.assertIn("--placements: in scene 'table': unknown placement 'upside_down' "
                       "(valid: target", err)
 
+    def test_algorithms_with_planner_parameters(self):
+        err = self.usage_error("--algorithms", "coupled:mask_contacts")
+        self.assertIn("'mask_contacts' is not a planner parameter setting name=value", err)
+        err = self.usage_error("--algorithms", "coupled:warp=9")
+        self.assertIn("algorithm 'coupled:warp=9': unknown planner parameter 'warp'", err)
+        err = self.usage_error("--algorithms", "coupled:p_max=1:p_max=0")
+        self.assertIn("sets 'p_max' twice", err)
+        csv_path = os.path.join(self.tmp, "variants.csv")
+        result = self.run_bench("--out", csv_path, "--scenes", "table", "--runs", "1",
+                                "--time-limit", "5",
+                                "--algorithms", "coupled:smoothing_steps=0,coupled")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(csv_path) as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual([r["algorithm"] for r in rows], ["coupled:smoothing_steps=0", "coupled"])
+        unsmoothed = rows[0]
+        self.assertEqual(unsmoothed["success"], "1")
+
     def test_unknown_algorithm_is_a_usage_error(self):
         err = self.usage_error("--algorithms", "coupled,decoupledX")
         self.assertIn("unknown algorithm 'decoupledX'", err)

@@ -237,5 +237,25 @@ TEST(HftsGoalSampler, NothingWhenAIsEmptyAndNoGoalIsFound) {
   EXPECT_EQ(stats.valid_goals + stats.approximate_goals, 0u);
 }
 
+TEST(HftsGoalSampler, OtherPosturesAreTriedForStableLeavesWithoutAGoal) {
+  for (const bool other : {false, true}) {
+    SCOPED_TRACE(other ? "other_postures on" : "other_postures off");
+    test::TableMug setup;
+    setup.context.other_postures = other;
+    HftsGoalSampler sampler(setup.context, {});
+    for (int call = 0; call < 60; ++call) sampler.sample(setup.knowledge, [] { return false; });
+    int stableWithoutGoal = 0;
+    for (std::size_t n = 1; n < sampler.cache().size(); ++n) {
+      const CacheNode& node = sampler.cache().node(static_cast<int>(n));
+      const bool goal = std::any_of(node.configurations.begin(), node.configurations.end(),
+                                    [](const CachedConfiguration& c) { return c.goal; });
+      if (!sampler.cache().isLeaf(static_cast<int>(n)) || !(node.quality > 0.0) || goal) continue;
+      ++stableWithoutGoal;
+      EXPECT_EQ(node.other_hands_sampled, other) << "node " << n;
+    }
+    EXPECT_GT(stableWithoutGoal, 0);
+  }
+}
+
 }  // namespace
 }  // namespace hfts::planner

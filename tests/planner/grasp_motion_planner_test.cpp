@@ -197,6 +197,17 @@ TEST(GraspMotionPlanner, GoalsWithoutAPathEndAtTheTimeLimit) {
   EXPECT_NE(result.message.find("no path"), std::string::npos) << result.message;
 }
 
+TEST(GraspMotionPlanner, OtherPosturesPlansAreValidAndCountEveryPosture) {
+  // The mug on the bare table, every goal hand posture of a grasp tried.
+  PlanRequest r = request("table", "mug", 2);
+  r.parameters["other_postures"] = "1";
+  const PlanResult result = planGrasp(world(), r);
+  expectValidPlan(r, result);
+  const GraspRejections& x = result.stats.rejected;
+  EXPECT_EQ(x.total(),
+            x.unstable + x.no_arm_ik + x.out_of_hand_reach + x.colliding + x.closing_blocked);
+}
+
 TEST(GraspMotionPlanner, UnknownObjectIsReported) {
   const PlanResult result = planGrasp(world(), request("table", "teapot", 1));
   EXPECT_FALSE(result.success);
@@ -320,7 +331,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
     expected.erase(it);
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
-  EXPECT_EQ(plannerParameters(world()).size(), 23u) << "a parameter was added or removed";
+  EXPECT_EQ(plannerParameters(world()).size(), 24u) << "a parameter was added or removed";
 }
 
 }  // namespace

@@ -52,6 +52,9 @@ struct GoalSamplingContext {
   double approach_resolution = 0.0025;
   /// Largest fingertip-to-contact distance of a goal (m).
   double max_fingertip_error = 0.005;
+  /// Whether a stable leaf without a goal tries the hand's other postures
+  /// (GoalSamplingSettings::other_postures).
+  bool other_postures = false;
 };
 
 /// SAMPLEGOAL of Algorithm 1 (line 11): where the multi-tree planner gets
@@ -86,7 +89,11 @@ class GraspGoalSampler : public GoalSampler {
   /// Phi(h) for a node, each configuration marked collision-free and, for
   /// a stable leaf whose fingertips reach the contacts and whose closing
   /// motion is free, as a goal.
-  std::vector<CachedConfiguration> configurationsOf(const grasp::HftsNode& node, double epsilon);
+  /// With `other_postures`, a stable leaf without a goal also gets the
+  /// configurations of the hand's other postures (`otherHandsSampled`, when
+  /// given, is then set).
+  std::vector<CachedConfiguration> configurationsOf(const grasp::HftsNode& node, double epsilon,
+                                                    bool* otherHandsSampled = nullptr);
   /// The free configurations of the node's grasp with the other hand
   /// postures that put the fingertips on its contacts, marked as above.
   std::vector<CachedConfiguration> otherHandConfigurationsOf(const grasp::HftsNode& node,
@@ -94,7 +101,7 @@ class GraspGoalSampler : public GoalSampler {
   GoalSample describe(const grasp::HftsNode& node, const CachedConfiguration& config,
                       GoalKind kind);
   /// Counts a leaf grasp that gave no goal under its first reason.
-  void countRejection(double epsilon, const grasp::GraspConfigurations& all,
+  void countRejection(double epsilon, const std::vector<grasp::GraspConfigurations>& postures,
                       const std::vector<CachedConfiguration>& free);
 
  private:
@@ -174,6 +181,11 @@ struct GoalSamplingSettings {
   /// those allow no stable grasp; 0: every contact, as in the paper
   /// ("mask_contacts").
   int mask_contacts = 1;
+  /// 1: a stable leaf grasp whose first hand posture gives no goal (no arm
+  /// IK, colliding, closing blocked) also tries the hand's other postures
+  /// for the same contacts (HandReachability::queryAlternatives); 0: one
+  /// posture per grasp, as in the paper ("other_postures").
+  int other_postures = 0;
 };
 
 /// The range of the decoupled sampler's i ("iterations"), for programs
