@@ -271,6 +271,107 @@ def icosphere(subdivisions):
     return Mesh(np.array(vertices), np.array(faces))
 
 
+def loft(rings, closed=False):
+    """Surface through closed point loops of equal length (a general revolve).
+
+    rings is a sequence of (n, 3) loops; point j of one loop joins point j
+    of the next. As with revolve, every loop runs counter-clockwise about
+    +z and the sequence goes round the solid's cross-section with the
+    solid on its left (outward along the bottom, up the outside, inward
+    along the top). An open sequence is closed by two flat caps, so its
+    first and last loop must each be a simple horizontal polygon; a closed
+    one (e.g. a nut's section, hole included) joins the last loop to the
+    first.
+    """
+    rings = [np.asarray(r, dtype=float) for r in rings]
+    n = len(rings[0])
+    if any(r.shape != (n, 3) for r in rings):
+        raise MeshError("loft loops differ in length")
+    index = np.arange(len(rings) * n).reshape(len(rings), n)
+    if closed:
+        index = np.vstack([index, index[:1]])
+    faces = [grid_faces(index)]
+    if not closed:
+        for ring, loop, upward in ((rings[0], index[0], False), (rings[-1], index[-1], True)):
+            if np.ptp(ring[:, 2]) > 1e-12:
+                raise MeshError("loft cap is not horizontal")
+            cap = loop[triangulate_polygon(ring[:, :2])]
+            faces.append(cap if upward else cap[:, ::-1])
+    return Mesh(np.vstack(rings), np.vstack(faces))
+
+
+def rectangle(width, depth):
+    """Counter-clockwise (u, v) rectangle centred on the origin."""
+    u, v = width / 2, depth / 2
+    return np.array([(-u, -v), (u, -v), (u, v), (-u, v)])
+
+
+def rounded_rectangle(width, depth, radius, per_corner):
+    """Counter-clockwise (u, v) rectangle centred on the origin, corners rounded."""
+    u, v = width / 2 - radius, depth / 2 - radius
+    corners = [((u, -v), -90), ((u, v), 0), ((-u, v), 90), ((-u, -v), 180)]
+    return np.vstack([arc(c, radius, start, start + 90, per_corner) for c, start in corners])
+
+
+def at_height(polygon, z):
+    """(n, 3) loop of a 2-D polygon at height z."""
+    polygon = np.asarray(polygon, dtype=float)
+    return np.column_stack([polygon, np.full(len(polygon), z)])
+
+
+def catmull_rom(points, per_segment):
+    """Smooth open curve through every control point (uniform Catmull-Rom)."""
+    p = np.asarray(points, dtype=float)
+    p = np.vstack([2 * p[0] - p[1], p, 2 * p[-1] - p[-2]])  # mirrored end tangents
+    t = np.arange(per_segment)[:, None] / per_segment
+    out = []
+    for i in range(1, len(p) - 2):
+        p0, p1, p2, p3 = p[i - 1], p[i], p[i + 1], p[i + 2]
+        out.append(0.5 * (2 * p1 + (p2 - p0) * t + (2 * p0 - 5 * p1 + 4 * p2 - p3) * t**2
+                          + (3 * p1 - p0 - 3 * p2 + p3) * t**3))
+    out.append(p[-2][None])
+    return np.vstack(out)
+
+
+def vessel_profile(outer, wall, floor, rim_segments=12):
+    """(r, z) profile of an open-topped vessel for revolve.
+
+    outer runs up the outside from the bottom edge (r > 0, z = 0) to the
+    rim. The inside is outer shifted inward by wall along its normals and
+    cut off at the floor height; a semicircular rim joins the two. The
+    result starts and ends on the axis.
+    """
+    outer = np.asarray(outer, dtype=float)
+    segment = np.diff(outer, axis=0)
+    segment /= np.linalg.norm(segment, axis=1, keepdims=True)
+    left = np.column_stack([-segment[:, 1], segment[:, 0]])  # towards the solid
+    normal = np.vstack([left[:1], left[:-1] + left[1:], left[-1:]])
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    inner = outer + wall * normal
+    if inner[-1, 1] <= floor:
+        raise MeshError("vessel floor above its rim")
+    first = np.nonzero(inner[:, 1] < floor)[0].max() + 1  # inside wall above the floor
+    a, b = inner[first - 1], inner[first]
+    floor_point = a + (b - a) * (floor - a[1]) / (b[1] - a[1])
+    inner = np.vstack([floor_point, inner[first:]])
+    centre = (outer[-1] + inner[-1]) / 2
+    start = math.degrees(math.atan2(*(outer[-1] - centre)[::-1]))
+    rim = arc(centre, wall / 2, start, start + 180, rim_segments)
+    return polyline((0.0, 0.0), outer, rim[1:-1], inner[::-1], (0.0, floor))
+
+
+def check_inside(points, inside, what):
+    """Raise MeshError unless inside(points) holds for every point."""
+    if not inside(np.asarray(points)).all():
+        raise MeshError(what)
+
+
+# Proper rotations that lay objects down (columns: where the old x, y, z axes go).
+X_QUARTER_TURN = np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]], dtype=float)  # y -> z, z -> -y
+Y_QUARTER_TURN = np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0]], dtype=float)  # z -> x, x -> -z
+PRISM_ALONG_X = np.array([[0, 0, 1], [1, 0, 0], [0, 1, 0]], dtype=float)  # extrude's (u, v, w) -> (y, z, x)
+
+
 # --------------------------------------------------------------------------
 # The objects (all sizes in metres)
 
@@ -378,6 +479,266 @@ def blob():
     # away from the centre, so it stays star-shaped.
     radius = 0.045 * (1 + 0.2 * bumps / np.abs(bumps).max())
     return Mesh(sphere.vertices * radius[:, None], sphere.faces).standing_on_floor()
+
+
+# -- thin plates (at most 2 cm thick) --------------------------------------
+
+
+def plate():
+    """15 x 10 x 1.2 cm flat plate with 2 cm corner radii, lying on its face."""
+    return extrude(rounded_rectangle(0.150, 0.100, 0.020, 8), 0.012).standing_on_floor()
+
+
+def coaster():
+    """Round coaster, 9 cm across and 1 cm thick, both rims rounded (1 mm)."""
+    radius, height, fillet = 0.045, 0.010, 0.001
+    profile = polyline(
+        (0.0, 0.0),
+        arc((radius - fillet, fillet), fillet, -90, 0, 4),
+        arc((radius - fillet, height - fillet), fillet, 0, 90, 4),
+        (0.0, height),
+    )
+    return revolve(refine(profile, 0.005), 96)
+
+
+def tile():
+    """12 x 6 x 2 cm tile; its four top edges are chamfered 3 mm x 3 mm."""
+    width, depth, height, chamfer = 0.120, 0.060, 0.020, 0.003
+    loops = [at_height(rectangle(width, depth), 0.0),
+             at_height(rectangle(width, depth), height - chamfer),
+             at_height(rectangle(width - 2 * chamfer, depth - 2 * chamfer), height)]
+    return loft(loops)
+
+
+# -- flat boxes and rings (at most 4 cm tall) ------------------------------
+
+
+def crayon_box():
+    """14 x 9 x 3.6 cm flat box; grasped across its 3.6 cm height or its sides."""
+    return extrude(rectangle(0.140, 0.090), 0.036)
+
+
+def washer():
+    """Flat ring (fender washer): 10 cm across, 3.6 cm hole, 1.2 cm thick, 2 mm fillets."""
+    inner, outer, height, fillet = 0.018, 0.050, 0.012, 0.002
+    section = polyline(
+        arc((outer - fillet, fillet), fillet, -90, 0, 4),
+        arc((outer - fillet, height - fillet), fillet, 0, 90, 4),
+        arc((inner + fillet, height - fillet), fillet, 90, 180, 4),
+        arc((inner + fillet, fillet), fillet, 180, 270, 4),
+    )
+    return revolve(section, 96, closed=True)
+
+
+def tin_can():
+    """Flat tin, 10 cm across and 3 cm tall; the lid overhangs the base by 1 mm."""
+    base_r, lid_r, lid_z, height, fillet = 0.049, 0.050, 0.022, 0.030, 0.002
+    profile = polyline(
+        (0.0, 0.0),
+        arc((base_r - fillet, fillet), fillet, -90, 0, 4),
+        (base_r, lid_z),
+        (lid_r, lid_z),  # the step under the lid's rim
+        arc((lid_r - fillet, height - fillet), fillet, 0, 90, 4),
+        (0.0, height),
+    )
+    return revolve(refine(profile, 0.005), 96)
+
+
+# -- small parts (at most 5 cm) ---------------------------------------------
+
+
+def small_cube():
+    """4.6 cm cube (a toy block); the smallest box the hand must pinch."""
+    return extrude(rectangle(0.046, 0.046), 0.046)
+
+
+def egg():
+    """Egg, 5 cm long and 4.2 cm across, lying on its side; blunt end and pointed end."""
+    length, radius = 0.050, 0.021
+    t = np.linspace(0, np.pi, 49)
+    profile = np.column_stack([radius * np.sin(t) * (1 + 0.12 * np.cos(t)), length / 2 * (1 - np.cos(t))])
+    profile[[0, -1], 0] = 0.0  # the tips exactly on the axis
+    return revolve(profile, 64).transformed(Y_QUARTER_TURN).standing_on_floor()
+
+
+def small_ball():
+    """5 cm ball (icosphere, 1280 triangles) resting on one facet."""
+    sphere = icosphere(3)
+    return Mesh(sphere.vertices * 0.025, sphere.faces).standing_on_floor()
+
+
+def peg():
+    """Wooden peg, 4 cm across and 5 cm tall, 3 mm chamfer on top."""
+    radius, height, chamfer, fillet = 0.020, 0.050, 0.003, 0.001
+    profile = polyline(
+        (0.0, 0.0),
+        arc((radius - fillet, fillet), fillet, -90, 0, 4),
+        (radius, height - chamfer),
+        (radius - chamfer, height),
+        (0.0, height),
+    )
+    return revolve(refine(profile, 0.004), 64)
+
+
+# -- large objects (15 cm or more) ------------------------------------------
+
+
+def carton():
+    """15 x 9.5 x 19.5 cm carton standing upright; only its 9.5 cm side fits the hand."""
+    return extrude(rectangle(0.150, 0.095), 0.195)
+
+
+def vase():
+    """Tall open vase, 19.6 cm: foot, belly 12 cm across, neck, flared lip; 4 mm wall."""
+    outer = catmull_rom([(0.036, 0.0), (0.052, 0.030), (0.060, 0.070), (0.052, 0.115),
+                         (0.036, 0.150), (0.036, 0.175), (0.044, 0.196)], 8)
+    return revolve(refine(vessel_profile(outer, 0.004, 0.008), 0.008), 64)
+
+
+def basin():
+    """Wash basin 19.6 cm across and 8 cm tall: flat bottom, sloped 5 mm wall."""
+    bottom_r, top_r, height, fillet = 0.068, 0.0975, 0.0775, 0.006
+    slope = math.degrees(math.atan2(height, top_r - bottom_r))  # wall angle from horizontal
+    corner = arc((bottom_r - fillet * math.tan(math.radians(slope / 2)), fillet), fillet, -90, slope - 90, 6)
+    outer = polyline(corner, (top_r, height))
+    return revolve(refine(vessel_profile(outer, 0.005, 0.006), 0.006), 96)
+
+
+# -- non-convex prisms ------------------------------------------------------
+
+
+def u_channel():
+    """U channel, 14 cm long, 6 x 4.5 cm section, 8 mm walls, open side up."""
+    width, height, wall, length = 0.060, 0.045, 0.008, 0.140
+    outline = [(0, 0), (width, 0), (width, height), (width - wall, height), (width - wall, wall),
+               (wall, wall), (wall, height), (0, height)]
+    return extrude(outline, length).transformed(PRISM_ALONG_X).standing_on_floor()
+
+
+def t_profile():
+    """Inverted T profile, 12 cm long: 7 x 1.2 cm flange on the floor, 1.2 cm web 6 cm tall."""
+    flange, web, thickness, height, length = 0.070, 0.012, 0.012, 0.060, 0.120
+    left, right = (flange - web) / 2, (flange + web) / 2
+    outline = [(0, 0), (flange, 0), (flange, thickness), (right, thickness), (right, height),
+               (left, height), (left, thickness), (0, thickness)]
+    return extrude(outline, length).transformed(PRISM_ALONG_X).standing_on_floor()
+
+
+def star_prism():
+    """Five-pointed star lying flat: tips 6.5 cm, notches 2.8 cm from the centre, 3 cm thick."""
+    angle = np.radians(90 + 36 * np.arange(10))
+    radius = np.where(np.arange(10) % 2 == 0, 0.065, 0.028)
+    outline = np.column_stack([radius * np.cos(angle), radius * np.sin(angle)])
+    return extrude(outline, 0.030).standing_on_floor()
+
+
+def cross():
+    """Plus-shaped block lying flat: 12 x 12 cm, 4 cm wide arms, 3.5 cm thick."""
+    a, b = 0.060, 0.020
+    outline = [(b, -a), (b, -b), (a, -b), (a, b), (b, b), (b, a), (-b, a), (-b, b), (-a, b), (-a, -b),
+               (-b, -b), (-b, -a)]
+    return extrude(outline, 0.035)
+
+
+# -- handles ----------------------------------------------------------------
+
+
+def saucepan():
+    """Open pot 10 cm across and 5.5 cm tall with a straight handle lying flat.
+
+    The handle is a round tube whose flat inner end is sunk 3 mm into the
+    5 mm wall, as the mug's handle is: two overlapping components.
+    """
+    outer_r, height, wall, floor, fillet = 0.050, 0.055, 0.005, 0.006, 0.004
+    outer = polyline(arc((outer_r - fillet, fillet), fillet, -90, 0, 6), (outer_r, height))
+    body = revolve(refine(vessel_profile(outer, wall, floor), 0.004), 64)
+    sunk, length, z, tube_r = 0.003, 0.093, 0.036, 0.0075
+    x = np.linspace(outer_r - sunk, outer_r - sunk + length, 24)
+    handle = sweep_tube(np.column_stack([x, 0 * x, np.full_like(x, z)]), np.tile([1.0, 0, 0], (len(x), 1)),
+                        tube_r, 24)
+    radial = np.hypot(handle.vertices[:, 0], handle.vertices[:, 1])
+    check_inside(radial, lambda r: r > outer_r - wall + 0.0002, "saucepan handle pokes into the pot")
+    cap = handle.vertices[(handle.vertices[:, 0] < outer_r - sunk + 1e-9)]
+    check_inside(np.hypot(cap[:, 0], cap[:, 1]), lambda r: r < outer_r - 0.0002, "handle end sticks out")
+    return (body + handle).standing_on_floor()
+
+
+def jug():
+    """Jug 18.5 cm tall and 11 cm across, 4 mm wall, with a C handle like the mug's."""
+    outer_r, wall, floor, fillet = 0.055, 0.004, 0.008, 0.005
+    outer = polyline(arc((outer_r - fillet, fillet), fillet, -90, 0, 6), (outer_r, 0.160),
+                     catmull_rom([(outer_r, 0.160), (0.053, 0.175), (0.054, 0.185)], 4)[1:])
+    body = revolve(refine(vessel_profile(outer, wall, floor), 0.008), 64)
+    sunk, reach, half_height, z_mid, tube_r = 0.0035, 0.040, 0.050, 0.100, 0.007
+    phi = np.linspace(-np.pi / 2, np.pi / 2, 65)
+    a, b = sunk + reach, half_height
+    centerline = np.column_stack([outer_r - sunk + a * np.cos(phi), 0 * phi, z_mid + b * np.sin(phi)])
+    tangents = np.column_stack([-a * np.sin(phi), 0 * phi, b * np.cos(phi)])
+    handle = sweep_tube(centerline, tangents, tube_r, 32)
+    radial = np.hypot(handle.vertices[:, 0], handle.vertices[:, 1])
+    check_inside(radial, lambda r: r > outer_r - wall + 0.0002, "jug handle pokes into the cavity")
+    if handle.vertices[:, 2].max() > 0.160:
+        raise MeshError("jug handle leaves the straight part of the wall")
+    return (body + handle).standing_on_floor()
+
+
+def kettlebell():
+    """Kettlebell 10 cm across and 15.4 cm tall: a flat-based ball and an arched handle.
+
+    The handle is a tube along a half ellipse over the ball; both ends run
+    straight down into the solid ball (two overlapping components).
+    """
+    radius, centre_z = 0.050, 0.045
+    start = -math.degrees(math.asin(centre_z / radius))
+    profile = polyline((0.0, 0.0), arc((0.0, centre_z), radius, start, 90, 40))
+    profile[-1, 0] = 0.0  # the pole exactly on the axis
+    ball = revolve(profile, 64)
+    half_width, rise, end_z, tube_r = 0.036, 0.085, 0.060, 0.009
+    phi = np.linspace(np.pi, 0.0, 65)
+    centerline = np.column_stack([half_width * np.cos(phi), 0 * phi, end_z + rise * np.sin(phi)])
+    tangents = np.column_stack([half_width * np.sin(phi), 0 * phi, -rise * np.cos(phi)])  # phi falls
+    tangents[[0, -1]] = [(0, 0, 1), (0, 0, -1)]  # exactly vertical ends
+    handle = sweep_tube(centerline, tangents, tube_r, 32)
+    ends = handle.vertices[np.abs(handle.vertices[:, 2] - end_z) < 1e-9]
+    check_inside(np.linalg.norm(ends - (0, 0, centre_z), axis=1), lambda d: d < radius - 0.001,
+                 "kettlebell handle ends stick out of the ball")
+    return ball + handle
+
+
+# -- cylinders lying down ---------------------------------------------------
+
+
+def can_lying():
+    """Food can, 7 cm across and 12 cm long, lying on its side on its rims.
+
+    The rolled rims (3.5 cm radius) stand 1 mm proud of the 3.4 cm body
+    and the ends are recessed 3 mm.
+    """
+    profile = polyline(
+        (0.0, 0.003), (0.030, 0.003),
+        arc((0.0325, 0.0025), 0.0025, -90, 90, 6),  # bottom rim
+        (0.034, 0.007), (0.034, 0.113),
+        arc((0.0325, 0.1175), 0.0025, -90, 90, 6),  # top rim
+        (0.030, 0.117), (0.0, 0.117),
+    )
+    return revolve(refine(profile, 0.005), 64).transformed(Y_QUARTER_TURN).standing_on_floor()
+
+
+def pipe():
+    """Pipe lying down: 4 cm outside, 3.2 cm inside, 18 cm long (genus 1)."""
+    inner, outer, length = 0.016, 0.020, 0.180
+    side = np.linspace(0.0, length, 19)
+    section = np.vstack([np.column_stack([np.full_like(side, outer), side]),
+                         np.column_stack([np.full_like(side, inner), side[::-1]])])
+    return revolve(section, 48, closed=True).transformed(Y_QUARTER_TURN).standing_on_floor()
+
+
+def dowel():
+    """Dowel lying down: 2.5 cm across, 18 cm long, 1.5 mm chamfers at the ends."""
+    radius, length, chamfer = 0.0125, 0.180, 0.0015
+    profile = [(0.0, 0.0), (radius - chamfer, 0.0), (radius, chamfer), (radius, length - chamfer),
+               (radius - chamfer, length), (0.0, length)]
+    return revolve(refine(np.array(profile), 0.01), 48).transformed(Y_QUARTER_TURN).standing_on_floor()
 
 
 # --------------------------------------------------------------------------
@@ -533,6 +894,36 @@ OBJECTS = [  # name, builder, file name, writer
     ("box", box, "box.stl", stl_binary),
     ("cylinder", cylinder, "cylinder.stl", stl_binary),
     ("blob", blob, "blob.stl", stl_ascii),
+    # thin plates
+    ("plate", plate, "plate.ply", ply_binary),
+    ("coaster", coaster, "coaster.stl", stl_binary),
+    ("tile", tile, "tile.obj", obj_text),
+    # flat boxes and rings
+    ("crayon_box", crayon_box, "crayon_box.stl", stl_ascii),
+    ("washer", washer, "washer.obj", obj_text),
+    ("tin_can", tin_can, "tin_can.ply", ply_binary),
+    # small parts
+    ("small_cube", small_cube, "small_cube.stl", stl_ascii),
+    ("egg", egg, "egg.ply", ply_binary),
+    ("small_ball", small_ball, "small_ball.stl", stl_binary),
+    ("peg", peg, "peg.obj", obj_text),
+    # large objects
+    ("carton", carton, "carton.stl", stl_binary),
+    ("vase", vase, "vase.ply", ply_binary),
+    ("basin", basin, "basin.obj", obj_text),
+    # non-convex prisms
+    ("u_channel", u_channel, "u_channel.stl", stl_binary),
+    ("t_profile", t_profile, "t_profile.ply", ply_binary),
+    ("star_prism", star_prism, "star_prism.stl", stl_ascii),
+    ("cross", cross, "cross.obj", obj_text),
+    # handles
+    ("saucepan", saucepan, "saucepan.ply", ply_binary),
+    ("jug", jug, "jug.obj", obj_text),
+    ("kettlebell", kettlebell, "kettlebell.ply", ply_binary),
+    # cylinders lying down
+    ("can_lying", can_lying, "can_lying.stl", stl_binary),
+    ("pipe", pipe, "pipe.stl", stl_binary),
+    ("dowel", dowel, "dowel.stl", stl_ascii),
 ]
 
 
