@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <map>
 #include <random>
+#include <set>
 #include <thread>
 
 #include "bundled_objects.h"
@@ -31,7 +32,7 @@ Scene bundledScene(const std::string& name) {
 const char* kScenes[] = {"table", "shelf", "bin"};
 
 /// Calls check(scene, object database, checker) with every bundled object
-/// placed at the target pose of every bundled scene.
+/// standing at the target pose of every bundled scene (on its support).
 template <typename Check>
 void forEveryObjectInEveryScene(Check check) {
   for (const char* name : kScenes) {
@@ -39,21 +40,42 @@ void forEveryObjectInEveryScene(Check check) {
     for (const auto& [object, db] : objects()) {
       SCOPED_TRACE(std::string(name) + " / " + object);
       scene.target_object = object;
+      scene.target_pose = targetPose(scene, db.geometry.mesh_vertices);
       CollisionChecker checker(m(), scene, &db.geometry);
       check(scene, db, checker);
     }
   }
 }
 
-TEST(CollisionChecker, EveryBundledObjectFitsEveryScene) {
-  forEveryObjectInEveryScene(
-      [](const Scene& scene, const db::ObjectDatabase&, CollisionChecker& checker) {
+TEST(CollisionChecker, EveryBundledObjectFitsEveryPlacementOfEveryScene) {
+  // The placements an object does not fit (docs/scenes.md): the basin,
+  // 19.5 cm across, is too wide for the bin's corner.
+  const std::set<std::string> misfits = {"bin/corner/basin"};
+  int placements = 0;
+  for (const char* name : kScenes) {
+    const Scene scene = bundledScene(name);
+    EXPECT_GE(scene.placements.size(), 2u) << name;  // with the target's: at least three
+    std::vector<std::string> names = {"target"};
+    for (const Placement& p : scene.placements) names.push_back(p.name);
+    for (const std::string& placement : names) {
+      ++placements;
+      for (const auto& [object, db] : objects()) {
+        const std::string where = std::string(name) + "/" + placement + "/" + object;
+        SCOPED_TRACE(where);
+        Scene placed = scene.withPlacement(placement);
+        placed.target_object = object;
+        placed.target_pose = targetPose(placed, db.geometry.mesh_vertices);
+        CollisionChecker checker(m(), placed, &db.geometry);
         CollisionPair pair;
-        EXPECT_FALSE(checker.targetTouchesObstacles(&pair)) << pair.first << " / " << pair.second;
-        const Eigen::VectorXd start = scene.start ? *scene.start : m().home();
+        EXPECT_EQ(checker.targetTouchesObstacles(&pair), misfits.count(where) == 1)
+            << pair.first << " / " << pair.second;
+        const Eigen::VectorXd start = placed.start ? *placed.start : m().home();
         EXPECT_FALSE(checker.inCollision(start, &pair)) << pair.first << " / " << pair.second;
         EXPECT_GT(checker.clearance(start), 0.0);  // the base stands 1 mm above the table
-      });
+      }
+    }
+  }
+  EXPECT_EQ(placements, 9);
 }
 
 /// Palm poses around the object: palm z pointing at the object's centre
