@@ -46,7 +46,7 @@ struct Options {
 
 /// Options the user gave explicitly (they override an experiment's design).
 struct Given {
-  CLI::Option *scenes, *objects, *algorithms, *runs, *timeLimit;
+  CLI::Option *scenes, *objects, *placements, *algorithms, *runs, *timeLimit;
 };
 
 /// One scene with one object at one placement (the scene's target pose, or
@@ -83,11 +83,12 @@ Given addOptions(CLI::App& app, Options& o) {
                              "Objects placed at each scene's target pose (default: each scene's "
                              "target)")
                   ->delimiter(',');
-  app.add_option("--placements", o.placements,
-                 "Where each object stands: target (the scene's target pose), names of the "
-                 "scenes' placements, or all")
-      ->delimiter(',')
-      ->capture_default_str();
+  g.placements =
+      app.add_option("--placements", o.placements,
+                     "Where each object stands: target (the scene's target pose), names of the "
+                     "scenes' placements, or all")
+          ->delimiter(',')
+          ->capture_default_str();
   g.algorithms = app.add_option("--algorithms", o.algorithms,
                                 "coupled, decoupledN (N iterations/level), rrtconnect[N]")
                      ->delimiter(',')
@@ -100,7 +101,7 @@ Given addOptions(CLI::App& app, Options& o) {
                   ->type_name("FILE");
   auto* experiment =
       app.add_option("--experiment", o.experiment,
-                     "Run a named experiment (paper): CSV, OMPL logs and plots in --out-dir")
+                     "Run a named experiment (paper, zoo): CSV, OMPL logs and plots in --out-dir")
           ->excludes(out)
           ->type_name("NAME");
   app.add_option("--out-dir", o.outDir, "Where --experiment writes its results")
@@ -125,6 +126,7 @@ void applyDesign(Options& o, const Given& given) {
   o.designCases = d.cases;
   if (given.scenes->count() == 0)
     for (const auto& c : d.cases) o.scenes.push_back(c.scene);
+  if (given.placements->count() == 0) o.placements = d.placements;
   if (given.algorithms->count() == 0) o.algorithms = d.algorithms;
   if (given.runs->count() == 0) o.runs = d.runs;
   if (given.timeLimit->count() == 0) o.timeLimit = d.time_limit;
@@ -154,11 +156,13 @@ std::shared_ptr<const PlanningWorld> loadWorld(const Options& o) {
   return world;
 }
 
-/// The objects of a scene: --objects, else the experiment's, else its target.
-std::vector<std::string> objectsFor(const Scene& scene, const Options& o) {
+/// The objects of a scene: --objects, else the experiment's (none named:
+/// every object of the databases), else its target.
+std::vector<std::string> objectsFor(const Scene& scene, const PlanningWorld& world,
+                                    const Options& o) {
   if (!o.objects.empty()) return o.objects;
   for (const auto& c : o.designCases)
-    if (c.scene == scene.name) return c.objects;
+    if (c.scene == scene.name) return c.objects.empty() ? world.objectNames() : c.objects;
   return {scene.target_object};
 }
 
@@ -181,7 +185,7 @@ std::vector<Case> casesOf(const std::vector<Scene>& scenes, const PlanningWorld&
   std::vector<Case> cases;
   for (const Scene& scene : scenes)
     for (const std::string& placement : placementsOf(scene, o))
-      for (const std::string& object : objectsFor(scene, o)) {
+      for (const std::string& object : objectsFor(scene, world, o)) {
         if (world.object(object) == nullptr)
           throw std::runtime_error("scene '" + scene.name + "' targets '" + object +
                                    "', which has no database in --db (build it with "

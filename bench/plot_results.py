@@ -62,7 +62,9 @@ def read_runs(path):
                 + ("" if row.get("placement", "target") == "target"
                    else " / " + row["placement"]),
                 "scene": row["scene"],
+                "placement": row.get("placement", "target"),
                 "object": row["object"],
+                "failure": row.get("failure", "") if not success else "",
                 "algorithm": row["algorithm"],
                 "success": success,
                 "time": float(row["time"]),
@@ -183,15 +185,21 @@ def figure_success(runs, algorithms, colours, limit, out):
 
 
 def figure_success_by_case(runs, algorithms, colours, limit, out):
-    cases = ordered(r["case"] for r in runs)
+    # Many cases (every object at every placement): one panel per scene and
+    # placement, over its objects.
+    key = "case"
+    if len(set(r["case"] for r in runs)) > 12:
+        key = "where"
+        runs = [dict(r, where=r["scene"] + " / " + r["placement"]) for r in runs]
+    cases = ordered(r[key] for r in runs)
     columns = min(3, len(cases))
     rows = math.ceil(len(cases) / columns)
     grid = time_axis(runs, limit)
     fig, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 3.3 * rows + 0.9),
                              squeeze=False, sharex=True, sharey=True)
     for ax, case in zip(axes.flat, cases):
-        plot_success(ax, [r for r in runs if r["case"] == case], algorithms, colours, grid, limit)
-        n = sum(1 for r in runs if r["case"] == case and r["algorithm"] == algorithms[0])
+        plot_success(ax, [r for r in runs if r[key] == case], algorithms, colours, grid, limit)
+        n = sum(1 for r in runs if r[key] == case and r["algorithm"] == algorithms[0])
         ax.set_title(f"{case} (n={n} per algorithm)", fontsize=10)
     for ax in axes.flat[len(cases):]:
         ax.set_visible(False)
@@ -202,7 +210,9 @@ def figure_success_by_case(runs, algorithms, colours, limit, out):
     handles, names = axes.flat[0].get_legend_handles_labels()
     fig.legend(handles, [n.rsplit(" (n=", 1)[0] for n in names], loc="lower center",
                ncol=min(5, len(algorithms)), fontsize=9, frameon=False)
-    fig.suptitle("Success rate within a planning time per scene / object (bars: Wilson 95 %)")
+    fig.suptitle("Success rate within a planning time per " +
+                 ("scene / object" if key == "case" else "scene / placement (all objects)") +
+                 " (bars: Wilson 95 %)")
     fig.tight_layout(rect=(0, 0.07, 1, 1))
     fig.savefig(os.path.join(out, "fig7_success_by_case.png"), dpi=110)
     plt.close(fig)
@@ -212,7 +222,8 @@ def grouped_bars(runs, algorithms, colours, value, ylabel, title, path):
     """Mean and standard error of value(run) per object (groups) and algorithm (bars)."""
     objects = ordered(r["object"] for r in runs)
     width = 0.8 / len(algorithms)
-    fig, ax = plt.subplots(figsize=(max(7, 1.6 * len(objects) + 3), 5))
+    many = len(objects) > 10
+    fig, ax = plt.subplots(figsize=(min(max(7, 1.6 * len(objects) + 3), 22), 5.5 if many else 5))
     tops, bottoms = [], []
     for i, a in enumerate(algorithms):
         means, errors = [], []
@@ -228,7 +239,7 @@ def grouped_bars(runs, algorithms, colours, value, ylabel, title, path):
         tops.extend(m + e for m, e in zip(means, errors))
         bottoms.extend(m for m in means if m > 0)
     ax.set_xticks(np.arange(len(objects)))
-    ax.set_xticklabels(objects)
+    ax.set_xticklabels(objects, rotation=60 if many else 0, ha="right" if many else "center")
     ax.set_xlabel("object (all scenes it was planned in)")
     ax.set_title(title)
     if bottoms and max(tops) / min(bottoms) > 30:  # one algorithm would flatten the others
@@ -407,6 +418,28 @@ def object_rows(runs, algorithms):
                      runs, lambda r: r["object"], algorithms, gns_and_ratio)
 
 
+def reason_rows(runs, algorithms):
+    """How the failed runs failed (the result's reason), per algorithm."""
+    reasons = ordered(r["failure"] for r in runs if not r["success"])
+    if not reasons:
+        return []
+    lines = ["", "Failed runs by reason:", "", "| algorithm | " + " | ".join(reasons) + " |",
+             "| --- |" + " --- |" * len(reasons)]
+    for a in algorithms:
+        mine = [r for r in runs if r["algorithm"] == a and not r["success"]]
+        lines.append(f"| {a} | " + " | ".join(str(sum(r["failure"] == x for r in mine))
+                                           for x in reasons) + " |")
+    return lines
+
+
+def placement_rows(runs, algorithms):
+    if all(r["placement"] == "target" for r in runs):
+        return []
+    return grid_rows("Per scene and placement (all objects): successes / runs, median time (s):",
+                     "scene / placement", runs, lambda r: r["scene"] + " / " + r["placement"],
+                     algorithms, successes_and_median)
+
+
 def case_rows(runs, algorithms):
     return grid_rows("Per scene and object: successes / runs, median time (s):",
                      "scene / object", runs, lambda r: r["case"], algorithms,
@@ -420,7 +453,9 @@ def write_summary(runs, algorithms, limit, out):
     lines += summary_rows(runs, algorithms)
     lines += difference_rows(runs, algorithms)
     lines += within_rows(runs, algorithms, limit)
+    lines += reason_rows(runs, algorithms)
     lines += scene_rows(runs, algorithms)
+    lines += placement_rows(runs, algorithms)
     lines += object_rows(runs, algorithms)
     lines += case_rows(runs, algorithms)
     with open(os.path.join(out, "summary.md"), "w") as f:

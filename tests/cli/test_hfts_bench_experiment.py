@@ -216,7 +216,24 @@ class BenchExperiment(unittest.TestCase):
         for name in FIGURES + ["summary.md"]:
             self.assertTrue(os.path.exists(os.path.join(out, name)), name)
         with open(os.path.join(out, "summary.md")) as f:
-            self.assertIn("| decoupled20 | 2 | 0/2 = 0.00 [0.00, 0.66] |", f.read())
+            summary = f.read()
+        self.assertIn("| decoupled20 | 2 | 0/2 = 0.00 [0.00, 0.66] |", summary)
+        self.assertIn("| algorithm | time_limit |\n| --- | --- |\n| coupled | 0 |\n"
+                      "| decoupled20 | 2 |", summary)
+
+    def test_zoo_plans_every_object_of_the_databases_at_every_placement(self):
+        out = os.path.join(self.tmp, "zoo")
+        result = run(BENCH, "--db", self.db, "--experiment", "zoo", "--out-dir", out,
+                     "--scenes", "table", "--time-limit", "0.2", "--no-plots")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(os.path.join(out, "results.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        # Every database (blob, mug) at the table's three placements, coupled
+        # against decoupled20, one run each.
+        self.assertEqual([(r["placement"], r["object"], r["algorithm"]) for r in rows],
+                         [(p, o, a) for p in ["target", "lying", "turned_near_box"]
+                          for o in ["blob", "mug"] for a in ["coupled", "decoupled20"]])
+        self.assertTrue(os.path.exists(os.path.join(out, "ompl", "table_mug_lying.log")))
 
     def test_experiment_usage_errors(self):
         def usage_error(*args):
@@ -225,7 +242,7 @@ class BenchExperiment(unittest.TestCase):
             return result.stderr
 
         out = os.path.join(self.tmp, "bad")
-        self.assertIn("unknown experiment 'icra' (valid: paper)",
+        self.assertIn("unknown experiment 'icra' (valid: paper, zoo)",
                       usage_error("--experiment", "icra", "--out-dir", out))
         self.assertIn("--out-dir", usage_error("--experiment", "paper"))
         self.assertIn("--out", usage_error("--experiment", "paper", "--out-dir", out,
