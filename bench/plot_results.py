@@ -440,6 +440,43 @@ def placement_rows(runs, algorithms):
                      algorithms, successes_and_median)
 
 
+SHORT_REASONS = {"no_valid_goal": "nvg", "time_limit": "tl", "object_in_collision": "oic",
+                 "no_stable_grasp_clear_of_support": "nsg", "start_in_collision": "sic"}
+
+
+def outcome(runs):
+    """One algorithm's runs of one case: the median time of a success, or
+    the short reason of a failure; k/n when there are several runs."""
+    k = sum(r["success"] for r in runs)
+    if len(runs) > 1:
+        return f"{k}/{len(runs)}"
+    r = runs[0]
+    return f"{r['time']:.1f}" if r["success"] else SHORT_REASONS.get(r["failure"], r["failure"])
+
+
+def outcome_rows(runs, algorithms):
+    """Every object at every placement, when there are placements: a row per
+    object, a column per scene and placement, each cell the algorithms'
+    outcomes separated by a slash."""
+    if all(r["placement"] == "target" for r in runs):
+        return []
+    places = ordered(r["scene"] + " / " + r["placement"] for r in runs)
+    legend = ", ".join(f"{v}: {k}" for k, v in SHORT_REASONS.items())
+    lines = ["", f"Every object at every placement: {' / '.join(algorithms)}; a number is the "
+             f"time (s) of a success, otherwise the reason ({legend}):", "",
+             "| object | " + " | ".join(places) + " |", "| --- |" + " --- |" * len(places)]
+    for o in ordered(r["object"] for r in runs):
+        cells = []
+        for place in places:
+            here = [r for r in runs
+                    if r["object"] == o and r["scene"] + " / " + r["placement"] == place]
+            cells.append(" / ".join(outcome([r for r in here if r["algorithm"] == a])
+                                    if any(r["algorithm"] == a for r in here) else "-"
+                                    for a in algorithms))
+        lines.append(f"| {o} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def case_rows(runs, algorithms):
     return grid_rows("Per scene and object: successes / runs, median time (s):",
                      "scene / object", runs, lambda r: r["case"], algorithms,
@@ -457,6 +494,7 @@ def write_summary(runs, algorithms, limit, out):
     lines += scene_rows(runs, algorithms)
     lines += placement_rows(runs, algorithms)
     lines += object_rows(runs, algorithms)
+    lines += outcome_rows(runs, algorithms)
     lines += case_rows(runs, algorithms)
     with open(os.path.join(out, "summary.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
