@@ -105,6 +105,17 @@ TEST(GraspMotionPlanner, StartInCollisionIsReported) {
   EXPECT_NE(result.message.find("table"), std::string::npos) << result.message;
 }
 
+TEST(GraspMotionPlanner, AnObjectInsideAnObstacleIsReportedAtOnce) {
+  PlanRequest r = request("table", "mug", 1);
+  r.object_pose = r.scene.target_pose;
+  r.object_pose->translation().x() = 0.72;  // into the tall box behind the target
+  const PlanResult result = planGrasp(world(), r);
+  EXPECT_FALSE(result.success);
+  EXPECT_EQ(result.failure, PlanFailure::kObjectInCollision);
+  EXPECT_NE(result.message.find("tall_box"), std::string::npos) << result.message;
+  EXPECT_EQ(result.stats.goal_sampling_calls, 0u);  // nothing was searched
+}
+
 TEST(GraspMotionPlanner, AnObjectThatRestsOnASupportIsPutOnItsTop) {
   PlanRequest r = request("table", "bottle", 1);
   r.time_limit = 0.0;
