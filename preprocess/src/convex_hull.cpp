@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <set>
@@ -44,19 +45,39 @@ void sortVertices(db::Points3& vertices, db::Faces3& faces) {
     for (int k = 0; k < 3; ++k) faces(f, k) = rank[faces(f, k)];
 }
 
+/// Twice the area and the outward normal of a hull triangle.
+std::pair<double, Eigen::Vector3d> areaNormal(const db::Points3& v, const db::Faces3& f,
+                                              Eigen::Index t) {
+  const Eigen::Vector3d a = row(v, f(t, 0));
+  const Eigen::Vector3d c = (row(v, f(t, 1)) - a).cross(row(v, f(t, 2)) - a);
+  const double norm = c.norm();
+  return {norm, norm > 0.0 ? Eigen::Vector3d(c / norm) : Eigen::Vector3d::Zero()};
+}
+
 /// Groups edge-adjacent coplanar triangles (one polygonal hull facet each).
+/// Slivers (three collinear points, which CGAL emits where hull points lie
+/// on a line) have no plane and join no group: they would join whichever
+/// facet the triangulation put them next to.
 std::vector<std::vector<Eigen::Index>> coplanarGroups(const db::Points3& v, const db::Faces3& f,
-                                                      double tolerance) {
+                                                      double tolerance, double sliver) {
   std::vector<Eigen::Index> parent(static_cast<std::size_t>(f.rows()));
   for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<Eigen::Index>(i);
   std::function<Eigen::Index(Eigen::Index)> find = [&](Eigen::Index i) {
     auto& p = parent[static_cast<std::size_t>(i)];
     return p == i ? i : (p = find(p));
   };
+  const auto onPlane = [&](Eigen::Index t, Eigen::Index other) {
+    const Eigen::Vector3d n = areaNormal(v, f, t).second, a = row(v, f(t, 0));
+    for (int j = 0; j < 3; ++j)
+      if (std::abs(n.dot(row(v, f(other, j)) - a)) > tolerance) return false;
+    return true;
+  };
+  std::vector<bool> proper(static_cast<std::size_t>(f.rows()));
+  for (Eigen::Index t = 0; t < f.rows(); ++t)
+    proper[static_cast<std::size_t>(t)] = areaNormal(v, f, t).first > sliver;
   std::map<std::pair<std::uint32_t, std::uint32_t>, Eigen::Index> edgeOwner;
   for (Eigen::Index t = 0; t < f.rows(); ++t) {
-    const Eigen::Vector3d a = row(v, f(t, 0));
-    const Eigen::Vector3d n = (row(v, f(t, 1)) - a).cross(row(v, f(t, 2)) - a).normalized();
+    if (!proper[static_cast<std::size_t>(t)]) continue;
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t p = f(t, k), q = f(t, (k + 1) % 3);
       const auto other = edgeOwner.find({q, p});  // the neighbour runs the edge backwards
@@ -64,64 +85,104 @@ std::vector<std::vector<Eigen::Index>> coplanarGroups(const db::Points3& v, cons
         edgeOwner[{p, q}] = t;
         continue;
       }
-      bool coplanar = true;
-      for (int j = 0; j < 3; ++j)
-        coplanar &= std::abs(n.dot(row(v, f(other->second, j)) - a)) <= tolerance;
-      if (coplanar) parent[static_cast<std::size_t>(find(t))] = find(other->second);
+      if (onPlane(t, other->second) && onPlane(other->second, t))
+        parent[static_cast<std::size_t>(find(t))] = find(other->second);
     }
   }
   std::map<Eigen::Index, std::vector<Eigen::Index>> groups;
-  for (Eigen::Index t = 0; t < f.rows(); ++t) groups[find(t)].push_back(t);
+  for (Eigen::Index t = 0; t < f.rows(); ++t)
+    if (proper[static_cast<std::size_t>(t)]) groups[find(t)].push_back(t);
   std::vector<std::vector<Eigen::Index>> out;
   for (auto& [root, members] : groups) out.push_back(std::move(members));
   return out;
 }
 
-/// The boundary of a coplanar group as a vertex cycle starting at its
-/// smallest index, or nothing if the boundary is not one simple cycle.
-std::vector<std::uint32_t> boundaryCycle(const db::Faces3& f,
-                                         const std::vector<Eigen::Index>& group) {
-  std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
-  for (Eigen::Index t : group)
-    for (int k = 0; k < 3; ++k) edges.insert({f(t, k), f(t, (k + 1) % 3)});
-  std::map<std::uint32_t, std::uint32_t> next;
-  for (const auto& [p, q] : edges)
-    if (!edges.count({q, p}) && !next.emplace(p, q).second) return {};
-  if (next.empty()) return {};
-  std::vector<std::uint32_t> cycle{next.begin()->first};
-  while (cycle.size() <= next.size()) {
-    const auto it = next.find(cycle.back());
-    if (it == next.end()) return {};
-    if (it->second == cycle.front()) break;
-    cycle.push_back(it->second);
+/// The convex polygon of the hull vertices that lie on a facet's plane,
+/// counter-clockwise seen from outside, starting at its smallest index;
+/// points on its edges are kept, so both facets at an edge hold the same
+/// points. A function of the points and the plane alone, not of CGAL's
+/// triangulation.
+std::vector<std::uint32_t> facetPolygon(const db::Points3& v, const Eigen::Vector3d& normal,
+                                        const Eigen::Vector3d& origin, double tolerance) {
+  const Eigen::Vector3d u = normal.unitOrthogonal(), w = normal.cross(u);
+  std::vector<std::uint32_t> on;
+  for (Eigen::Index i = 0; i < v.rows(); ++i)
+    if (std::abs(normal.dot(row(v, static_cast<std::uint32_t>(i)) - origin)) <= tolerance)
+      on.push_back(static_cast<std::uint32_t>(i));
+  if (on.size() < 3) return {};
+  const auto at = [&](std::uint32_t i) {
+    const Eigen::Vector3d d = row(v, i) - origin;
+    return Eigen::Vector2d(d.dot(u), d.dot(w));
+  };
+  std::sort(on.begin(), on.end(), [&](std::uint32_t a, std::uint32_t b) {
+    const Eigen::Vector2d p = at(a), q = at(b);
+    return p.x() < q.x() || (p.x() == q.x() && (p.y() < q.y() || (p.y() == q.y() && a < b)));
+  });
+  // Andrew's monotone chain; a point is dropped only when it lies more
+  // than the tolerance inside, so points in a row (up to rounding) stay.
+  const auto inside = [&](std::uint32_t o, std::uint32_t a, std::uint32_t b) {
+    const Eigen::Vector2d p = at(a) - at(o), q = at(b) - at(o);
+    return p.x() * q.y() - p.y() * q.x() < -tolerance * p.norm();
+  };
+  std::vector<std::uint32_t> hull;
+  for (int pass = 0; pass < 2; ++pass) {
+    const std::size_t base = hull.size();
+    for (std::uint32_t i : on) {
+      while (hull.size() >= base + 2 && inside(hull[hull.size() - 2], hull.back(), i))
+        hull.pop_back();
+      hull.push_back(i);
+    }
+    hull.pop_back();  // the last point starts the other chain
+    std::reverse(on.begin(), on.end());
   }
-  return cycle.size() == next.size() ? cycle : std::vector<std::uint32_t>{};
+  std::sort(hull.begin(), hull.end());
+  hull.erase(std::unique(hull.begin(), hull.end()), hull.end());
+  // Back into boundary order around the centroid (the chains above keep
+  // collinear points, but in a convex polygon the angle orders them too).
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  for (std::uint32_t i : hull) centre += at(i);
+  centre /= static_cast<double>(hull.size());
+  const auto angle = [&](std::uint32_t i) {
+    const Eigen::Vector2d d = at(i) - centre;
+    return std::atan2(d.y(), d.x());
+  };
+  std::sort(hull.begin(), hull.end(), [&](std::uint32_t a, std::uint32_t b) {
+    const double p = angle(a), q = angle(b);
+    return p < q || (p == q && a < b);
+  });
+  std::rotate(hull.begin(), std::min_element(hull.begin(), hull.end()), hull.end());
+  return hull.size() >= 3 ? hull : std::vector<std::uint32_t>{};
 }
 
 /// CGAL's output order, and its triangulation of coplanar facets, depend
-/// on memory addresses. Sorting the vertices and re-triangulating every
-/// polygonal facet as a fan from its smallest vertex makes the stored hull
-/// a function of the input points alone (byte-identical databases).
+/// on memory addresses. Sorting the vertices and triangulating every
+/// facet (the hull points on its plane) as a fan from its smallest vertex
+/// makes the stored hull a function of the input points alone
+/// (byte-identical databases).
 void canonicalize(db::Points3& vertices, db::Faces3& faces) {
   sortVertices(vertices, faces);
   const double extent = (vertices.colwise().maxCoeff() - vertices.colwise().minCoeff()).norm();
+  const double tolerance = 1e-7 * extent, sliver = 1e-12 * extent * extent;
+  std::set<std::vector<std::uint32_t>> facets;
   std::vector<std::array<std::uint32_t, 3>> list;
-  for (const auto& group : coplanarGroups(vertices, faces, 1e-7 * extent)) {
-    const std::vector<std::uint32_t> cycle =
-        group.size() > 1 ? boundaryCycle(faces, group) : std::vector<std::uint32_t>{};
-    if (cycle.empty()) {
-      for (Eigen::Index t : group) list.push_back({faces(t, 0), faces(t, 1), faces(t, 2)});
-      continue;
-    }
-    for (std::size_t i = 1; i + 1 < cycle.size(); ++i) {
-      const std::array<std::uint32_t, 3> t{cycle[0], cycle[i], cycle[i + 1]};
+  for (const auto& group : coplanarGroups(vertices, faces, tolerance, sliver)) {
+    // The facet's plane from its largest triangle (the best conditioned).
+    Eigen::Index largest = group.front();
+    for (Eigen::Index t : group)
+      if (areaNormal(vertices, faces, t).first > areaNormal(vertices, faces, largest).first)
+        largest = t;
+    const std::vector<std::uint32_t> polygon =
+        facetPolygon(vertices, areaNormal(vertices, faces, largest).second,
+                     row(vertices, faces(largest, 0)), tolerance);
+    if (polygon.empty() || !facets.insert(polygon).second) continue;  // one facet, two groups
+    for (std::size_t i = 1; i + 1 < polygon.size(); ++i) {
+      const std::array<std::uint32_t, 3> t{polygon[0], polygon[i], polygon[i + 1]};
       const double area = (row(vertices, t[1]) - row(vertices, t[0]))
                               .cross(row(vertices, t[2]) - row(vertices, t[0]))
                               .norm();
-      if (area > 1e-12 * extent * extent) list.push_back(t);  // skip collinear fan slivers
+      if (area > sliver) list.push_back(t);  // skip collinear fan slivers
     }
   }
-  for (auto& t : list) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
   std::sort(list.begin(), list.end());
   faces.resize(static_cast<Eigen::Index>(list.size()), 3);
   for (std::size_t i = 0; i < list.size(); ++i)

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
+
 #include "preprocess/convex_hull.h"
 #include "test_meshes.h"
 
@@ -20,6 +23,40 @@ TEST(ConvexHull, OfACubeHasEightVerticesAndOutwardPlanes) {
 TEST(ConvexHull, InteriorPointsDoNotChangeIt) {
   const TriangleMesh mesh = test::merged(test::cube(0.1), test::cube(0.05));
   EXPECT_EQ(ConvexHull(mesh.vertices, "m").vertices().rows(), 8);
+}
+
+TEST(ConvexHull, PointsInARowOnItsEdgesGiveOneHullInAnyInputOrder) {
+  // A frustum of a 24-gon whose slanted edges each hold five points in a
+  // row (like a basin's straight wall): CGAL's triangulation of such
+  // facets, slivers included, depends on the input order; the stored hull
+  // must not.
+  Vertices points(24 * 5, 3);
+  for (int k = 0; k < 24; ++k)
+    for (int j = 0; j < 5; ++j) {
+      const double a = 2 * M_PI * k / 24, r = 0.05 + 0.01 * j;
+      points.row(5 * k + j) << r * std::cos(a), r * std::sin(a), 0.02 * j;
+    }
+  const ConvexHull first(points, "frustum");
+  Vertices shuffled = points;
+  std::mt19937 rng(3);
+  for (int round = 0; round < 5; ++round) {
+    for (Eigen::Index i = shuffled.rows() - 1; i > 0; --i)
+      shuffled.row(i).swap(shuffled.row(std::uniform_int_distribution<Eigen::Index>(0, i)(rng)));
+    const ConvexHull again(shuffled, "frustum");
+    EXPECT_EQ(again.vertices(), first.vertices());
+    EXPECT_EQ(again.faces(), first.faces());
+  }
+  // Every facet is covered: the hull's volume is the frustum's.
+  double volume = 0;
+  for (Eigen::Index f = 0; f < first.faces().rows(); ++f) {
+    const Eigen::Vector3d a = first.vertices().row(first.faces()(f, 0)).transpose();
+    const Eigen::Vector3d b = first.vertices().row(first.faces()(f, 1)).transpose();
+    const Eigen::Vector3d c = first.vertices().row(first.faces()(f, 2)).transpose();
+    volume += a.dot(b.cross(c)) / 6;
+  }
+  const auto polygon = [](double r) { return 0.5 * 24 * r * r * std::sin(2 * M_PI / 24); };
+  const double h = 0.08, a0 = polygon(0.05), a1 = polygon(0.09);
+  EXPECT_NEAR(volume, h / 3 * (a0 + a1 + std::sqrt(a0 * a1)), 1e-12);
 }
 
 TEST(ConvexHull, FlatPointsAreRejected) {
