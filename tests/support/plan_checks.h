@@ -78,7 +78,11 @@ inline void expectValidPlan(const planner::PlanningWorld& world,
   const db::ObjectDatabase& object = *world.object(name);
   Scene scene = request.scene;
   scene.target_object = name;
-  if (request.object_pose) scene.target_pose = *request.object_pose;
+  // Where the object was: the request's pose, else the scene's target pose
+  // (put on its support when it rests on one).
+  scene.target_pose =
+      request.object_pose ? *request.object_pose : targetPose(scene, object.geometry.mesh_vertices);
+  EXPECT_TRUE(result.object_pose.isApprox(scene.target_pose, 1e-12));
   CollisionChecker checker(robot, scene, &object.geometry);
   ASSERT_GE(result.path.size(), 2u);
   EXPECT_EQ(result.joint_names, robot.dofNames());
