@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <set>
@@ -45,36 +46,36 @@ void sortVertices(db::Points3& vertices, db::Faces3& faces) {
     for (int k = 0; k < 3; ++k) faces(f, k) = rank[faces(f, k)];
 }
 
-/// Twice the area and the outward normal of a hull triangle.
-std::pair<double, Eigen::Vector3d> areaNormal(const db::Points3& v, const db::Faces3& f,
-                                              Eigen::Index t) {
-  const Eigen::Vector3d a = row(v, f(t, 0));
-  const Eigen::Vector3d c = (row(v, f(t, 1)) - a).cross(row(v, f(t, 2)) - a);
-  const double norm = c.norm();
-  return {norm, norm > 0.0 ? Eigen::Vector3d(c / norm) : Eigen::Vector3d::Zero()};
+Point point(const db::Points3& v, std::uint32_t i) {
+  return {v(i, 0), v(i, 1), v(i, 2)};
 }
 
-/// Groups edge-adjacent coplanar triangles (one polygonal hull facet each).
-/// Slivers (three collinear points, which CGAL emits where hull points lie
-/// on a line) have no plane and join no group: they would join whichever
-/// facet the triangulation put them next to.
-std::vector<std::vector<Eigen::Index>> coplanarGroups(const db::Points3& v, const db::Faces3& f,
-                                                      double tolerance, double sliver) {
+/// Whether a hull triangle's corners are exactly collinear (CGAL emits
+/// such slivers where hull points lie in a row).
+bool isSliver(const db::Points3& v, const db::Faces3& f, Eigen::Index t) {
+  return CGAL::collinear(point(v, f(t, 0)), point(v, f(t, 1)), point(v, f(t, 2)));
+}
+
+/// Whether point p lies exactly on the plane of hull triangle t.
+bool onPlaneOf(const db::Points3& v, const db::Faces3& f, Eigen::Index t, std::uint32_t p) {
+  return CGAL::orientation(point(v, f(t, 0)), point(v, f(t, 1)), point(v, f(t, 2)), point(v, p)) ==
+         CGAL::COPLANAR;
+}
+
+/// One representative triangle per facet: the triangles of a facet are
+/// edge-adjacent and exactly coplanar (exact predicates, so the facets are
+/// those of the point set, not of CGAL's triangulation or a tolerance).
+/// Slivers have no plane and represent nothing.
+std::vector<Eigen::Index> facetRepresentatives(const db::Points3& v, const db::Faces3& f) {
   std::vector<Eigen::Index> parent(static_cast<std::size_t>(f.rows()));
   for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<Eigen::Index>(i);
   std::function<Eigen::Index(Eigen::Index)> find = [&](Eigen::Index i) {
     auto& p = parent[static_cast<std::size_t>(i)];
     return p == i ? i : (p = find(p));
   };
-  const auto onPlane = [&](Eigen::Index t, Eigen::Index other) {
-    const Eigen::Vector3d n = areaNormal(v, f, t).second, a = row(v, f(t, 0));
-    for (int j = 0; j < 3; ++j)
-      if (std::abs(n.dot(row(v, f(other, j)) - a)) > tolerance) return false;
-    return true;
-  };
   std::vector<bool> proper(static_cast<std::size_t>(f.rows()));
   for (Eigen::Index t = 0; t < f.rows(); ++t)
-    proper[static_cast<std::size_t>(t)] = areaNormal(v, f, t).first > sliver;
+    proper[static_cast<std::size_t>(t)] = !isSliver(v, f, t);
   std::map<std::pair<std::uint32_t, std::uint32_t>, Eigen::Index> edgeOwner;
   for (Eigen::Index t = 0; t < f.rows(); ++t) {
     if (!proper[static_cast<std::size_t>(t)]) continue;
@@ -85,109 +86,99 @@ std::vector<std::vector<Eigen::Index>> coplanarGroups(const db::Points3& v, cons
         edgeOwner[{p, q}] = t;
         continue;
       }
-      if (onPlane(t, other->second) && onPlane(other->second, t))
+      if (onPlaneOf(v, f, other->second, f(t, (k + 2) % 3)))
         parent[static_cast<std::size_t>(find(t))] = find(other->second);
     }
   }
-  std::map<Eigen::Index, std::vector<Eigen::Index>> groups;
+  std::set<Eigen::Index> roots;
   for (Eigen::Index t = 0; t < f.rows(); ++t)
-    if (proper[static_cast<std::size_t>(t)]) groups[find(t)].push_back(t);
-  std::vector<std::vector<Eigen::Index>> out;
-  for (auto& [root, members] : groups) out.push_back(std::move(members));
-  return out;
+    if (proper[static_cast<std::size_t>(t)]) roots.insert(find(t));
+  return {roots.begin(), roots.end()};
 }
 
-/// The convex polygon of the hull vertices that lie on a facet's plane,
-/// counter-clockwise seen from outside, starting at its smallest index;
-/// points on its edges are kept, so both facets at an edge hold the same
-/// points. A function of the points and the plane alone, not of CGAL's
-/// triangulation.
-std::vector<std::uint32_t> facetPolygon(const db::Points3& v, const Eigen::Vector3d& normal,
-                                        const Eigen::Vector3d& origin, double tolerance) {
-  const Eigen::Vector3d u = normal.unitOrthogonal(), w = normal.cross(u);
+/// The facet of the hull in the plane of triangle t: the corners of the
+/// convex polygon of the hull points on that plane (points on its edges or
+/// inside are not corners), counter-clockwise seen from outside, starting
+/// at the smallest index. Exact predicates make it a function of the
+/// points alone.
+std::vector<std::uint32_t> facetPolygon(const db::Points3& v, const db::Faces3& f, Eigen::Index t) {
+  using Point2 = Kernel::Point_2;
+  // Dropping the normal's largest coordinate projects the plane one to one
+  // and keeps orientation up to one sign, fixed below with t itself.
+  const Eigen::Vector3d a = row(v, f(t, 0));
+  const Eigen::Vector3d normal = (row(v, f(t, 1)) - a).cross(row(v, f(t, 2)) - a);
+  Eigen::Index drop = 0;
+  normal.cwiseAbs().maxCoeff(&drop);
+  const int x = drop == 0 ? 1 : 0, y = drop == 2 ? 1 : 2;
+  const auto at = [&](std::uint32_t i) { return Point2(v(i, x), v(i, y)); };
+  const bool flipped = CGAL::orientation(at(f(t, 0)), at(f(t, 1)), at(f(t, 2))) != CGAL::LEFT_TURN;
+
   std::vector<std::uint32_t> on;
   for (Eigen::Index i = 0; i < v.rows(); ++i)
-    if (std::abs(normal.dot(row(v, static_cast<std::uint32_t>(i)) - origin)) <= tolerance)
+    if (onPlaneOf(v, f, t, static_cast<std::uint32_t>(i)))
       on.push_back(static_cast<std::uint32_t>(i));
-  if (on.size() < 3) return {};
-  const auto at = [&](std::uint32_t i) {
-    const Eigen::Vector3d d = row(v, i) - origin;
-    return Eigen::Vector2d(d.dot(u), d.dot(w));
-  };
-  std::sort(on.begin(), on.end(), [&](std::uint32_t a, std::uint32_t b) {
-    const Eigen::Vector2d p = at(a), q = at(b);
-    return p.x() < q.x() || (p.x() == q.x() && (p.y() < q.y() || (p.y() == q.y() && a < b)));
-  });
-  // Andrew's monotone chain; a point is dropped only when it lies more
-  // than the tolerance inside, so points in a row (up to rounding) stay.
-  const auto inside = [&](std::uint32_t o, std::uint32_t a, std::uint32_t b) {
-    const Eigen::Vector2d p = at(a) - at(o), q = at(b) - at(o);
-    return p.x() * q.y() - p.y() * q.x() < -tolerance * p.norm();
-  };
-  std::vector<std::uint32_t> hull;
+  std::sort(on.begin(), on.end(), [&](std::uint32_t p, std::uint32_t q) { return at(p) < at(q); });
+  // Andrew's monotone chain, counter-clockwise in the projection; a point
+  // stays only where the boundary turns strictly left.
+  std::vector<std::uint32_t> corners;
   for (int pass = 0; pass < 2; ++pass) {
-    const std::size_t base = hull.size();
+    const std::size_t base = corners.size();
     for (std::uint32_t i : on) {
-      while (hull.size() >= base + 2 && inside(hull[hull.size() - 2], hull.back(), i))
-        hull.pop_back();
-      hull.push_back(i);
+      while (corners.size() >= base + 2 &&
+             CGAL::orientation(at(corners[corners.size() - 2]), at(corners.back()), at(i)) !=
+                 CGAL::LEFT_TURN)
+        corners.pop_back();
+      corners.push_back(i);
     }
-    hull.pop_back();  // the last point starts the other chain
+    corners.pop_back();  // the last point starts the other chain
     std::reverse(on.begin(), on.end());
   }
-  std::sort(hull.begin(), hull.end());
-  hull.erase(std::unique(hull.begin(), hull.end()), hull.end());
-  // Back into boundary order around the centroid (the chains above keep
-  // collinear points, but in a convex polygon the angle orders them too).
-  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
-  for (std::uint32_t i : hull) centre += at(i);
-  centre /= static_cast<double>(hull.size());
-  const auto angle = [&](std::uint32_t i) {
-    const Eigen::Vector2d d = at(i) - centre;
-    return std::atan2(d.y(), d.x());
-  };
-  std::sort(hull.begin(), hull.end(), [&](std::uint32_t a, std::uint32_t b) {
-    const double p = angle(a), q = angle(b);
-    return p < q || (p == q && a < b);
-  });
-  std::rotate(hull.begin(), std::min_element(hull.begin(), hull.end()), hull.end());
-  return hull.size() >= 3 ? hull : std::vector<std::uint32_t>{};
+  if (flipped) std::reverse(corners.begin(), corners.end());
+  std::rotate(corners.begin(), std::min_element(corners.begin(), corners.end()), corners.end());
+  return corners.size() >= 3 ? corners : std::vector<std::uint32_t>{};
 }
 
-/// CGAL's output order, and its triangulation of coplanar facets, depend
-/// on memory addresses. Sorting the vertices and triangulating every
-/// facet (the hull points on its plane) as a fan from its smallest vertex
-/// makes the stored hull a function of the input points alone
-/// (byte-identical databases).
+/// Keeps the vertices the faces use (in their order) and renumbers the
+/// faces: hull points on a facet's edge or inside it are not corners.
+void dropUnusedVertices(db::Points3& vertices, db::Faces3& faces) {
+  std::vector<std::int64_t> renumber(static_cast<std::size_t>(vertices.rows()), -1);
+  for (Eigen::Index t = 0; t < faces.rows(); ++t)
+    for (int k = 0; k < 3; ++k) renumber[faces(t, k)] = 0;
+  std::int64_t next = 0;
+  db::Points3 used(vertices.rows(), 3);
+  for (std::size_t i = 0; i < renumber.size(); ++i)
+    if (renumber[i] == 0) {
+      used.row(next) = vertices.row(static_cast<Eigen::Index>(i));
+      renumber[i] = next++;
+    }
+  used.conservativeResize(next, 3);
+  vertices = std::move(used);
+  for (Eigen::Index t = 0; t < faces.rows(); ++t)
+    for (int k = 0; k < 3; ++k) faces(t, k) = static_cast<std::uint32_t>(renumber[faces(t, k)]);
+}
+
+/// CGAL's output order, its triangulation of coplanar facets and whether
+/// it keeps points on a facet depend on memory addresses. Sorting the
+/// vertices, keeping the facets' corners and triangulating every facet as
+/// a fan from its smallest corner makes the stored hull a function of the
+/// input points alone (byte-identical databases).
 void canonicalize(db::Points3& vertices, db::Faces3& faces) {
   sortVertices(vertices, faces);
-  const double extent = (vertices.colwise().maxCoeff() - vertices.colwise().minCoeff()).norm();
-  const double tolerance = 1e-7 * extent, sliver = 1e-12 * extent * extent;
   std::set<std::vector<std::uint32_t>> facets;
-  std::vector<std::array<std::uint32_t, 3>> list;
-  for (const auto& group : coplanarGroups(vertices, faces, tolerance, sliver)) {
-    // The facet's plane from its largest triangle (the best conditioned).
-    Eigen::Index largest = group.front();
-    for (Eigen::Index t : group)
-      if (areaNormal(vertices, faces, t).first > areaNormal(vertices, faces, largest).first)
-        largest = t;
-    const std::vector<std::uint32_t> polygon =
-        facetPolygon(vertices, areaNormal(vertices, faces, largest).second,
-                     row(vertices, faces(largest, 0)), tolerance);
-    if (polygon.empty() || !facets.insert(polygon).second) continue;  // one facet, two groups
-    for (std::size_t i = 1; i + 1 < polygon.size(); ++i) {
-      const std::array<std::uint32_t, 3> t{polygon[0], polygon[i], polygon[i + 1]};
-      const double area = (row(vertices, t[1]) - row(vertices, t[0]))
-                              .cross(row(vertices, t[2]) - row(vertices, t[0]))
-                              .norm();
-      if (area > sliver) list.push_back(t);  // skip collinear fan slivers
-    }
+  for (Eigen::Index t : facetRepresentatives(vertices, faces)) {
+    std::vector<std::uint32_t> polygon = facetPolygon(vertices, faces, t);
+    if (!polygon.empty()) facets.insert(std::move(polygon));  // a set: one facet, two groups
   }
+  std::vector<std::array<std::uint32_t, 3>> list;
+  for (const auto& polygon : facets)
+    for (std::size_t i = 1; i + 1 < polygon.size(); ++i)
+      list.push_back({polygon[0], polygon[i], polygon[i + 1]});
   std::sort(list.begin(), list.end());
   faces.resize(static_cast<Eigen::Index>(list.size()), 3);
   for (std::size_t i = 0; i < list.size(); ++i)
     for (int k = 0; k < 3; ++k)
       faces(static_cast<Eigen::Index>(i), k) = list[i][static_cast<std::size_t>(k)];
+  dropUnusedVertices(vertices, faces);
 }
 
 }  // namespace

@@ -59,6 +59,38 @@ TEST(ConvexHull, PointsInARowOnItsEdgesGiveOneHullInAnyInputOrder) {
   EXPECT_NEAR(volume, h / 3 * (a0 + a1 + std::sqrt(a0 * a1)), 1e-12);
 }
 
+TEST(ConvexHull, PointsOnItsFacetsAreNotCornersInAnyInputOrder) {
+  // A box sampled on its faces and edges as well as its corners (like a
+  // flat base whose centre is a mesh vertex): CGAL may keep such points as
+  // hull vertices depending on the input order; the stored hull is the
+  // eight corners and twelve triangles whatever the order.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> inside(-0.04, 0.04);
+  Vertices points(8 + 60, 3);
+  for (int c = 0; c < 8; ++c)
+    points.row(c) << (c & 1 ? 0.05 : -0.05), (c & 2 ? 0.03 : -0.03), (c & 4 ? 0.02 : -0.02);
+  for (int i = 8; i < points.rows(); ++i) {
+    const Eigen::Vector3d half(0.05, 0.03, 0.02);
+    Eigen::Vector3d p(inside(rng) / 0.04 * half.x(), inside(rng) / 0.04 * half.y(),
+                      inside(rng) / 0.04 * half.z());
+    p(i % 3) = (i % 2 ? 1 : -1) * half(i % 3);                              // on a face
+    if (i % 4 == 0) p((i + 1) % 3) = (i % 8 ? 1 : -1) * half((i + 1) % 3);  // on an edge
+    points.row(i) = p.transpose();
+  }
+  const ConvexHull first(points, "box");
+  EXPECT_EQ(first.vertices().rows(), 8);
+  EXPECT_EQ(first.faces().rows(), 12);
+  for (int round = 0; round < 10; ++round) {
+    Vertices shuffled = points;
+    for (Eigen::Index i = shuffled.rows() - 1; i > 0; --i)
+      shuffled.row(i).swap(shuffled.row(std::uniform_int_distribution<Eigen::Index>(0, i)(rng)));
+    const ConvexHull again(shuffled, "box");
+    EXPECT_EQ(again.vertices(), first.vertices());
+    EXPECT_EQ(again.faces(), first.faces());
+  }
+  EXPECT_NEAR(first.depth(Eigen::Vector3d::Zero()), 0.02, 1e-15);
+}
+
 TEST(ConvexHull, FlatPointsAreRejected) {
   EXPECT_THROW(ConvexHull(test::square(0.1, 0.0).vertices, "flat"), MeshError);
 }
