@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 #include "hfts_db/invalid_argument.h"
 
@@ -29,6 +30,12 @@ void GraspObjective::grow() {
     if (s.used) slotOf(s.node) = s;
 }
 
+void GraspObjective::setHandCheck(HandCheck check) {
+  handCheck_ = std::move(check);
+  slots_.clear();
+  size_ = 0;
+}
+
 GraspEvaluation GraspObjective::evaluate(const HftsNode& node) {
   if (2 * (size_ + 1) > slots_.size()) grow();
   Slot& slot = slotOf(node);
@@ -44,8 +51,11 @@ GraspEvaluation GraspObjective::evaluate(const HftsNode& node) {
   q.friction = options_.friction;
   q.cone_edges = options_.cone_edges;
   e.quality = graspQuality(q).epsilon;
-  e.reachability = reachability_.query(grasp.positions, grasp.outward_normals).residual;
-  e.value = e.quality / (e.reachability + options_.alpha);  // Eq. (1)
+  const HandQuery hand = reachability_.query(grasp.positions, grasp.outward_normals);
+  e.reachability = hand.residual;
+  e.hand_blocked = handCheck_ && handCheck_(hand);
+  e.value = e.quality / (e.reachability + options_.alpha +
+                         (e.hand_blocked ? kBlockedHandPenalty : 0.0));  // Eq. (1)
   slot = {node, e, true};
   ++size_;
   return e;

@@ -302,6 +302,7 @@ void declareParameters(ompl::base::ParamSet& params, GoalSamplingSettings& setti
   declareParameter(params, "max_fingertip_error", {1e-9, 0.001, 0.1}, settings.max_fingertip_error);
   declareParameter(params, "mask_contacts", {0, 1, 1}, settings.mask_contacts);
   declareParameter(params, "other_postures", {0, 1, 1}, settings.other_postures);
+  declareParameter(params, "hand_clearance", {0, 1, 1}, settings.hand_clearance);
   declareParameters(params, settings.objective);
 }
 

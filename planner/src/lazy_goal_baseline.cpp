@@ -59,7 +59,7 @@ struct SamplingThreadTools {
                       double resolution)
       : checker(world.robot(), scene, &object.geometry, world.collisionMesh(object.name)),
         si(spaceInformationWithMetric(world.robot(), checker, plannerSpace.metric(), resolution)),
-        tools(world, scene, space, checker, settings.goals.objective),
+        tools(world, scene, space, checker, settings.goals),
         rng(settings.seed),
         sampler(tools.context(rng, settings.goals, settings.smoothing.final_resolution),
                 settings.goals.decoupled_iterations) {}

@@ -4,12 +4,17 @@ namespace hfts::planner {
 
 SamplingTools::SamplingTools(const PlanningWorld& world, const robot::Scene& scene,
                              const grasp::HftsSpace& hfts, robot::CollisionChecker& robotChecker,
-                             const grasp::ObjectiveOptions& options)
+                             const GoalSamplingSettings& settings)
     : space(hfts),
       checker(robotChecker),
-      objective(hfts, world.handMap(), options),
+      objective(hfts, world.handMap(), settings.objective),
       configurator(world.robot(), world.ik(), world.thoroughHandMap(), robotChecker,
-                   scene.target_pose, scene.robot_base) {}
+                   scene.target_pose, scene.robot_base) {
+  if (settings.hand_clearance == 0) return;
+  objective.setHandCheck([&robotChecker, object = scene.target_pose](const grasp::HandQuery& hand) {
+    return robotChecker.handTouchesObstacles(object * hand.palm_pose, hand.hand_configuration);
+  });
+}
 
 GoalSamplingContext SamplingTools::context(std::mt19937_64& rng,
                                            const GoalSamplingSettings& settings,

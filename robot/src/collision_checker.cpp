@@ -13,6 +13,7 @@
 #include <limits>
 #include <mutex>
 #include <queue>
+#include <utility>
 
 #include "hfts_db/invalid_argument.h"
 #include "robot/kinematics.h"
@@ -81,6 +82,7 @@ struct QueryData {
   bool collision = false;
   CollisionPair pair;
   double distance = std::numeric_limits<double>::infinity();
+  const void* query = nullptr;  ///< one object against the environment: its tag comes first
 };
 
 bool ignored(const Tag& a, const Tag& b, const QueryData& data) {
@@ -129,6 +131,22 @@ bool targetCallback(Object* o1, Object* o2, void* raw) {
   fcl::CollisionResultd result;
   if (fcl::collide(o1, o2, request, result) == 0) return false;
   auto* data = static_cast<QueryData*>(raw);
+  data->collision = true;
+  data->pair = {a.name, b.name};
+  return true;
+}
+
+/// One object (QueryData::query) against the environment: any collision
+/// except with the target object; the pair names the object first.
+bool obstacleCallback(Object* o1, Object* o2, void* raw) {
+  auto* data = static_cast<QueryData*>(raw);
+  if (o2->getUserData() == data->query) std::swap(o1, o2);
+  const Tag& a = *static_cast<const Tag*>(o1->getUserData());
+  const Tag& b = *static_cast<const Tag*>(o2->getUserData());
+  if (a.target || b.target) return false;
+  fcl::CollisionRequestd request;
+  fcl::CollisionResultd result;
+  if (fcl::collide(o1, o2, request, result) == 0) return false;
   data->collision = true;
   data->pair = {a.name, b.name};
   return true;
@@ -259,19 +277,35 @@ bool CollisionChecker::sphereTouchesObstacles(const Eigen::Vector3d& center, dou
   Tag tag{-1, false, false, "sphere"};
   sphere.setUserData(&tag);
   QueryData data;
-  impl_->environment.collide(&sphere, &data, [](Object* o1, Object* o2, void* raw) {
-    if (static_cast<const Tag*>(o1->getUserData())->target ||
-        static_cast<const Tag*>(o2->getUserData())->target)
-      return false;
-    fcl::CollisionRequestd request;
-    fcl::CollisionResultd result;
-    if (fcl::collide(o1, o2, request, result) == 0) return false;
-    auto* d = static_cast<QueryData*>(raw);
-    d->collision = true;
-    d->pair = {static_cast<const Tag*>(o1->getUserData())->name,
-               static_cast<const Tag*>(o2->getUserData())->name};
-    return true;
-  });
+  data.query = &tag;
+  impl_->environment.collide(&sphere, &data, obstacleCallback);
+  if (data.collision && pair != nullptr) *pair = data.pair;
+  return data.collision;
+}
+
+bool CollisionChecker::handTouchesObstacles(const Eigen::Isometry3d& palm,
+                                            const Eigen::VectorXd& hand, CollisionPair* pair) {
+  const RobotModel& model = impl_->model;
+  if (hand.size() != model.numHandDofs() || !hand.allFinite() || !palm.matrix().allFinite())
+    throw InvalidArgument("hand", "needs a finite palm pose and " +
+                                      std::to_string(model.numHandDofs()) + " finite joint values");
+  Eigen::VectorXd q = model.home();
+  q.tail(model.numHandDofs()) = hand;
+  forwardKinematics(model, q, impl_->poses);
+  // Hand links relative to the palm, then placed with the palm at `palm`.
+  const Eigen::Isometry3d toWorld =
+      palm * impl_->poses[static_cast<std::size_t>(model.palmLink())].inverse();
+  QueryData data;
+  for (std::size_t i = 0; i < impl_->robotObjects.size() && !data.collision; ++i) {
+    const auto& [link, origin] = impl_->robotShapes[i];
+    if (!model.isHandLink(link)) continue;
+    Object& object = *impl_->robotObjects[i];
+    const Eigen::Isometry3d pose = toWorld * impl_->poses[static_cast<std::size_t>(link)] * origin;
+    object.setTransform(pose.linear(), pose.translation());
+    object.computeAABB();
+    data.query = object.getUserData();
+    impl_->environment.collide(&object, &data, obstacleCallback);
+  }
   if (data.collision && pair != nullptr) *pair = data.pair;
   return data.collision;
 }

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "bundled_objects.h"
 #include "hand_fixture.h"
 
@@ -39,6 +41,52 @@ TEST(GraspObjective, CachesEveryNodeOnceAcrossGrowth) {
     EXPECT_EQ(again.quality, first[i].quality) << i;
   }
   EXPECT_EQ(objective.evaluations(), kNodes);  // nothing evaluated twice
+}
+
+TEST(GraspObjective, AHandCheckRanksBlockedHandsBelowEveryHandThatFits) {
+  const HftsSpace space(test::bundledObjects().at("box"), 3);
+  GraspObjective plain(space, reachability());
+  GraspObjective checked(space, reachability());
+  // "Blocked" when the palm is on the object's +x side: a check that
+  // really reads the answer it is given.
+  int asked = 0;
+  checked.setHandCheck([&asked](const HandQuery& hand) {
+    ++asked;
+    EXPECT_EQ(hand.hand_configuration.size(), 7);  // the SDH's joints
+    return hand.palm_pose.translation().x() > 0.0;
+  });
+  std::vector<GraspEvaluation> fitting, blockedOnes;
+  int blocked = 0;
+  for (std::uint64_t i = 0; i < 400; ++i) {
+    const HftsNode node = space.child(space.root(), (37 * i) % space.numChildren(space.root()));
+    const GraspEvaluation a = plain.evaluate(node), b = checked.evaluate(node);
+    EXPECT_FALSE(a.hand_blocked);
+    EXPECT_EQ(b.quality, a.quality);
+    EXPECT_EQ(b.reachability, a.reachability);
+    if (!b.hand_blocked) {
+      EXPECT_EQ(b.value, a.value);
+      if (b.quality > 0.0 && b.reachability < 0.05) fitting.push_back(b);
+      continue;
+    }
+    ++blocked;
+    EXPECT_DOUBLE_EQ(b.value, b.quality / (b.reachability + 1e-6 + kBlockedHandPenalty));
+    blockedOnes.push_back(b);
+  }
+  EXPECT_EQ(asked, 400);
+  EXPECT_GT(blocked, 40);
+  EXPECT_LT(blocked, 360);
+  // A grasp whose hand fits (R within centimetres) outranks every blocked
+  // one of no better quality.
+  ASSERT_FALSE(fitting.empty());
+  for (const GraspEvaluation& f : fitting)
+    for (const GraspEvaluation& b : blockedOnes)
+      if (b.quality <= f.quality) {
+        EXPECT_LT(b.value, f.value);
+      }
+  // Setting a check forgets what was evaluated without it.
+  checked.setHandCheck({});
+  EXPECT_EQ(checked.evaluations(), 0u);
+  EXPECT_FALSE(checked.evaluate(space.child(space.root(), 37)).hand_blocked);
 }
 
 }  // namespace

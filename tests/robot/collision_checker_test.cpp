@@ -196,6 +196,54 @@ TEST(CollisionChecker, OnlyFingertipsMayTouchTheTargetUnderTheGraspRule) {
   EXPECT_EQ(pair.second.find("target"), 0u) << pair.first << " / " << pair.second;
 }
 
+TEST(CollisionChecker, TheHandAloneCollidesWhereTheWholeRobotsHandDoes) {
+  // A wall in front of the robot and a cube target: random configurations
+  // near them. Where the whole robot is free, the hand alone at the same
+  // palm pose is too; where the robot's first contact is a hand link with
+  // the wall, the hand alone meets the wall.
+  Scene scene;
+  Obstacle wall;
+  wall.name = "wall";
+  wall.size << 0.6, 0.01, 0.5;
+  wall.pose.translation() << 0.6, 0.0, 0.5;
+  scene.obstacles.push_back(wall);
+  scene.target_pose.translation() << 0.5, 0.2, 0.4;
+  const db::ObjectGeometry cube = smallCube();
+  CollisionChecker checker(m(), scene, &cube);
+  std::mt19937_64 rng(4);
+  int free = 0, handOnWall = 0;
+  for (int i = 0; i < 4000; ++i) {
+    Eigen::VectorXd q(m().numDofs());
+    for (int j = 0; j < q.size(); ++j)
+      q(j) =
+          std::uniform_real_distribution<double>(m().lowerLimits()(j), m().upperLimits()(j))(rng);
+    const Eigen::Isometry3d palm =
+        scene.robot_base * forwardKinematics(m(), q)[static_cast<std::size_t>(m().palmLink())];
+    const Eigen::VectorXd hand = q.tail(m().numHandDofs());
+    CollisionPair pair;
+    if (!checker.inCollision(q, &pair)) {
+      ++free;
+      EXPECT_FALSE(checker.handTouchesObstacles(palm, hand));
+    } else if (pair.second == "obstacle 'wall'" && m().isHandLink(m().linkIndex(pair.first))) {
+      ++handOnWall;
+      CollisionPair handPair;
+      EXPECT_TRUE(checker.handTouchesObstacles(palm, hand, &handPair)) << pair.first;
+      EXPECT_EQ(handPair.second, "obstacle 'wall'");
+      EXPECT_TRUE(m().isHandLink(m().linkIndex(handPair.first))) << handPair.first;
+    }
+  }
+  EXPECT_GT(free, 100);
+  EXPECT_GT(handOnWall, 20);
+
+  // The target object is not an obstacle: the palm inside it is clear.
+  Eigen::Isometry3d inTarget = scene.target_pose;
+  EXPECT_FALSE(checker.handTouchesObstacles(inTarget, m().handOpen()));
+  inTarget.translation() = wall.pose.translation();
+  EXPECT_TRUE(checker.handTouchesObstacles(inTarget, m().handOpen()));
+  EXPECT_THROW(checker.handTouchesObstacles(inTarget, Eigen::VectorXd::Zero(2)),
+               std::invalid_argument);
+}
+
 TEST(CollisionChecker, ASharedCollisionMeshGivesTheSameAnswersFromAnyThread) {
   // Random configurations around a palm-down pose over the mug (alone in
   // the scene): some touch it.

@@ -4,6 +4,7 @@
 // representative grasp and cached.
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "grasp/hand_reachability.h"
@@ -25,7 +26,20 @@ struct GraspEvaluation {
   /// reachable grasp outranks any inexact one of similar quality, and
   /// among exact ones quality decides.
   double value = 0.0;
+  /// With a hand check (GraspObjective::setHandCheck): the hand, placed as
+  /// R(h)'s answer places it, meets an obstacle. Its value is then
+  /// Q / (R + alpha + kBlockedHandPenalty): below every grasp of no better
+  /// quality whose hand fits within centimetres.
+  bool hand_blocked = false;
 };
+
+/// What a blocked hand adds to R(h) + alpha (m): far more than the
+/// residual of a grasp the hand nearly reaches (millimetres to centimetres).
+inline constexpr double kBlockedHandPenalty = 1.0;
+
+/// True when the hand, answered for a grasp by R(h) (palm pose in the
+/// object's frame, hand joints), meets an obstacle where the object stands.
+using HandCheck = std::function<bool(const HandQuery&)>;
 
 /// Evaluates HFTS nodes on their representative grasps and caches the
 /// results (a node is evaluated once). Not thread-safe. The space and the
@@ -35,6 +49,10 @@ class GraspObjective {
   GraspObjective(const HftsSpace& space, const HandReachability& reachability,
                  ObjectiveOptions options = {});
   GraspEvaluation evaluate(const HftsNode& node);
+  /// Environment-aware ranking (the planner's hand_clearance): every
+  /// evaluation from now on also asks `check` (empty: none, Eq. (1) as in
+  /// the paper). Forgets the cached evaluations.
+  void setHandCheck(HandCheck check);
   const HftsSpace& space() const { return space_; }
   std::size_t evaluations() const { return size_; }
 
@@ -50,6 +68,7 @@ class GraspObjective {
   const HftsSpace& space_;
   const HandReachability& reachability_;
   ObjectiveOptions options_;
+  HandCheck handCheck_;
   // An open-addressing table (linear probing, at most half full): a run
   // caches up to ~140,000 evaluations, and a node-based map took 10-20 ms
   // to free them at the end of a plan, past its time limit.

@@ -186,6 +186,11 @@ struct GoalSamplingSettings {
   /// for the same contacts (HandReachability::queryAlternatives); 0: one
   /// posture per grasp, as in the paper ("other_postures").
   int other_postures = 0;
+  /// 1: the objective ranks a grasp whose hand (palm and fingers as R(h)
+  /// places them) meets an obstacle below every grasp whose hand fits
+  /// (grasp::GraspObjective::setHandCheck); 0: Eq. (1) alone, as in the
+  /// paper ("hand_clearance").
+  int hand_clearance = 0;
 };
 
 /// The range of the decoupled sampler's i ("iterations"), for programs

@@ -20,10 +20,11 @@ namespace hfts::planner {
 /// The Eq. (1) objective and Phi(h) on one thread's collision checker.
 struct SamplingTools {
   /// `world`, `scene`, `space` and `checker` must outlive the tools;
-  /// `scene` holds the target's pose.
+  /// `scene` holds the target's pose. The objective is set up from
+  /// `settings` (its options, hand_clearance).
   SamplingTools(const PlanningWorld& world, const robot::Scene& scene,
                 const grasp::HftsSpace& space, robot::CollisionChecker& checker,
-                const grasp::ObjectiveOptions& objective);
+                const GoalSamplingSettings& settings);
 
   /// What a goal sampler on these tools works with: random decisions from
   /// `rng`, closing motions checked at `approachResolution`, the fingertip

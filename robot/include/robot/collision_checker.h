@@ -75,6 +75,17 @@ class CollisionChecker {
   bool sphereTouchesObstacles(const Eigen::Vector3d& center, double radius,
                               CollisionPair* pair = nullptr);
 
+  /// True when the hand alone (the palm and every link that moves with a
+  /// hand DoF, robot_model.h isHandLink), with its palm at `palm` (world
+  /// frame) and its joints at `hand` (numHandDofs values), intersects an
+  /// obstacle (the target object is not one); `pair` gets the link and the
+  /// obstacle. Asks where a hand fits before any arm IK (the objective's
+  /// hand_clearance); the arm is not involved and checkCount() does not
+  /// change. Throws InvalidArgument for a hand of the wrong size or a
+  /// non-finite value.
+  bool handTouchesObstacles(const Eigen::Isometry3d& palm, const Eigen::VectorXd& hand,
+                            CollisionPair* pair = nullptr);
+
   /// Smallest distance between the robot and the environment including the
   /// target object (m); 0 when in collision.
   double clearance(const Eigen::VectorXd& q);
