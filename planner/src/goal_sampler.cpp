@@ -229,6 +229,10 @@ int HftsGoalSampler::sampleNewChild(int parent, int iterations) {
   if (!best.found) return GoalHierarchyCache::kNone;
   ++stats_.nodes_explored;
   const double epsilon = best.evaluation.quality;
+  // Below an unstable inner node most leaves are unstable too (measured:
+  // docs/results.md#options-for-low-objects).
+  if (options_.stable_nodes != 0 && !(epsilon > 0.0) && !context_.space->isLeaf(best.best))
+    return GoalHierarchyCache::kNone;
   bool otherHands = false;
   const int child = cache_.addChild(parent, best.best,
                                     configurationsOf(best.best, epsilon, &otherHands), epsilon);
@@ -298,6 +302,7 @@ void declareParameters(ompl::base::ParamSet& params, GoalSamplingSettings& setti
   declareParameter(params, "kappa", {1, 1, 1000}, c.samples);
   declareParameter(params, "i_min", {0, 1, 100000}, c.min_iterations);
   declareParameter(params, "i_max", {0, 1, 100000}, c.max_iterations);
+  declareParameter(params, "stable_nodes", {0, 1, 1}, c.stable_nodes);
   declareParameter(params, "iterations", kDecoupledIterationsRange, settings.decoupled_iterations);
   declareParameter(params, "max_fingertip_error", {1e-9, 0.001, 0.1}, settings.max_fingertip_error);
   declareParameter(params, "mask_contacts", {0, 1, 1}, settings.mask_contacts);

@@ -342,7 +342,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
     expected.erase(it);
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
-  EXPECT_EQ(plannerParameters(world()).size(), 25u) << "a parameter was added or removed";
+  EXPECT_EQ(plannerParameters(world()).size(), 26u) << "a parameter was added or removed";
 }
 
 }  // namespace

@@ -120,6 +120,11 @@ struct HftsGoalSamplerOptions {
   int samples = 4;           ///< kappa: new configurations per call
   int min_iterations = 20;   ///< i_min
   int max_iterations = 100;  ///< i_max
+  /// 1: a new inner node whose representative grasp is not force closure
+  /// (the climb found no stable child) is not added to the hierarchy; the
+  /// attempt counts as one of kappa. 0: it is added, as in the paper
+  /// ("stable_nodes").
+  int stable_nodes = 0;
 };
 
 /// Algorithm 2 with the goal hierarchy cache (Algorithms 3 and 4).
