@@ -35,7 +35,8 @@ import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
 Z95 = 1.959963984540054
-LABELS = {"coupled": "coupled (paper)", "rrtconnect": "RRTConnect + lazy goals"}
+LABELS = {"coupled": "coupled (paper)", "rrtconnect": "RRTConnect + lazy goals",
+          "coupled:stable_nodes=1:other_postures=1:hand_clearance=1": "coupled + support options"}
 # Okabe-Ito: distinguishable with the common colour-vision deficiencies.
 PALETTE = ["#0072B2", "#E69F00", "#009E73", "#CC79A7", "#777777", "#D55E00", "#56B4E9", "#F0E442"]
 
