@@ -376,6 +376,18 @@ PRISM_ALONG_X = np.array([[0, 0, 1], [1, 0, 0], [0, 1, 0]], dtype=float)  # extr
 # The objects (all sizes in metres)
 
 
+def c_handle(outer_r, sunk, reach, half_height, z_mid, tube_r):
+    """A C handle on a vessel of outer radius outer_r: a tube of radius tube_r
+    along a half ellipse in the x-z plane centred at height z_mid, reaching
+    `reach` out of the wall; its ends are horizontal and stop `sunk` inside
+    the outer wall."""
+    phi = np.linspace(-np.pi / 2, np.pi / 2, 65)
+    a, b = sunk + reach, half_height
+    centerline = np.column_stack([outer_r - sunk + a * np.cos(phi), 0 * phi, z_mid + b * np.sin(phi)])
+    tangents = np.column_stack([-a * np.sin(phi), 0 * phi, b * np.cos(phi)])
+    return sweep_tube(centerline, tangents, tube_r, 32)
+
+
 def mug():
     """Cup with a real cavity and a C-shaped handle sunk into the wall."""
     outer_r, height, wall, floor = 0.040, 0.100, 0.005, 0.006
@@ -389,14 +401,8 @@ def mug():
     )
     body = revolve(refine(profile, 0.004), 64)
 
-    # Half ellipse in the x-z plane; its ends are horizontal and stop `sunk`
-    # inside the outer wall, short of the cavity.
-    sunk, reach, half_height, z_mid, tube_r = 0.0045, 0.030, 0.030, 0.055, 0.006
-    phi = np.linspace(-np.pi / 2, np.pi / 2, 65)
-    a, b = sunk + reach, half_height
-    centerline = np.column_stack([outer_r - sunk + a * np.cos(phi), 0 * phi, z_mid + b * np.sin(phi)])
-    tangents = np.column_stack([-a * np.sin(phi), 0 * phi, b * np.cos(phi)])
-    handle = sweep_tube(centerline, tangents, tube_r, 32)
+    handle = c_handle(outer_r, sunk=0.0045, reach=0.030, half_height=0.030, z_mid=0.055,
+                      tube_r=0.006)
     if np.hypot(handle.vertices[:, 0], handle.vertices[:, 1]).min() < inner_r + 0.0002:
         raise MeshError("mug handle pokes into the cavity")
     return body + handle
@@ -669,12 +675,8 @@ def jug():
     outer = polyline(arc((outer_r - fillet, fillet), fillet, -90, 0, 6), (outer_r, 0.160),
                      catmull_rom([(outer_r, 0.160), (0.053, 0.175), (0.054, 0.185)], 4)[1:])
     body = revolve(refine(vessel_profile(outer, wall, floor), 0.008), 64)
-    sunk, reach, half_height, z_mid, tube_r = 0.0035, 0.040, 0.050, 0.100, 0.007
-    phi = np.linspace(-np.pi / 2, np.pi / 2, 65)
-    a, b = sunk + reach, half_height
-    centerline = np.column_stack([outer_r - sunk + a * np.cos(phi), 0 * phi, z_mid + b * np.sin(phi)])
-    tangents = np.column_stack([-a * np.sin(phi), 0 * phi, b * np.cos(phi)])
-    handle = sweep_tube(centerline, tangents, tube_r, 32)
+    handle = c_handle(outer_r, sunk=0.0035, reach=0.040, half_height=0.050, z_mid=0.100,
+                      tube_r=0.007)
     radial = np.hypot(handle.vertices[:, 0], handle.vertices[:, 1])
     check_inside(radial, lambda r: r > outer_r - wall + 0.0002, "jug handle pokes into the cavity")
     if handle.vertices[:, 2].max() > 0.160:

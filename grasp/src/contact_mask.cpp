@@ -31,13 +31,7 @@ std::vector<bool> fingertipReachableContacts(const db::ObjectDatabase& object,
 bool stableGraspPossible(const HftsSpace& space, const ObjectiveOptions& options) {
   const GraspContacts contacts = space.leafContacts();
   if (contacts.positions.cols() == 0) return false;
-  GraspQualityRequest q;
-  q.positions = contacts.positions;
-  q.normals = contacts.outward_normals;
-  q.direction = NormalDirection::kOutward;
-  q.center = space.database().geometry.center_of_mass;
-  q.torque_scale = space.database().geometry.rho;
-  q.cone_edges = options.cone_edges;
+  GraspQualityRequest q = qualityRequest(space, contacts, options);
   // The K-gon around the true cone: every force of Q(h)'s inscribed cones,
   // whatever their tangents, lies in these.
   q.friction = options.friction / std::cos(M_PI / options.cone_edges);

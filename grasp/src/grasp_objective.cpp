@@ -6,9 +6,20 @@
 
 #include "hfts_db/invalid_argument.h"
 
-#include "grasp/grasp_quality.h"
-
 namespace hfts::grasp {
+
+GraspQualityRequest qualityRequest(const HftsSpace& space, const GraspContacts& contacts,
+                                   const ObjectiveOptions& options) {
+  GraspQualityRequest q;
+  q.positions = contacts.positions;
+  q.normals = contacts.outward_normals;
+  q.direction = NormalDirection::kOutward;
+  q.center = space.database().geometry.center_of_mass;
+  q.torque_scale = space.database().geometry.rho;
+  q.friction = options.friction;
+  q.cone_edges = options.cone_edges;
+  return q;
+}
 
 GraspObjective::GraspObjective(const HftsSpace& space, const HandReachability& reachability,
                                ObjectiveOptions options)
@@ -42,15 +53,7 @@ GraspEvaluation GraspObjective::evaluate(const HftsNode& node) {
   if (slot.used) return slot.evaluation;
   const GraspContacts grasp = space_.representative(node);
   GraspEvaluation e;
-  GraspQualityRequest q;
-  q.positions = grasp.positions;
-  q.normals = grasp.outward_normals;
-  q.direction = NormalDirection::kOutward;
-  q.center = space_.database().geometry.center_of_mass;
-  q.torque_scale = space_.database().geometry.rho;
-  q.friction = options_.friction;
-  q.cone_edges = options_.cone_edges;
-  e.quality = graspQuality(q).epsilon;
+  e.quality = graspQuality(qualityRequest(space_, grasp, options_)).epsilon;
   const HandQuery hand = reachability_.query(grasp.positions, grasp.outward_normals);
   e.reachability = hand.residual;
   e.hand_blocked = handCheck_ && handCheck_(hand);

@@ -2,7 +2,7 @@
 
 #include <random>
 
-#include "grasp/grasp_quality.h"
+#include "grasp/grasp_objective.h"
 #include "hfts_db/invalid_argument.h"
 
 namespace hfts::grasp {
@@ -17,14 +17,8 @@ Graspability graspability(const HftsSpace& space, const HandReachability& fast,
   if (leaves.positions.cols() == 0) return out;
   std::mt19937_64 rng(seed);
   std::uniform_int_distribution<Eigen::Index> pick(0, leaves.positions.cols() - 1);
-  GraspQualityRequest q;
-  q.direction = NormalDirection::kOutward;
-  q.center = space.database().geometry.center_of_mass;
-  q.torque_scale = space.database().geometry.rho;
-  q.friction = options.friction;
-  q.cone_edges = options.cone_edges;
-  q.positions.resize(3, space.fingers());
-  q.normals.resize(3, space.fingers());
+  const Eigen::Matrix3Xd empty(3, space.fingers());
+  GraspQualityRequest q = qualityRequest(space, {empty, empty}, options);
   for (std::size_t s = 0; s < samples; ++s) {
     for (int f = 0; f < space.fingers(); ++f) {
       const Eigen::Index leaf = pick(rng);

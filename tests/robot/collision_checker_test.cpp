@@ -196,17 +196,23 @@ TEST(CollisionChecker, OnlyFingertipsMayTouchTheTargetUnderTheGraspRule) {
   EXPECT_EQ(pair.second.find("target"), 0u) << pair.first << " / " << pair.second;
 }
 
-TEST(CollisionChecker, TheHandAloneCollidesWhereTheWholeRobotsHandDoes) {
-  // A wall in front of the robot and a cube target: random configurations
-  // near them. Where the whole robot is free, the hand alone at the same
-  // palm pose is too; where the robot's first contact is a hand link with
-  // the wall, the hand alone meets the wall.
+/// A thin wall in the plane y = 0 in front of the robot, alone in a scene.
+Scene wallInFront() {
   Scene scene;
   Obstacle wall;
   wall.name = "wall";
   wall.size << 0.6, 0.01, 0.5;
   wall.pose.translation() << 0.6, 0.0, 0.5;
   scene.obstacles.push_back(wall);
+  return scene;
+}
+
+TEST(CollisionChecker, TheHandAloneCollidesWhereTheWholeRobotsHandDoes) {
+  // A wall in front of the robot and a cube target: random configurations
+  // near them. Where the whole robot is free, the hand alone at the same
+  // palm pose is too; where the robot's first contact is a hand link with
+  // the wall, the hand alone meets the wall.
+  Scene scene = wallInFront();
   scene.target_pose.translation() << 0.5, 0.2, 0.4;
   const db::ObjectGeometry cube = smallCube();
   CollisionChecker checker(m(), scene, &cube);
@@ -238,7 +244,7 @@ TEST(CollisionChecker, TheHandAloneCollidesWhereTheWholeRobotsHandDoes) {
   // The target object is not an obstacle: the palm inside it is clear.
   Eigen::Isometry3d inTarget = scene.target_pose;
   EXPECT_FALSE(checker.handTouchesObstacles(inTarget, m().handOpen()));
-  inTarget.translation() = wall.pose.translation();
+  inTarget.translation() = scene.obstacles.front().pose.translation();
   EXPECT_TRUE(checker.handTouchesObstacles(inTarget, m().handOpen()));
   EXPECT_THROW(checker.handTouchesObstacles(inTarget, Eigen::VectorXd::Zero(2)),
                std::invalid_argument);
@@ -289,15 +295,9 @@ TEST(CollisionChecker, ASharedCollisionMeshGivesTheSameAnswersFromAnyThread) {
 }
 
 TEST(CollisionChecker, MotionIsCheckedAtTheGivenResolution) {
-  // A thin wall in the plane y = 0 in front of the robot: turning joint 1
-  // from one side to the other sweeps the hand through it.
-  Scene scene;
-  Obstacle wall;
-  wall.name = "wall";
-  wall.size << 0.6, 0.01, 0.5;
-  wall.pose.translation() << 0.6, 0.0, 0.5;
-  scene.obstacles.push_back(wall);
-  CollisionChecker checker(m(), scene, nullptr);
+  // Turning joint 1 from one side of the wall to the other sweeps the hand
+  // through it.
+  CollisionChecker checker(m(), wallInFront(), nullptr);
   Eigen::VectorXd a = m().home(), b = m().home();
   a(0) = 0.8;
   b(0) = -0.8;

@@ -7,6 +7,7 @@
 #include <functional>
 #include <vector>
 
+#include "grasp/grasp_quality.h"
 #include "grasp/hand_reachability.h"
 #include "grasp/hfts_space.h"
 
@@ -17,6 +18,12 @@ struct ObjectiveOptions {
   double friction = 0.5;
   int cone_edges = 8;
 };
+
+/// Q(h)'s request for `contacts` of the space's object: outward normals,
+/// the object's centre of mass and rho, the options' friction and cone
+/// edges.
+GraspQualityRequest qualityRequest(const HftsSpace& space, const GraspContacts& contacts,
+                                   const ObjectiveOptions& options);
 
 /// One evaluated node.
 struct GraspEvaluation {
