@@ -292,7 +292,9 @@ bool CollisionChecker::handTouchesObstacles(const Eigen::Isometry3d& palm,
   Eigen::VectorXd q = model.home();
   q.tail(model.numHandDofs()) = hand;
   forwardKinematics(model, q, impl_->poses);
-  // Hand links relative to the palm, then placed with the palm at `palm`.
+  // Hand links relative to the palm, then placed with the palm at `palm`;
+  // this moves the robot's objects, and every robot query places them
+  // (place()) before it reads them.
   const Eigen::Isometry3d toWorld =
       palm * impl_->poses[static_cast<std::size_t>(model.palmLink())].inverse();
   QueryData data;
