@@ -1,0 +1,236 @@
+#include "robot/link_spheres.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <utility>
+
+namespace hfts::robot {
+namespace {
+
+using Points = std::vector<Eigen::Vector3d>;
+using Iterator = Points::iterator;
+
+struct Capsule {
+  Eigen::Vector3d a, b;  ///< ends of the axis (link frame)
+  double radius = 0;
+};
+
+bool hasSphere(const Link& link, const Eigen::Vector3d& center, double radius) {
+  for (const CollisionShape& s : link.shapes)
+    if (s.type == CollisionShape::Type::kSphere && std::abs(s.size[0] - radius) <= 1e-9 &&
+        (s.origin.translation() - center).norm() <= 1e-9)
+      return true;
+  return false;
+}
+
+/// The link's cylinders that carry a sphere of their radius on each end.
+std::vector<Capsule> capsulesOf(const Link& link) {
+  std::vector<Capsule> capsules;
+  for (const CollisionShape& s : link.shapes) {
+    if (s.type != CollisionShape::Type::kCylinder) continue;
+    const Eigen::Vector3d half = s.origin.linear().col(2) * s.size[1] / 2;
+    const Capsule c{s.origin.translation() - half, s.origin.translation() + half, s.size[0]};
+    if (hasSphere(link, c.a, c.radius) && hasSphere(link, c.b, c.radius)) capsules.push_back(c);
+  }
+  return capsules;
+}
+
+/// Half extents of a box or cylinder's bounding box in its own frame.
+Eigen::Vector3d halfExtents(const CollisionShape& shape) {
+  if (shape.type == CollisionShape::Type::kBox) return shape.size / 2;
+  return {shape.size[0], shape.size[0], shape.size[1] / 2};
+}
+
+/// Centres of the cells of a grid (spacing at most `spacing`) tiling the
+/// shape's bounding box that may overlap the shape: every point of the shape
+/// lies within `cellRadius` of one of them.
+Points volumeGrid(const CollisionShape& shape, double spacing, double& cellRadius) {
+  const Eigen::Vector3d half = halfExtents(shape);
+  Eigen::Vector3i cells;
+  Eigen::Vector3d step;
+  for (int a = 0; a < 3; ++a) {
+    cells[a] = std::max(1, static_cast<int>(std::ceil(2 * half[a] / spacing)));
+    step[a] = 2 * half[a] / cells[a];
+  }
+  cellRadius = step.norm() / 2;
+  CollisionShape local = shape;
+  local.origin = Eigen::Isometry3d::Identity();
+  Points points;
+  for (int i = 0; i < cells[0]; ++i)
+    for (int j = 0; j < cells[1]; ++j)
+      for (int k = 0; k < cells[2]; ++k) {
+        const Eigen::Vector3d p =
+            -half + Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5).cwiseProduct(step);
+        if (signedDistance(local, p) <= cellRadius) points.push_back(p);
+      }
+  return points;
+}
+
+/// Covers a piece of a shape's volume grid (shape frame) and measures how far
+/// the covering sphere reaches beyond the link.
+class Piece {
+ public:
+  Piece(Iterator begin, Iterator end, double cellRadius, const Link& link,
+        const Eigen::Isometry3d& toLink)
+      : begin_(begin), end_(end) {
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (auto p = begin; p != end; ++p) centroid += *p;
+    centroid /= static_cast<double>(end - begin);
+    double farthest = 0;
+    for (auto p = begin; p != end; ++p) farthest = std::max(farthest, (*p - centroid).norm());
+    sphere_.center = toLink * centroid;
+    sphere_.radius = farthest + cellRadius;
+    excess_ = sphere_.radius + signedDistance(link, sphere_.center);
+  }
+
+  Iterator begin() const { return begin_; }
+  Iterator end() const { return end_; }
+  std::ptrdiff_t size() const { return end_ - begin_; }
+  const LinkSphere& sphere() const { return sphere_; }
+  double excess() const { return excess_; }
+
+ private:
+  Iterator begin_, end_;
+  LinkSphere sphere_;
+  double excess_ = 0;
+};
+
+class ShapeCoverer {
+ public:
+  ShapeCoverer(const Link& link, const CollisionShape& shape, double tolerance)
+      : link_(link), to_link_(shape.origin), tolerance_(tolerance) {
+    points_ = volumeGrid(shape, tolerance / 4, cell_radius_);
+  }
+
+  /// Appends the shape's spheres; returns the largest excess among them.
+  double cover(std::vector<LinkSphere>& spheres) {
+    double worst = 0;
+    std::vector<Piece> open{piece(points_.begin(), points_.end())};
+    while (!open.empty()) {
+      const Piece current = open.back();
+      open.pop_back();
+      if (current.excess() <= tolerance_ || current.size() == 1) {
+        spheres.push_back(current.sphere());
+        worst = std::max(worst, current.excess());
+        continue;
+      }
+      const auto [first, second] = bestSplit(current);
+      open.push_back(first);
+      open.push_back(second);
+    }
+    return worst;
+  }
+
+ private:
+  Piece piece(Iterator begin, Iterator end) const {
+    return Piece(begin, end, cell_radius_, link_, to_link_);
+  }
+
+  /// Splits at the median along the shape's x, y or z axis, whichever leaves
+  /// the smaller worst excess (on a cylinder: slabs, not half discs).
+  std::pair<Piece, Piece> bestSplit(const Piece& whole) const {
+    const Iterator middle = whole.begin() + whole.size() / 2;
+    int bestAxis = 0;
+    double bestExcess = std::numeric_limits<double>::infinity();
+    for (int axis = 0; axis < 3; ++axis) {
+      splitAt(whole, middle, axis);
+      const double excess =
+          std::max(piece(whole.begin(), middle).excess(), piece(middle, whole.end()).excess());
+      if (excess < bestExcess) {
+        bestExcess = excess;
+        bestAxis = axis;
+      }
+    }
+    splitAt(whole, middle, bestAxis);
+    return {piece(whole.begin(), middle), piece(middle, whole.end())};
+  }
+
+  static void splitAt(const Piece& whole, Iterator middle, int axis) {
+    std::nth_element(
+        whole.begin(), middle, whole.end(),
+        [axis](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+          return a[axis] < b[axis] ||
+                 (a[axis] == b[axis] && std::tie(a[0], a[1], a[2]) < std::tie(b[0], b[1], b[2]));
+        });
+  }
+
+  const Link& link_;
+  Eigen::Isometry3d to_link_;
+  double tolerance_;
+  double cell_radius_ = 0;
+  Points points_;
+};
+
+}  // namespace
+
+std::size_t SphereModel::numSpheres() const {
+  std::size_t n = 0;
+  for (const LinkSpheres& link : links) n += link.spheres.size();
+  return n;
+}
+
+double SphereModel::maxExcess() const {
+  double worst = 0;
+  for (const LinkSpheres& link : links) worst = std::max(worst, link.excess);
+  return worst;
+}
+
+double signedDistance(const CollisionShape& shape, const Eigen::Vector3d& point) {
+  const Eigen::Vector3d p = shape.origin.inverse() * point;
+  switch (shape.type) {
+    case CollisionShape::Type::kSphere:
+      return p.norm() - shape.size[0];
+    case CollisionShape::Type::kBox: {
+      const Eigen::Vector3d q = p.cwiseAbs() - shape.size / 2;
+      return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+    }
+    case CollisionShape::Type::kCylinder: {
+      const Eigen::Vector2d d(p.head<2>().norm() - shape.size[0],
+                              std::abs(p.z()) - shape.size[1] / 2);
+      return d.cwiseMax(0.0).norm() + std::min(d.maxCoeff(), 0.0);
+    }
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+double signedDistance(const Link& link, const Eigen::Vector3d& point) {
+  double distance = std::numeric_limits<double>::infinity();
+  for (const CollisionShape& shape : link.shapes)
+    distance = std::min(distance, signedDistance(shape, point));
+  // A cylinder capped by two spheres of its radius is a capsule, whose depth
+  // is exact (the minimum above underestimates it near the caps).
+  for (const Capsule& capsule : capsulesOf(link)) {
+    const Eigen::Vector3d axis = capsule.b - capsule.a;
+    const double t = std::clamp((point - capsule.a).dot(axis) / axis.squaredNorm(), 0.0, 1.0);
+    distance = std::min(distance, (point - capsule.a - t * axis).norm() - capsule.radius);
+  }
+  return distance;
+}
+
+LinkSpheres coverLink(const Link& link, const SphereModelOptions& options) {
+  if (!(options.tolerance > 0) || !std::isfinite(options.tolerance))
+    throw std::invalid_argument("sphere model tolerance must be positive and finite, got " +
+                                std::to_string(options.tolerance));
+  LinkSpheres result;
+  for (const CollisionShape& shape : link.shapes) {
+    if (shape.type == CollisionShape::Type::kSphere) {
+      result.spheres.push_back({shape.origin.translation(), shape.size[0]});
+      continue;
+    }
+    const double excess = ShapeCoverer(link, shape, options.tolerance).cover(result.spheres);
+    result.excess = std::max(result.excess, excess);
+  }
+  return result;
+}
+
+SphereModel buildSphereModel(const RobotModel& model, const SphereModelOptions& options) {
+  SphereModel result;
+  for (const Link& link : model.links()) result.links.push_back(coverLink(link, options));
+  return result;
+}
+
+}  // namespace hfts::robot
