@@ -108,15 +108,19 @@ BENCHMARK(BM_GraspQuality3ContactsStable);
 
 /// Full-robot collision checks (environment, target object, self) of
 /// configurations in a bundled scene. `freeOnly` keeps collision-free
-/// configurations only: no early exit, the worst case. The median and 90th
-/// percentile of single checks are reported as counters (microseconds).
-void BM_CollisionCheck(benchmark::State& state, const std::string& scene, bool freeOnly) {
+/// configurations only: no early exit, the worst case. `spheres`: the
+/// two-tier checker (spheres, then FCL on the touching pairs) or FCL alone.
+/// The median and 90th percentile of single checks are reported as counters
+/// (microseconds), and the share the sphere tier settled without FCL.
+void BM_CollisionCheck(benchmark::State& state, const std::string& scene, bool freeOnly,
+                       bool spheres) {
   const robot::Scene s = robot::loadScene(kSource / ("objects/scenes/" + scene + ".json"));
   std::filesystem::path mesh;
   for (const auto& entry : std::filesystem::directory_iterator(kSource / "objects/meshes"))
     if (entry.path().stem() == s.target_object) mesh = entry.path();
   const auto target = preprocess::buildObjectDatabaseFromFile(mesh, {}).database;
   robot::CollisionChecker checker(robot(), s, &target.geometry);
+  checker.setSphereTier(spheres);
   std::mt19937_64 rng(3);
   std::vector<Eigen::VectorXd> configurations;
   while (configurations.size() < 1024) {
@@ -125,6 +129,8 @@ void BM_CollisionCheck(benchmark::State& state, const std::string& scene, bool f
   }
   std::vector<double> micros;
   std::size_t i = 0, colliding = 0;
+  const std::uint64_t checksBefore = checker.checkCount(),
+                      settledBefore = checker.sphereSettledCount();
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
     colliding += checker.inCollision(configurations[i++ % configurations.size()]);
@@ -136,18 +142,32 @@ void BM_CollisionCheck(benchmark::State& state, const std::string& scene, bool f
   state.counters["median_us"] = micros[micros.size() / 2];
   state.counters["p90_us"] = micros[micros.size() * 9 / 10];
   state.counters["colliding"] = static_cast<double>(colliding) / static_cast<double>(micros.size());
+  state.counters["settled"] = static_cast<double>(checker.sphereSettledCount() - settledBefore) /
+                              static_cast<double>(checker.checkCount() - checksBefore);
 }
-BENCHMARK_CAPTURE(BM_CollisionCheck, table_random, std::string("table"), false)
+BENCHMARK_CAPTURE(BM_CollisionCheck, table_random_fcl, std::string("table"), false, false)
     ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_CollisionCheck, table_free, std::string("table"), true)
+BENCHMARK_CAPTURE(BM_CollisionCheck, table_random_spheres, std::string("table"), false, true)
     ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_CollisionCheck, shelf_random, std::string("shelf"), false)
+BENCHMARK_CAPTURE(BM_CollisionCheck, table_free_fcl, std::string("table"), true, false)
     ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_CollisionCheck, shelf_free, std::string("shelf"), true)
+BENCHMARK_CAPTURE(BM_CollisionCheck, table_free_spheres, std::string("table"), true, true)
     ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_CollisionCheck, bin_random, std::string("bin"), false)
+BENCHMARK_CAPTURE(BM_CollisionCheck, shelf_random_fcl, std::string("shelf"), false, false)
     ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_CollisionCheck, bin_free, std::string("bin"), true)
+BENCHMARK_CAPTURE(BM_CollisionCheck, shelf_random_spheres, std::string("shelf"), false, true)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_CollisionCheck, shelf_free_fcl, std::string("shelf"), true, false)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_CollisionCheck, shelf_free_spheres, std::string("shelf"), true, true)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_CollisionCheck, bin_random_fcl, std::string("bin"), false, false)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_CollisionCheck, bin_random_spheres, std::string("bin"), false, true)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_CollisionCheck, bin_free_fcl, std::string("bin"), true, false)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_CollisionCheck, bin_free_spheres, std::string("bin"), true, true)
     ->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -64,6 +64,7 @@ struct PlanParameters {
       : planner(std::make_shared<MultiTreeCBiRRT>(si)) {
     all.include(planner->params());
     declareParameters(all, goals);
+    declareParameter(all, "sphere_tier", {0, 1, 1}, sphereTier);
   }
   PlanParameters(const ob::SpaceInformationPtr& si, const PlanRequest& request)
       : PlanParameters(si) {
@@ -85,6 +86,9 @@ struct PlanParameters {
 
   std::shared_ptr<MultiTreeCBiRRT> planner;
   GoalSamplingSettings goals;
+  /// 1: collision checks in two tiers (spheres, then FCL on the touching
+  /// pairs); 0: FCL alone. The same answers either way (docs/collision.md).
+  int sphereTier = 1;
   ob::ParamSet all;
 };
 
@@ -120,7 +124,9 @@ struct Problem {
                 ? std::vector<bool>{}
                 : grasp::fingertipReachableContacts(o, scene.target_pose, checker, w.padRadius())),
         space(o, static_cast<int>(w.robot().fingertips().size()),
-              usable.empty() ? nullptr : &usable) {}
+              usable.empty() ? nullptr : &usable) {
+    checker.setSphereTier(parameters.sphereTier != 0);
+  }
 
   /// The request's object where the request puts it: at object_pose, or
   /// at the scene's target pose (resting on its support when it has one).

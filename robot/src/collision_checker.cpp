@@ -17,6 +17,7 @@
 
 #include "hfts_db/invalid_argument.h"
 #include "robot/kinematics.h"
+#include "sphere_tier.h"
 
 namespace hfts::robot {
 namespace {
@@ -152,6 +153,30 @@ bool obstacleCallback(Object* o1, Object* o2, void* raw) {
   return true;
 }
 
+/// The environment as the sphere tier sees it, in the checker's order:
+/// obstacles, then the target. A mesh becomes its bounding box.
+std::vector<SphereTier::Item> sphereTierItems(const Scene& scene,
+                                              const db::ObjectGeometry* target) {
+  std::vector<SphereTier::Item> items;
+  auto add = [&](int type, const Eigen::Vector3d& size, const Eigen::Isometry3d& pose,
+                 bool isTarget) {
+    items.push_back({static_cast<CollisionShape::Type>(type), size, pose.inverse(), isTarget});
+  };
+  auto addMesh = [&](const Vertices& vertices, const Eigen::Isometry3d& pose, bool isTarget) {
+    const Eigen::Vector3d low = vertices.colwise().minCoeff(), high = vertices.colwise().maxCoeff();
+    add(static_cast<int>(CollisionShape::Type::kBox), high - low,
+        pose * Eigen::Translation3d((low + high) / 2), isTarget);
+  };
+  for (const Obstacle& o : scene.obstacles) {
+    if (o.type == Obstacle::Type::kMesh)
+      addMesh(o.mesh.vertices, o.pose, false);
+    else
+      add(static_cast<int>(o.type), o.size, o.pose, false);
+  }
+  if (target != nullptr) addMesh(target->mesh_vertices, scene.target_pose, true);
+  return items;
+}
+
 }  // namespace
 
 struct CollisionChecker::Impl {
@@ -162,7 +187,11 @@ struct CollisionChecker::Impl {
   std::vector<std::pair<int, Eigen::Isometry3d>> robotShapes;  // link, shape origin
   fcl::DynamicAABBTreeCollisionManagerd robot, environment;
   LinkPoses poses;
-  std::uint64_t checks = 0;
+  std::unique_ptr<SphereTier> tier;  // first tier
+  bool useTier = true;
+  std::vector<SphereTier::Pair> touching;             // scratch: the tier's pairs
+  std::vector<std::vector<std::size_t>> linkObjects;  // per link: its robotObjects
+  std::uint64_t checks = 0, settledBySpheres = 0;
   std::shared_ptr<ConfigurationMetric> metric;  // Eq. (3)
 
   Impl(const RobotModel& m, const Scene& scene)
@@ -203,10 +232,18 @@ struct CollisionChecker::Impl {
       }
     }
     robot.setup();
+    linkObjects.resize(model.links().size());
+    for (std::size_t i = 0; i < robotShapes.size(); ++i)
+      linkObjects[static_cast<std::size_t>(robotShapes[i].first)].push_back(i);
   }
 
   void place(const Eigen::VectorXd& q) {
     forwardKinematics(model, q, poses);
+    placeObjects();
+  }
+
+  /// Moves the robot's FCL objects to `poses`.
+  void placeObjects() {
     for (std::size_t i = 0; i < robotObjects.size(); ++i) {
       const Eigen::Isometry3d pose =
           base * poses[static_cast<std::size_t>(robotShapes[i].first)] * robotShapes[i].second;
@@ -216,16 +253,88 @@ struct CollisionChecker::Impl {
     robot.update();
   }
 
+  /// The sphere tier over the environment objects (same order), with the
+  /// pairs that cannot change (links fixed to the base) dropped where FCL
+  /// finds them clear.
+  void addSphereTier(std::vector<SphereTier::Item> items) {
+    tier = std::make_unique<SphereTier>(model, base, std::move(items));
+    place(model.home());
+    const std::size_t links = model.links().size();
+    // staticTouching[link][e]: a shape of the static link touches environment
+    // object e; linksTouching[a][b]: shapes of two static links touch.
+    std::vector<std::vector<bool>> staticTouching(links,
+                                                  std::vector<bool>(environmentObjects.size()));
+    std::vector<std::vector<bool>> linksTouching(links, std::vector<bool>(links));
+    for (std::size_t i = 0; i < robotObjects.size(); ++i) {
+      const auto link = static_cast<std::size_t>(robotShapes[i].first);
+      if (!tier->isStatic(static_cast<int>(link))) continue;
+      for (std::size_t e = 0; e < environmentObjects.size(); ++e)
+        if (touch(*robotObjects[i], *environmentObjects[e])) staticTouching[link][e] = true;
+      for (std::size_t j = 0; j < robotObjects.size(); ++j) {
+        const auto other = static_cast<std::size_t>(robotShapes[j].first);
+        if (tier->isStatic(static_cast<int>(other)) && touch(*robotObjects[i], *robotObjects[j]))
+          linksTouching[link][other] = linksTouching[other][link] = true;
+      }
+    }
+    for (std::size_t a = 0; a < links; ++a) {
+      if (!tier->isStatic(static_cast<int>(a))) continue;
+      for (std::size_t e = 0; e < environmentObjects.size(); ++e)
+        if (!staticTouching[a][e]) tier->skipStatic(static_cast<int>(a), e);
+      for (std::size_t b = a + 1; b < links; ++b)
+        if (tier->isStatic(static_cast<int>(b)) && !linksTouching[a][b])
+          tier->skipStaticPair(static_cast<int>(a), static_cast<int>(b));
+    }
+  }
+
+  static bool touch(Object& a, Object& b) {
+    fcl::CollisionRequestd request;
+    fcl::CollisionResultd result;
+    return fcl::collide(&a, &b, request, result) > 0;
+  }
+
   bool collide(const Eigen::VectorXd& q, bool allowFingertips, CollisionPair* pair) {
     ++checks;
-    place(q);
+    forwardKinematics(model, q, poses);
     QueryData data;
     data.model = &model;
     data.allowFingertipContact = allowFingertips;
-    robot.collide(&environment, &data, collideCallback);
-    if (!data.collision) robot.collide(&data, collideCallback);  // self-collision
+    if (useTier) {
+      tier->touchingPairs(poses, allowFingertips, touching);
+      if (touching.empty()) ++settledBySpheres;
+      for (const SphereTier::Pair& p : touching)
+        if (pairCollides(p, data)) break;
+    } else {
+      placeObjects();
+      robot.collide(&environment, &data, collideCallback);
+      if (!data.collision) robot.collide(&data, collideCallback);  // self-collision
+    }
     if (data.collision && pair != nullptr) *pair = data.pair;
     return data.collision;
+  }
+
+  /// FCL on the shapes of one pair the sphere tier found touching.
+  bool pairCollides(const SphereTier::Pair& p, QueryData& data) {
+    for (const std::size_t i : placedLink(p.link)) {
+      if (p.other_link < 0) {
+        if (collideCallback(robotObjects[i].get(), environmentObjects[p.item].get(), &data))
+          return true;
+        continue;
+      }
+      for (const std::size_t j : placedLink(p.other_link))
+        if (collideCallback(robotObjects[i].get(), robotObjects[j].get(), &data)) return true;
+    }
+    return false;
+  }
+
+  /// The link's objects, moved to its pose of this query.
+  const std::vector<std::size_t>& placedLink(int link) {
+    const auto l = static_cast<std::size_t>(link);
+    for (const std::size_t i : linkObjects[l]) {
+      const Eigen::Isometry3d pose = base * poses[l] * robotShapes[i].second;
+      robotObjects[i]->setTransform(pose.linear(), pose.translation());
+      robotObjects[i]->computeAABB();
+    }
+    return linkObjects[l];
   }
 };
 
@@ -251,6 +360,7 @@ CollisionChecker::CollisionChecker(const RobotModel& model, const Scene& scene,
   }
   impl_->environment.setup();
   impl_->addRobot();
+  impl_->addSphereTier(sphereTierItems(scene, target));
 }
 
 CollisionChecker::~CollisionChecker() = default;
@@ -323,8 +433,21 @@ std::uint64_t CollisionChecker::checkCount() const {
   return impl_->checks;
 }
 
+void CollisionChecker::setSphereTier(bool enabled) {
+  impl_->useTier = enabled;
+}
+
+bool CollisionChecker::sphereTier() const {
+  return impl_->useTier;
+}
+
+std::uint64_t CollisionChecker::sphereSettledCount() const {
+  return impl_->settledBySpheres;
+}
+
 double CollisionChecker::clearance(const Eigen::VectorXd& q) {
   if (impl_->collide(q, false, nullptr)) return 0.0;
+  impl_->place(q);  // the sphere tier may have left the broadphase where it was
   QueryData data;
   data.model = &impl_->model;
   impl_->robot.distance(&impl_->environment, &data, distanceCallback);

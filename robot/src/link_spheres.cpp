@@ -179,22 +179,25 @@ double SphereModel::maxExcess() const {
   return worst;
 }
 
-double signedDistance(const CollisionShape& shape, const Eigen::Vector3d& point) {
-  const Eigen::Vector3d p = shape.origin.inverse() * point;
-  switch (shape.type) {
+double primitiveSignedDistance(CollisionShape::Type type, const Eigen::Vector3d& size,
+                               const Eigen::Vector3d& p) {
+  switch (type) {
     case CollisionShape::Type::kSphere:
-      return p.norm() - shape.size[0];
+      return p.norm() - size[0];
     case CollisionShape::Type::kBox: {
-      const Eigen::Vector3d q = p.cwiseAbs() - shape.size / 2;
+      const Eigen::Vector3d q = p.cwiseAbs() - size / 2;
       return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
     }
     case CollisionShape::Type::kCylinder: {
-      const Eigen::Vector2d d(p.head<2>().norm() - shape.size[0],
-                              std::abs(p.z()) - shape.size[1] / 2);
+      const Eigen::Vector2d d(p.head<2>().norm() - size[0], std::abs(p.z()) - size[1] / 2);
       return d.cwiseMax(0.0).norm() + std::min(d.maxCoeff(), 0.0);
     }
   }
   return std::numeric_limits<double>::infinity();
+}
+
+double signedDistance(const CollisionShape& shape, const Eigen::Vector3d& point) {
+  return primitiveSignedDistance(shape.type, shape.size, shape.origin.inverse() * point);
 }
 
 double signedDistance(const Link& link, const Eigen::Vector3d& point) {
@@ -221,7 +224,13 @@ LinkSpheres coverLink(const Link& link, const SphereModelOptions& options) {
       result.spheres.push_back({shape.origin.translation(), shape.size[0]});
       continue;
     }
-    const double excess = ShapeCoverer(link, shape, options.tolerance).cover(result.spheres);
+    // A thin shape (a flange, a plate) gets a tolerance of at most half its
+    // thickness, so its spheres do not stand out further than it is thick.
+    const double thinnest = shape.type == CollisionShape::Type::kBox
+                                ? shape.size.minCoeff()
+                                : std::min(2 * shape.size[0], shape.size[1]);
+    const double tolerance = std::min(options.tolerance, thinnest / 2);
+    const double excess = ShapeCoverer(link, shape, tolerance).cover(result.spheres);
     result.excess = std::max(result.excess, excess);
   }
   return result;

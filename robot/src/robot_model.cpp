@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "json_numbers.h"
+#include "robot/link_spheres.h"
 
 namespace hfts::robot {
 namespace {
@@ -135,6 +136,7 @@ class RobotModelBuilder {
     addFingertips();
     addDisabledCollisions();
     markHandLinks();
+    model_.spheres_ = std::make_shared<const SphereModel>(buildSphereModel(model_));
     return std::move(model_);
   }
 

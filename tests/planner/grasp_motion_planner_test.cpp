@@ -64,6 +64,22 @@ TEST(GraspMotionPlanner, SameSeedGivesTheSamePath) {
   EXPECT_EQ(a.stats.collision_checks, b.stats.collision_checks);
 }
 
+TEST(GraspMotionPlanner, TheSphereTierChangesNoPlan) {
+  for (const char* scene : {"bin", "shelf"}) {
+    PlanRequest r = request(scene, scene == std::string("bin") ? "blob" : "mug", 2);
+    r.parameters["sphere_tier"] = "0";
+    const PlanResult fclOnly = planGrasp(world(), r);
+    r.parameters["sphere_tier"] = "1";
+    const PlanResult twoTiers = planGrasp(world(), r);
+    ASSERT_TRUE(fclOnly.success && twoTiers.success) << scene;
+    ASSERT_EQ(fclOnly.path.size(), twoTiers.path.size()) << scene;
+    for (std::size_t i = 0; i < fclOnly.path.size(); ++i)
+      EXPECT_EQ(fclOnly.path[i], twoTiers.path[i]);
+    EXPECT_EQ(fclOnly.stats.iterations, twoTiers.stats.iterations);
+    EXPECT_EQ(fclOnly.stats.collision_checks, twoTiers.stats.collision_checks);
+  }
+}
+
 TEST(GraspMotionPlanner, HonoursTheTimeLimit) {
   // Without goal sampling no plan can succeed: the planner must give up at
   // the limit.
@@ -342,7 +358,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
     expected.erase(it);
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
-  EXPECT_EQ(plannerParameters(world()).size(), 26u) << "a parameter was added or removed";
+  EXPECT_EQ(plannerParameters(world()).size(), 27u) << "a parameter was added or removed";
 }
 
 }  // namespace

@@ -311,5 +311,72 @@ TEST(CollisionChecker, MotionIsCheckedAtTheGivenResolution) {
   EXPECT_THROW(checker.isMotionValid(a, b, 0.0), std::invalid_argument);
 }
 
+/// A uniformly random configuration within the limits.
+Eigen::VectorXd randomConfiguration(std::mt19937_64& rng) {
+  Eigen::VectorXd q(m().numDofs());
+  for (int d = 0; d < m().numDofs(); ++d)
+    q(d) = std::uniform_real_distribution<double>(m().lowerLimits()(d), m().upperLimits()(d))(rng);
+  return q;
+}
+
+/// Both rules with the sphere tier and without; returns whether q collides
+/// (without the grasp rule). Counts the answers the tier settled alone.
+bool expectSameAnswerWithAndWithoutSpheres(CollisionChecker& checker, const Eigen::VectorXd& q) {
+  checker.setSphereTier(false);
+  const bool exact = checker.inCollision(q);
+  const bool exactGrasp = checker.inCollisionAllowingFingertipContact(q);
+  checker.setSphereTier(true);
+  EXPECT_EQ(checker.inCollision(q), exact) << q.transpose();
+  EXPECT_EQ(checker.inCollisionAllowingFingertipContact(q), exactGrasp) << q.transpose();
+  return exact;
+}
+
+TEST(CollisionChecker, TheSphereTierNeverChangesAnAnswer) {
+  const ArmIk ik(m());
+  std::mt19937_64 rng(3);
+  std::uint64_t configurations = 0, settled = 0, collisions = 0;
+  forEveryObjectInEveryScene(
+      [&](const Scene& scene, const db::ObjectDatabase& db, CollisionChecker& checker) {
+        EXPECT_TRUE(checker.sphereTier());  // the default
+        for (int i = 0; i < 100; ++i)
+          collisions += expectSameAnswerWithAndWithoutSpheres(checker, randomConfiguration(rng));
+        // The open or half-closed hand around the object, where fingertips
+        // touch it and spheres touch everything near it.
+        const double radius = 0.5 * (db.geometry.bbox_max - db.geometry.bbox_min).norm();
+        const auto palms = approaches(scene, db.geometry, radius + 0.1);
+        for (std::size_t p = 0; p < palms.size(); p += 7)
+          for (const Eigen::VectorXd& arm : ik.solvePalm(palms[p], rng)) {
+            Eigen::VectorXd q = randomConfiguration(rng);
+            q.head(m().numArmDofs()) = arm;
+            collisions += expectSameAnswerWithAndWithoutSpheres(checker, q);
+          }
+        configurations += checker.checkCount() / 4;  // two rules, with and without spheres
+        settled += checker.sphereSettledCount();
+      });
+  // The comparison means something: both answers occur, and the tier
+  // settles some of the free configurations without FCL.
+  EXPECT_GT(collisions, configurations / 10);
+  EXPECT_LT(collisions, configurations * 19 / 20);
+  EXPECT_GT(settled, (configurations - collisions) / 10)
+      << configurations << " configurations, " << collisions << " colliding";
+}
+
+TEST(CollisionChecker, TheSphereTierKeepsTheGraspRuleForFingertipsTouchingTheTarget) {
+  const db::ObjectGeometry cube = smallCube();
+  std::mt19937_64 rng(4);
+  int allowed = 0;
+  for (int i = 0; i < 300; ++i) {
+    const Eigen::VectorXd q = randomConfiguration(rng);
+    const FingertipFrames tips = fingertipFrames(m(), forwardKinematics(m(), q));
+    Scene scene;  // the cube 4 mm into one fingertip's pad
+    const Eigen::Index tip = i % tips.positions.cols();
+    scene.target_pose.translation() = tips.positions.col(tip) + 0.004 * tips.normals.col(tip);
+    CollisionChecker checker(m(), scene, &cube);
+    const bool collides = expectSameAnswerWithAndWithoutSpheres(checker, q);
+    allowed += collides && !checker.inCollisionAllowingFingertipContact(q);
+  }
+  EXPECT_GT(allowed, 50);
+}
+
 }  // namespace
 }  // namespace hfts::robot

@@ -39,7 +39,8 @@ class CollisionMesh {
 
 /// Checks configurations of one robot in one scene. Robot links are the
 /// URDF primitives, obstacles are FCL primitives or BVH meshes in a
-/// broadphase manager, the target object is its mesh from the database.
+/// broadphase manager, the target object is its mesh from the database;
+/// in front of FCL, a conservative sphere tier (setSphereTier).
 /// Not thread-safe (queries move the robot's collision objects): give each
 /// planning thread its own checker.
 class CollisionChecker {
@@ -108,6 +109,17 @@ class CollisionChecker {
   /// Configurations checked so far (every query above counts each robot
   /// placement it tests once).
   std::uint64_t checkCount() const;
+
+  /// Two tiers (default): inCollision and its variants first test the
+  /// robot's sphere model (RobotModel::spheres()) against the scene's
+  /// primitives, the meshes' bounding boxes and itself, and ask FCL only
+  /// about the pairs (link and obstacle, or two links) whose spheres touch.
+  /// The spheres cover the links, so the answer is FCL's either way; false
+  /// gives the FCL-only checker (broadphase over everything), to compare.
+  void setSphereTier(bool enabled);
+  bool sphereTier() const;
+  /// Of checkCount(), the checks the sphere tier settled alone (free).
+  std::uint64_t sphereSettledCount() const;
 
  private:
   struct Impl;

@@ -44,6 +44,11 @@ struct SphereModel {
   double maxExcess() const;
 };
 
+/// Signed distance (m) from `point`, in the primitive's own frame, to a box,
+/// cylinder or sphere of `size` (CollisionShape::size): negative inside, exact.
+double primitiveSignedDistance(CollisionShape::Type type, const Eigen::Vector3d& size,
+                               const Eigen::Vector3d& point);
+
 /// Signed distance (m) from `point` (link frame) to a collision shape:
 /// negative inside. Exact for boxes, cylinders and spheres.
 double signedDistance(const CollisionShape& shape, const Eigen::Vector3d& point);

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -50,6 +51,8 @@ struct Joint {
   double multiplier = 1.0;  ///< joint value = multiplier * q[dof] + offset
   double offset = 0.0;
 };
+
+struct SphereModel;  // link_spheres.h
 
 /// A fingertip contact point on a hand link, with the outward pad normal.
 struct Fingertip {
@@ -102,6 +105,11 @@ class RobotModel {
   /// the fingertip links among them.
   bool isHandLink(int link) const { return hand_links_[static_cast<std::size_t>(link)]; }
 
+  /// The conservative sphere model of the links (link_spheres.h, default
+  /// tolerance), built once at load (about 0.1 s for the KR5 + SDH) and
+  /// shared by copies of the model: the first tier of collision checking.
+  const SphereModel& spheres() const { return *spheres_; }
+
   /// True when q has numDofs() finite entries within the limits (tolerance
   /// in radians). `why` (optional) receives the first violation.
   bool withinLimits(const Eigen::VectorXd& q, double tolerance = 1e-9,
@@ -123,6 +131,7 @@ class RobotModel {
   std::vector<Fingertip> fingertips_;
   std::vector<std::pair<int, int>> disabled_;
   std::vector<bool> hand_links_;
+  std::shared_ptr<const SphereModel> spheres_;
 };
 
 }  // namespace hfts::robot

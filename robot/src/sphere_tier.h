@@ -1,0 +1,81 @@
+#pragma once
+// The first tier of collision checking: the robot's sphere model
+// (link_spheres.h) against the scene's primitives and bounding boxes and
+// against itself. It names the pairs (link and item, or two links) whose
+// spheres touch; only those go on to FCL, and a configuration without such
+// a pair is certainly free, so the checker's answer is exactly FCL's
+// (docs/collision.md). Internal to the robot library.
+
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <vector>
+
+#include "robot/kinematics.h"
+#include "robot/link_spheres.h"
+#include "robot/robot_model.h"
+
+namespace hfts::robot {
+
+class SphereTier {
+ public:
+  /// Something of the environment as tier 1 sees it: a primitive, or the
+  /// bounding box of a mesh (which holds the mesh, so it is conservative).
+  struct Item {
+    CollisionShape::Type type = CollisionShape::Type::kBox;
+    Eigen::Vector3d size = Eigen::Vector3d::Zero();
+    Eigen::Isometry3d to_local = Eigen::Isometry3d::Identity();  ///< world -> item frame
+    bool target = false;
+  };
+
+  /// Uses the model's sphere model (RobotModel::spheres()).
+  SphereTier(const RobotModel& model, const Eigen::Isometry3d& base, std::vector<Item> items);
+
+  /// Drops the pair (link, item) from the check: for a link that does not
+  /// move with any DoF and that FCL found clear of the item once.
+  void skipStatic(int link, std::size_t item);
+  /// Drops a pair of links that never move relative to each other and that
+  /// FCL found clear once.
+  void skipStaticPair(int a, int b);
+
+  /// A pair whose spheres touch: `link` and environment item `item`, or
+  /// `link` and `other_link` when that is >= 0.
+  struct Pair {
+    int link = -1;
+    int other_link = -1;
+    std::size_t item = 0;
+  };
+
+  /// Fills `pairs` with every pair of the robot at `poses` (base frame)
+  /// whose spheres touch: a link and an item, or two links that may collide.
+  /// Empty: certainly free. With `allowFingertipContact`, fingertip links are
+  /// not paired with the target (the grasp-aware rule, as in the exact check).
+  void touchingPairs(const LinkPoses& poses, bool allowFingertipContact, std::vector<Pair>& pairs);
+
+  /// Links whose pose does not depend on any DoF (the base and what is
+  /// fixed to it).
+  bool isStatic(int link) const { return static_[static_cast<std::size_t>(link)]; }
+  const SphereModel& spheres() const { return spheres_; }
+
+ private:
+  void addTouchingItems(std::size_t link, bool allowFingertipContact, std::vector<Pair>& pairs);
+  bool linksTouch(std::size_t a, std::size_t b);
+  /// The world centres of the link's spheres, computed on first use in a query.
+  const std::vector<Eigen::Vector3d>& placedCenters(std::size_t link);
+
+  Eigen::Isometry3d base_;
+  std::vector<Item> items_;
+  const SphereModel& spheres_;
+  std::vector<LinkSphere> bounds_;  ///< per link: one sphere around its spheres (link frame)
+  std::vector<bool> static_, fingertip_;
+  std::vector<std::vector<bool>> skip_item_;  ///< [link][item]
+  std::vector<std::pair<int, int>> self_pairs_;
+  /// Scratch per query: each link's world pose, the world centres of its
+  /// spheres (once placed_) and of its bound.
+  LinkPoses world_;
+  std::vector<std::vector<Eigen::Vector3d>> centers_;
+  std::vector<bool> placed_;
+  std::vector<Eigen::Vector3d> bound_centers_;
+};
+
+}  // namespace hfts::robot
