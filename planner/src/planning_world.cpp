@@ -16,6 +16,7 @@ PlanningWorld::PlanningWorld(robot::RobotModel robot, db::HandMap handMap,
       thorough_(robot_, std::move(handMap), grasp::HandQueryOptions::thorough()),
       objects_(std::move(objects)),
       padRadius_(robot::smallestPadRadius(robot_)) {
+  robot_.spheres();  // built now, not in the first plan's time
   for (const auto& [name, database] : objects_)
     collisionMeshes_.emplace(
         name, std::make_unique<const robot::CollisionMesh>(

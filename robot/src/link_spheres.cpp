@@ -11,7 +11,12 @@
 namespace hfts::robot {
 namespace {
 
-using Points = std::vector<Eigen::Vector3d>;
+/// A box of the shape's volume grid: its centre and half diagonal.
+struct Cell {
+  Eigen::Vector3d center;
+  double radius;
+};
+using Points = std::vector<Cell>;
 using Iterator = Points::iterator;
 
 struct Capsule {
@@ -45,10 +50,9 @@ Eigen::Vector3d halfExtents(const CollisionShape& shape) {
   return {shape.size[0], shape.size[0], shape.size[1] / 2};
 }
 
-/// Centres of the cells of a grid (spacing at most `spacing`) tiling the
-/// shape's bounding box that may overlap the shape: every point of the shape
-/// lies within `cellRadius` of one of them.
-Points volumeGrid(const CollisionShape& shape, double spacing, double& cellRadius) {
+/// The cells of a grid (spacing at most `spacing`) tiling the shape's
+/// bounding box that may overlap the shape: together they hold it.
+Points volumeCells(const CollisionShape& shape, double spacing) {
   const Eigen::Vector3d half = halfExtents(shape);
   Eigen::Vector3i cells;
   Eigen::Vector3d step;
@@ -56,7 +60,7 @@ Points volumeGrid(const CollisionShape& shape, double spacing, double& cellRadiu
     cells[a] = std::max(1, static_cast<int>(std::ceil(2 * half[a] / spacing)));
     step[a] = 2 * half[a] / cells[a];
   }
-  cellRadius = step.norm() / 2;
+  const double cellRadius = step.norm() / 2;
   CollisionShape local = shape;
   local.origin = Eigen::Isometry3d::Identity();
   Points points;
@@ -65,7 +69,7 @@ Points volumeGrid(const CollisionShape& shape, double spacing, double& cellRadiu
       for (int k = 0; k < cells[2]; ++k) {
         const Eigen::Vector3d p =
             -half + Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5).cwiseProduct(step);
-        if (signedDistance(local, p) <= cellRadius) points.push_back(p);
+        if (signedDistance(local, p) <= cellRadius) points.push_back({p, cellRadius});
       }
   return points;
 }
@@ -74,16 +78,17 @@ Points volumeGrid(const CollisionShape& shape, double spacing, double& cellRadiu
 /// the covering sphere reaches beyond the link.
 class Piece {
  public:
-  Piece(Iterator begin, Iterator end, double cellRadius, const Link& link,
-        const Eigen::Isometry3d& toLink)
+  Piece(Iterator begin, Iterator end, const Link& link, const Eigen::Isometry3d& toLink)
       : begin_(begin), end_(end) {
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (auto p = begin; p != end; ++p) centroid += *p;
+    for (auto p = begin; p != end; ++p) centroid += p->center;
     centroid /= static_cast<double>(end - begin);
-    double farthest = 0;
-    for (auto p = begin; p != end; ++p) farthest = std::max(farthest, (*p - centroid).norm());
+    // Every point of every cell lies within the radius.
+    double radius = 0;
+    for (auto p = begin; p != end; ++p)
+      radius = std::max(radius, (p->center - centroid).norm() + p->radius);
     sphere_.center = toLink * centroid;
-    sphere_.radius = farthest + cellRadius;
+    sphere_.radius = radius;
     excess_ = sphere_.radius + signedDistance(link, sphere_.center);
   }
 
@@ -103,32 +108,33 @@ class ShapeCoverer {
  public:
   ShapeCoverer(const Link& link, const CollisionShape& shape, double tolerance)
       : link_(link), to_link_(shape.origin), tolerance_(tolerance) {
-    points_ = volumeGrid(shape, tolerance / 4, cell_radius_);
+    points_ = volumeCells(shape, tolerance / 4);
   }
 
-  /// Appends the shape's spheres; returns the largest excess among them.
-  double cover(std::vector<LinkSphere>& spheres) {
-    double worst = 0;
-    std::vector<Piece> open{piece(points_.begin(), points_.end())};
-    while (!open.empty()) {
-      const Piece current = open.back();
-      open.pop_back();
-      if (current.excess() <= tolerance_ || current.size() == 1) {
-        spheres.push_back(current.sphere());
-        worst = std::max(worst, current.excess());
-        continue;
-      }
-      const auto [first, second] = bestSplit(current);
-      open.push_back(first);
-      open.push_back(second);
-    }
-    return worst;
-  }
+  /// Adds the shape's sphere tree to `out` (its leaves to out.spheres);
+  /// returns the index of its root node and raises out.excess to the
+  /// largest excess among its leaves.
+  int cover(LinkSpheres& out) { return build(piece(points_.begin(), points_.end()), out); }
 
  private:
-  Piece piece(Iterator begin, Iterator end) const {
-    return Piece(begin, end, cell_radius_, link_, to_link_);
+  /// A leaf when the piece's sphere is tight enough, else a node over the
+  /// trees of its two halves. The node's sphere covers every cell of the
+  /// piece, so a query that misses it misses the whole subtree.
+  int build(const Piece& current, LinkSpheres& out) {
+    SphereNode node{current.sphere(), -1, -1};
+    if (current.excess() <= tolerance_ || current.size() == 1) {
+      out.spheres.push_back(current.sphere());
+      out.excess = std::max(out.excess, current.excess());
+    } else {
+      const auto [first, second] = bestSplit(current);
+      node.left = build(first, out);
+      node.right = build(second, out);
+    }
+    out.tree.push_back(node);
+    return static_cast<int>(out.tree.size()) - 1;
   }
+
+  Piece piece(Iterator begin, Iterator end) const { return Piece(begin, end, link_, to_link_); }
 
   /// Splits at the median along the shape's x, y or z axis, whichever leaves
   /// the smaller worst excess (on a cylinder: slabs, not half discs).
@@ -150,20 +156,27 @@ class ShapeCoverer {
   }
 
   static void splitAt(const Piece& whole, Iterator middle, int axis) {
-    std::nth_element(
-        whole.begin(), middle, whole.end(),
-        [axis](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-          return a[axis] < b[axis] ||
-                 (a[axis] == b[axis] && std::tie(a[0], a[1], a[2]) < std::tie(b[0], b[1], b[2]));
-        });
+    std::nth_element(whole.begin(), middle, whole.end(), [axis](const Cell& ca, const Cell& cb) {
+      const Eigen::Vector3d &a = ca.center, &b = cb.center;
+      return a[axis] < b[axis] ||
+             (a[axis] == b[axis] && std::tie(a[0], a[1], a[2]) < std::tie(b[0], b[1], b[2]));
+    });
   }
 
   const Link& link_;
   Eigen::Isometry3d to_link_;
   double tolerance_;
-  double cell_radius_ = 0;
   Points points_;
 };
+
+/// The smallest sphere that holds two spheres.
+LinkSphere enclosing(const LinkSphere& a, const LinkSphere& b) {
+  const double d = (b.center - a.center).norm();
+  if (d + b.radius <= a.radius) return a;
+  if (d + a.radius <= b.radius) return b;
+  const double radius = (d + a.radius + b.radius) / 2;
+  return {a.center + (radius - a.radius) / d * (b.center - a.center), radius};
+}
 
 }  // namespace
 
@@ -220,18 +233,30 @@ LinkSpheres coverLink(const Link& link, const SphereModelOptions& options) {
                                 std::to_string(options.tolerance));
   LinkSpheres result;
   for (const CollisionShape& shape : link.shapes) {
+    int root = -1;
     if (shape.type == CollisionShape::Type::kSphere) {
-      result.spheres.push_back({shape.origin.translation(), shape.size[0]});
+      const LinkSphere sphere{shape.origin.translation(), shape.size[0]};
+      result.spheres.push_back(sphere);
+      result.tree.push_back({sphere, -1, -1});
+      root = static_cast<int>(result.tree.size()) - 1;
+    } else {
+      // A thin shape (a flange, a plate) gets a tolerance of at most half
+      // its thickness, so its spheres do not stand out further than it is
+      // thick.
+      const double thinnest = shape.type == CollisionShape::Type::kBox
+                                  ? shape.size.minCoeff()
+                                  : std::min(2 * shape.size[0], shape.size[1]);
+      const double tolerance = std::min(options.tolerance, thinnest / 2);
+      root = ShapeCoverer(link, shape, tolerance).cover(result);
+    }
+    if (result.root < 0) {
+      result.root = root;
       continue;
     }
-    // A thin shape (a flange, a plate) gets a tolerance of at most half its
-    // thickness, so its spheres do not stand out further than it is thick.
-    const double thinnest = shape.type == CollisionShape::Type::kBox
-                                ? shape.size.minCoeff()
-                                : std::min(2 * shape.size[0], shape.size[1]);
-    const double tolerance = std::min(options.tolerance, thinnest / 2);
-    const double excess = ShapeCoverer(link, shape, tolerance).cover(result.spheres);
-    result.excess = std::max(result.excess, excess);
+    const LinkSphere& a = result.tree[static_cast<std::size_t>(result.root)].sphere;
+    const LinkSphere& b = result.tree[static_cast<std::size_t>(root)].sphere;
+    result.tree.push_back({enclosing(a, b), result.root, root});
+    result.root = static_cast<int>(result.tree.size()) - 1;
   }
   return result;
 }

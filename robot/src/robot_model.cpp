@@ -9,6 +9,7 @@
 #include <deque>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <sstream>
 
@@ -136,7 +137,7 @@ class RobotModelBuilder {
     addFingertips();
     addDisabledCollisions();
     markHandLinks();
-    model_.spheres_ = std::make_shared<const SphereModel>(buildSphereModel(model_));
+    model_.spheres_ = std::make_shared<RobotModel::LazySpheres>();
     return std::move(model_);
   }
 
@@ -317,6 +318,16 @@ class RobotModelBuilder {
   std::string what_;
   RobotModel model_;
 };
+
+struct RobotModel::LazySpheres {
+  std::once_flag built;
+  SphereModel model;
+};
+
+const SphereModel& RobotModel::spheres() const {
+  std::call_once(spheres_->built, [this] { spheres_->model = buildSphereModel(*this); });
+  return spheres_->model;
+}
 
 RobotModel RobotModel::load(const std::filesystem::path& configPath) {
   const std::string what = "robot config '" + configPath.string() + "'";

@@ -58,24 +58,20 @@ class SphereTier {
   const SphereModel& spheres() const { return spheres_; }
 
  private:
-  void addTouchingItems(std::size_t link, bool allowFingertipContact, std::vector<Pair>& pairs);
-  bool linksTouch(std::size_t a, std::size_t b);
-  /// The world centres of the link's spheres, computed on first use in a query.
-  const std::vector<Eigen::Vector3d>& placedCenters(std::size_t link);
+  void addTouchingItems(std::size_t link, bool allowFingertipContact,
+                        std::vector<Pair>& pairs) const;
+  /// Descends the link's sphere tree from `node`: does a leaf touch the item?
+  bool nodeTouchesItem(std::size_t link, int node, const Item& item) const;
+  /// Descends two links' sphere trees: do two leaves touch?
+  bool nodesTouch(std::size_t a, int nodeA, std::size_t b, int nodeB) const;
 
   Eigen::Isometry3d base_;
   std::vector<Item> items_;
   const SphereModel& spheres_;
-  std::vector<LinkSphere> bounds_;  ///< per link: one sphere around its spheres (link frame)
   std::vector<bool> static_, fingertip_;
   std::vector<std::vector<bool>> skip_item_;  ///< [link][item]
   std::vector<std::pair<int, int>> self_pairs_;
-  /// Scratch per query: each link's world pose, the world centres of its
-  /// spheres (once placed_) and of its bound.
-  LinkPoses world_;
-  std::vector<std::vector<Eigen::Vector3d>> centers_;
-  std::vector<bool> placed_;
-  std::vector<Eigen::Vector3d> bound_centers_;
+  LinkPoses world_;  ///< scratch: each link's world pose in the current query
 };
 
 }  // namespace hfts::robot

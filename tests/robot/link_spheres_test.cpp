@@ -57,10 +57,22 @@ Eigen::Vector3d interiorPoint(const CollisionShape& s, std::mt19937_64& rng) {
   return s.origin.translation() + t * (surfacePoint(s, rng) - s.origin.translation());
 }
 
+bool contains(const LinkSphere& s, const Eigen::Vector3d& p) {
+  return (p - s.center).norm() <= s.radius + 1e-12;
+}
+
+/// A descent from `node` that keeps to spheres holding p reaches a leaf.
+bool treeCovers(const LinkSpheres& link, int node, const Eigen::Vector3d& p) {
+  const SphereNode& n = link.tree[static_cast<std::size_t>(node)];
+  if (!contains(n.sphere, p)) return false;
+  return n.leaf() || treeCovers(link, n.left, p) || treeCovers(link, n.right, p);
+}
+
+/// p lies in a leaf sphere, and the tree finds it.
 bool covered(const LinkSpheres& link, const Eigen::Vector3d& p) {
-  for (const LinkSphere& s : link.spheres)
-    if ((p - s.center).norm() <= s.radius + 1e-12) return true;
-  return false;
+  bool inLeaf = false;
+  for (const LinkSphere& s : link.spheres) inLeaf = inLeaf || contains(s, p);
+  return inLeaf && link.root >= 0 && treeCovers(link, link.root, p);
 }
 
 /// Every sampled point of every shape lies in a sphere, and no sampled point
@@ -146,6 +158,9 @@ TEST(LinkSpheres, SphereShapesAreKeptAsTheyAre) {
   link.shapes = {shape(Shape::kSphere, {0.03, 0, 0}, tilted({0.1, 0.2, 0.3}))};
   const LinkSpheres spheres = coverLink(link);
   ASSERT_EQ(spheres.spheres.size(), 1u);
+  ASSERT_EQ(spheres.tree.size(), 1u);
+  EXPECT_EQ(spheres.root, 0);
+  EXPECT_TRUE(spheres.tree[0].leaf());
   EXPECT_TRUE(spheres.spheres[0].center.isApprox(Eigen::Vector3d(0.1, 0.2, 0.3)));
   EXPECT_DOUBLE_EQ(spheres.spheres[0].radius, 0.03);
   EXPECT_DOUBLE_EQ(spheres.excess, 0.0);

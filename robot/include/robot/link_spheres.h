@@ -24,14 +24,27 @@ struct SphereModelOptions {
   /// Smaller means more spheres (sharp edges cost most: a sphere covers at
   /// most 2.8 tolerances of a right-angled edge); the covering is
   /// conservative either way.
-  double tolerance = 0.02;
+  double tolerance = 0.01;
+};
+
+/// A node of a link's sphere tree: its sphere holds all of the link's
+/// geometry that the leaves below it cover. Leaves have no children.
+struct SphereNode {
+  LinkSphere sphere;
+  int left = -1;  ///< index into LinkSpheres::tree, or -1 for a leaf
+  int right = -1;
+  bool leaf() const { return left < 0; }
 };
 
 /// The spheres of one link (link frame) and an upper bound on how far they
 /// reach beyond its geometry (max over its spheres of radius + signed
 /// distance of the centre), never above the tolerance.
 struct LinkSpheres {
-  std::vector<LinkSphere> spheres;
+  std::vector<LinkSphere> spheres;  ///< the leaves: together they cover the link
+  /// The spheres as a binary tree (children before parents) whose root
+  /// holds the whole link: a query that misses a node skips its subtree.
+  std::vector<SphereNode> tree;
+  int root = -1;  ///< -1 for a link without shapes
   double excess = 0.0;
 };
 
@@ -62,7 +75,8 @@ double signedDistance(const Link& link, const Eigen::Vector3d& point);
 /// Covers one link. Sphere shapes are taken as they are; boxes and cylinders
 /// are covered by splitting a grid of their volume (spacing tolerance / 4)
 /// at the median along one of their axes until every piece's bounding sphere
-/// reaches at most `tolerance` beyond the link. Deterministic.
+/// reaches at most `tolerance` (at most half the shape's thickness) beyond
+/// the link; the splits form the tree. Deterministic.
 /// Throws std::invalid_argument for a tolerance that is not positive and finite.
 LinkSpheres coverLink(const Link& link, const SphereModelOptions& options = {});
 

@@ -106,9 +106,10 @@ class RobotModel {
   bool isHandLink(int link) const { return hand_links_[static_cast<std::size_t>(link)]; }
 
   /// The conservative sphere model of the links (link_spheres.h, default
-  /// tolerance), built once at load (about 0.1 s for the KR5 + SDH) and
-  /// shared by copies of the model: the first tier of collision checking.
-  const SphereModel& spheres() const { return *spheres_; }
+  /// tolerance): the first tier of collision checking. Built on the first
+  /// call (about 0.5 s for the KR5 + SDH; thread-safe) and shared by copies
+  /// of the model; a changed URDF or config gives new spheres at its load.
+  const SphereModel& spheres() const;
 
   /// True when q has numDofs() finite entries within the limits (tolerance
   /// in radians). `why` (optional) receives the first violation.
@@ -131,7 +132,8 @@ class RobotModel {
   std::vector<Fingertip> fingertips_;
   std::vector<std::pair<int, int>> disabled_;
   std::vector<bool> hand_links_;
-  std::shared_ptr<const SphereModel> spheres_;
+  struct LazySpheres;
+  std::shared_ptr<LazySpheres> spheres_;
 };
 
 }  // namespace hfts::robot
