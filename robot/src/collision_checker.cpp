@@ -189,7 +189,6 @@ struct CollisionChecker::Impl {
   LinkPoses poses;
   std::unique_ptr<SphereTier> tier;  // first tier
   bool useTier = true;
-  std::vector<SphereTier::Pair> touching;             // scratch: the tier's pairs
   std::vector<std::vector<std::size_t>> linkObjects;  // per link: its robotObjects
   std::uint64_t checks = 0, settledBySpheres = 0;
   std::shared_ptr<ConfigurationMetric> metric;  // Eq. (3)
@@ -299,10 +298,12 @@ struct CollisionChecker::Impl {
     data.model = &model;
     data.allowFingertipContact = allowFingertips;
     if (useTier) {
-      tier->touchingPairs(poses, allowFingertips, touching);
-      if (touching.empty()) ++settledBySpheres;
-      for (const SphereTier::Pair& p : touching)
-        if (pairCollides(p, data)) break;
+      bool touched = false;
+      tier->forEachTouchingPair(poses, allowFingertips, [&](const SphereTier::Pair& p) {
+        touched = true;
+        return pairCollides(p, data);
+      });
+      if (!touched) ++settledBySpheres;
     } else {
       placeObjects();
       robot.collide(&environment, &data, collideCallback);

@@ -46,14 +46,14 @@ bool SphereTier::nodeTouchesItem(std::size_t link, int node, const Item& item) c
   return n.leaf() || nodeTouchesItem(link, n.left, item) || nodeTouchesItem(link, n.right, item);
 }
 
-void SphereTier::addTouchingItems(std::size_t link, bool allowFingertipContact,
-                                  std::vector<Pair>& pairs) const {
-  for (std::size_t i = 0; i < items_.size(); ++i) {
-    const Item& item = items_[i];
-    if (skip_item_[link][i] || (allowFingertipContact && item.target && fingertip_[link])) continue;
-    if (nodeTouchesItem(link, spheres_.links[link].root, item))
-      pairs.push_back({static_cast<int>(link), -1, i});
-  }
+bool SphereTier::itemTouches(std::size_t link, std::size_t item, bool allowFingertipContact) const {
+  if (skip_item_[link][item] || (allowFingertipContact && items_[item].target && fingertip_[link]))
+    return false;
+  return nodeTouchesItem(link, spheres_.links[link].root, items_[item]);
+}
+
+bool SphereTier::linksTouch(std::size_t a, std::size_t b) const {
+  return nodesTouch(a, spheres_.links[a].root, b, spheres_.links[b].root);
 }
 
 bool SphereTier::nodesTouch(std::size_t a, int nodeA, std::size_t b, int nodeB) const {
@@ -67,21 +67,6 @@ bool SphereTier::nodesTouch(std::size_t a, int nodeA, std::size_t b, int nodeB) 
   if (nb.leaf() || (!na.leaf() && na.sphere.radius >= nb.sphere.radius))
     return nodesTouch(a, na.left, b, nodeB) || nodesTouch(a, na.right, b, nodeB);
   return nodesTouch(a, nodeA, b, nb.left) || nodesTouch(a, nodeA, b, nb.right);
-}
-
-void SphereTier::touchingPairs(const LinkPoses& poses, bool allowFingertipContact,
-                               std::vector<Pair>& pairs) {
-  pairs.clear();
-  for (std::size_t l = 0; l < spheres_.links.size(); ++l) {
-    if (spheres_.links[l].root < 0) continue;
-    world_[l] = base_ * poses[l];
-    addTouchingItems(l, allowFingertipContact, pairs);
-  }
-  for (const auto& [a, b] : self_pairs_) {
-    const auto la = static_cast<std::size_t>(a), lb = static_cast<std::size_t>(b);
-    if (nodesTouch(la, spheres_.links[la].root, lb, spheres_.links[lb].root))
-      pairs.push_back({a, b, 0});
-  }
 }
 
 }  // namespace hfts::robot

@@ -46,11 +46,26 @@ class SphereTier {
     std::size_t item = 0;
   };
 
-  /// Fills `pairs` with every pair of the robot at `poses` (base frame)
-  /// whose spheres touch: a link and an item, or two links that may collide.
-  /// Empty: certainly free. With `allowFingertipContact`, fingertip links are
-  /// not paired with the target (the grasp-aware rule, as in the exact check).
-  void touchingPairs(const LinkPoses& poses, bool allowFingertipContact, std::vector<Pair>& pairs);
+  /// Calls visit(pair) for each pair of the robot at `poses` (base frame)
+  /// whose spheres touch: a link and an item, or two links that may
+  /// collide; stops and returns true as soon as visit returns true. No call:
+  /// certainly free. With `allowFingertipContact`, fingertip links are not
+  /// paired with the target (the grasp-aware rule, as in the exact check).
+  template <typename Visit>
+  bool forEachTouchingPair(const LinkPoses& poses, bool allowFingertipContact, Visit&& visit) {
+    for (std::size_t l = 0; l < spheres_.links.size(); ++l) {
+      if (spheres_.links[l].root < 0) continue;
+      world_[l] = base_ * poses[l];
+      for (std::size_t i = 0; i < items_.size(); ++i)
+        if (itemTouches(l, i, allowFingertipContact) && visit(Pair{static_cast<int>(l), -1, i}))
+          return true;
+    }
+    for (const auto& [a, b] : self_pairs_)
+      if (linksTouch(static_cast<std::size_t>(a), static_cast<std::size_t>(b)) &&
+          visit(Pair{a, b, 0}))
+        return true;
+    return false;
+  }
 
   /// Links whose pose does not depend on any DoF (the base and what is
   /// fixed to it).
@@ -58,8 +73,8 @@ class SphereTier {
   const SphereModel& spheres() const { return spheres_; }
 
  private:
-  void addTouchingItems(std::size_t link, bool allowFingertipContact,
-                        std::vector<Pair>& pairs) const;
+  bool itemTouches(std::size_t link, std::size_t item, bool allowFingertipContact) const;
+  bool linksTouch(std::size_t a, std::size_t b) const;
   /// Descends the link's sphere tree from `node`: does a leaf touch the item?
   bool nodeTouchesItem(std::size_t link, int node, const Item& item) const;
   /// Descends two links' sphere trees: do two leaves touch?

@@ -1,0 +1,182 @@
+// collision_agreement: the two-tier collision checker (spheres, then FCL)
+// against FCL alone on many configurations and motions in every bundled
+// scene; any disagreement is a bug (docs/collision.md). Exit status 1 when
+// one is found.
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "hfts_db/object_database.h"
+#include "robot/arm_ik.h"
+#include "robot/collision_checker.h"
+#include "robot/robot_model.h"
+#include "robot/scene.h"
+
+namespace {
+
+using namespace hfts;
+namespace fs = std::filesystem;
+
+struct Tally {
+  long configurations = 0, colliding = 0, fingertipOnly = 0, settled = 0, disagreements = 0;
+  long motions = 0, states = 0, motionDisagreements = 0;
+  double secondsTwoTiers = 0, secondsFcl = 0;
+};
+
+class Comparison {
+ public:
+  Comparison(const robot::RobotModel& model, const robot::Scene& scene,
+             const db::ObjectGeometry& target)
+      : model_(model), tiers_(model, scene, &target), fcl_(model, scene, &target) {
+    fcl_.setSphereTier(false);
+  }
+
+  /// Both rules, both checkers; returns whether q collides (FCL, no grasp rule).
+  bool compare(const Eigen::VectorXd& q, Tally& tally) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool a = tiers_.inCollision(q), aGrasp = tiers_.inCollisionAllowingFingertipContact(q);
+    const auto t1 = std::chrono::steady_clock::now();
+    const bool b = fcl_.inCollision(q), bGrasp = fcl_.inCollisionAllowingFingertipContact(q);
+    const auto t2 = std::chrono::steady_clock::now();
+    tally.secondsTwoTiers += std::chrono::duration<double>(t1 - t0).count();
+    tally.secondsFcl += std::chrono::duration<double>(t2 - t1).count();
+    if (a != b || aGrasp != bGrasp) {
+      ++tally.disagreements;
+      std::fprintf(stderr, "disagreement at q = [");
+      for (Eigen::Index i = 0; i < q.size(); ++i) std::fprintf(stderr, " %.17g", q(i));
+      std::fprintf(stderr, " ]: two tiers %d/%d, FCL %d/%d\n", a, aGrasp, b, bGrasp);
+    }
+    return b;
+  }
+
+  robot::CollisionChecker& fcl() { return fcl_; }
+  std::uint64_t settled() const { return tiers_.sphereSettledCount(); }
+
+ private:
+  const robot::RobotModel& model_;
+  robot::CollisionChecker tiers_, fcl_;
+};
+
+Eigen::VectorXd uniform(const robot::RobotModel& m, std::mt19937_64& rng) {
+  Eigen::VectorXd q(m.numDofs());
+  for (int d = 0; d < m.numDofs(); ++d)
+    q(d) = std::uniform_real_distribution<double>(m.lowerLimits()(d), m.upperLimits()(d))(rng);
+  return q;
+}
+
+/// The arm reaching a random palm pose within 0.25 m of the object's centre
+/// (random hand joints), or a uniform configuration when IK finds none:
+/// where spheres touch the object and fingertips touch it.
+Eigen::VectorXd nearTarget(const robot::RobotModel& m, const robot::ArmIk& ik,
+                           const robot::Scene& scene, const Eigen::Vector3d& centre,
+                           std::mt19937_64& rng) {
+  Eigen::VectorXd q = uniform(m, rng);
+  std::normal_distribution<double> n;
+  Eigen::Isometry3d palm = Eigen::Isometry3d::Identity();
+  palm.linear() =
+      Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized().toRotationMatrix();
+  palm.translation() = centre + 0.25 *
+                                    std::cbrt(std::uniform_real_distribution<double>(0, 1)(rng)) *
+                                    Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+  const auto solutions = ik.solvePalm(scene.robot_base.inverse() * palm, rng);
+  if (!solutions.empty())
+    q.head(m.numArmDofs()) =
+        solutions[std::uniform_int_distribution<std::size_t>(0, solutions.size() - 1)(rng)];
+  return q;
+}
+
+/// A collision-free start and an end 0.5 rad away (Eq. (3) metric), inside
+/// the limits; every state at `resolution` compared.
+void compareMotion(const robot::RobotModel& m, Comparison& c, double resolution,
+                   std::mt19937_64& rng, Tally& tally) {
+  Eigen::VectorXd a = uniform(m, rng);
+  while (c.fcl().inCollision(a)) a = uniform(m, rng);
+  std::normal_distribution<double> n;
+  Eigen::VectorXd direction(m.numDofs());
+  for (int d = 0; d < m.numDofs(); ++d) direction(d) = n(rng);
+  direction *= 0.5 / c.fcl().metric().distance(Eigen::VectorXd::Zero(m.numDofs()), direction);
+  const Eigen::VectorXd b = (a + direction).cwiseMax(m.lowerLimits()).cwiseMin(m.upperLimits());
+  const int steps =
+      std::max(1, static_cast<int>(std::ceil(c.fcl().metric().distance(a, b) / resolution)));
+  for (int s = 0; s <= steps; ++s) c.compare(a + (b - a) * (static_cast<double>(s) / steps), tally);
+  tally.states += steps + 1;
+  ++tally.motions;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Compares the two-tier collision checker with FCL alone in every bundled scene."};
+  std::string dbDir = "build/databases", robotConfig = "robots/kr5_sdh/kr5_sdh.json",
+              sceneDir = "objects/scenes";
+  long configurations = 1000000, motions = 1000;
+  std::uint64_t seed = 1;
+  app.add_option("--db", dbDir, "Object databases (the scenes' targets)")
+      ->check(CLI::ExistingDirectory);
+  app.add_option("--robot", robotConfig, "Robot config")->check(CLI::ExistingFile);
+  app.add_option("--scene-dir", sceneDir, "Scenes (every *.json)")->check(CLI::ExistingDirectory);
+  app.add_option("--configurations", configurations,
+                 "Configurations per scene (half near the target)")
+      ->check(CLI::Range(1L, 1000000000L));
+  app.add_option("--motions", motions, "Random 0.5-rad motions per scene")
+      ->check(CLI::Range(0L, 10000000L));
+  app.add_option("--seed", seed, "Random seed");
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    const robot::RobotModel model = robot::RobotModel::load(robotConfig);
+    const robot::ArmIk ik(model);
+    std::vector<fs::path> scenes;
+    for (const auto& e : fs::directory_iterator(sceneDir))
+      if (e.path().extension() == ".json") scenes.push_back(e.path());
+    std::sort(scenes.begin(), scenes.end());
+    long disagreements = 0;
+    std::printf("%-8s %11s %9s %13s %8s %9s %8s %9s %9s %9s %9s\n", "scene", "configs", "colliding",
+                "tip-contact", "settled", "disagree", "motions", "states", "disagree", "us/2tier",
+                "us/fcl");
+    for (const fs::path& path : scenes) {
+      robot::Scene scene = robot::loadScene(path);
+      const db::ObjectDatabase target =
+          db::loadObjectDatabase(fs::path(dbDir) / (scene.target_object + ".h5"));
+      scene.target_pose = robot::targetPose(scene, target.geometry.mesh_vertices);
+      const Eigen::Vector3d centre =
+          scene.target_pose * (0.5 * (target.geometry.bbox_min + target.geometry.bbox_max));
+      Comparison c(model, scene, target.geometry);
+      std::mt19937_64 rng(seed);
+      Tally t;
+      for (long i = 0; i < configurations; ++i) {
+        const Eigen::VectorXd q =
+            i % 2 == 0 ? uniform(model, rng) : nearTarget(model, ik, scene, centre, rng);
+        const bool colliding = c.compare(q, t);
+        t.colliding += colliding;
+        t.fingertipOnly += colliding && !c.fcl().inCollisionAllowingFingertipContact(q);
+      }
+      t.configurations = configurations;
+      t.settled = static_cast<long>(c.settled());
+      for (long i = 0; i < motions; ++i) {
+        const long before = t.disagreements;
+        compareMotion(model, c, 0.02, rng, t);
+        t.motionDisagreements += t.disagreements - before;
+      }
+      const double checks = 2.0 * static_cast<double>(t.configurations + t.states);
+      std::printf("%-8s %11ld %9ld %13ld %7.1f%% %9ld %8ld %9ld %9ld %9.2f %9.2f\n",
+                  path.stem().c_str(), t.configurations, t.colliding, t.fingertipOnly,
+                  100.0 * static_cast<double>(t.settled) / checks,
+                  t.disagreements - t.motionDisagreements, t.motions, t.states,
+                  t.motionDisagreements, 1e6 * t.secondsTwoTiers / checks,
+                  1e6 * t.secondsFcl / checks);
+      std::fflush(stdout);
+      disagreements += t.disagreements;
+    }
+    return disagreements == 0 ? 0 : 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "collision_agreement: %s\n", e.what());
+    return 2;
+  }
+}

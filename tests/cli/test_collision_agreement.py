@@ -1,0 +1,67 @@
+#!/usr/bin/env python3
+"""The collision_agreement program (docs/collision.md): the two-tier checker
+against FCL alone in every bundled scene, a short run. Standard library only."""
+
+import os
+import shutil
+import sys
+import tempfile
+import unittest
+
+from cli_support import bench_options, run
+
+BINARY = None
+PREPROCESS = None
+SOURCE_DIR = None
+TARGETS = ["blob", "bottle", "mug"]  # the bundled scenes' targets
+
+
+class CollisionAgreement(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="hfts-agreement-")
+        cls.db = os.path.join(cls.tmp, "db")
+        meshes = os.path.join(SOURCE_DIR, "objects", "meshes")
+        for mesh in sorted(os.listdir(meshes)):
+            if os.path.splitext(mesh)[0] in TARGETS:
+                run(PREPROCESS, os.path.join(meshes, mesh), "-o", cls.db, "-q", check=0)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def agreement(self, *args, db=None):
+        return run(BINARY, "--db", db or self.db,
+                   "--robot", os.path.join(SOURCE_DIR, "robots", "kr5_sdh", "kr5_sdh.json"),
+                   "--scene-dir", os.path.join(SOURCE_DIR, "objects", "scenes"), *args)
+
+    def test_no_disagreement_in_any_scene(self):
+        result = self.agreement("--configurations", 3000, "--motions", 30)
+        self.assertEqual(result.returncode, 0, (result.stdout, result.stderr))
+        rows = [line.split() for line in result.stdout.splitlines()[1:]]
+        self.assertEqual(sorted(r[0] for r in rows), ["bin", "shelf", "table"])
+        for scene, configs, colliding, tips, settled, disagree, motions, states, mdisagree, *_ in rows:
+            self.assertEqual(int(configs), 3000)
+            self.assertTrue(0 < int(colliding) < 3000, scene)
+            self.assertEqual(int(disagree), 0, scene)
+            self.assertEqual(int(motions), 30)
+            self.assertGreater(int(states), 30)
+            self.assertEqual(int(mdisagree), 0, scene)
+            self.assertGreater(float(settled.rstrip("%")), 0.0, scene)
+        # Hands near the targets: some configurations touch only with fingertips.
+        self.assertGreater(sum(int(r[3]) for r in rows), 0)
+
+    def test_bad_arguments_are_refused(self):
+        result = self.agreement("--configurations", 0)
+        self.assertNotEqual(result.returncode, 0)
+        self.assertIn("--configurations", result.stderr)
+        empty = os.path.join(self.tmp, "empty")
+        os.makedirs(empty, exist_ok=True)
+        result = self.agreement("--configurations", 10, "--motions", 0, db=empty)
+        self.assertEqual(result.returncode, 2)
+        self.assertIn(".h5", result.stderr)
+
+
+if __name__ == "__main__":
+    BINARY, PREPROCESS, SOURCE_DIR, rest = bench_options()
+    unittest.main(argv=[sys.argv[0], *rest], verbosity=2)
