@@ -31,6 +31,11 @@ struct Tag {
   bool target = false;  ///< the target object
   bool fingertip = false;
   std::string name;
+  /// Creation order in the checker. FCL's narrowphase may answer a touching
+  /// pair differently in the two argument orders (cylinder against
+  /// cylinder at distance 0), so every check passes the pair in this order:
+  /// the broadphase and the sphere tier's pairs then get the same answer.
+  std::size_t order = 0;
 };
 
 /// `type`: a CollisionShape::Type or Obstacle::Type value (they agree, see
@@ -97,6 +102,9 @@ bool ignored(const Tag& a, const Tag& b, const QueryData& data) {
 
 bool collideCallback(Object* o1, Object* o2, void* raw) {
   auto* data = static_cast<QueryData*>(raw);
+  if (static_cast<const Tag*>(o1->getUserData())->order >
+      static_cast<const Tag*>(o2->getUserData())->order)
+    std::swap(o1, o2);
   const Tag& a = *static_cast<const Tag*>(o1->getUserData());
   const Tag& b = *static_cast<const Tag*>(o2->getUserData());
   if (ignored(a, b, *data)) return false;
@@ -104,8 +112,8 @@ bool collideCallback(Object* o1, Object* o2, void* raw) {
   fcl::CollisionResultd result;
   if (fcl::collide(o1, o2, request, result) == 0) return false;
   data->collision = true;
-  data->pair = {a.name, b.name};
-  return true;  // stop at the first contact
+  data->pair = a.link < 0 ? CollisionPair{b.name, a.name} : CollisionPair{a.name, b.name};
+  return true;  // stop at the first contact (the robot's part named first)
 }
 
 bool distanceCallback(Object* o1, Object* o2, void* raw, double& minimum) {
@@ -199,6 +207,7 @@ struct CollisionChecker::Impl {
         metric(std::make_shared<ConfigurationMetric>(m.dofWeights())) {}
 
   Tag* tag(Tag value) {
+    value.order = tags.size();
     tags.push_back(std::make_unique<Tag>(std::move(value)));
     return tags.back().get();
   }
@@ -317,14 +326,19 @@ struct CollisionChecker::Impl {
   bool pairCollides(const SphereTier::Pair& p, QueryData& data) {
     for (const std::size_t i : placedLink(p.link)) {
       if (p.other_link < 0) {
-        if (collideCallback(robotObjects[i].get(), environmentObjects[p.item].get(), &data))
-          return true;
+        if (shapesCollide(*robotObjects[i], *environmentObjects[p.item], data)) return true;
         continue;
       }
       for (const std::size_t j : placedLink(p.other_link))
-        if (collideCallback(robotObjects[i].get(), robotObjects[j].get(), &data)) return true;
+        if (shapesCollide(*robotObjects[i], *robotObjects[j], data)) return true;
     }
     return false;
+  }
+
+  /// As FCL's broadphase does it: the narrowphase only for overlapping
+  /// bounding boxes (touching ones included), so both modes agree.
+  static bool shapesCollide(Object& a, Object& b, QueryData& data) {
+    return a.getAABB().overlap(b.getAABB()) && collideCallback(&a, &b, &data);
   }
 
   /// The link's objects, moved to its pose of this query.

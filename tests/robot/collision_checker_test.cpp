@@ -361,6 +361,23 @@ TEST(CollisionChecker, TheSphereTierNeverChangesAnAnswer) {
       << configurations << " configurations, " << collisions << " colliding";
 }
 
+TEST(CollisionChecker, ExactlyTouchingLinksGetOneAnswerInBothModes) {
+  // Link 4's and link 6's cylinders at distance 0: FCL's narrowphase says
+  // "collision" in one argument order and "free" in the other (found by
+  // bench/collision_agreement); both modes must ask it the same way.
+  Eigen::VectorXd q(13);
+  q << 2.3215106129252714, -1.8594253221353245, 2.0825420809148532, 1.5639640829159576,
+      1.8755949620002648, 3.6333845305284154, 0.61800144603921836, -0.040445903956752405,
+      0.19087458258705636, -0.9426861415550678, -1.3818885612777543, -0.48444490836207343,
+      -0.0057277821734924572;
+  CollisionChecker checker(m(), Scene{}, nullptr);
+  CollisionPair withSpheres, fclOnly;
+  const bool a = checker.inCollision(q, &withSpheres);
+  checker.setSphereTier(false);
+  EXPECT_EQ(checker.inCollision(q, &fclOnly), a);
+  EXPECT_EQ(withSpheres.first + withSpheres.second, fclOnly.first + fclOnly.second);
+}
+
 TEST(CollisionChecker, TheSphereTierKeepsTheGraspRuleForFingertipsTouchingTheTarget) {
   const db::ObjectGeometry cube = smallCube();
   std::mt19937_64 rng(4);
