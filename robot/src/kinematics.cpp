@@ -3,15 +3,18 @@
 namespace hfts::robot {
 namespace {
 
-Eigen::Isometry3d jointMotion(const Joint& joint, const Eigen::VectorXd& q) {
-  Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
-  if (joint.type == Joint::Type::kFixed) return motion;
+/// The joint's frame in its parent link: origin times the motion about (or
+/// along) the axis, composed directly (a fixed joint is its origin).
+Eigen::Isometry3d jointTransform(const Joint& joint, const Eigen::VectorXd& q) {
+  if (joint.type == Joint::Type::kFixed) return joint.origin;
   const double value = joint.multiplier * q(joint.dof) + joint.offset;
+  Eigen::Isometry3d frame = joint.origin;
   if (joint.type == Joint::Type::kRevolute)
-    motion.linear() = Eigen::AngleAxisd(value, joint.axis).toRotationMatrix();
+    frame.linear() =
+        joint.origin.linear() * Eigen::AngleAxisd(value, joint.axis).toRotationMatrix();
   else
-    motion.translation() = value * joint.axis;
-  return motion;
+    frame.translation() += joint.origin.linear() * (value * joint.axis);
+  return frame;
 }
 
 }  // namespace
@@ -22,7 +25,7 @@ void forwardKinematics(const RobotModel& model, const Eigen::VectorXd& q, LinkPo
   poses[0].setIdentity();
   for (const Joint& joint : joints) {
     poses[static_cast<std::size_t>(joint.child_link)] =
-        poses[static_cast<std::size_t>(joint.parent_link)] * joint.origin * jointMotion(joint, q);
+        poses[static_cast<std::size_t>(joint.parent_link)] * jointTransform(joint, q);
   }
 }
 

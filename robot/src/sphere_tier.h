@@ -53,17 +53,21 @@ class SphereTier {
   /// paired with the target (the grasp-aware rule, as in the exact check).
   template <typename Visit>
   bool forEachTouchingPair(const LinkPoses& poses, bool allowFingertipContact, Visit&& visit) {
+    startQuery(poses);
     for (std::size_t l = 0; l < spheres_.links.size(); ++l) {
       if (spheres_.links[l].root < 0) continue;
-      world_[l] = base_ * poses[l];
       for (std::size_t i = 0; i < items_.size(); ++i)
         if (itemTouches(l, i, allowFingertipContact) && visit(Pair{static_cast<int>(l), -1, i}))
           return true;
     }
-    for (const auto& [a, b] : self_pairs_)
-      if (linksTouch(static_cast<std::size_t>(a), static_cast<std::size_t>(b)) &&
-          visit(Pair{a, b, 0}))
+    for (const SelfPair& p : self_pairs_) {
+      // Most pairs end at their root spheres: tested here, without a call.
+      const Eigen::Vector3d& a = centers_[first_node_[p.a] + root_[p.a]];
+      const Eigen::Vector3d& b = centers_[first_node_[p.b] + root_[p.b]];
+      if ((a - b).squaredNorm() > p.reach_squared) continue;
+      if (linksTouch(p.a, p.b) && visit(Pair{static_cast<int>(p.a), static_cast<int>(p.b), 0}))
         return true;
+    }
     return false;
   }
 
@@ -73,6 +77,12 @@ class SphereTier {
   const SphereModel& spheres() const { return spheres_; }
 
  private:
+  /// Forgets the world centres of the previous query, places the links at
+  /// `poses` and transforms every link's root sphere.
+  void startQuery(const LinkPoses& poses);
+  /// A node's centre in the world frame this query (transformed once, on
+  /// first use: most nodes are never reached).
+  const Eigen::Vector3d& center(std::size_t link, int node) const;
   bool itemTouches(std::size_t link, std::size_t item, bool allowFingertipContact) const;
   bool linksTouch(std::size_t a, std::size_t b) const;
   /// Descends the link's sphere tree from `node`: does a leaf touch the item?
@@ -82,11 +92,21 @@ class SphereTier {
 
   Eigen::Isometry3d base_;
   std::vector<Item> items_;
+  std::vector<LinkSphere> bounds_;  ///< [item]: a sphere holding it (world frame)
   const SphereModel& spheres_;
   std::vector<bool> static_, fingertip_;
   std::vector<std::vector<bool>> skip_item_;  ///< [link][item]
-  std::vector<std::pair<int, int>> self_pairs_;
-  LinkPoses world_;  ///< scratch: each link's world pose in the current query
+  struct SelfPair {
+    std::size_t a, b;
+    double reach_squared;  ///< (root radius of a + root radius of b)^2
+  };
+  std::vector<SelfPair> self_pairs_;
+  std::vector<std::size_t> root_;        ///< [link]: its root node (0 for a link without one)
+  LinkPoses world_;                      ///< scratch: each link's world pose in the current query
+  std::vector<std::size_t> first_node_;  ///< [link]: its nodes' offset in centers_
+  mutable std::vector<Eigen::Vector3d> centers_;  ///< scratch: node centres this query
+  mutable std::vector<std::uint32_t> stamp_;      ///< query_ when centers_[i] was set
+  std::uint32_t query_ = 0;
 };
 
 }  // namespace hfts::robot
