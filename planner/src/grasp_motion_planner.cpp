@@ -6,8 +6,12 @@
 
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <exception>
 #include <iomanip>
+#include <mutex>
 #include <sstream>
+#include <thread>
 #include <utility>
 
 #include "grasp/contact_mask.h"
@@ -47,6 +51,8 @@ const char* toString(PlanFailure failure) {
 namespace {
 
 constexpr double kTreeResolution = 0.02;  // collision_resolution default (Eq. 3 metric)
+/// Racing copies a request may ask for (parameter `threads`).
+const ParameterRange kThreadsRange{1, 1, 32};
 
 void quietOmpl() {
   static const bool once = [] {
@@ -65,6 +71,7 @@ struct PlanParameters {
     all.include(planner->params());
     declareParameters(all, goals);
     declareParameter(all, "sphere_tier", {0, 1, 1}, sphereTier);
+    declareParameter(all, "threads", kThreadsRange, threads);  // planGrasp reads it
   }
   PlanParameters(const ob::SpaceInformationPtr& si, const PlanRequest& request)
       : PlanParameters(si) {
@@ -89,6 +96,8 @@ struct PlanParameters {
   /// 1: collision checks in two tiers (spheres, then FCL on the touching
   /// pairs); 0: FCL alone. The same answers either way (docs/collision.md).
   int sphereTier = 1;
+  /// Racing copies of the search (planGrasp); each copy is one thread.
+  int threads = 1;
   ob::ParamSet all;
 };
 
@@ -302,6 +311,7 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
                     const PlanRequest& request, const std::atomic<bool>* cancel) {
   quietOmpl();
   PlanResult result;
+  result.seed = request.seed;
   result.joint_names = world.robot().dofNames();
   result.object_pose = request.object_pose.value_or(request.scene.target_pose);
   Eigen::VectorXd start = startOf(world.robot(), request);
@@ -334,7 +344,76 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
   return result;
 }
 
+/// The request's `threads` parameter, checked as the full set checks it.
+int threadsOf(const PlanRequest& request) {
+  const auto it = request.parameters.find("threads");
+  if (it == request.parameters.end()) return 1;
+  ob::ParamSet only;
+  int threads = 1;
+  declareParameter(only, "threads", kThreadsRange, threads);
+  setParameter(only, "threads", it->second);
+  return threads;
+}
+
+/// `copies` searches race (planGrasp): copy i plans with racingSeed(seed,
+/// i) in its own thread; the first plan stops the others. `cancel` stops
+/// all of them.
+PlanResult race(std::chrono::steady_clock::time_point began, const PlanningWorld& world,
+                const PlanRequest& request, const std::atomic<bool>* cancel, int copies) {
+  const auto n = static_cast<std::size_t>(copies);
+  std::atomic<bool> stop{false};
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::vector<PlanResult> results(n);
+  std::vector<std::exception_ptr> errors(n);
+  std::size_t finished = 0;
+  std::optional<std::size_t> winner;
+  std::vector<std::thread> threads;
+  threads.reserve(n);
+  for (std::size_t i = 0; i < n; ++i)
+    threads.emplace_back([&, i] {
+      PlanRequest copy = request;
+      copy.seed = racingSeed(request.seed, static_cast<int>(i));
+      PlanResult found;
+      std::exception_ptr error;
+      try {
+        found = planFrom(began, world, copy, &stop);
+      } catch (...) {
+        error = std::current_exception();
+      }
+      const std::lock_guard<std::mutex> lock(mutex);
+      if ((found.success && !winner) || error) stop = true;
+      if (found.success && !winner) winner = i;
+      results[i] = std::move(found);
+      errors[i] = error;
+      ++finished;
+      changed.notify_all();
+    });
+  {
+    std::unique_lock<std::mutex> lock(mutex);
+    while (finished < n)
+      if (!changed.wait_for(lock, std::chrono::milliseconds(5), [&] { return finished == n; }) &&
+          cancel != nullptr && cancel->load())
+        stop = true;
+  }
+  for (std::thread& t : threads) t.join();
+  for (const std::exception_ptr& error : errors)
+    if (error) std::rethrow_exception(error);  // every copy checks the same request
+  PlanResult result = std::move(results[winner.value_or(0)]);
+  if (!winner && cancel != nullptr && cancel->load())
+    return failed(std::move(result), {PlanFailure::kCancelled, "cancelled"});
+  return result;
+}
+
 }  // namespace
+
+std::uint64_t racingSeed(std::uint64_t seed, int copy) {
+  if (copy == 0) return seed;
+  std::uint64_t z = seed + 0x9e3779b97f4a7c15ULL * static_cast<std::uint64_t>(copy);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
 
 std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world) {
   quietOmpl();
@@ -349,7 +428,9 @@ std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world) 
 PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
                      const std::atomic<bool>* cancel) {
   const auto began = std::chrono::steady_clock::now();
-  PlanResult result = planFrom(began, world, request, cancel);
+  const int copies = threadsOf(request);
+  PlanResult result = copies == 1 ? planFrom(began, world, request, cancel)
+                                  : race(began, world, request, cancel, copies);
   result.stats.planning_time =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
   return result;

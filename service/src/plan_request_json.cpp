@@ -119,7 +119,14 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
     r.iterations = f.positiveInt("iterations");
   }
   if (f.has("seed")) r.seed = f.unsignedInteger("seed");
-  if (f.has("parameters")) r.parameters = parametersOf(f, catalog);
+  if (f.has("parameters")) {
+    r.parameters = parametersOf(f, catalog);
+    const json& threads = f.at("parameters").value("threads", json(1));
+    if (threads.is_number() && threads.get<double>() > limits.max_threads)
+      JsonFields(f.at("parameters"), "parameters")
+          .fail("threads", "at most " + std::to_string(limits.max_threads) +
+                               " on this server (its planning workers), got " + threads.dump());
+  }
   return r;
 }
 

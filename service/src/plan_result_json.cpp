@@ -54,6 +54,7 @@ json planResultToJson(const planner::PlanResult& result, const planner::PlanRequ
           {"object_pose", poseJson(result.object_pose)},
           {"algorithm", coupled ? "coupled" : "decoupled"},
           {"seed", request.seed},
+          {"plan_seed", result.seed},
           {"time_limit", request.time_limit},
           {"joint_names", result.joint_names},
           {"path", std::move(path)},

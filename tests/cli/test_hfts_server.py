@@ -25,6 +25,7 @@ class Methods(ServerTest):
         self.assertEqual((info["objects"], info["scenes"]), (2, 3))
         self.assertEqual(info["limits"]["max_message_bytes"], 16 << 20)
         self.assertEqual(info["limits"]["max_time_limit"], 60)
+        self.assertEqual(info["limits"]["max_threads"], 2)  # one per planning worker
         self.assertEqual(info["load"]["workers"], 2)
         names = {p["name"] for p in info["planner_parameters"]}
         self.assertTrue({"p_max", "kappa", "step_size"} <= names)
@@ -76,6 +77,18 @@ class Methods(ServerTest):
         plan = self.server.call("plan", params)["result"]
         self.assertValidPlan(plan, "bin", self.server.call("server.info")["result"])
         self.assertEqual((plan["algorithm"], plan["object"]), ("decoupled", "blob"))
+
+    def test_a_racing_plan_names_the_seed_that_replays_it(self):
+        info = self.server.call("server.info")["result"]
+        raced = self.server.call("plan", dict(BIN, parameters={"threads": 2}))["result"]
+        self.assertValidPlan(raced, "bin", info)
+        self.assertEqual(raced["seed"], 1)
+        replayed = self.server.call("plan", dict(BIN, seed=raced["plan_seed"]))["result"]
+        self.assertEqual(replayed["plan_seed"], raced["plan_seed"])
+        self.assertEqual(replayed["path"], raced["path"])
+        error = self.server.call("plan", dict(BIN, parameters={"threads": 3}))["error"]
+        self.assertEqual(error["data"]["field"], "parameters.threads")
+        self.assertIn("at most 2 on this server", error["message"])
 
     def test_an_unreachable_object_is_a_result_not_an_error(self):
         params = dict(ENDLESS, time_limit=0.3)

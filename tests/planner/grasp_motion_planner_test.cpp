@@ -64,6 +64,54 @@ TEST(GraspMotionPlanner, SameSeedGivesTheSamePath) {
   EXPECT_EQ(a.stats.collision_checks, b.stats.collision_checks);
 }
 
+TEST(GraspMotionPlanner, RacingCopiesPlanAndTheWinnersSeedReplaysItsPlan) {
+  PlanRequest r = request("table", "mug", 4);
+  r.parameters["threads"] = "3";
+  const PlanResult raced = planGrasp(world(), r);
+  expectValidPlan(r, raced);
+  std::vector<std::uint64_t> seeds;
+  for (int copy = 0; copy < 3; ++copy) seeds.push_back(racingSeed(r.seed, copy));
+  EXPECT_NE(std::find(seeds.begin(), seeds.end(), raced.seed), seeds.end()) << raced.seed;
+  // One thread with the winner's seed plans the same path again.
+  r.parameters["threads"] = "1";
+  r.seed = raced.seed;
+  const PlanResult replayed = planGrasp(world(), r);
+  ASSERT_TRUE(replayed.success);
+  EXPECT_EQ(replayed.seed, raced.seed);
+  ASSERT_EQ(replayed.path.size(), raced.path.size());
+  for (std::size_t i = 0; i < raced.path.size(); ++i) EXPECT_EQ(replayed.path[i], raced.path[i]);
+  EXPECT_EQ(replayed.grasp.node, raced.grasp.node);
+}
+
+TEST(GraspMotionPlanner, RacingSeedsKeepTheFirstAndDifferForTheOthers) {
+  EXPECT_EQ(racingSeed(7, 0), 7u);
+  std::vector<std::uint64_t> seeds;
+  for (const std::uint64_t seed : {0u, 1u, 2u})
+    for (int copy = 0; copy < 8; ++copy) seeds.push_back(racingSeed(seed, copy));
+  std::sort(seeds.begin(), seeds.end());
+  EXPECT_EQ(std::adjacent_find(seeds.begin(), seeds.end()), seeds.end());
+  EXPECT_EQ(racingSeed(1, 3), racingSeed(1, 3));
+}
+
+TEST(GraspMotionPlanner, RacingCopiesStopWhenCancelledOrOutOfTime) {
+  PlanRequest r = request("table", "mug", 1);
+  r.parameters["threads"] = "2";
+  std::atomic<bool> cancel{true};
+  const PlanResult cancelled = planGrasp(world(), r, &cancel);
+  EXPECT_FALSE(cancelled.success);
+  EXPECT_EQ(cancelled.failure, PlanFailure::kCancelled);
+  // No copy can succeed without goal sampling: the result is copy 0's
+  // failure, at the time limit.
+  r.parameters["p_max"] = "0";
+  r.parameters["p_min"] = "0";
+  r.time_limit = 0.2;
+  const PlanResult none = planGrasp(world(), r);
+  EXPECT_FALSE(none.success);
+  EXPECT_EQ(none.failure, PlanFailure::kNoValidGoal);
+  EXPECT_EQ(none.seed, r.seed);
+  EXPECT_GE(none.stats.planning_time, 0.2);
+}
+
 TEST(GraspMotionPlanner, TheSphereTierChangesNoPlan) {
   for (const char* scene : {"bin", "shelf"}) {
     PlanRequest r = request(scene, scene == std::string("bin") ? "blob" : "mug", 2);
@@ -283,6 +331,11 @@ TEST(GraspMotionPlanner, MalformedRequestsThrowNamingTheField) {
   r.parameters = {{"p_max", "2"}};
   EXPECT_EQ(rejection(r, &field), "parameters.p_max: must be in [0, 1], got 2");
   EXPECT_EQ(field, "parameters.p_max");
+  r.parameters = {{"threads", "0"}};
+  EXPECT_EQ(rejection(r, &field), "parameters.threads: must be in [1, 32], got 0");
+  EXPECT_EQ(field, "parameters.threads");
+  r.parameters = {{"threads", "2"}, {"p_max", "2"}};  // every racing copy checks the request
+  EXPECT_EQ(rejection(r, &field), "parameters.p_max: must be in [0, 1], got 2");
   r.parameters = {{"kappa", "many"}};
   EXPECT_EQ(rejection(r), "parameters.kappa: must be an integer, got 'many'");
   r.parameters = {{"kappa", "2.5"}};
@@ -358,7 +411,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
     expected.erase(it);
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
-  EXPECT_EQ(plannerParameters(world()).size(), 27u) << "a parameter was added or removed";
+  EXPECT_EQ(plannerParameters(world()).size(), 28u) << "a parameter was added or removed";
 }
 
 }  // namespace

@@ -147,6 +147,18 @@ TEST(PlanRequestJson, RejectsBadNumbersAndShapes) {
   expectRejected(json::array(), "params", "must be an object");
 }
 
+TEST(PlanRequestJson, RacingCopiesAreCappedAtTheServersWorkers) {
+  const json two = {{"scene", "bin"}, {"parameters", {{"threads", 2}}}};
+  expectRejected(two, "parameters.threads", "at most 1 on this server (its planning workers)");
+  const planner::PlanRequest r =
+      planRequestFromJson(two, test::serviceCatalog(), PlanLimits{60.0, 2});
+  EXPECT_EQ(r.parameters.at("threads"), "2");
+  // Values that are not numbers are left to the planner's own check.
+  EXPECT_EQ(
+      parse({{"scene", "bin"}, {"parameters", {{"threads", "many"}}}}).parameters.at("threads"),
+      "many");
+}
+
 TEST(PlanRequestJson, NonFiniteNumbersAreRejected) {
   // JSON text cannot carry NaN; a json value built in C++ can.
   json pose = {{"position", {0, std::nan(""), 0}}, {"orientation", {0, 0, 0, 1}}};

@@ -76,11 +76,13 @@ TEST(PlanResultJson, EchoesTheRequestAndStatistics) {
   r.object_pose = Eigen::Isometry3d(Eigen::Translation3d(0.1, 0.2, 0.3));
   planner::PlanResult result = success();
   result.object_pose = *r.object_pose;  // where planGrasp put the object
+  result.seed = 99;                     // a racing copy's seed won
   const json j = planResultToJson(result, r);
   EXPECT_EQ(j.at("scene"), "table");
   EXPECT_EQ(j.at("object"), "mug");
   EXPECT_EQ(j.at("algorithm"), "decoupled");
   EXPECT_EQ(j.at("seed"), 7);
+  EXPECT_EQ(j.at("plan_seed"), 99);
   EXPECT_EQ(j.at("time_limit"), 5.0);
   EXPECT_EQ(j.at("object_pose"),
             json::parse(R"({"position": [0.1, 0.2, 0.3], "orientation": [0, 0, 0, 1]})"));

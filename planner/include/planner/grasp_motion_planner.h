@@ -90,6 +90,10 @@ struct PlanResult {
   Eigen::Isometry3d object_pose = Eigen::Isometry3d::Identity();
   PlannedGrasp grasp;
   PlanStatistics stats;
+  /// The seed of the search this result is from: the request's, or with
+  /// racing (parameter `threads` > 1) the winning copy's. A request with
+  /// this seed and one thread plans the same path again.
+  std::uint64_t seed = 0;
 };
 
 /// A declared planner parameter: name, default value and the range a value
@@ -102,10 +106,21 @@ struct PlannerParameterInfo {
 };
 std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world);
 
+/// The seed of racing copy `copy` (0 .. threads - 1) of a request with
+/// `seed`: copy 0 keeps the request's seed, the others get well-mixed
+/// seeds derived from it (SplitMix64).
+std::uint64_t racingSeed(std::uint64_t seed, int copy);
+
 /// Plans a grasp and a path to it. Single-threaded (kRrtConnect: two
 /// threads, both joined before it returns); the same request and seed give
 /// the same result unless the time limit cuts it short (kRrtConnect: see
 /// LazyGoalRrtConnect::solve).
+/// With the parameter `threads` = N > 1, N copies of the search race in N
+/// threads, copy i with racingSeed(seed, i); the first to find a plan
+/// wins, the others are stopped, and the result is the winner's (its seed
+/// in PlanResult::seed). When none finds a plan the result is copy 0's
+/// failure. Which copy wins depends on timing: racing trades the
+/// determinism of one thread for the time to the first plan.
 /// `cancel` (may be null) stops it from another thread. Throws
 /// InvalidArgument naming the field ("start", "time_limit", "iterations",
 /// "parameters.<name>") for a malformed request: a start of the wrong size,

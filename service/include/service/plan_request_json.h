@@ -12,6 +12,10 @@ namespace hfts::service {
 struct PlanLimits {
   /// s; a larger `time_limit` is capped to it, and it is the default.
   double max_time_limit = 60.0;
+  /// The most racing copies (planner parameter `threads`) one plan may
+  /// run: the server's planning workers, so a racing plan cannot take more
+  /// cores than the server was given.
+  int max_threads = 1;
 };
 
 /// Maps the params of a `plan` call onto a PlanRequest, checking every
@@ -23,7 +27,8 @@ struct PlanLimits {
 /// "object_pose.orientation", "parameters.p_max") for unknown fields and
 /// names, names with path characters, wrong types and lengths, non-finite
 /// numbers, zero-norm quaternions and start configurations outside the
-/// joint limits. Parameter values are checked by planGrasp.
+/// joint limits, and a numeric `threads` above limits.max_threads.
+/// Parameter values are otherwise checked by planGrasp.
 planner::PlanRequest planRequestFromJson(const nlohmann::json& params,
                                          const PlanningCatalog& catalog, const PlanLimits& limits);
 
