@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -27,6 +28,13 @@ struct Tally {
   long configurations = 0, colliding = 0, fingertipOnly = 0, settled = 0, disagreements = 0;
   long motions = 0, states = 0, motionDisagreements = 0;
   double secondsTwoTiers = 0, secondsFcl = 0;
+  // isMotionValid on the same motions, per resolution: answers compared,
+  // time of the free ones.
+  struct Validation {
+    long motions = 0, free = 0, disagreements = 0;
+    double secondsTwoTiers = 0, secondsFcl = 0;
+  };
+  std::map<double, Validation> validations;
 };
 
 class Comparison {
@@ -53,6 +61,29 @@ class Comparison {
       std::fprintf(stderr, " ]: two tiers %d/%d, FCL %d/%d\n", a, aGrasp, b, bGrasp);
     }
     return b;
+  }
+
+  /// isMotionValid from a to b at `resolution`, both rules, both checkers.
+  void compareValidation(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution,
+                         Tally::Validation& tally) {
+    for (const bool grasp : {false, true}) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const bool x = tiers_.isMotionValid(a, b, resolution, grasp);
+      const auto t1 = std::chrono::steady_clock::now();
+      const bool y = fcl_.isMotionValid(a, b, resolution, grasp);
+      const auto t2 = std::chrono::steady_clock::now();
+      ++tally.motions;
+      if (y) {
+        ++tally.free;
+        tally.secondsTwoTiers += std::chrono::duration<double>(t1 - t0).count();
+        tally.secondsFcl += std::chrono::duration<double>(t2 - t1).count();
+      }
+      if (x == y) continue;
+      ++tally.disagreements;
+      std::fprintf(stderr,
+                   "motion disagreement at resolution %g (grasp rule %d): two tiers %d, FCL %d\n",
+                   resolution, grasp, x, y);
+    }
   }
 
   robot::CollisionChecker& fcl() { return fcl_; }
@@ -107,6 +138,7 @@ void compareMotion(const robot::RobotModel& m, Comparison& c, double resolution,
   for (int s = 0; s <= steps; ++s) c.compare(a + (b - a) * (static_cast<double>(s) / steps), tally);
   tally.states += steps + 1;
   ++tally.motions;
+  for (const double r : {resolution, 0.0025}) c.compareValidation(a, b, r, tally.validations[r]);
 }
 
 }  // namespace
@@ -171,6 +203,15 @@ int main(int argc, char** argv) {
                   t.disagreements - t.motionDisagreements, t.motions, t.states,
                   t.motionDisagreements, 1e6 * t.secondsTwoTiers / checks,
                   1e6 * t.secondsFcl / checks);
+      for (const auto& [resolution, v] : t.validations) {
+        std::printf(
+            "  isMotionValid at resolution %g: %ld motions (both rules), %ld free, %ld "
+            "disagreements; free ones %.1f us two tiers, %.1f us FCL alone\n",
+            resolution, v.motions, v.free, v.disagreements,
+            v.free > 0 ? 1e6 * v.secondsTwoTiers / static_cast<double>(v.free) : 0.0,
+            v.free > 0 ? 1e6 * v.secondsFcl / static_cast<double>(v.free) : 0.0);
+        disagreements += v.disagreements;
+      }
       std::fflush(stdout);
       disagreements += t.disagreements;
     }

@@ -38,7 +38,14 @@ class CollisionAgreement(unittest.TestCase):
     def test_no_disagreement_in_any_scene(self):
         result = self.agreement("--configurations", 3000, "--motions", 30)
         self.assertEqual(result.returncode, 0, (result.stdout, result.stderr))
-        rows = [line.split() for line in result.stdout.splitlines()[1:]]
+        lines = result.stdout.splitlines()[1:]
+        rows = [line.split() for line in lines if not line.startswith(" ")]
+        # isMotionValid of both checkers on the same motions, two resolutions per scene.
+        validations = [line for line in lines if line.startswith("  isMotionValid")]
+        self.assertEqual(len(validations), 6, result.stdout)
+        for line in validations:
+            self.assertIn("60 motions (both rules)", line)
+            self.assertIn(" 0 disagreements", line)
         self.assertEqual(sorted(r[0] for r in rows), ["bin", "shelf", "table"])
         for scene, configs, colliding, tips, settled, disagree, motions, states, mdisagree, *_ in rows:
             self.assertEqual(int(configs), 3000)
