@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdlib>
 
 #include "json_fields.h"
 #include "service/rpc_error.h"
@@ -121,11 +122,16 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
   if (f.has("seed")) r.seed = f.unsignedInteger("seed");
   if (f.has("parameters")) {
     r.parameters = parametersOf(f, catalog);
-    const json& threads = f.at("parameters").value("threads", json(1));
-    if (threads.is_number() && threads.get<double>() > limits.max_threads)
-      JsonFields(f.at("parameters"), "parameters")
-          .fail("threads", "at most " + std::to_string(limits.max_threads) +
-                               " on this server (its planning workers), got " + threads.dump());
+    // Numbers and numeric text alike (planGrasp reads both); other text is
+    // left to planGrasp's own check.
+    if (const auto it = r.parameters.find("threads"); it != r.parameters.end()) {
+      char* end = nullptr;
+      const double threads = std::strtod(it->second.c_str(), &end);
+      if (end != it->second.c_str() && threads > limits.max_threads)
+        JsonFields(f.at("parameters"), "parameters")
+            .fail("threads", "at most " + std::to_string(limits.max_threads) +
+                                 " on this server (its planning workers), got " + it->second);
+    }
   }
   return r;
 }

@@ -150,6 +150,9 @@ TEST(PlanRequestJson, RejectsBadNumbersAndShapes) {
 TEST(PlanRequestJson, RacingCopiesAreCappedAtTheServersWorkers) {
   const json two = {{"scene", "bin"}, {"parameters", {{"threads", 2}}}};
   expectRejected(two, "parameters.threads", "at most 1 on this server (its planning workers)");
+  // As text too: planGrasp would read "32" as 32 copies.
+  expectRejected({{"scene", "bin"}, {"parameters", {{"threads", "32"}}}}, "parameters.threads",
+                 "at most 1 on this server (its planning workers), got 32");
   const planner::PlanRequest r =
       planRequestFromJson(two, test::serviceCatalog(), PlanLimits{60.0, 2});
   EXPECT_EQ(r.parameters.at("threads"), "2");
