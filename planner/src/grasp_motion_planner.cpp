@@ -382,8 +382,8 @@ PlanResult race(std::chrono::steady_clock::time_point began, const PlanningWorld
         error = std::current_exception();
       }
       const std::lock_guard<std::mutex> lock(mutex);
-      if ((found.success && !winner) || error) stop = true;
       if (found.success && !winner) winner = i;
+      if (winner || error) stop = true;
       results[i] = std::move(found);
       errors[i] = error;
       ++finished;

@@ -107,11 +107,10 @@ bool SphereTier::itemTouches(std::size_t link, std::size_t item, bool allowFinge
   if (skip_item_[link][item] || (allowFingertipContact && items_[item].target && fingertip_[link]))
     return false;
   // The item's bounding sphere first: one distance, no frame change.
-  const int root = spheres_.links[link].root;
-  const double reach = spheres_.links[link].tree[static_cast<std::size_t>(root)].sphere.radius +
-                       bounds_[item].radius;
+  const int root = static_cast<int>(root_[link]);
+  const double reach = spheres_.links[link].tree[root_[link]].sphere.radius + bounds_[item].radius;
   if ((center(link, root) - bounds_[item].center).squaredNorm() > reach * reach) return false;
-  return nodeTouchesItem(link, spheres_.links[link].root, items_[item]);
+  return nodeTouchesItem(link, root, items_[item]);
 }
 
 bool SphereTier::linksTouch(std::size_t a, std::size_t b) const {
