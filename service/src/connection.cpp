@@ -21,11 +21,18 @@ bool isLoopback(const asio::ip::address& a) {
 }  // namespace
 
 Connection::Connection(tcp::socket socket, MethodDispatcher& dispatcher,
-                       std::size_t maxMessageBytes)
+                       const ConnectionLimits& limits, InputBudget& budget,
+                       std::function<void()> onLargeBufferFreed)
     : socket_(std::move(socket)),
       dispatcher_(dispatcher),
-      framer_(maxMessageBytes),
-      linger_timer_(socket_.get_executor()) {
+      limits_(limits),
+      budget_(budget),
+      on_large_buffer_freed_(std::move(onLargeBufferFreed)),
+      framer_(limits.max_message_bytes),
+      charged_(reservedBytes(limits)),
+      last_activity_(std::chrono::steady_clock::now()),
+      linger_timer_(socket_.get_executor()),
+      deadline_timer_(socket_.get_executor()) {
   asio::error_code ec;
   const tcp::endpoint remote = socket_.remote_endpoint(ec);
   if (ec) {
@@ -42,6 +49,7 @@ Connection::Connection(tcp::socket socket, MethodDispatcher& dispatcher,
 
 void Connection::start() {
   readMore();
+  armDeadline();
 }
 
 void Connection::finish() {
@@ -72,14 +80,104 @@ void Connection::onRead(const asio::error_code& error, std::size_t bytes) {
     endInput(/*cancelPlans=*/true);
     return;
   }
+  const auto now = std::chrono::steady_clock::now();
+  last_activity_ = now;
+  const bool wasInMessage = framer_.inMessage();
   std::vector<std::string> messages;
   const bool withinLimit = framer_.feed({buffer_.data(), bytes}, messages);
+  // The read timeout counts from the first byte of the unfinished message
+  // (at best known to within this read).
+  if (framer_.inMessage() && (!wasInMessage || !messages.empty())) message_began_ = now;
   for (const std::string& text : messages) handleMessage(text);
   if (!withinLimit) {
     rejectOversized();
     return;
   }
+  if (!chargeInput()) {
+    refuseAndClose(ErrorCode::kInputBudgetExhausted,
+                   "the server's input buffers are full (" +
+                       std::to_string(budget_.capacity() >> 20) +
+                       " MiB across connections); closing the connection");
+    return;
+  }
+  armDeadline();
   readMore();
+}
+
+std::size_t Connection::reservedBytes(const ConnectionLimits& limits) {
+  return sizeof(buffer_) + limits.free_input_bytes;
+}
+
+bool Connection::chargeInput() {
+  const std::size_t buffered = framer_.buffered();
+  std::size_t wanted = closed_ ? 0 : reservedBytes(limits_);
+  if (buffered > limits_.free_input_bytes) {
+    wanted += buffered - limits_.free_input_bytes;
+    held_large_input_ = true;
+  }
+  if (wanted <= charged_) {
+    budget_.give(charged_ - wanted);
+    charged_ = wanted;
+    return true;
+  }
+  if (!budget_.take(wanted - charged_)) return false;
+  charged_ = wanted;
+  return true;
+}
+
+void Connection::refuseAndClose(ErrorCode code, const std::string& message) {
+  const json response = errorResponse(nullptr, RpcError(code, message));
+  dispatcher_.logRejected(caller_, response);
+  framer_.takeRemainder();  // the unfinished message is dropped
+  chargeInput();            // gives its bytes back
+  send(response);
+  linger_ = true;
+  endInput(/*cancelPlans=*/true);
+}
+
+std::optional<std::chrono::steady_clock::time_point> Connection::deadline() const {
+  if (framer_.inMessage()) {
+    if (limits_.read_timeout.count() == 0) return std::nullopt;
+    return message_began_ + limits_.read_timeout;
+  }
+  // A client waiting for a plan's reply is not idle.
+  if (outstanding_ > 0 || writing_ || !outbox_.empty() || limits_.idle_timeout.count() == 0)
+    return std::nullopt;
+  return last_activity_ + limits_.idle_timeout;
+}
+
+void Connection::armDeadline() {
+  const auto when = closed_ || input_done_ ? std::nullopt : deadline();
+  if (!when) {
+    deadline_timer_.cancel();
+    return;
+  }
+  deadline_timer_.expires_at(*when);
+  deadline_timer_.async_wait([self = shared_from_this()](const asio::error_code& error) {
+    if (!error) self->onDeadline();
+  });
+}
+
+void Connection::onDeadline() {
+  if (closed_ || input_done_) return;
+  const auto when = deadline();
+  if (!when) return;
+  if (std::chrono::steady_clock::now() < *when) {
+    armDeadline();
+    return;
+  }
+  const auto seconds = [](std::chrono::milliseconds t) {
+    return t.count() % 1000 == 0 ? std::to_string(t.count() / 1000) + " s"
+                                 : std::to_string(t.count()) + " ms";
+  };
+  if (framer_.inMessage())
+    refuseAndClose(ErrorCode::kTimedOut, "message not finished within the read timeout of " +
+                                             seconds(limits_.read_timeout) +
+                                             "; closing the connection");
+  else
+    refuseAndClose(ErrorCode::kTimedOut, "no request within the idle timeout of " +
+                                             seconds(limits_.idle_timeout) +
+                                             "; closing the connection");
 }
 
 Responder Connection::responder(std::function<void(json)> deliver) {
@@ -87,7 +185,9 @@ Responder Connection::responder(std::function<void(json)> deliver) {
   return [self = shared_from_this(), deliver = std::move(deliver)](json response) {
     deliver(std::move(response));
     --self->outstanding_;
+    self->last_activity_ = std::chrono::steady_clock::now();
     self->closeWhenDone();
+    self->armDeadline();
   };
 }
 
@@ -151,13 +251,16 @@ void Connection::writeMore() {
                         self->close();
                         return;
                       }
+                      self->last_activity_ = std::chrono::steady_clock::now();
                       self->writeMore();
                       self->readMore();
                       self->closeWhenDone();
+                      self->armDeadline();
                     });
 }
 
 void Connection::rejectOversized() {
+  chargeInput();  // the framer dropped the message: give its bytes back
   const RpcError error(ErrorCode::kMessageTooLarge, "message too large: over the limit of " +
                                                         std::to_string(framer_.maxMessageBytes()) +
                                                         " bytes; closing the connection");
@@ -204,10 +307,15 @@ void Connection::close() {
   if (closed_) return;
   closed_ = true;
   linger_timer_.cancel();
+  deadline_timer_.cancel();
   asio::error_code ec;
   socket_.close(ec);
   outbox_.clear();
+  outbox_.shrink_to_fit();
   outbox_bytes_ = 0;
+  framer_.takeRemainder();
+  chargeInput();
+  if (held_large_input_ && on_large_buffer_freed_) on_large_buffer_freed_();
 }
 
 }  // namespace hfts::service

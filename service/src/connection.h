@@ -7,8 +7,11 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <chrono>
 #include <deque>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +19,38 @@
 #include "service/message_framer.h"
 
 namespace hfts::service {
+
+/// The server-wide budget for buffered input: each connection's read buffer
+/// and free allowance, and what unfinished messages hold beyond it. Used
+/// only on the I/O thread.
+class InputBudget {
+ public:
+  explicit InputBudget(std::size_t bytes) : capacity_(bytes) {}
+  /// False (and nothing taken) when fewer than `bytes` are left.
+  bool take(std::size_t bytes) {
+    if (bytes > capacity_ - used_) return false;
+    used_ += bytes;
+    return true;
+  }
+  void give(std::size_t bytes) { used_ -= bytes; }
+  std::size_t used() const { return used_; }
+  std::size_t capacity() const { return capacity_; }
+
+ private:
+  std::size_t capacity_;
+  std::size_t used_ = 0;
+};
+
+/// What one connection may hold and how long it may take.
+struct ConnectionLimits {
+  std::size_t max_message_bytes = 16u << 20;
+  /// Bytes of an unfinished message a connection may buffer within what it
+  /// reserved of the InputBudget when it opened: ordinary requests never
+  /// wait for the budget.
+  std::size_t free_input_bytes = 64u << 10;
+  std::chrono::milliseconds read_timeout{0};  ///< to finish a begun message; 0: none
+  std::chrono::milliseconds idle_timeout{0};  ///< silence with nothing pending; 0: none
+};
 
 /// Lives as long as its socket has an operation pending or a call has not
 /// been answered. Used only on the I/O thread.
@@ -25,10 +60,23 @@ namespace hfts::service {
 /// if the peer reads, then the socket is closed. A message over the size
 /// limit gets an error, then the connection is closed after its input has
 /// been drained for a moment (so that the peer sees the error, not a reset).
+/// The same happens when the server's input budget cannot hold the rest of
+/// a message, when a begun message is not finished within the read timeout,
+/// and when the connection stays silent with nothing pending for the idle
+/// timeout.
 class Connection : public std::enable_shared_from_this<Connection> {
  public:
+  /// `onLargeBufferFreed` runs (on the I/O thread) when the connection
+  /// closes after it held a large message: the server then returns free
+  /// memory to the system. The caller has taken reservedBytes() from
+  /// `budget` for it; the connection gives them back when it closes.
   Connection(asio::ip::tcp::socket socket, MethodDispatcher& dispatcher,
-             std::size_t maxMessageBytes);
+             const ConnectionLimits& limits, InputBudget& budget,
+             std::function<void()> onLargeBufferFreed);
+
+  /// What an open connection holds of the budget before its messages grow
+  /// beyond the free allowance: its read buffer and that allowance.
+  static std::size_t reservedBytes(const ConnectionLimits& limits);
 
   void start();
   /// Server shutdown: read nothing more, close once every call received so
@@ -45,6 +93,15 @@ class Connection : public std::enable_shared_from_this<Connection> {
   void send(const nlohmann::json& response);
   void writeMore();
   void rejectOversized();
+  /// Charges the framer's buffered bytes beyond the free allowance to the
+  /// budget; false when the budget cannot hold them.
+  bool chargeInput();
+  /// Sends `error` (id null), drops the unfinished input and closes after
+  /// draining, as for an oversized message.
+  void refuseAndClose(ErrorCode code, const std::string& message);
+  std::optional<std::chrono::steady_clock::time_point> deadline() const;
+  void armDeadline();
+  void onDeadline();
   void endInput(bool cancelPlans);
   void closeWhenDone();
   void drainThenClose();
@@ -52,7 +109,14 @@ class Connection : public std::enable_shared_from_this<Connection> {
 
   asio::ip::tcp::socket socket_;
   MethodDispatcher& dispatcher_;
+  ConnectionLimits limits_;
+  InputBudget& budget_;
+  std::function<void()> on_large_buffer_freed_;
   MessageFramer framer_;
+  std::size_t charged_ = 0;        // bytes taken from budget_
+  bool held_large_input_ = false;  // buffered more than the free allowance once
+  std::chrono::steady_clock::time_point message_began_{};
+  std::chrono::steady_clock::time_point last_activity_{};
   Caller caller_;
   std::array<char, 64 * 1024> buffer_{};
   std::deque<std::string> outbox_;
@@ -65,6 +129,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
   bool linger_ = false;  // drain the input before closing (oversized message)
   bool closed_ = false;
   asio::steady_timer linger_timer_;
+  asio::steady_timer deadline_timer_;
 };
 
 }  // namespace hfts::service

@@ -3,6 +3,9 @@
 namespace hfts::service {
 namespace {
 
+/// Buffer capacity kept between messages without asking whether it is used.
+constexpr std::size_t kKeptCapacity = 256u << 10;
+
 bool isJsonWhitespace(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\n';
 }
@@ -20,11 +23,17 @@ bool MessageFramer::feed(std::string_view bytes, std::vector<std::string>& out) 
     if (i + 1 - begin_ > max_bytes_) {
       spent_ = true;
       pending_.clear();
+      pending_.shrink_to_fit();
+      started_ = false;
       return false;
     }
   }
   pending_.erase(0, begin_);
   begin_ = 0;
+  // A large message leaves a large buffer behind: give it back once most
+  // of it is unused, so that idle connections hold little memory.
+  if (pending_.capacity() > kKeptCapacity && 4 * pending_.size() < pending_.capacity())
+    pending_.shrink_to_fit();
   return true;
 }
 
@@ -67,6 +76,7 @@ void MessageFramer::emit(std::size_t end, std::vector<std::string>& out) {
 std::string MessageFramer::takeRemainder() {
   std::string rest = started_ ? pending_.substr(begin_) : std::string();
   pending_.clear();
+  pending_.shrink_to_fit();
   begin_ = 0;
   started_ = structured_ = after_text_ = false;
   return rest;

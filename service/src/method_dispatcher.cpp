@@ -124,6 +124,10 @@ json MethodDispatcher::staticInfo() const {
            {{"max_time_limit", limits_.max_time_limit},
             {"max_threads", limits_.max_threads},
             {"max_message_bytes", options_.max_message_bytes},
+            {"max_connections", options_.max_connections},
+            {"max_buffered_bytes", options_.max_buffered_bytes},
+            {"read_timeout", options_.read_timeout},
+            {"idle_timeout", options_.idle_timeout},
             {"queue_capacity", pool_.capacity()},
             {"max_batch_calls", kMaxBatchCalls},
             {"max_nesting_depth", kMaxNestingDepth}}}};

@@ -33,6 +33,12 @@ const char* toString(ErrorCode code) {
       return "message_too_large";
     case ErrorCode::kReloadFailed:
       return "reload_failed";
+    case ErrorCode::kTooManyConnections:
+      return "too_many_connections";
+    case ErrorCode::kInputBudgetExhausted:
+      return "input_budget_exhausted";
+    case ErrorCode::kTimedOut:
+      return "timed_out";
   }
   return "unknown";
 }

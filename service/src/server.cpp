@@ -6,8 +6,15 @@
 #include <asio/signal_set.hpp>
 #include <asio/steady_timer.hpp>
 
+#include <asio/write.hpp>
+
+#include <cmath>
 #include <csignal>
 #include <stdexcept>
+
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "connection.h"
 #include "method_dispatcher.h"
@@ -20,6 +27,28 @@ namespace {
 
 constexpr auto kShutdownPoll = std::chrono::milliseconds(10);
 constexpr auto kAcceptRetry = std::chrono::milliseconds(100);
+constexpr auto kTrimDelay = std::chrono::milliseconds(200);
+
+std::chrono::milliseconds timeoutOf(double seconds, const char* name) {
+  if (!std::isfinite(seconds) || seconds < 0.0 || seconds > 1e6)
+    throw std::invalid_argument(std::string("the ") + name +
+                                " must be a number of seconds in [0, 1e6] (0: none)");
+  return std::chrono::milliseconds(static_cast<std::int64_t>(std::llround(seconds * 1000.0)));
+}
+
+ConnectionLimits limitsOf(const ServerOptions& options) {
+  if (options.max_message_bytes < 1024)
+    throw std::invalid_argument("the message size limit must be at least 1024 bytes");
+  if (options.max_connections < 1)
+    throw std::invalid_argument("the connection limit must be at least 1");
+  if (options.max_buffered_bytes < (std::size_t{1} << 20))
+    throw std::invalid_argument("the input budget must be at least 1 MiB");
+  ConnectionLimits limits;
+  limits.max_message_bytes = options.max_message_bytes;
+  limits.read_timeout = timeoutOf(options.read_timeout, "read timeout");
+  limits.idle_timeout = timeoutOf(options.idle_timeout, "idle timeout");
+  return limits;
+}
 
 tcp::endpoint endpointOf(const ServerOptions& options) {
   asio::error_code ec;
@@ -44,9 +73,10 @@ class Server::Impl {
         acceptor_(io_),
         signals_(io_),
         timer_(io_),
-        log_(options_.log) {
-    if (options_.max_message_bytes < 1024)
-      throw std::invalid_argument("the message size limit must be at least 1024 bytes");
+        trim_timer_(io_),
+        log_(options_.log),
+        limits_(limitsOf(options_)),
+        budget_(options_.max_buffered_bytes) {
     listen(endpointOf(options_));
     log_.captureOmplMessages();
     if (options_.handle_signals) {
@@ -97,12 +127,52 @@ class Server::Impl {
         });
         return;
       }
-      auto connection =
-          std::make_shared<Connection>(std::move(socket), dispatcher_, options_.max_message_bytes);
-      connections_.push_back(connection);
-      connection->start();
       prune();
+      if (connections_.size() >= options_.max_connections) {
+        refuse(std::move(socket), ErrorCode::kTooManyConnections,
+               "too many connections: the server has " + std::to_string(options_.max_connections) +
+                   " open; try again later");
+      } else if (!budget_.take(Connection::reservedBytes(limits_))) {
+        refuse(std::move(socket), ErrorCode::kInputBudgetExhausted,
+               "the server's input buffers are full; try again later");
+      } else {
+        auto connection = std::make_shared<Connection>(std::move(socket), dispatcher_, limits_,
+                                                       budget_, [this] { trimSoon(); });
+        connections_.push_back(connection);
+        connection->start();
+      }
       accept();
+    });
+  }
+
+  /// A connection not served: an error line, then the socket is closed
+  /// (what the client sent meanwhile is not read).
+  void refuse(tcp::socket socket, ErrorCode code, const std::string& message) {
+    ++refused_;
+    if (refused_ == 1 || refused_ % 1000 == 0)
+      log_.event("refused a connection (" + message + "; " + std::to_string(refused_) +
+                 " refused so far)");
+    auto s = std::make_shared<tcp::socket>(std::move(socket));
+    auto line =
+        std::make_shared<std::string>(serialize(errorResponse(nullptr, RpcError(code, message))));
+    asio::async_write(*s, asio::buffer(*line), [s, line](const asio::error_code&, std::size_t) {
+      asio::error_code ec;
+      s->shutdown(tcp::socket::shutdown_both, ec);
+      s->close(ec);
+    });
+  }
+
+  /// After large messages are freed, returns the free memory to the system
+  /// once (glibc keeps freed heap memory otherwise; docs/reliability.md).
+  void trimSoon() {
+    if (trim_pending_) return;
+    trim_pending_ = true;
+    trim_timer_.expires_after(kTrimDelay);
+    trim_timer_.async_wait([this](const asio::error_code&) {
+      trim_pending_ = false;
+#if defined(__GLIBC__)
+      malloc_trim(0);
+#endif
     });
   }
 
@@ -122,6 +192,7 @@ class Server::Impl {
     asio::error_code ec;
     acceptor_.close(ec);
     timer_.cancel();
+    trim_timer_.cancel();
     dispatcher_.stop();
     for (const auto& weak : connections_)
       if (const auto c = weak.lock()) c->finish();
@@ -145,8 +216,13 @@ class Server::Impl {
   tcp::acceptor acceptor_;
   asio::signal_set signals_;
   asio::steady_timer timer_;
+  asio::steady_timer trim_timer_;
   RequestLog log_;
+  ConnectionLimits limits_;
+  InputBudget budget_;
   std::vector<std::weak_ptr<Connection>> connections_;
+  std::size_t refused_ = 0;
+  bool trim_pending_ = false;
   bool stopping_ = false;
 };
 

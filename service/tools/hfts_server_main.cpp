@@ -7,6 +7,10 @@
 
 #include <iostream>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include "service/server.h"
 
 int main(int argc, char** argv) {
@@ -16,6 +20,7 @@ int main(int argc, char** argv) {
   std::string robot = o.sources.robot_config.string(), db = o.sources.database_dir.string(),
               scenes = o.sources.scene_dir.string();
   double maxMessageMiB = static_cast<double>(o.max_message_bytes) / (1 << 20);
+  double maxBufferedMiB = static_cast<double>(o.max_buffered_bytes) / (1 << 20);
   bool quiet = false;
   CLI::App app{"hfts-server: grasp and motion planning over TCP JSON-RPC 2.0 (docs/protocol.md)"};
   app.add_option("--robot", robot, "Robot config")->capture_default_str();
@@ -34,11 +39,37 @@ int main(int argc, char** argv) {
   app.add_option("--max-message-mib", maxMessageMiB, "Largest message (MiB)")
       ->check(CLI::Range(0.001, 1024.0))
       ->capture_default_str();
+  app.add_option("--max-connections", o.max_connections,
+                 "Connections open at once; one more gets error -32006 and is closed")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  app.add_option("--max-buffered-mib", maxBufferedMiB,
+                 "Input of unfinished messages the server holds beyond 64 KiB per connection "
+                 "(MiB); a message that does not fit gets error -32007")
+      ->check(CLI::Range(1.0, 1048576.0))
+      ->capture_default_str();
+  app.add_option("--read-timeout", o.read_timeout,
+                 "Seconds to finish a begun message, else error -32008 (0: none)")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
+  app.add_option("--idle-timeout", o.idle_timeout,
+                 "Seconds a connection may stay silent with no call pending, else error -32008 "
+                 "(0: none)")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
   app.add_flag("--quiet", quiet, "No request log on standard error");
   CLI11_PARSE(app, argc, argv);
 
+#if defined(__GLIBC__)
+  // Blocks of 128 KiB and more (large messages) get their own mappings,
+  // which free() returns to the system; glibc's default threshold rises
+  // after such frees and would keep them in the heap (docs/reliability.md).
+  mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+#endif
+
   o.sources = {robot, db, scenes};
   o.max_message_bytes = static_cast<std::size_t>(maxMessageMiB * (1 << 20));
+  o.max_buffered_bytes = static_cast<std::size_t>(maxBufferedMiB * (1 << 20));
   o.log = quiet ? nullptr : &std::cerr;
   try {
     hfts::service::Server server(o);

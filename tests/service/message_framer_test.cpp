@@ -79,5 +79,32 @@ TEST(MessageFramer, ReturnsTheIncompleteRemainder) {
   EXPECT_EQ(f.takeRemainder(), "") << "whitespace is no message";
 }
 
+TEST(MessageFramer, ReportsTheUnfinishedMessageItHolds) {
+  MessageFramer f(1 << 20);
+  EXPECT_FALSE(f.inMessage());
+  EXPECT_TRUE(frame(f, "  ").empty());
+  EXPECT_FALSE(f.inMessage()) << "whitespace does not begin a message";
+  EXPECT_TRUE(frame(f, "{\"a\": \"").empty());
+  EXPECT_TRUE(f.inMessage());
+  EXPECT_EQ(f.buffered(), 9u);
+  EXPECT_EQ(frame(f, "b\"}{\"c\""), Messages{"  {\"a\": \"b\"}"});
+  EXPECT_TRUE(f.inMessage()) << "the next message has begun";
+  EXPECT_EQ(f.buffered(), 4u);
+  EXPECT_EQ(frame(f, ":1}"), Messages{"{\"c\":1}"});
+  EXPECT_FALSE(f.inMessage());
+  EXPECT_EQ(f.buffered(), 0u);
+}
+
+TEST(MessageFramer, ForgetsALargeMessageOnceItIsHandedOn) {
+  MessageFramer f(1 << 22);
+  const std::string big = "[\"" + std::string(3 << 20, 'x') + "\"]";
+  EXPECT_EQ(frame(f, big).size(), 1u);
+  EXPECT_EQ(f.buffered(), 0u);
+  std::vector<std::string> out;
+  EXPECT_FALSE(f.feed(std::string(5 << 20, ' ') + "x", out)) << "over the limit";
+  EXPECT_EQ(f.buffered(), 0u) << "a spent framer holds nothing";
+  EXPECT_FALSE(f.inMessage());
+}
+
 }  // namespace
 }  // namespace hfts::service

@@ -35,6 +35,12 @@ class MessageFramer {
   std::string takeRemainder();
 
   std::size_t maxMessageBytes() const { return max_bytes_; }
+  /// Bytes held for the message not finished yet (what the connection's
+  /// input costs in memory beyond its read buffer).
+  std::size_t buffered() const { return pending_.size(); }
+  /// True while a message has begun (a byte other than whitespace) but
+  /// not ended.
+  bool inMessage() const { return started_; }
 
  private:
   void scan(char c, std::size_t at, std::vector<std::string>& out);

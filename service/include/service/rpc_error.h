@@ -18,11 +18,15 @@ enum class ErrorCode : int {
   kMethodNotFound = -32601,
   kInvalidParams = -32602,  ///< the message names the offending field
   kInternalError = -32603,
-  kBusy = -32001,             ///< the plan queue is full; try again later
-  kShuttingDown = -32002,     ///< the server is stopping and takes no new work
-  kForbidden = -32003,        ///< e.g. shutdown from a non-loopback peer
-  kMessageTooLarge = -32004,  ///< over the size limit; the connection is closed
-  kReloadFailed = -32005,     ///< reload could not read the robot, map or scenes
+  kBusy = -32001,                ///< the plan queue is full; try again later
+  kShuttingDown = -32002,        ///< the server is stopping and takes no new work
+  kForbidden = -32003,           ///< e.g. shutdown from a non-loopback peer
+  kMessageTooLarge = -32004,     ///< over the size limit; the connection is closed
+  kReloadFailed = -32005,        ///< reload could not read the robot, map or scenes
+  kTooManyConnections = -32006,  ///< at the connection cap: sent, then the connection is closed
+  kInputBudgetExhausted =
+      -32007,          ///< the server's input buffers are full; the connection is closed
+  kTimedOut = -32008,  ///< a message not finished in time, or a silent connection; closed
 };
 
 /// Thrown by method handlers; becomes the reply's "error" member.

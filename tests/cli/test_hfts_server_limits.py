@@ -1,0 +1,149 @@
+#!/usr/bin/env python3
+"""Integration tests of hfts-server's resource limits (docs/protocol.md#limits):
+the connection cap, the server-wide input budget, the read and idle
+timeouts, and memory given back after a flood of unfinished messages.
+Run by ctest with Debian's /usr/bin/python3; standard library only."""
+
+import socket
+import time
+
+import server_attack
+from hfts_server_fixture import ENDLESS, ServerTest, run_tests, wait_until
+
+
+class ConnectionCap(ServerTest):
+    OPTIONS = ("--workers", "1", "--max-connections", "3")
+
+    def test_one_connection_over_the_cap_is_refused_with_an_error(self):
+        open_ = [self.server.connect() for _ in range(3)]
+        try:
+            for i, c in enumerate(open_):
+                self.assertEqual(c.call("server.info", request_id=i)["id"], i)
+            with self.server.connect() as extra:
+                self.assertError(extra.read(), -32006, contains="too many connections")
+                self.assertIsNone(extra.read(), "then the connection is closed")
+            open_.pop().close()
+            # The closed slot is free again once the server has seen the close.
+            self.assertTrue(wait_until(lambda: self.answers()), "a slot was not given back")
+            self.assertServes(open_[0])
+        finally:
+            for c in open_:
+                c.close()
+
+    def answers(self):
+        with self.server.connect() as c:
+            reply = c.call("scenes.list")
+            return reply is not None and "result" in reply
+
+
+class InputBudget(ServerTest):
+    # 4 MiB: each connection reserves 128 KiB, so two 1.5 MiB messages fit
+    # and the third does not.
+    OPTIONS = ("--workers", "1", "--max-buffered-mib", "4", "--read-timeout", "0")
+
+    def unfinished(self, size):
+        c = self.server.connect()
+        c.send(server_attack.PREFIX + b"a" * (size - len(server_attack.PREFIX)))
+        return c
+
+    def test_a_message_the_budget_cannot_hold_is_refused_and_the_others_still_served(self):
+        mib = 1 << 20
+        held = [self.unfinished(3 * mib // 2) for _ in range(2)]
+        try:
+            for c in held:  # both are still open and serve nothing else meanwhile
+                self.assertTrue(wait_until(lambda: self.server.call("server.info")["id"] == 1))
+            with self.server.connect() as over:
+                try:
+                    over.send(server_attack.PREFIX + b"a" * (3 * mib // 2))
+                except OSError:
+                    pass  # the server may close before all is sent
+                self.assertError(over.read(), -32007, contains="input buffers are full")
+            with self.server.connect() as normal:  # ordinary requests never wait for the budget
+                self.assertEqual(normal.call("server.info", request_id="n")["id"], "n")
+            for c in held:  # the held messages complete normally
+                c.send(b'"}}\n')
+                self.assertError(c.read(), -32602, field="scene", request_id=1)
+            # ... and once they are done, a large message fits again.
+            with self.server.connect() as again:
+                again.send(server_attack.PREFIX + b"b" * (3 * mib // 2) + b'"}}\n')
+                self.assertError(again.read(), -32602, field="scene", request_id=1)
+        finally:
+            for c in held:
+                c.close()
+
+
+class Timeouts(ServerTest):
+    OPTIONS = ("--workers", "1", "--read-timeout", "0.5", "--idle-timeout", "1")
+
+    def test_a_message_not_finished_in_time_is_refused(self):
+        with self.server.connect() as c:
+            start = time.monotonic()
+            c.send('{"jsonrpc": "2.0", "id": 1, "method": "server.info"')
+            self.assertError(c.read(), -32008, contains="read timeout of 500 ms")
+            self.assertGreaterEqual(time.monotonic() - start, 0.45)
+            self.assertIsNone(c.read())
+
+    def test_a_trickle_does_not_extend_the_read_timeout(self):
+        with self.server.connect() as c:
+            start = time.monotonic()
+            c.send('{"jsonrpc": "2.0", ')
+            try:
+                for _ in range(20):
+                    time.sleep(0.1)
+                    c.send(" ")
+            except OSError:
+                pass  # closed by the server
+            self.assertError(c.read(), -32008, contains="read timeout")
+            self.assertLess(time.monotonic() - start, 2.5)
+
+    def test_a_silent_connection_is_closed(self):
+        with self.server.connect() as c:
+            start = time.monotonic()
+            self.assertError(c.read(), -32008, contains="idle timeout of 1 s")
+            self.assertGreaterEqual(time.monotonic() - start, 0.95)
+            self.assertIsNone(c.read())
+
+    def test_a_client_that_keeps_asking_stays(self):
+        with self.server.connect() as c:
+            for i in range(5):
+                time.sleep(0.4)
+                self.assertEqual(c.call("server.info", request_id=i)["id"], i)
+
+    def test_a_client_waiting_for_a_plan_is_not_idle(self):
+        with self.server.connect() as c:
+            reply = c.call("plan", dict(ENDLESS, time_limit=2.5))
+            self.assertIn("result", reply, reply)
+            self.assertFalse(reply["result"]["success"])
+            self.assertError(c.read(), -32008, contains="idle timeout")
+
+    def test_server_info_reports_the_limits(self):
+        limits = self.server.call("server.info")["result"]["limits"]
+        self.assertEqual(limits["read_timeout"], 0.5)
+        self.assertEqual(limits["idle_timeout"], 1.0)
+        self.assertEqual(limits["max_connections"], 256)
+        self.assertEqual(limits["max_buffered_bytes"], 512 << 20)
+
+
+class Flood(ServerTest):
+    """The issue's attack, scaled down: 24 connections x 6 MiB against a
+    16 MiB budget."""
+    OPTIONS = ("--workers", "1", "--max-buffered-mib", "16")
+
+    def test_memory_stays_within_the_budget_and_is_given_back(self):
+        result = server_attack.attack(self.server.host, self.server.port,
+                                      self.server.process.pid, connections=24, size=6 << 20)
+        budget = 16 << 20
+        slack = 16 << 20  # allocator and parser overhead, thread stacks
+        self.assertLess(result["peak"] - result["idle"], budget + slack, result)
+        self.assertGreater(result["outcomes"].get("sent, error -32007", 0) +
+                           result["outcomes"].get("closed by server, error -32007", 0), 0, result)
+        self.assertLessEqual(result["after"], 1.1 * result["idle"], result)
+        self.assertGreater(result["probes"], 0, result)
+        self.assertEqual(result["refused_probes"], 0, result)
+        with self.server.connect() as c:
+            self.assertServes(c)
+
+
+if __name__ == "__main__":
+    socket.setdefaulttimeout(60)
+    run_tests()
