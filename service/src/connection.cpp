@@ -75,8 +75,17 @@ void Connection::onRead(const asio::error_code& error, std::size_t bytes) {
     return;
   }
   if (error) {
-    const std::string rest = framer_.takeRemainder();
-    if (!rest.empty()) handleMessage(rest);  // a last text without newline
+    if (framer_.inUnclosedText()) {  // not worth parsing: it may be megabytes
+      const json response = errorResponse(
+          nullptr, RpcError(ErrorCode::kParseError,
+                            "parse error: the input ended inside a JSON text (" +
+                                std::to_string(framer_.buffered()) + " bytes not closed)"));
+      dispatcher_.logRejected(caller_, response);
+      framer_.dropRemainder();
+      send(response);
+    } else if (const std::string rest = framer_.takeRemainder(); !rest.empty()) {
+      handleMessage(rest);  // a last text without newline
+    }
     endInput(/*cancelPlans=*/true);
     return;
   }
@@ -128,8 +137,8 @@ bool Connection::chargeInput() {
 void Connection::refuseAndClose(ErrorCode code, const std::string& message) {
   const json response = errorResponse(nullptr, RpcError(code, message));
   dispatcher_.logRejected(caller_, response);
-  framer_.takeRemainder();  // the unfinished message is dropped
-  chargeInput();            // gives its bytes back
+  framer_.dropRemainder();
+  chargeInput();  // gives its bytes back
   send(response);
   linger_ = true;
   endInput(/*cancelPlans=*/true);
@@ -313,7 +322,7 @@ void Connection::close() {
   outbox_.clear();
   outbox_.shrink_to_fit();
   outbox_bytes_ = 0;
-  framer_.takeRemainder();
+  framer_.dropRemainder();
   chargeInput();
   if (held_large_input_ && on_large_buffer_freed_) on_large_buffer_freed_();
 }

@@ -106,6 +106,11 @@ void MethodDispatcher::info(const Call& call, const Caller&, const Finish& finis
       {"calls", calls_},
       {"uptime",
        std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count()}};
+  if (connection_load_) {
+    const ConnectionLoad c = connection_load_();
+    result["load"]["connections"] = c.connections;
+    result["load"]["input_budget_used"] = c.input_budget_used;
+  }
   finish({std::move(result), std::nullopt, ""});
 }
 

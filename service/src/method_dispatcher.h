@@ -37,6 +37,12 @@ using Responder = std::function<void(nlohmann::json response)>;
 /// Runs a function on the I/O thread (asio::post).
 using PostToIo = std::function<void(std::function<void()>)>;
 
+/// The connections' share of server.info's "load" (the server knows it).
+struct ConnectionLoad {
+  std::size_t connections = 0;
+  std::size_t input_budget_used = 0;  ///< bytes of InputBudget taken
+};
+
 class MethodDispatcher {
  public:
   /// `onShutdown` is called (on the I/O thread) after a `shutdown` call
@@ -48,6 +54,10 @@ class MethodDispatcher {
   MethodDispatcher& operator=(const MethodDispatcher&) = delete;
 
   void dispatch(const Call& call, const Caller& caller, Responder respond);
+  /// Where server.info reads the connection figures of "load".
+  void setConnectionLoad(std::function<ConnectionLoad()> load) {
+    connection_load_ = std::move(load);
+  }
   /// Logs the error response to a message or batch element that held no
   /// valid call (parse error, invalid request, oversized message).
   void logRejected(const Caller& caller, const nlohmann::json& errorResponse) const;
@@ -99,6 +109,7 @@ class MethodDispatcher {
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
   std::uint64_t calls_ = 0;
   nlohmann::json info_;  // staticInfo() of the current catalog, made on first use
+  std::function<ConnectionLoad()> connection_load_;
 };
 
 }  // namespace hfts::service

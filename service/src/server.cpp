@@ -78,6 +78,10 @@ class Server::Impl {
         limits_(limitsOf(options_)),
         budget_(options_.max_buffered_bytes) {
     listen(endpointOf(options_));
+    dispatcher_.setConnectionLoad([this] {
+      prune();
+      return ConnectionLoad{connections_.size(), budget_.used()};
+    });
     log_.captureOmplMessages();
     if (options_.handle_signals) {
       signals_.add(SIGINT);

@@ -17,6 +17,7 @@ Standard library only.
 import argparse
 import json
 import multiprocessing
+import os
 import socket
 import sys
 import threading
@@ -100,7 +101,10 @@ def info_latency(host, port):
 def run_attackers(host, port, connections, size, hold, report):
     """In a child process (so that the probes do not share its interpreter):
     starts the attackers, waits for them, then for `hold` (an Event), closes
-    them and reports their outcomes."""
+    them and reports their outcomes. At the lowest priority: on a small
+    machine its 200 sending threads would otherwise starve the server and the
+    probes of CPU, which a remote attacker does not."""
+    os.nice(19)
     attackers = [Attacker(host, port, size) for _ in range(connections)]
     for a in attackers:
         a.start()

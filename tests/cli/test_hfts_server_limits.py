@@ -46,12 +46,18 @@ class InputBudget(ServerTest):
         c.send(server_attack.PREFIX + b"a" * (size - len(server_attack.PREFIX)))
         return c
 
+    def load(self):
+        return self.server.call("server.info")["result"]["load"]
+
     def test_a_message_the_budget_cannot_hold_is_refused_and_the_others_still_served(self):
         mib = 1 << 20
         held = [self.unfinished(3 * mib // 2) for _ in range(2)]
         try:
-            for c in held:  # both are still open and serve nothing else meanwhile
-                self.assertTrue(wait_until(lambda: self.server.call("server.info")["id"] == 1))
+            # Both are in the server's buffers before the third starts.
+            self.assertTrue(wait_until(
+                lambda: self.load()["input_budget_used"] >= 2 * (3 * mib // 2 - (64 << 10))),
+                self.load())
+            self.assertEqual(self.load()["connections"], 3)  # the two and the asking one
             with self.server.connect() as over:
                 try:
                     over.send(server_attack.PREFIX + b"a" * (3 * mib // 2))

@@ -106,5 +106,51 @@ TEST(MessageFramer, ForgetsALargeMessageOnceItIsHandedOn) {
   EXPECT_FALSE(f.inMessage());
 }
 
+TEST(MessageFramer, LongStringsAndScalarsFrameAsByteByByte) {
+  // The fast path over plain string bytes and scalars must not change where
+  // messages end or when the limit is hit.
+  const std::string text = "{\"s\": \"" + std::string(5000, 'x') + "\\\"}]" +
+                           std::string(3000, 'y') + "\"}" + "  " + std::string(4000, '7') +
+                           "\n[\"a\nb\"]\n";
+  const Messages expected{text.substr(0, text.find("}  ") + 1), "  " + std::string(4000, '7'),
+                          "[\"a", "b\"]"};
+  for (std::size_t piece : {1u, 7u, 64u, 4096u, 100000u}) {
+    MessageFramer f(1 << 20);
+    Messages got;
+    for (std::size_t at = 0; at < text.size(); at += piece) {
+      const Messages part = frame(f, std::string_view(text).substr(at, piece));
+      got.insert(got.end(), part.begin(), part.end());
+    }
+    EXPECT_TRUE(got == expected) << "pieces of " << piece;  // (too long to print)
+  }
+  const std::size_t first = expected.front().size();  // the longest message
+  for (std::size_t limit : {std::size_t{4999}, std::size_t{5010}, first - 1}) {
+    for (std::size_t piece : {1u, 333u, 100000u}) {
+      MessageFramer f(limit);
+      std::vector<std::string> out;
+      bool within = true;
+      for (std::size_t at = 0; at < text.size() && within; at += piece)
+        within = f.feed(std::string_view(text).substr(at, piece), out);
+      EXPECT_FALSE(within) << "limit " << limit << ", pieces of " << piece;
+      EXPECT_TRUE(out.empty()) << "limit " << limit << ", pieces of " << piece;
+    }
+  }
+  MessageFramer exact(first);
+  std::vector<std::string> out;
+  EXPECT_TRUE(exact.feed(text, out)) << "a message of exactly the limit is accepted";
+  EXPECT_TRUE(out == expected);
+}
+
+TEST(MessageFramer, KnowsAnUnclosedTextFromAScalar) {
+  MessageFramer f(1024);
+  EXPECT_TRUE(frame(f, "{\"a\": [").empty());
+  EXPECT_TRUE(f.inUnclosedText());
+  EXPECT_EQ(frame(f, "]}"), Messages{"{\"a\": []}"});
+  EXPECT_FALSE(f.inUnclosedText());
+  EXPECT_TRUE(frame(f, "12").empty());
+  EXPECT_TRUE(f.inMessage());
+  EXPECT_FALSE(f.inUnclosedText());
+}
+
 }  // namespace
 }  // namespace hfts::service

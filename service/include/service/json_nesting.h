@@ -27,6 +27,8 @@ class JsonNesting {
     return depth_;
   }
   int depth() const { return depth_; }
+  /// Inside a string with no escape pending: only '"' and '\\' change the state.
+  bool inPlainString() const { return in_string_ && !escaped_; }
   void reset() { *this = JsonNesting(); }
 
  private:

@@ -33,6 +33,8 @@ class MessageFramer {
   /// The incomplete message at the end of the input; empty when only
   /// whitespace is left. Clears it.
   std::string takeRemainder();
+  /// Forgets the incomplete message at the end of the input (and its buffer).
+  void dropRemainder();
 
   std::size_t maxMessageBytes() const { return max_bytes_; }
   /// Bytes held for the message not finished yet (what the connection's
@@ -41,9 +43,14 @@ class MessageFramer {
   /// True while a message has begun (a byte other than whitespace) but
   /// not ended.
   bool inMessage() const { return started_; }
+  /// True while the unfinished message is an object or array not closed
+  /// yet: at the end of the input it cannot be valid JSON.
+  bool inUnclosedText() const { return started_ && structured_; }
 
  private:
   void scan(char c, std::size_t at, std::vector<std::string>& out);
+  /// The first position from `i` that can change the framing state.
+  std::size_t skipPlain(std::size_t i) const;
   void emit(std::size_t end, std::vector<std::string>& out);
 
   std::size_t max_bytes_;
