@@ -76,13 +76,10 @@ void Connection::onRead(const asio::error_code& error, std::size_t bytes) {
   }
   if (error) {
     if (framer_.inUnclosedText()) {  // not worth parsing: it may be megabytes
-      const json response = errorResponse(
-          nullptr, RpcError(ErrorCode::kParseError,
-                            "parse error: the input ended inside a JSON text (" +
-                                std::to_string(framer_.buffered()) + " bytes not closed)"));
-      dispatcher_.logRejected(caller_, response);
+      const std::size_t unclosed = framer_.buffered();
       framer_.dropRemainder();
-      send(response);
+      sendInputError(ErrorCode::kParseError, "parse error: the input ended inside a JSON text (" +
+                                                 std::to_string(unclosed) + " bytes not closed)");
     } else if (const std::string rest = framer_.takeRemainder(); !rest.empty()) {
       handleMessage(rest);  // a last text without newline
     }
@@ -99,7 +96,9 @@ void Connection::onRead(const asio::error_code& error, std::size_t bytes) {
   if (framer_.inMessage() && (!wasInMessage || !messages.empty())) message_began_ = now;
   for (const std::string& text : messages) handleMessage(text);
   if (!withinLimit) {
-    rejectOversized();
+    refuseAndClose(ErrorCode::kMessageTooLarge, "message too large: over the limit of " +
+                                                    std::to_string(framer_.maxMessageBytes()) +
+                                                    " bytes; closing the connection");
     return;
   }
   if (!chargeInput()) {
@@ -134,12 +133,16 @@ bool Connection::chargeInput() {
   return true;
 }
 
-void Connection::refuseAndClose(ErrorCode code, const std::string& message) {
+void Connection::sendInputError(ErrorCode code, const std::string& message) {
   const json response = errorResponse(nullptr, RpcError(code, message));
   dispatcher_.logRejected(caller_, response);
+  send(response);
+}
+
+void Connection::refuseAndClose(ErrorCode code, const std::string& message) {
   framer_.dropRemainder();
   chargeInput();  // gives its bytes back
-  send(response);
+  sendInputError(code, message);
   linger_ = true;
   endInput(/*cancelPlans=*/true);
 }
@@ -156,14 +159,21 @@ std::optional<std::chrono::steady_clock::time_point> Connection::deadline() cons
 }
 
 void Connection::armDeadline() {
-  const auto when = closed_ || input_done_ ? std::nullopt : deadline();
-  if (!when) {
+  if (closed_ || input_done_) {
     deadline_timer_.cancel();
+    armed_.reset();
     return;
   }
-  deadline_timer_.expires_at(*when);
+  // A pending wait that ends no later looks again when it fires (onDeadline),
+  // so a read that only moves the deadline later costs no timer operation.
+  const auto when = deadline();
+  if (!when || (armed_ && *armed_ <= *when)) return;
+  armed_ = when;
+  deadline_timer_.expires_at(*when);  // a wait pending for later ends as aborted
   deadline_timer_.async_wait([self = shared_from_this()](const asio::error_code& error) {
-    if (!error) self->onDeadline();
+    if (error) return;
+    self->armed_.reset();
+    self->onDeadline();
   });
 }
 
@@ -266,18 +276,6 @@ void Connection::writeMore() {
                       self->closeWhenDone();
                       self->armDeadline();
                     });
-}
-
-void Connection::rejectOversized() {
-  chargeInput();  // the framer dropped the message: give its bytes back
-  const RpcError error(ErrorCode::kMessageTooLarge, "message too large: over the limit of " +
-                                                        std::to_string(framer_.maxMessageBytes()) +
-                                                        " bytes; closing the connection");
-  const json response = errorResponse(nullptr, error);
-  dispatcher_.logRejected(caller_, response);
-  send(response);
-  linger_ = true;
-  endInput(/*cancelPlans=*/true);
 }
 
 void Connection::endInput(bool cancelPlans) {

@@ -92,13 +92,14 @@ class Connection : public std::enable_shared_from_this<Connection> {
   Responder responder(std::function<void(nlohmann::json)> deliver);
   void send(const nlohmann::json& response);
   void writeMore();
-  void rejectOversized();
   /// Charges the framer's buffered bytes beyond the free allowance to the
   /// budget; false when the budget cannot hold them.
   bool chargeInput();
   /// Sends `error` (id null), drops the unfinished input and closes after
   /// draining, as for an oversized message.
   void refuseAndClose(ErrorCode code, const std::string& message);
+  /// Logs and sends an error response (id null) to input that held no call.
+  void sendInputError(ErrorCode code, const std::string& message);
   std::optional<std::chrono::steady_clock::time_point> deadline() const;
   void armDeadline();
   void onDeadline();
@@ -130,6 +131,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
   bool closed_ = false;
   asio::steady_timer linger_timer_;
   asio::steady_timer deadline_timer_;
+  std::optional<std::chrono::steady_clock::time_point> armed_;  // when deadline_timer_ fires
 };
 
 }  // namespace hfts::service

@@ -78,6 +78,32 @@ class InputBudget(ServerTest):
                 c.close()
 
 
+class SmallBudget(ServerTest):
+    # 1 MiB holds the reservations (128 KiB) of 8 connections.
+    OPTIONS = ("--workers", "1", "--max-buffered-mib", "1")
+
+    def test_a_connection_the_budget_cannot_reserve_for_is_refused(self):
+        open_ = [self.server.connect() for _ in range(8)]
+        try:
+            for i, c in enumerate(open_):  # all eight are served
+                self.assertEqual(c.call("server.info", request_id=i)["id"], i)
+            with self.server.connect() as extra:
+                self.assertError(extra.read(), -32007, contains="input buffers are full")
+                self.assertIsNone(extra.read())
+        finally:
+            for c in open_:
+                c.close()
+
+
+class EndOfInput(ServerTest):
+    def test_input_ending_inside_a_json_text_is_a_parse_error(self):
+        with self.server.connect() as c:
+            c.send('{"jsonrpc": "2.0", "id": 1, "method": "server.info", "params": {"a": [')
+            c.socket.shutdown(socket.SHUT_WR)
+            self.assertError(c.read(), -32700, contains="ended inside a JSON text (70 bytes")
+            self.assertIsNone(c.read())
+
+
 class Timeouts(ServerTest):
     OPTIONS = ("--workers", "1", "--read-timeout", "0.5", "--idle-timeout", "1")
 
