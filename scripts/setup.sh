@@ -12,8 +12,10 @@ PACKAGES=(
   libembree-dev libfcl-dev libompl-dev liburdfdom-dev liburdfdom-tools
   libassimp-dev libhdf5-dev hdf5-tools libqhull-dev nlohmann-json3-dev
   libasio-dev libcli11-dev libssl-dev libnanoflann-dev
-  # tests and benchmarks
+  # tests and benchmarks; clang + libFuzzer and the sanitizer runtimes
+  # (scripts/fuzz.sh, scripts/sanitize.sh); HAProxy (scripts/scale_out.sh)
   libgtest-dev libgmock-dev libbenchmark-dev
+  clang libclang-rt-14-dev haproxy
   # Python tooling (runs under /usr/bin/python3)
   python3 python3-numpy python3-h5py python3-matplotlib
 )

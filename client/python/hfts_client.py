@@ -5,6 +5,14 @@ Standard library only. One TCP connection, JSON-RPC 2.0, one message per
 line. Calls block until their answer arrives; send() and receive() let a
 caller pipeline requests (and cancel a plan while it runs).
 
+When the connection fails before a call's answer arrives (the server died,
+a balancer dropped the connection, nothing listens yet), call() and the
+methods built on it connect again and send the call again, up to
+`retries` times with a doubling backoff: a plan is determined by its seed,
+so repeating it is safe. cancel() and shutdown() are never repeated (a
+cancel's id belongs to the lost connection; a repeated shutdown would
+reach another instance behind a balancer), nor are send()/receive().
+
     from hfts_client import HftsClient
 
     with HftsClient("127.0.0.1", 7450) as client:
@@ -22,6 +30,7 @@ import itertools
 import json
 import socket
 import sys
+import time
 
 DEFAULT_PORT = 7450
 
@@ -36,17 +45,50 @@ class RpcError(Exception):
         self.field = field
 
 
+NOT_REPEATED = {"cancel", "shutdown"}
+
+
 class HftsClient:
-    def __init__(self, host="127.0.0.1", port=DEFAULT_PORT, timeout=None):
-        self._socket = socket.create_connection((host, port), timeout=timeout)
+    def __init__(self, host="127.0.0.1", port=DEFAULT_PORT, timeout=None, retries=2, backoff=0.2):
+        """retries: further attempts when the connection fails before an answer
+        (0: none); backoff: seconds before the first, doubling up to 2 s."""
+        if retries < 0 or backoff < 0:
+            raise ValueError("retries and backoff must be >= 0")
+        self._address = (host, port)
+        self._timeout = timeout
+        self._retries = retries
+        self._backoff = backoff
+        self.reconnections = 0  # connections made again after a failure
+        self._ids = itertools.count(1)
+        self._socket = self._reader = None
+        self._with_retries(True, self._connect)
+
+    def _connect(self):
+        self._socket = socket.create_connection(self._address, timeout=self._timeout)
         self._socket.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         self._reader = self._socket.makefile("rb")
-        self._ids = itertools.count(1)
         self._waiting = {}  # responses that arrived for other ids
 
+    def _with_retries(self, allowed, attempt):
+        """Runs attempt() until it does not lose the connection, at most 1 + retries times."""
+        attempts = 1 + self._retries if allowed else 1
+        wait = self._backoff
+        for n in itertools.count(1):
+            try:
+                return attempt()
+            except ConnectionError:
+                if n >= attempts:
+                    raise
+                self.close()
+                time.sleep(wait)
+                wait = min(2 * wait, 2.0)
+                self.reconnections += 1
+
     def close(self):
-        self._reader.close()
-        self._socket.close()
+        if self._reader is not None:
+            self._reader.close()
+            self._socket.close()
+            self._reader = self._socket = None
 
     def __enter__(self):
         return self
@@ -66,7 +108,7 @@ class HftsClient:
         while request_id not in self._waiting:
             line = self._reader.readline()
             if not line:
-                raise ConnectionError("the server closed the connection")
+                raise ConnectionResetError("the server closed the connection")
             response = json.loads(line)
             key = response.get("id")
             self._waiting[request_id if key is None else key] = response
@@ -77,7 +119,13 @@ class HftsClient:
         return response["result"]
 
     def call(self, method, params=None):
-        return self.receive(self.send(method, params))
+        """Sends a request and waits for its result (raises RpcError); repeated on a
+        lost connection unless the method is cancel or shutdown."""
+        def attempt():
+            if self._socket is None:
+                self._connect()
+            return self.receive(self.send(method, params))
+        return self._with_retries(method not in NOT_REPEATED, attempt)
 
     def info(self):
         return self.call("server.info")
@@ -124,6 +172,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description="hfts-server client (prints JSON results)")
     parser.add_argument("--host", default="127.0.0.1")
     parser.add_argument("--port", type=int, default=DEFAULT_PORT)
+    parser.add_argument("--retries", type=int, default=2,
+                        help="attempts again when the connection fails before the answer")
     parser.add_argument("command", choices=["info", "objects", "scenes", "plan", "shutdown"])
     parser.add_argument("scene", nargs="?", help="plan: the scene name")
     parser.add_argument("--object")
@@ -131,7 +181,7 @@ def main(argv=None):
     parser.add_argument("--seed", type=int)
     args = parser.parse_args(argv)
     try:
-        with HftsClient(args.host, args.port) as client:
+        with HftsClient(args.host, args.port, retries=args.retries) as client:
             if args.command == "plan":
                 if not args.scene:
                     parser.error("plan needs a scene")

@@ -7,32 +7,92 @@
 #include <asio/write.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <chrono>
 #include <istream>
+#include <thread>
 
 namespace hfts::client {
 
 using asio::ip::tcp;
 using nlohmann::json;
 
+namespace {
+
+/// The transport failed: worth connecting again (unlike a reply that is
+/// not JSON-RPC, which another attempt would not mend).
+class LostConnection : public ConnectionError {
+ public:
+  using ConnectionError::ConnectionError;
+};
+
+bool repeatable(const std::string& method) {
+  return method != "cancel" && method != "shutdown";
+}
+
+}  // namespace
+
 class RpcClient::Impl {
  public:
-  Impl(const std::string& host, std::uint16_t port) : socket_(io_) {
-    const std::string where = host + ":" + std::to_string(port);
-    asio::error_code ec;
-    tcp::resolver resolver(io_);
-    const auto endpoints = resolver.resolve(host, std::to_string(port), ec);
-    if (!ec) asio::connect(socket_, endpoints, ec);
-    if (ec) throw ConnectionError("cannot connect to " + where + ": " + ec.message());
-    socket_.set_option(tcp::no_delay(true), ec);
+  Impl(std::string host, std::uint16_t port, RetryPolicy retry)
+      : host_(std::move(host)), port_(port), retry_(std::move(retry)), socket_(io_) {
+    if (retry_.retries < 0) throw std::invalid_argument("retries must be >= 0");
+    if (!(retry_.backoff >= 0.0)) throw std::invalid_argument("backoff must be >= 0 s");
+    withRetries(true, [this] { connect(); });
   }
 
   json call(const std::string& method, const json& params) {
+    json result;
+    withRetries(repeatable(method), [&] {
+      if (!socket_.is_open()) connect();
+      result = send(method, params);
+    });
+    return result;
+  }
+
+  int reconnections = 0;
+
+ private:
+  /// Runs `attempt` until it does not lose the connection, at most
+  /// 1 + retries times, waiting the policy's backoff in between.
+  template <typename Attempt>
+  void withRetries(bool allowed, Attempt attempt) {
+    const int attempts = allowed ? 1 + retry_.retries : 1;
+    double wait = retry_.backoff;
+    for (int n = 1;; ++n) {
+      try {
+        attempt();
+        return;
+      } catch (const LostConnection& e) {
+        asio::error_code ignored;
+        socket_.close(ignored);
+        buffer_.consume(buffer_.size());
+        if (n >= attempts) throw;
+        if (retry_.on_retry) retry_.on_retry(e.what(), n + 1);
+        std::this_thread::sleep_for(std::chrono::duration<double>(wait));
+        wait = std::min(2 * wait, 2.0);
+        ++reconnections;
+      }
+    }
+  }
+
+  void connect() {
+    const std::string where = host_ + ":" + std::to_string(port_);
+    asio::error_code ec;
+    tcp::resolver resolver(io_);
+    const auto endpoints = resolver.resolve(host_, std::to_string(port_), ec);
+    if (!ec) asio::connect(socket_, endpoints, ec);
+    if (ec) throw LostConnection("cannot connect to " + where + ": " + ec.message());
+    socket_.set_option(tcp::no_delay(true), ec);
+  }
+
+  json send(const std::string& method, const json& params) {
     const std::uint64_t id = ++last_id_;
     const std::string line =
         json{{"jsonrpc", "2.0"}, {"id", id}, {"method", method}, {"params", params}}.dump() + "\n";
     asio::error_code ec;
     asio::write(socket_, asio::buffer(line), ec);
-    if (ec) throw ConnectionError("cannot send the request: " + ec.message());
+    if (ec) throw LostConnection("cannot send the request: " + ec.message());
     for (;;) {
       const json response = readResponse();
       const auto responseId = response.find("id");
@@ -47,8 +107,8 @@ class RpcClient::Impl {
     asio::error_code ec;
     asio::read_until(socket_, buffer_, '\n', ec);
     if (ec)
-      throw ConnectionError(ec == asio::error::eof ? "the server closed the connection"
-                                                   : "cannot read the response: " + ec.message());
+      throw LostConnection(ec == asio::error::eof ? "the server closed the connection"
+                                                  : "cannot read the response: " + ec.message());
     std::istream in(&buffer_);
     std::string text;
     std::getline(in, text);
@@ -76,18 +136,25 @@ class RpcClient::Impl {
                        data != error->end() && data->is_object() ? text(*data, "field") : "");
   }
 
+  std::string host_;
+  std::uint16_t port_;
+  RetryPolicy retry_;
   asio::io_context io_;
   tcp::socket socket_;
   asio::streambuf buffer_;
   std::uint64_t last_id_ = 0;
 };
 
-RpcClient::RpcClient(const std::string& host, std::uint16_t port)
-    : impl_(std::make_unique<Impl>(host, port)) {}
+RpcClient::RpcClient(const std::string& host, std::uint16_t port, RetryPolicy retry)
+    : impl_(std::make_unique<Impl>(host, port, std::move(retry))) {}
 RpcClient::~RpcClient() = default;
 
 json RpcClient::call(const std::string& method, const json& params) {
   return impl_->call(method, params);
+}
+
+int RpcClient::reconnections() const {
+  return impl_->reconnections;
 }
 
 }  // namespace hfts::client

@@ -1,8 +1,10 @@
 // hfts-client: the planning service from the command line (docs/protocol.md).
 // Subcommands info, objects, scenes, plan, quality, shutdown. Prints a
 // human-readable summary, or the raw result with --json; --out FILE saves
-// the result (JSON). Exit codes: 0 done, 1 the server or the connection
-// failed (message on standard error), 3 the plan found no solution.
+// the result (JSON); --retries N connects and sends again when the
+// connection fails before the answer (a balancer's instance died). Exit
+// codes: 0 done, 1 the server or the connection failed (message on
+// standard error), 3 the plan found no solution.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -23,6 +25,7 @@ struct Options {
   std::uint16_t port = 7450;
   bool json = false;
   std::string out;
+  int retries = 2;
 };
 
 struct PlanOptions {
@@ -137,6 +140,11 @@ int main(int argc, char** argv) {
   app.add_option("--port", o.port, "Server port")->capture_default_str();
   app.add_flag("--json", o.json, "Print the raw JSON result");
   app.add_option("--out", o.out, "Also save the JSON result to FILE")->type_name("FILE");
+  app.add_option("--retries", o.retries,
+                 "Connect and send again this often when the connection fails before the "
+                 "answer (not for shutdown)")
+      ->check(CLI::Range(0, 100))
+      ->capture_default_str();
   app.add_subcommand("info", "Server version, robot, limits and load");
   app.add_subcommand("objects", "The object databases");
   app.add_subcommand("scenes", "The scenes");
@@ -166,7 +174,13 @@ int main(int argc, char** argv) {
       params = readJsonFile(quality.file);
       if (!quality.object.empty() && params.is_object()) params["object"] = quality.object;
     }
-    hfts::client::RpcClient client(o.host, o.port);
+    hfts::client::RetryPolicy retry;
+    retry.retries = o.retries;
+    retry.on_retry = [&](const std::string& why, int attempt) {
+      std::cerr << "hfts-client: " << why << "; trying again (attempt " << attempt << " of "
+                << o.retries + 1 << ")\n";
+    };
+    hfts::client::RpcClient client(o.host, o.port, retry);
     return output(o, method, client.call(method, params));
   } catch (const hfts::client::RpcCallError& e) {
     std::cerr << "hfts-client: " << method << " failed: " << e.what() << " (error " << e.code()

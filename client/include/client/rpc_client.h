@@ -6,6 +6,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -33,18 +34,37 @@ class ConnectionError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// What a client does when the connection fails before an answer arrived
+/// (the server died, a balancer dropped it, nothing listens yet): connect
+/// again and send the call again, after `backoff`, doubling up to 2 s. Every
+/// method except `cancel` (whose id belongs to the lost connection) and
+/// `shutdown` (which would reach another instance behind a balancer) is
+/// safe to repeat: a plan is determined by its seed.
+struct RetryPolicy {
+  int retries = 2;       ///< further attempts after the first; 0: none
+  double backoff = 0.2;  ///< seconds before the first retry
+  /// Called before each retry with the failure and the attempt about to
+  /// start (2, 3, ...), e.g. to tell the user; may be empty.
+  std::function<void(const std::string& why, int attempt)> on_retry;
+};
+
 class RpcClient {
  public:
-  /// Connects; throws ConnectionError naming host and port.
-  RpcClient(const std::string& host, std::uint16_t port);
+  /// Connects (with the policy's retries); throws ConnectionError naming
+  /// host and port.
+  RpcClient(const std::string& host, std::uint16_t port, RetryPolicy retry = {});
   ~RpcClient();
   RpcClient(const RpcClient&) = delete;
   RpcClient& operator=(const RpcClient&) = delete;
 
   /// Sends {"jsonrpc": "2.0", "id": n, "method", "params"} and waits for
   /// the response with that id. Returns its result; throws RpcCallError
-  /// for an error response and ConnectionError for a transport failure.
+  /// for an error response and ConnectionError for a transport failure
+  /// that outlasted the retries.
   nlohmann::json call(const std::string& method, const nlohmann::json& params);
+
+  /// Connections made again after a failure, over this client's life.
+  int reconnections() const;
 
  private:
   class Impl;
