@@ -1,0 +1,108 @@
+#!/usr/bin/env bash
+# Starts N hfts-server instances and HAProxy in front of them, all on
+# loopback, and runs until Ctrl-C (or SIGTERM), which stops them all.
+#
+#   scripts/scale_out.sh N [--port 7450] [--base-port 7451] [--workers 1]
+#                          [--db build/databases] [--dir RUN_DIR]
+#                          [--bin build/bin] [-- more hfts-server options]
+#
+# Clients talk to the balancer on --port as to one server. Instance i
+# listens on base-port + i - 1 (--base-port 0: ports the system picks).
+# Each instance plans with --workers threads; the programs come from --bin.
+# RUN_DIR (default: a new folder under /tmp) holds the HAProxy config, its
+# stats socket and every log. The lines "instance I pid PID port PORT",
+# "haproxy pid PID" and finally "balancer listening on 127.0.0.1:PORT" go
+# to standard output.
+# The config is deploy/haproxy/hfts.cfg with one server line per instance.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+
+usage() { sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+fail() { echo "scale_out: $*" >&2; exit 1; }
+
+[[ $# -ge 1 && "$1" =~ ^[0-9]+$ && "$1" -ge 1 ]] || usage
+instances=$1
+shift
+port=7450 base_port=7451 workers=1 db=$root/build/databases run_dir="" bin=$root/build/bin
+server_args=()
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --port) port=$2; shift 2 ;;
+    --base-port) base_port=$2; shift 2 ;;
+    --workers) workers=$2; shift 2 ;;
+    --db) db=$2; shift 2 ;;
+    --dir) run_dir=$2; shift 2 ;;
+    --bin) bin=$2; shift 2 ;;
+    --) shift; server_args=("$@"); break ;;
+    *) usage ;;
+  esac
+done
+for number in "$port" "$base_port" "$workers"; do
+  [[ "$number" =~ ^[0-9]+$ ]] || fail "not a number: '$number'"
+done
+
+server=$bin/hfts-server client=$bin/hfts-client
+[[ -x $server && -x $client ]] || fail "$server or $client is missing: run scripts/build.sh first"
+[[ -d $db ]] || fail "no database folder '$db': run scripts/demo.sh (or hfts-preprocess) first"
+command -v haproxy >/dev/null || fail "haproxy is missing: run scripts/setup.sh"
+run_dir=${run_dir:-$(mktemp -d /tmp/hfts-scale-out.XXXXXX)}
+mkdir -p "$run_dir"
+# The servers find the robot and the scenes from the repository's root.
+db=$(realpath "$db") run_dir=$(realpath "$run_dir") server=$(realpath "$server")
+client=$(realpath "$client")
+cd "$root"
+
+pids=()
+stop_all() {
+  trap - INT TERM EXIT
+  [[ ${#pids[@]} -gt 0 ]] && kill "${pids[@]}" 2>/dev/null || true
+  wait 2>/dev/null || true
+}
+trap stop_all EXIT
+trap 'exit 0' INT TERM
+
+# Waits until FILE has a line matching PATTERN (or the process PID ends);
+# prints the line.
+wait_for_line() {
+  local file=$1 pattern=$2 pid=$3 line
+  for _ in $(seq 600); do
+    line=$(grep -m1 -E "$pattern" "$file" 2>/dev/null || true)
+    [[ -n $line ]] && { echo "$line"; return 0; }
+    kill -0 "$pid" 2>/dev/null || return 1
+    sleep 0.1
+  done
+  return 1
+}
+
+cfg=$run_dir/haproxy.cfg
+cp "$root/deploy/haproxy/hfts.cfg" "$cfg"
+for i in $(seq "$instances"); do
+  instance_port=$((base_port == 0 ? 0 : base_port + i - 1))
+  "$server" --db "$db" --bind 127.0.0.1 --port "$instance_port" --workers "$workers" \
+    "${server_args[@]}" >"$run_dir/server$i.out" 2>"$run_dir/server$i.log" &
+  pids+=($!)
+  line=$(wait_for_line "$run_dir/server$i.out" "listening on" $!) ||
+    fail "instance $i did not start: $(tail -n 3 "$run_dir/server$i.log")"
+  instance_port=${line##*:}
+  echo "instance $i pid ${pids[-1]} port $instance_port"
+  echo "    server hfts$i 127.0.0.1:$instance_port check" >>"$cfg"
+done
+
+export HFTS_BIND=127.0.0.1 HFTS_PORT=$port HFTS_STATS_SOCKET=$run_dir/haproxy.sock
+haproxy -c -q -f "$cfg" || fail "haproxy rejected $cfg"
+haproxy -db -f "$cfg" 2>"$run_dir/haproxy.log" &
+pids+=($!)
+echo "haproxy pid ${pids[-1]}"
+
+# Ready when a call through the balancer is answered.
+for _ in $(seq 100); do
+  if "$client" --port "$port" --retries 0 info >/dev/null 2>&1; then
+    echo "balancer listening on 127.0.0.1:$port ($instances instances; logs in $run_dir)"
+    # Until Ctrl-C, or until HAProxy ends.
+    wait "${pids[-1]}" || true
+    exit 0
+  fi
+  kill -0 "${pids[-1]}" 2>/dev/null || fail "haproxy ended: $(tail -n 3 "$run_dir/haproxy.log")"
+  sleep 0.1
+done
+fail "the balancer on port $port does not answer (logs in $run_dir)"
