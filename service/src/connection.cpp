@@ -76,7 +76,7 @@ void Connection::onRead(const asio::error_code& error, std::size_t bytes) {
   }
   if (error) {
     if (framer_.inUnclosedText()) {  // not worth parsing: it may be megabytes
-      const std::size_t unclosed = framer_.buffered();
+      const std::size_t unclosed = framer_.kept();
       framer_.dropRemainder();
       sendInputError(ErrorCode::kParseError, "parse error: the input ended inside a JSON text (" +
                                                  std::to_string(unclosed) + " bytes not closed)");
@@ -128,7 +128,7 @@ bool Connection::chargeInput() {
     charged_ = wanted;
     return true;
   }
-  if (!budget_.take(wanted - charged_)) return false;
+  if (!budget_.draw(wanted - charged_)) return false;
   charged_ = wanted;
   return true;
 }

@@ -6,6 +6,7 @@
 #include <asio/steady_timer.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <deque>
@@ -21,23 +22,33 @@
 namespace hfts::service {
 
 /// The server-wide budget for buffered input: each connection's read buffer
-/// and free allowance, and what unfinished messages hold beyond it. Used
-/// only on the I/O thread.
+/// and free allowance, and what unfinished messages hold beyond it. Long
+/// messages leave a sixteenth of it (at most 32 MiB) to the reservations of
+/// connections still to come, so that a normal client is served while the
+/// budget is full of unfinished messages. Used only on the I/O thread.
 class InputBudget {
  public:
-  explicit InputBudget(std::size_t bytes) : capacity_(bytes) {}
-  /// False (and nothing taken) when fewer than `bytes` are left.
-  bool take(std::size_t bytes) {
-    if (bytes > capacity_ - used_) return false;
-    used_ += bytes;
-    return true;
-  }
+  explicit InputBudget(std::size_t bytes)
+      : capacity_(bytes), headroom_(std::min(bytes / 16, std::size_t{32} << 20)) {}
+  /// A new connection's reservation: false (and nothing taken) when fewer
+  /// than `bytes` are left.
+  bool reserve(std::size_t bytes) { return take(bytes, 0); }
+  /// More for an unfinished message: false (and nothing taken) unless the
+  /// headroom stays free besides.
+  bool draw(std::size_t bytes) { return take(bytes, headroom_); }
   void give(std::size_t bytes) { used_ -= bytes; }
   std::size_t used() const { return used_; }
   std::size_t capacity() const { return capacity_; }
 
  private:
+  bool take(std::size_t bytes, std::size_t keepFree) {
+    if (used_ + keepFree > capacity_ || bytes > capacity_ - used_ - keepFree) return false;
+    used_ += bytes;
+    return true;
+  }
+
   std::size_t capacity_;
+  std::size_t headroom_;
   std::size_t used_ = 0;
 };
 
@@ -119,7 +130,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
   std::chrono::steady_clock::time_point message_began_{};
   std::chrono::steady_clock::time_point last_activity_{};
   Caller caller_;
-  std::array<char, 64 * 1024> buffer_{};
+  std::array<char, 16 * 1024> buffer_{};
   std::deque<std::string> outbox_;
   std::vector<std::string> in_flight_;  // the strings of the write in progress
   std::size_t outbox_bytes_ = 0;

@@ -27,6 +27,7 @@ namespace {
 
 constexpr auto kShutdownPoll = std::chrono::milliseconds(10);
 constexpr auto kAcceptRetry = std::chrono::milliseconds(100);
+constexpr int kAcceptBatch = 256;  // connections taken at once besides the accepted one
 constexpr auto kTrimDelay = std::chrono::milliseconds(200);
 
 std::chrono::milliseconds timeoutOf(double seconds, const char* name) {
@@ -115,6 +116,7 @@ class Server::Impl {
     if (!ec) acceptor_.set_option(tcp::acceptor::reuse_address(true), ec);
     if (!ec) acceptor_.bind(endpoint, ec);
     if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
+    if (!ec) acceptor_.non_blocking(true, ec);
     if (ec)
       throw std::runtime_error("cannot listen on " + options_.bind_address + ":" +
                                std::to_string(endpoint.port()) + ": " + ec.message());
@@ -131,22 +133,37 @@ class Server::Impl {
         });
         return;
       }
-      prune();
-      if (connections_.size() >= options_.max_connections) {
-        refuse(std::move(socket), ErrorCode::kTooManyConnections,
-               "too many connections: the server has " + std::to_string(options_.max_connections) +
-                   " open; try again later");
-      } else if (!budget_.take(Connection::reservedBytes(limits_))) {
-        refuse(std::move(socket), ErrorCode::kInputBudgetExhausted,
-               "the server's input buffers are full; try again later");
-      } else {
-        auto connection = std::make_shared<Connection>(std::move(socket), dispatcher_, limits_,
-                                                       budget_, [this] { trimSoon(); });
-        connections_.push_back(connection);
-        connection->start();
+      admit(std::move(socket));
+      // Take every connection already waiting, not one per trip through
+      // the event loop: under a flood of busy connections a new client
+      // would otherwise wait a full round of their reads per connection
+      // ahead of it (docs/reliability.md).
+      for (int n = 0; n < kAcceptBatch; ++n) {
+        tcp::socket next(io_);
+        asio::error_code ec;
+        acceptor_.accept(next, ec);  // the acceptor is non-blocking
+        if (ec) break;
+        admit(std::move(next));
       }
       accept();
     });
+  }
+
+  void admit(tcp::socket socket) {
+    prune();
+    if (connections_.size() >= options_.max_connections) {
+      refuse(std::move(socket), ErrorCode::kTooManyConnections,
+             "too many connections: the server has " + std::to_string(options_.max_connections) +
+                 " open; try again later");
+    } else if (!budget_.reserve(Connection::reservedBytes(limits_))) {
+      refuse(std::move(socket), ErrorCode::kInputBudgetExhausted,
+             "the server's input buffers are full; try again later");
+    } else {
+      auto connection = std::make_shared<Connection>(std::move(socket), dispatcher_, limits_,
+                                                     budget_, [this] { trimSoon(); });
+      connections_.push_back(connection);
+      connection->start();
+    }
   }
 
   /// A connection not served: an error line, then the socket is closed

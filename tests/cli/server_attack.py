@@ -98,13 +98,16 @@ def info_latency(host, port):
     return time.monotonic() - start if reply.get("id") == "probe" else None
 
 
-def run_attackers(host, port, connections, size, hold, report):
+def run_attackers(host, port, connections, size, hold, report, cpus):
     """In a child process (so that the probes do not share its interpreter):
     starts the attackers, waits for them, then for `hold` (an Event), closes
-    them and reports their outcomes. At the lowest priority: on a small
-    machine its 200 sending threads would otherwise starve the server and the
-    probes of CPU, which a remote attacker does not."""
+    them and reports their outcomes. At the lowest priority, and on `cpus`
+    when given: on a small machine its 200 sending threads would otherwise
+    take the CPU from the server and the probes, which a remote attacker
+    does not."""
     os.nice(19)
+    if cpus:
+        os.sched_setaffinity(0, cpus)
     attackers = [Attacker(host, port, size) for _ in range(connections)]
     for a in attackers:
         a.start()
@@ -121,7 +124,7 @@ def run_attackers(host, port, connections, size, hold, report):
     report.put(codes)
 
 
-def attack(host, port, pid, connections, size, settle=10.0, log=None):
+def attack(host, port, pid, connections, size, settle=10.0, log=None, attacker_cpus=None):
     """Runs the attack; returns a dict of what was measured (bytes, seconds)."""
     say = log or (lambda *_: None)
     time.sleep(0.5)
@@ -129,10 +132,11 @@ def attack(host, port, pid, connections, size, settle=10.0, log=None):
     context = multiprocessing.get_context("fork")
     hold, report = context.Event(), context.Queue()
     child = context.Process(target=run_attackers,
-                            args=(host, port, connections, size, hold, report), daemon=True)
+                            args=(host, port, connections, size, hold, report, attacker_cpus),
+                            daemon=True)
     start = time.monotonic()
     child.start()
-    peak, latencies, refused_probes = idle, [], 0
+    peak, latencies, timeline, refused_probes = idle, [], [], 0
     next_probe = start
     while report.empty() and child.is_alive():
         peak = max(peak, resident_bytes(pid))
@@ -142,6 +146,7 @@ def attack(host, port, pid, connections, size, settle=10.0, log=None):
                 refused_probes += 1
             else:
                 latencies.append(latency)
+                timeline.append((round(time.monotonic() - start, 2), round(latency, 4)))
             next_probe = time.monotonic() + 0.2
         time.sleep(0.02)
     attack_seconds = time.monotonic() - start
@@ -164,6 +169,7 @@ def attack(host, port, pid, connections, size, settle=10.0, log=None):
         "probes": len(latencies), "refused_probes": refused_probes,
         "latency_median": latencies[len(latencies) // 2] if latencies else None,
         "latency_max": latencies[-1] if latencies else None,
+        "probe_timeline": timeline,  # (seconds since the attack began, latency)
     }
 
 
@@ -174,9 +180,12 @@ def main():
     parser.add_argument("--pid", type=int, required=True, help="the server's process id")
     parser.add_argument("--connections", type=int, default=200)
     parser.add_argument("--mib", type=float, default=15.0, help="bytes sent per connection (MiB)")
+    parser.add_argument("--attacker-cpus", type=int, nargs="+",
+                        help="run the attackers on these CPUs only (pin the server elsewhere, "
+                        "e.g. with taskset, to model attackers on other machines)")
     args = parser.parse_args()
     result = attack(args.host, args.port, args.pid, args.connections, int(args.mib * 2**20),
-                    log=print)
+                    log=print, attacker_cpus=args.attacker_cpus)
     mib = {k: round(result[k] / 2**20, 1) for k in ("idle", "peak", "held", "after")}
     print(json.dumps({**result, **{k + "_mib": v for k, v in mib.items()}}, indent=1))
     return 0

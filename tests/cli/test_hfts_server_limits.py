@@ -37,8 +37,8 @@ class ConnectionCap(ServerTest):
 
 
 class InputBudget(ServerTest):
-    # 4 MiB: each connection reserves 128 KiB, so two 1.5 MiB messages fit
-    # and the third does not.
+    # 4 MiB: each connection reserves 80 KiB and long messages leave 256 KiB
+    # free, so two 1.5 MiB messages fit and the third does not.
     OPTIONS = ("--workers", "1", "--max-buffered-mib", "4", "--read-timeout", "0")
 
     def unfinished(self, size):
@@ -79,13 +79,14 @@ class InputBudget(ServerTest):
 
 
 class SmallBudget(ServerTest):
-    # 1 MiB holds the reservations (128 KiB) of 8 connections.
+    # 1 MiB holds the reservations (80 KiB: a 16 KiB read buffer and 64 KiB
+    # of a message) of 12 connections.
     OPTIONS = ("--workers", "1", "--max-buffered-mib", "1")
 
     def test_a_connection_the_budget_cannot_reserve_for_is_refused(self):
-        open_ = [self.server.connect() for _ in range(8)]
+        open_ = [self.server.connect() for _ in range(12)]
         try:
-            for i, c in enumerate(open_):  # all eight are served
+            for i, c in enumerate(open_):  # all twelve are served
                 self.assertEqual(c.call("server.info", request_id=i)["id"], i)
             with self.server.connect() as extra:
                 self.assertError(extra.read(), -32007, contains="input buffers are full")

@@ -86,10 +86,11 @@ TEST(MessageFramer, ReportsTheUnfinishedMessageItHolds) {
   EXPECT_FALSE(f.inMessage()) << "whitespace does not begin a message";
   EXPECT_TRUE(frame(f, "{\"a\": \"").empty());
   EXPECT_TRUE(f.inMessage());
-  EXPECT_EQ(f.buffered(), 9u);
+  EXPECT_EQ(f.kept(), 9u);
+  EXPECT_GE(f.buffered(), f.kept());
   EXPECT_EQ(frame(f, "b\"}{\"c\""), Messages{"  {\"a\": \"b\"}"});
   EXPECT_TRUE(f.inMessage()) << "the next message has begun";
-  EXPECT_EQ(f.buffered(), 4u);
+  EXPECT_EQ(f.kept(), 4u);
   EXPECT_EQ(frame(f, ":1}"), Messages{"{\"c\":1}"});
   EXPECT_FALSE(f.inMessage());
   EXPECT_EQ(f.buffered(), 0u);
@@ -139,6 +140,37 @@ TEST(MessageFramer, LongStringsAndScalarsFrameAsByteByByte) {
   std::vector<std::string> out;
   EXPECT_TRUE(exact.feed(text, out)) << "a message of exactly the limit is accepted";
   EXPECT_TRUE(out == expected);
+}
+
+TEST(MessageFramer, KeepsALongMessageAcrossManyReads) {
+  // Kept in pieces of 64 KiB: the joins must neither lose nor repeat a byte.
+  std::string body(300000, ' ');
+  for (std::size_t i = 0; i < body.size(); ++i) body[i] = static_cast<char>('a' + i % 26);
+  const std::string text = "{\"s\": \"" + body + "\"}\n";
+  const std::size_t closing = text.size() - 2;  // the '}' that ends the message
+  for (std::size_t piece : {1000u, 65536u, 65537u, 200000u}) {
+    MessageFramer f(1 << 20);
+    Messages got;
+    for (std::size_t at = 0; at < text.size(); at += piece) {
+      const Messages part = frame(f, std::string_view(text).substr(at, piece));
+      got.insert(got.end(), part.begin(), part.end());
+      if (at + piece <= closing) {
+        EXPECT_EQ(f.kept(), at + piece) << "pieces of " << piece;
+        // The memory held: the kept bytes, plus at most one piece not full yet.
+        EXPECT_GE(f.buffered(), f.kept());
+        EXPECT_LE(f.buffered(), f.kept() + (256u << 10)) << "pieces of " << piece;
+      }
+    }
+    EXPECT_TRUE(got == Messages{text.substr(0, closing + 1)}) << "pieces of " << piece;
+    EXPECT_EQ(f.buffered(), 0u);
+  }
+  MessageFramer f(1 << 20);
+  for (std::size_t at = 0; at < 200000; at += 3000)
+    EXPECT_TRUE(
+        frame(f, std::string_view(text).substr(at, std::min<std::size_t>(3000, 200000 - at)))
+            .empty());
+  EXPECT_TRUE(f.takeRemainder() == text.substr(0, 200000));
+  EXPECT_EQ(f.buffered(), 0u);
 }
 
 TEST(MessageFramer, KnowsAnUnclosedTextFromAScalar) {

@@ -37,9 +37,11 @@ class MessageFramer {
   void dropRemainder();
 
   std::size_t maxMessageBytes() const { return max_bytes_; }
-  /// Bytes held for the message not finished yet (what the connection's
-  /// input costs in memory beyond its read buffer).
-  std::size_t buffered() const { return pending_.size(); }
+  /// Bytes of the message not finished yet.
+  std::size_t kept() const { return kept_; }
+  /// Memory held for them (what the connection's input costs beyond its
+  /// read buffer): at least kept().
+  std::size_t buffered() const { return held_; }
   /// True while a message has begun (a byte other than whitespace) but
   /// not ended.
   bool inMessage() const { return started_; }
@@ -48,14 +50,24 @@ class MessageFramer {
   bool inUnclosedText() const { return started_ && structured_; }
 
  private:
-  void scan(char c, std::size_t at, std::vector<std::string>& out);
-  /// The first position from `i` that can change the framing state.
-  std::size_t skipPlain(std::size_t i) const;
-  void emit(std::size_t end, std::vector<std::string>& out);
+  void scan(std::string_view bytes, std::size_t at, std::vector<std::string>& out);
+  /// The first position from `i` in `bytes` that can change the framing state.
+  std::size_t skipPlain(std::string_view bytes, std::size_t i) const;
+  /// Hands on the current message: the kept pieces, then bytes[begin_, end).
+  void emit(std::string_view bytes, std::size_t end, std::vector<std::string>& out);
+  /// Keeps the unfinished message's bytes of this feed for the next one.
+  void keep(std::string_view bytes);
+  void forgetKept();
 
   std::size_t max_bytes_;
-  std::string pending_;      // bytes from the start of the current message
-  std::size_t begin_ = 0;    // start of the current message in pending_
+  // The unfinished message's bytes from earlier feeds: a first piece of up
+  // to 64 KiB, then pieces of 256 KiB, each allocated once. A long message
+  // grows without copying what it holds already, and its pieces are
+  // separate mappings that go back to the system when freed.
+  std::vector<std::string> kept_pieces_;
+  std::size_t kept_ = 0;     // bytes in kept_pieces_
+  std::size_t held_ = 0;     // their capacity
+  std::size_t begin_ = 0;    // where the current message goes on in the bytes being fed
   bool started_ = false;     // a non-whitespace byte of the message was seen
   bool structured_ = false;  // ... and it opened an object or array
   bool after_text_ = false;  // a complete text ended on this line
