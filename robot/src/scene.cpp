@@ -88,10 +88,13 @@ Obstacle parseObstacle(const json& item, std::size_t index, const std::filesyste
     if ((o.size.array() <= 0).any()) f.failAt("size", "must be positive");
   } else if (type == "cylinder") {
     o.type = Obstacle::Type::kCylinder;
-    o.size << f.positive("radius"), f.positive("length"), 0.0;
+    // Read before the comma initialiser: one that a throw leaves unfinished
+    // fails Eigen's assertion in its destructor.
+    const double radius = f.positive("radius");
+    o.size = Eigen::Vector3d(radius, f.positive("length"), 0.0);
   } else if (type == "sphere") {
     o.type = Obstacle::Type::kSphere;
-    o.size << f.positive("radius"), 0.0, 0.0;
+    o.size = Eigen::Vector3d(f.positive("radius"), 0.0, 0.0);
   } else if (type == "mesh") {
     o.type = Obstacle::Type::kMesh;
     const double scale = f.has("scale") ? f.positive("scale") : 1.0;

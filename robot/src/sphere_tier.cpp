@@ -91,7 +91,9 @@ void SphereTier::skipStatic(int link, std::size_t item) {
 }
 
 void SphereTier::skipStaticPair(int a, int b) {
-  const auto [low, high] = std::minmax(static_cast<std::size_t>(a), static_cast<std::size_t>(b));
+  // (Not std::minmax of the casts: its pair would refer to the dead temporaries.)
+  const std::size_t low = static_cast<std::size_t>(std::min(a, b));
+  const std::size_t high = static_cast<std::size_t>(std::max(a, b));
   self_pairs_.erase(std::remove_if(self_pairs_.begin(), self_pairs_.end(),
                                    [&](const SelfPair& p) { return p.a == low && p.b == high; }),
                     self_pairs_.end());

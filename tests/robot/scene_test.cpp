@@ -99,6 +99,20 @@ TEST(Scene, MalformedScenesGiveClearErrors) {
                                           {"/nonexistent/scene.json", "cannot read"});
 }
 
+// Found by fuzzing (scene_fuzzer): a bad cylinder or sphere field threw out
+// of an unfinished Eigen comma initialiser, whose destructor asserts.
+TEST(Scene, BadCylinderAndSphereFieldsGiveClearErrors) {
+  const std::string pose = R"("pose": {"position": [0,0,0], "orientation": [0,0,0,1]})";
+  expectSceneError(
+      withObstacle(R"({"name": "c", "type": "cylinder", "radius": 0.1, )" + pose + "}"),
+      "obstacles[0].length", "is required");
+  expectSceneError(
+      withObstacle(R"({"name": "c", "type": "cylinder", "radius": -1, "length": 1, )" + pose + "}"),
+      "obstacles[0].radius", "must be");
+  expectSceneError(withObstacle(R"({"name": "s", "type": "sphere", "radius": "r", )" + pose + "}"),
+                   "obstacles[0].radius", "must be");
+}
+
 TEST(Scene, SafeNamesHaveNoPathCharacters) {
   EXPECT_TRUE(isSafeName("mug"));
   EXPECT_TRUE(isSafeName("l_bracket-2.v1"));
