@@ -8,6 +8,7 @@
 
 #include <asio/write.hpp>
 
+#include <array>
 #include <cmath>
 #include <csignal>
 #include <stdexcept>
@@ -27,7 +28,10 @@ namespace {
 
 constexpr auto kShutdownPoll = std::chrono::milliseconds(10);
 constexpr auto kAcceptRetry = std::chrono::milliseconds(100);
-constexpr int kAcceptBatch = 256;  // connections taken at once besides the accepted one
+constexpr int kAcceptBatch = 256;
+constexpr int kMaxLingering = 64;  // refused connections drained at once
+constexpr auto kRefusedLinger =
+    std::chrono::seconds(1);  // connections taken at once besides the accepted one
 constexpr auto kTrimDelay = std::chrono::milliseconds(200);
 
 std::chrono::milliseconds timeoutOf(double seconds, const char* name) {
@@ -166,8 +170,10 @@ class Server::Impl {
     }
   }
 
-  /// A connection not served: an error line, then the socket is closed
-  /// (what the client sent meanwhile is not read).
+  /// A connection not served: an error line, then the socket is closed.
+  /// What the client sent meanwhile is read and dropped for up to a second
+  /// (for at most kMaxLingering such connections at once), so that it reads
+  /// the error instead of a reset.
   void refuse(tcp::socket socket, ErrorCode code, const std::string& message) {
     ++refused_;
     if (refused_ == 1 || refused_ % 1000 == 0)
@@ -176,11 +182,32 @@ class Server::Impl {
     auto s = std::make_shared<tcp::socket>(std::move(socket));
     auto line =
         std::make_shared<std::string>(serialize(errorResponse(nullptr, RpcError(code, message))));
-    asio::async_write(*s, asio::buffer(*line), [s, line](const asio::error_code&, std::size_t) {
-      asio::error_code ec;
-      s->shutdown(tcp::socket::shutdown_both, ec);
-      s->close(ec);
-    });
+    asio::async_write(*s, asio::buffer(*line),
+                      [this, s, line](const asio::error_code& error, std::size_t) {
+                        asio::error_code ec;
+                        if (error || lingering_ >= kMaxLingering) {
+                          s->close(ec);
+                          return;
+                        }
+                        s->shutdown(tcp::socket::shutdown_send, ec);
+                        ++lingering_;
+                        auto timer = std::make_shared<asio::steady_timer>(io_, kRefusedLinger);
+                        timer->async_wait([s](const asio::error_code&) {
+                          asio::error_code ignored;
+                          s->close(ignored);
+                        });
+                        drainRefused(s, timer);
+                      });
+  }
+
+  void drainRefused(const std::shared_ptr<tcp::socket>& s,
+                    const std::shared_ptr<asio::steady_timer>& timer) {
+    s->async_read_some(asio::buffer(discard_),
+                       [this, s, timer](const asio::error_code& error, std::size_t) {
+                         if (!error) return drainRefused(s, timer);
+                         --lingering_;  // end of input, or closed by the timer
+                         timer->cancel();
+                       });
   }
 
   /// After large messages are freed, returns the free memory to the system
@@ -243,6 +270,8 @@ class Server::Impl {
   InputBudget budget_;
   std::vector<std::weak_ptr<Connection>> connections_;
   std::size_t refused_ = 0;
+  int lingering_ = 0;                 // refused connections being drained
+  std::array<char, 4096> discard_{};  // what they send, dropped
   bool trim_pending_ = false;
   bool stopping_ = false;
 };

@@ -30,6 +30,24 @@ class ConnectionCap(ServerTest):
             for c in open_:
                 c.close()
 
+    def test_a_refused_client_that_already_sent_reads_the_error(self):
+        # Its input is drained before the close: no reset eats the error line.
+        open_ = [self.server.connect() for _ in range(3)]
+        try:
+            for i, c in enumerate(open_):
+                self.assertEqual(c.call("server.info", request_id=i)["id"], i)
+            for _ in range(5):
+                with self.server.connect() as extra:
+                    request = '{"jsonrpc": "2.0", "id": 1, "method": "server.info"}\n'
+                    extra.send(request * 400)
+                    time.sleep(0.1)  # the refusal has been sent meanwhile
+                    extra.send(request * 400)  # no reset: the server still reads
+                    self.assertError(extra.read(), -32006, contains="too many connections")
+                    self.assertIsNone(extra.read(), "then the connection is closed")
+        finally:
+            for c in open_:
+                c.close()
+
     def answers(self):
         with self.server.connect() as c:
             reply = c.call("scenes.list")
