@@ -34,6 +34,9 @@ ob::PlannerStatus::StatusType statusOf(const std::string& failure) {
   static const std::map<std::string, ob::PlannerStatus::StatusType> statuses = {
       {"none", ob::PlannerStatus::EXACT_SOLUTION},
       {"time_limit", ob::PlannerStatus::TIMEOUT},
+      // Ran to the time limit without a grasp the arm reaches collision-free.
+      {"no_valid_goal", ob::PlannerStatus::TIMEOUT},
+      {"no_stable_grasp_clear_of_support", ob::PlannerStatus::INVALID_GOAL},
       {"cancelled", ob::PlannerStatus::ABORT},
       {"start_in_collision", ob::PlannerStatus::INVALID_START},
       {"object_in_collision", ob::PlannerStatus::INVALID_GOAL},

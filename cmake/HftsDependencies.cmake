@@ -34,7 +34,12 @@ add_library(hfts::dep_hdf5 ALIAS hfts_dep_hdf5)
 
 add_library(hfts_dep_asio INTERFACE)
 target_include_directories(hfts_dep_asio SYSTEM INTERFACE ${ASIO_INCLUDE_DIR})
-target_compile_definitions(hfts_dep_asio INTERFACE ASIO_STANDALONE)
+# ASIO_DISABLE_STD_ALIGNED_ALLOC: Asio picks aligned_alloc or operator new
+# for its handler memory by a libstdc++ macro that depends on what a file
+# included first, so files could disagree and memory taken with malloc was
+# given back with operator delete (AddressSanitizer: alloc-dealloc-mismatch
+# in asio::aligned_delete). One way everywhere: operator new and delete.
+target_compile_definitions(hfts_dep_asio INTERFACE ASIO_STANDALONE ASIO_DISABLE_STD_ALIGNED_ALLOC)
 target_link_libraries(hfts_dep_asio INTERFACE Threads::Threads)
 add_library(hfts::dep_asio ALIAS hfts_dep_asio)
 

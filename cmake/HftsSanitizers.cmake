@@ -11,8 +11,11 @@ if(HFTS_SANITIZE)
   endif()
   set(flags -fsanitize=${HFTS_SANITIZE} -fno-omit-frame-pointer -g)
   if(HFTS_SANITIZE STREQUAL "undefined")
-    # Every finding fails the run instead of printing and going on.
-    list(APPEND flags -fno-sanitize-recover=undefined)
+    # Every finding fails the run instead of printing and going on. GCC 12
+    # with -fsanitize=undefined warns of a use after free inside Eigen's
+    # aligned realloc (Eigen/src/Core/util/Memory.h, a false positive of
+    # the warning, not a sanitizer finding): kept a warning there.
+    list(APPEND flags -fno-sanitize-recover=undefined -Wno-error=use-after-free)
   endif()
   add_compile_options(${flags})
   add_link_options(-fsanitize=${HFTS_SANITIZE})

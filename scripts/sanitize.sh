@@ -26,6 +26,8 @@ build=build-$kind
 
 scripts/setup.sh
 supp=$root/tests/sanitizers
+# Tests that measure resident memory skip that part under asan and tsan.
+export HFTS_SANITIZER=$sanitizer
 # The test programs run while building (gtest discovery) as well as under
 # ctest, so the options hold for both.
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:detect_stack_use_after_return=1:strict_init_order=1"

@@ -163,7 +163,10 @@ class BenchExperiment(unittest.TestCase):
             self.assertEqual(values["seed INTEGER"], row["seed"])
             self.assertAlmostEqual(float(values["time REAL"]), float(row["time"]), places=5)
             self.assertEqual(values["goal sampling calls INTEGER"], row["gs"])
-            self.assertEqual(values["status ENUM"], "6" if row["success"] == "1" else "4")
+            # OMPL's PlannerStatus: EXACT_SOLUTION 6, TIMEOUT 4, INVALID_GOAL 2.
+            status = {"none": "6", "time_limit": "4", "no_valid_goal": "4",
+                      "no_stable_grasp_clear_of_support": "2"}
+            self.assertEqual(values["status ENUM"], status[row["failure"]], row)
         self.assertEqual(log.next(), ".")
 
     def test_plots_are_real_pictures(self):
