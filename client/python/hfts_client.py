@@ -77,9 +77,9 @@ class HftsClient:
             try:
                 return attempt()
             except ConnectionError:
+                self.close()  # the next call connects again
                 if n >= attempts:
                     raise
-                self.close()
                 time.sleep(wait)
                 wait = min(2 * wait, 2.0)
                 self.reconnections += 1
@@ -98,6 +98,8 @@ class HftsClient:
 
     def send(self, method, params=None):
         """Sends a request without waiting; returns its id (for receive() and cancel())."""
+        if self._socket is None:  # a failed call left no connection
+            self._connect()
         request_id = next(self._ids)
         message = {"jsonrpc": "2.0", "id": request_id, "method": method, "params": params or {}}
         self._socket.sendall(json.dumps(message).encode() + b"\n")
@@ -122,8 +124,6 @@ class HftsClient:
         """Sends a request and waits for its result (raises RpcError); repeated on a
         lost connection unless the method is cancel or shutdown."""
         def attempt():
-            if self._socket is None:
-                self._connect()
             return self.receive(self.send(method, params))
         return self._with_retries(method not in NOT_REPEATED, attempt)
 

@@ -28,10 +28,9 @@ namespace {
 
 constexpr auto kShutdownPoll = std::chrono::milliseconds(10);
 constexpr auto kAcceptRetry = std::chrono::milliseconds(100);
-constexpr int kAcceptBatch = 256;
+constexpr int kAcceptBatch = 256;  // connections taken at once besides the accepted one
 constexpr int kMaxLingering = 64;  // refused connections drained at once
-constexpr auto kRefusedLinger =
-    std::chrono::seconds(1);  // connections taken at once besides the accepted one
+constexpr auto kRefusedLinger = std::chrono::seconds(1);  // how long one is drained at most
 constexpr auto kTrimDelay = std::chrono::milliseconds(200);
 
 std::chrono::milliseconds timeoutOf(double seconds, const char* name) {
@@ -137,6 +136,7 @@ class Server::Impl {
         });
         return;
       }
+      prune();
       admit(std::move(socket));
       // Take every connection already waiting, not one per trip through
       // the event loop: under a flood of busy connections a new client
@@ -153,8 +153,9 @@ class Server::Impl {
     });
   }
 
+  /// Serves a new connection, or refuses it over the cap or the budget
+  /// (connections_ pruned by the caller).
   void admit(tcp::socket socket) {
-    prune();
     if (connections_.size() >= options_.max_connections) {
       refuse(std::move(socket), ErrorCode::kTooManyConnections,
              "too many connections: the server has " + std::to_string(options_.max_connections) +

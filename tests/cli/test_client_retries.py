@@ -152,6 +152,15 @@ class PythonClient(Scripted):
                 client.info()
         self.assertEqual(server.connections(), 2)
 
+    def test_a_call_after_a_failed_one_connects_again(self):
+        server = self.serve("drop", "drop", "answer")
+        with hfts_client.HftsClient("127.0.0.1", server.port, timeout=30, retries=0) as client:
+            with self.assertRaises(ConnectionError):
+                client.info()
+            with self.assertRaises(ConnectionError):
+                client.info()
+            self.assertEqual(client.info()["connection"], 2)
+
     def test_cancel_and_shutdown_are_never_repeated(self):
         for method in ("cancel", "shutdown"):
             server = self.serve("drop", "answer")

@@ -8,6 +8,7 @@ determined by its seed. Standard library only; run by ctest.
     test_scale_out.py --server S --preprocess P --client C --source-dir D
 """
 
+import json
 import os
 import queue
 import signal
@@ -16,9 +17,7 @@ import subprocess
 import sys
 import tempfile
 import threading
-import time
 import unittest
-import json
 
 from hfts_server_fixture import CONFIG, run_tests, wait_until
 
@@ -146,9 +145,10 @@ class ScaleOut(unittest.TestCase):
 
     def test_an_instance_killed_mid_load_loses_no_request(self):
         # Every instance passes the health check (server.info answered).
-        every_instance_up = lambda: {name: status for name, (status, _) in  # noqa: E731
-                                     self.balancer.stats().items()} == {
-                                         name: "UP" for name in self.balancer.instances}
+        def every_instance_up():
+            states = {name: status for name, (status, _) in self.balancer.stats().items()}
+            return states == {name: "UP" for name in self.balancer.instances}
+
         self.assertTrue(wait_until(every_instance_up, timeout=10), self.balancer.stats())
         reference, _ = self.plan_all()
         self.assertEqual(sorted(reference), list(SEEDS))
