@@ -135,7 +135,8 @@ void writeAll(hid_t file, const HandMap& map) {
 }
 
 void readHeader(hid_t file, HandMap& map) {
-  h5::checkFormat(file, kHandMapFormatName, kHandMapFormatVersion, "hand map");
+  h5::checkFormat(file, kHandMapFormatName, kHandMapFormatVersion, "hand map",
+                  "hfts-preprocess --hand ROBOT.json -o DIR");
   map.producer = h5::readStringAttribute(file, "producer");
   map.robot_name = h5::readStringAttribute(file, "robot");
 }

@@ -177,14 +177,18 @@ void writeFormat(hid_t file, const std::string& name, std::uint64_t version) {
 }
 
 void checkFormat(hid_t file, const std::string& name, std::uint64_t version,
-                 const std::string& kind) {
-  if (H5Aexists(file, "format") <= 0) fail("not an HFTS " + kind);
-  const std::string format = readStringAttribute(file, "format");
-  if (format != name) fail("not an HFTS " + kind + " (format '" + format + "')");
+                 const std::string& kind, const std::string& rebuild) {
+  if (H5Aexists(file, "format") <= 0 || H5Aexists(file, "format_version") <= 0)
+    fail("not an HFTS " + kind);
+  // The version first: strings of other versions may be stored differently
+  // (version 1 kept them in HDF5's global heap) and are not read.
   const std::uint64_t found = readUInt64(file, "format_version");
   if (found != version)
     fail("format version " + std::to_string(found) +
-         " is not supported (this program reads version " + std::to_string(version) + ")");
+         " is not supported (this program reads version " + std::to_string(version) +
+         "); rebuild it with " + rebuild);
+  const std::string format = readStringAttribute(file, "format");
+  if (format != name) fail("not an HFTS " + kind + " (format '" + format + "')");
 }
 
 Handle createFile(const std::filesystem::path& path) {
@@ -243,14 +247,21 @@ Array<std::uint32_t> readUInt32s(hid_t parent, const std::string& name) {
 }
 
 void writeAttribute(hid_t object, const std::string& name, const std::string& value) {
+  if (value.size() >= kMaxStringAttribute)
+    fail("attribute '" + name + "' is longer than " + std::to_string(kMaxStringAttribute) +
+         " bytes");
+  if (value.find('\0') != std::string::npos) fail("attribute '" + name + "' holds a NUL byte");
+  // Fixed length, stored in the (checksummed) attribute message itself:
+  // variable-length strings live in HDF5's global heap, which is not
+  // checksummed and which libhdf5 1.10 reads unsafely from corrupted files.
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
-  check(H5Tset_size(type.id(), H5T_VARIABLE), "string size");
+  check(H5Tset_size(type.id(), value.size() + 1), "string size");
+  check(H5Tset_strpad(type.id(), H5T_STR_NULLTERM), "string padding");
   check(H5Tset_cset(type.id(), H5T_CSET_UTF8), "string charset");
-  const char* text = value.c_str();
   Handle space(H5Screate(H5S_SCALAR), H5Sclose, "attribute space");
   Handle attr(H5Acreate2(object, name.c_str(), type.id(), space.id(), H5P_DEFAULT, H5P_DEFAULT),
               H5Aclose, "creating attribute '" + name + "'");
-  check(H5Awrite(attr.id(), type.id(), &text), "writing attribute '" + name + "'");
+  check(H5Awrite(attr.id(), type.id(), value.c_str()), "writing attribute '" + name + "'");
 }
 
 void writeAttribute(hid_t object, const std::string& name, double value) {
@@ -275,19 +286,22 @@ std::string readStringAttribute(hid_t object, const std::string& name) {
   Handle attr(H5Aopen(object, name.c_str(), H5P_DEFAULT), H5Aclose,
               "opening attribute '" + name + "'");
   Handle fileType(H5Aget_type(attr.id()), H5Tclose, "attribute type");
-  if (H5Tget_class(fileType.id()) != H5T_STRING || H5Tis_variable_str(fileType.id()) <= 0)
-    fail("attribute '" + name + "' is not a variable-length string");
+  if (H5Tget_class(fileType.id()) != H5T_STRING || H5Tis_variable_str(fileType.id()) != 0)
+    fail("attribute '" + name + "' is not a fixed-length string");
+  const std::size_t size = H5Tget_size(fileType.id());
+  if (size == 0 || size > kMaxStringAttribute)
+    fail("attribute '" + name + "' has an invalid string length " + std::to_string(size));
   Handle space(H5Aget_space(attr.id()), H5Sclose, "attribute space");
-  if (H5Sget_simple_extent_npoints(space.id()) != 1)
+  if (H5Sget_simple_extent_type(space.id()) != H5S_SCALAR)
     fail("attribute '" + name + "' is not a single string");
   Handle memType(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
-  check(H5Tset_size(memType.id(), H5T_VARIABLE), "string size");
+  check(H5Tset_size(memType.id(), size), "string size");
+  check(H5Tset_strpad(memType.id(), H5T_STR_NULLPAD), "string padding");
   check(H5Tset_cset(memType.id(), H5Tget_cset(fileType.id())), "string charset");
-  char* text = nullptr;
-  check(H5Aread(attr.id(), memType.id(), &text), "reading attribute '" + name + "'");
-  std::string value = text != nullptr ? std::string(text) : std::string();
-  H5free_memory(text);
-  return value;
+  std::string text(size, '\0');
+  check(H5Aread(attr.id(), memType.id(), text.data()), "reading attribute '" + name + "'");
+  text.resize(std::min(text.find('\0'), text.size()));
+  return text;
 }
 
 std::vector<double> readDoubleAttribute(hid_t object, const std::string& name) {

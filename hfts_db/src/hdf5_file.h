@@ -6,6 +6,7 @@
 
 #include <hdf5.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -57,10 +58,11 @@ std::vector<std::string> splitNames(const std::string& text);
 /// Root attributes `format` (string) and `format_version` (u64) naming a
 /// file's schema.
 void writeFormat(hid_t file, const std::string& name, std::uint64_t version);
-/// Throws DatabaseError "not an HFTS <kind>" unless the root `format` is
-/// `name`, and names both versions unless `format_version` is `version`.
+/// Throws "not an HFTS <kind>" unless the root `format` is `name`; unless
+/// `format_version` is `version`, names both versions and the command that
+/// rebuilds the file (`rebuild`, e.g. "hfts-preprocess MESH -o DIR").
 void checkFormat(hid_t file, const std::string& name, std::uint64_t version,
-                 const std::string& kind);
+                 const std::string& kind, const std::string& rebuild);
 
 /// Creates a new file (truncating) with deterministic layout settings.
 Handle createFile(const std::filesystem::path& path);
@@ -85,6 +87,9 @@ void writeDataset(hid_t parent, const std::string& name, const std::uint32_t* da
 Array<double> readDoubles(hid_t parent, const std::string& name);
 Array<std::uint32_t> readUInt32s(hid_t parent, const std::string& name);
 
+/// Strings are scalar fixed-length attributes (NUL-terminated, UTF-8) of at
+/// most kMaxStringAttribute bytes.
+inline constexpr std::size_t kMaxStringAttribute = std::size_t{1} << 16;
 void writeAttribute(hid_t object, const std::string& name, const std::string& value);
 /// Scalars are written as HDF5 scalars, vectors always as 1-D arrays.
 void writeAttribute(hid_t object, const std::string& name, double value);

@@ -216,7 +216,8 @@ void writeAll(hid_t file, const ObjectDatabase& db) {
 }
 
 void readHeader(hid_t file, ObjectDatabase& db) {
-  h5::checkFormat(file, kObjectFormatName, kObjectFormatVersion, "object database");
+  h5::checkFormat(file, kObjectFormatName, kObjectFormatVersion, "object database",
+                  "hfts-preprocess MESH -o DIR");
   db.producer = h5::readStringAttribute(file, "producer");
   db.name = h5::readStringAttribute(file, "name");
   db.source_mesh = h5::readStringAttribute(file, "source_mesh");

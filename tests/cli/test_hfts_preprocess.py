@@ -49,7 +49,7 @@ class PreprocessCli(unittest.TestCase):
         result = run("--inspect", os.path.join(self.out, "mug.h5"), "--json", check=0)
         summary = json.loads(result.stdout)
         self.assertEqual(summary["branching"], [20, 4, 4])
-        self.assertEqual(summary["format_version"], 1)
+        self.assertEqual(summary["format_version"], 2)
         self.assertEqual(summary["nodes_per_level"][:2], [20, 80])
         self.assertGreater(summary["num_contacts"], 1000)
         self.assertEqual(len(summary["center_of_mass"]), 3)

@@ -115,8 +115,13 @@ TEST(HandMap, MissingEmptyAndForeignFilesAreRejected) {
 TEST(HandMap, OtherFormatVersionsAreRejected) {
   TempDir dir;
   saveHandMap(sample(), dir / "v.h5");
-  test::setFormatVersion(dir / "v.h5", 2);
-  expectLoadError(dir / "v.h5", "format version 2 is not supported");
+  test::setFormatVersion(dir / "v.h5", 3);
+  expectLoadError(dir / "v.h5", "format version 3 is not supported");
+  test::setFormatVersion(dir / "v.h5", 1);
+  test::setVariableLengthString(dir / "v.h5", "/", "format", "hfts-hand-map");
+  test::expectErrorMentioning<DatabaseError>(
+      [&] { loadHandMap(dir / "v.h5"); },
+      {"format version 1 is not supported", "hfts-preprocess --hand ROBOT.json -o DIR"});
 }
 
 TEST(HandMap, TruncatedFilesAreRejected) {

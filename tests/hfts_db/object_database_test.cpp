@@ -133,6 +133,42 @@ TEST(ObjectDatabase, NewerFormatVersionIsRejected) {
   expectLoadError(dir / "v.h5", "format version 99 is not supported");
 }
 
+TEST(ObjectDatabase, VersionOneIsRejectedBeforeItsStringsAreRead) {
+  TempDir dir;
+  saveObjectDatabase(sample(), dir / "v1.h5");
+  test::setFormatVersion(dir / "v1.h5", 1);
+  test::setVariableLengthString(dir / "v1.h5", "/", "format", "hfts-object-database");
+  test::expectErrorMentioning<DatabaseError>(
+      [&] { loadObjectDatabase(dir / "v1.h5"); },
+      {"format version 1 is not supported", "reads version 2", "hfts-preprocess MESH -o DIR"});
+}
+
+TEST(ObjectDatabase, VariableLengthStringsAreNotRead) {
+  // They live in HDF5's global heap, which has no checksum (see
+  // docs/database.md, version 2).
+  for (const char* object : {"/", "/parameters"}) {
+    SCOPED_TRACE(object);
+    TempDir dir;
+    saveObjectDatabase(sample(), dir / "vl.h5");
+    const std::string name = std::string(object) == "/" ? "name" : "filters";
+    test::setVariableLengthString(dir / "vl.h5", object, name, "x");
+    expectLoadError(dir / "vl.h5", "attribute '" + name + "' is not a fixed-length string");
+  }
+}
+
+TEST(ObjectDatabase, StringsRoundTripAtAnyLengthUpToTheLimit) {
+  TempDir dir;
+  ObjectDatabase db = sample();
+  for (const std::size_t length : {std::size_t{0}, std::size_t{1}, std::size_t{65535}}) {
+    db.source_mesh = std::string(length, 'm');
+    saveObjectDatabase(db, dir / "s.h5");
+    EXPECT_EQ(loadObjectDatabase(dir / "s.h5").source_mesh, db.source_mesh);
+  }
+  db.source_mesh = std::string(65536, 'm');
+  test::expectErrorMentioning<DatabaseError>([&] { saveObjectDatabase(db, dir / "s.h5"); },
+                                             {"source_mesh", "longer than 65536 bytes"});
+}
+
 TEST(ObjectDatabase, TruncatedFilesAreRejected) {
   TempDir dir;
   saveObjectDatabase(sample(), dir / "full.h5");

@@ -65,4 +65,24 @@ inline void setFormatVersion(const std::filesystem::path& path, std::uint64_t ve
   H5Fclose(file);
 }
 
+/// Replaces the attribute `name` of the object at `object` ("/" for the
+/// root) with a variable-length string, as format version 1 stored strings.
+inline void setVariableLengthString(const std::filesystem::path& path, const std::string& object,
+                                    const std::string& name, const std::string& value) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  const hid_t target = H5Oopen(file, object.c_str(), H5P_DEFAULT);
+  H5Adelete(target, name.c_str());
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, H5T_VARIABLE);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t attr = H5Acreate2(target, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+  const char* text = value.c_str();
+  H5Awrite(attr, type, &text);
+  H5Aclose(attr);
+  H5Sclose(space);
+  H5Tclose(type);
+  H5Oclose(target);
+  H5Fclose(file);
+}
+
 }  // namespace hfts::test

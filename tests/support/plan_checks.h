@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 
@@ -28,7 +29,20 @@ inline const planner::PlanningWorld& bundledWorld() {
   return w;
 }
 
-/// A request in a bundled scene (objects/scenes/<scene>.json), 30 s limit.
+/// How much slower the code runs under the sanitizer scripts/sanitize.sh
+/// names in HFTS_SANITIZER (1 without one). Plan time limits that a test
+/// expects to be met are multiplied by it.
+inline double sanitizerSlowdown() {
+  const char* sanitizer = std::getenv("HFTS_SANITIZER");
+  if (sanitizer == nullptr) return 1.0;
+  const std::string name = sanitizer;
+  if (name == "address") return 4.0;
+  if (name == "thread") return 10.0;
+  return name == "undefined" ? 2.0 : 1.0;
+}
+
+/// A request in a bundled scene (objects/scenes/<scene>.json), 30 s limit
+/// (times sanitizerSlowdown()).
 inline planner::PlanRequest bundledSceneRequest(const std::string& scene, const std::string& object,
                                                 std::uint64_t seed,
                                                 planner::PlanAlgorithm algorithm) {
@@ -37,7 +51,7 @@ inline planner::PlanRequest bundledSceneRequest(const std::string& scene, const 
   r.object = object;
   r.seed = seed;
   r.algorithm = algorithm;
-  r.time_limit = 30.0;
+  r.time_limit = 30.0 * sanitizerSlowdown();
   return r;
 }
 

@@ -18,7 +18,7 @@ namespace hfts::db {
 
 /// Name and version of the hand map file format.
 inline constexpr const char* kHandMapFormatName = "hfts-hand-map";
-inline constexpr std::uint32_t kHandMapFormatVersion = 1;
+inline constexpr std::uint32_t kHandMapFormatVersion = 2;
 
 using RowMatrixXd = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 

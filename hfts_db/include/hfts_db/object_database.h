@@ -22,7 +22,7 @@ class DatabaseError : public std::runtime_error {
 
 /// Name and version of the file format written by this library.
 inline constexpr const char* kObjectFormatName = "hfts-object-database";
-inline constexpr std::uint32_t kObjectFormatVersion = 1;
+inline constexpr std::uint32_t kObjectFormatVersion = 2;
 
 using Points3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 using Faces3 = Eigen::Matrix<std::uint32_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
