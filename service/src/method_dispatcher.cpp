@@ -34,6 +34,7 @@ MethodDispatcher::MethodDispatcher(const ServerOptions& options,
       on_shutdown_(std::move(onShutdown)),
       log_(options.log),
       pool_(workerCount(options.workers), options.queue_capacity),
+      quality_pool_(1, options.queue_capacity),
       methods_{
           {"server.info", &MethodDispatcher::info},   {"objects.list", &MethodDispatcher::objects},
           {"scenes.list", &MethodDispatcher::scenes}, {"grasp.quality", &MethodDispatcher::quality},
@@ -89,10 +90,11 @@ std::string MethodDispatcher::describe(const RpcError& error) {
 void MethodDispatcher::stop() {
   stopping_ = true;
   pool_.cancelAll();
+  quality_pool_.cancelAll();
 }
 
 bool MethodDispatcher::idle() const {
-  return pool_.idle() && !reloading_;
+  return pool_.idle() && quality_pool_.idle() && !reloading_;
 }
 
 void MethodDispatcher::info(const Call& call, const Caller&, const Finish& finish) {
@@ -149,9 +151,35 @@ void MethodDispatcher::scenes(const Call& call, const Caller&, const Finish& fin
 }
 
 void MethodDispatcher::quality(const Call& call, const Caller&, const Finish& finish) {
-  json result = graspQualityJson(call.params, *catalog_);
-  const std::string note = "epsilon " + result["epsilon"].dump();
-  finish({std::move(result), std::nullopt, note});
+  // Epsilon is a 6-D convex hull: milliseconds for a grasp's few contacts,
+  // but seconds to minutes for dozens of contacts with many cone edges. It
+  // runs on a worker of its own, so that neither the I/O thread (every
+  // other connection) nor the planners wait for it.
+  auto flag = std::make_shared<std::atomic<bool>>(false);
+  auto job = [catalog = catalog_, params = call.params, flag, finish, post = post_] {
+    auto outcome = std::make_shared<Outcome>(runQuality(*catalog, params, *flag));
+    post([finish, outcome] { finish(std::move(*outcome)); });
+  };
+  if (!quality_pool_.trySubmit(flag, std::move(job)))
+    throw RpcError(ErrorCode::kBusy, "busy: " + std::to_string(quality_pool_.capacity()) +
+                                         " grasp.quality calls are waiting; try again later");
+}
+
+MethodDispatcher::Outcome MethodDispatcher::runQuality(const PlanningCatalog& catalog,
+                                                       const json& params,
+                                                       const std::atomic<bool>& cancel) {
+  if (cancel.load())
+    return {json(), RpcError(ErrorCode::kShuttingDown, "shutting down: not computed"), ""};
+  try {
+    json result = graspQualityJson(params, catalog);
+    std::string note = "epsilon " + result["epsilon"].dump();
+    return {std::move(result), std::nullopt, std::move(note)};
+  } catch (const RpcError& e) {
+    return {json(), e, ""};
+  } catch (const std::exception& e) {
+    return {json(), RpcError(ErrorCode::kInternalError, std::string("internal error: ") + e.what()),
+            ""};
+  }
 }
 
 void MethodDispatcher::plan(const Call& call, const Caller& caller, const Finish& finish) {

@@ -64,7 +64,7 @@ class MethodDispatcher {
 
   /// From now on new calls are refused; queued and running plans are cancelled.
   void stop();
-  /// No plan queued or running and no reload running.
+  /// No plan or grasp.quality queued or running and no reload running.
   bool idle() const;
   const PlanningCatalog& catalog() const { return *catalog_; }
   int workers() const { return pool_.threads(); }
@@ -94,6 +94,8 @@ class MethodDispatcher {
   nlohmann::json staticInfo() const;
   static Outcome runPlan(const PlanningCatalog& catalog, const planner::PlanRequest& request,
                          const std::atomic<bool>& cancel);
+  static Outcome runQuality(const PlanningCatalog& catalog, const nlohmann::json& params,
+                            const std::atomic<bool>& cancel);
 
   ServerOptions options_;
   PlanLimits limits_;
@@ -101,7 +103,8 @@ class MethodDispatcher {
   PostToIo post_;
   std::function<void()> on_shutdown_;
   RequestLog log_;
-  WorkerPool pool_;
+  WorkerPool pool_;          // plans
+  WorkerPool quality_pool_;  // grasp.quality: one thread, queue as long as the plans'
   std::map<std::string, Handler> methods_;
   bool stopping_ = false;
   bool reloading_ = false;

@@ -56,6 +56,44 @@ class ConnectionCap(ServerTest):
             return reply is not None and "result" in reply
 
 
+# Three contacts with 64 cone edges each: a 6-D hull of 192 wrenches that
+# takes seconds (about 2 s in a Release build; epsilon 0), where a grasp's
+# usual 3 x 8 take microseconds.
+SLOW_QUALITY = {"contacts": [{"position": [0.0017438739510555398, 0.002774101436863005, -0.009685739556643758], "normal": [0.39870276072233346, -0.2364231725488278, -0.8860813687660614]}, {"position": [-0.01271963264584821, 0.047369238703063254, 0.007185650007950226], "normal": [0.4156118834350019, -0.9047142887935933, -0.09358855699450222]}, {"position": [-0.006253206283417634, 0.04509974555770023, 0.029915904900800802], "normal": [-0.48512510236197376, -0.6466677490008256, -0.5886208095713993]}], "normals": "outward", "center": [0, 0, 0], "torque_scale": 0.05, "friction": 0.5, "cone_edges": 64}
+
+
+class SlowQuality(ServerTest):
+    OPTIONS = ("--workers", "1", "--queue", "1")
+
+    def test_a_slow_grasp_quality_holds_up_no_other_connection(self):
+        with self.server.connect() as slow, self.server.connect() as other:
+            began = time.monotonic()
+            slow.request("grasp.quality", SLOW_QUALITY, request_id=7)
+            time.sleep(0.2)  # it is being computed now
+            self.assertIn("result", other.call("server.info"))
+            waited = time.monotonic() - began
+            reply = slow.read()
+            total = time.monotonic() - began
+            self.assertEqual(reply["id"], 7)
+            self.assertEqual(reply["result"]["epsilon"], 0.0)
+            self.assertGreater(total, 0.5, "the slow input was not slow in this build")
+            # The server used to compute it on its I/O thread: server.info
+            # then came back only after the hull was done.
+            self.assertLess(waited, 0.5 * total)
+
+    def test_calls_beyond_the_queue_are_busy_and_the_rest_answered(self):
+        with self.server.connect() as c:
+            c.request("grasp.quality", SLOW_QUALITY, request_id=0)
+            time.sleep(0.2)  # taken by the worker: the queue is empty again
+            for i in (1, 2):
+                c.request("grasp.quality", SLOW_QUALITY, request_id=i)
+            replies = {r["id"]: r for r in (c.read() for _ in range(3))}
+        # One computing, one waiting, the third refused at once.
+        self.assertError(replies[2], -32001, request_id=2, contains="grasp.quality calls are waiting")
+        for i in (0, 1):
+            self.assertEqual(replies[i]["result"]["epsilon"], 0.0, replies[i])
+
+
 class InputBudget(ServerTest):
     # 4 MiB: each connection reserves 80 KiB and long messages leave 256 KiB
     # free, so two 1.5 MiB messages fit and the third does not.

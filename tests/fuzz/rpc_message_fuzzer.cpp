@@ -46,12 +46,16 @@ void checkResponse(const json& response) {
 
 void run(const service::Call& call, const service::Caller& caller) {
   if (call.method == "reload") return;
-  if (call.method != "plan") {
+  if (call.method != "plan" && call.method != "grasp.quality") {
     dispatcher().dispatch(call, caller, checkResponse);
     return;
   }
+  // The dispatcher runs these on worker threads; here they run inline.
   try {
-    service::planRequestFromJson(call.params, *catalog(), service::PlanLimits{});
+    if (call.method == "plan")
+      service::planRequestFromJson(call.params, *catalog(), service::PlanLimits{});
+    else
+      service::graspQualityJson(call.params, *catalog());
   } catch (const service::RpcError& e) {
     if (e.code() != ErrorCode::kInvalidParams) contractViolated(e.what());
   }

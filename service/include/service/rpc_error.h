@@ -18,7 +18,7 @@ enum class ErrorCode : int {
   kMethodNotFound = -32601,
   kInvalidParams = -32602,  ///< the message names the offending field
   kInternalError = -32603,
-  kBusy = -32001,                ///< the plan queue is full; try again later
+  kBusy = -32001,                ///< a queue (plans, grasp.quality) is full; try again later
   kShuttingDown = -32002,        ///< the server is stopping and takes no new work
   kForbidden = -32003,           ///< e.g. shutdown from a non-loopback peer
   kMessageTooLarge = -32004,     ///< over the size limit; the connection is closed
