@@ -1,7 +1,8 @@
 // What a client's bytes go through in hfts-server: the message framer (fed
 // in pieces), the JSON-RPC envelope and the method dispatcher with a real
 // catalog. `plan` calls are validated (planRequestFromJson) but not
-// planned, and `reload` (which re-reads files) is not dispatched. A crash,
+// planned, `grasp.quality` is computed inline (the server uses a worker
+// thread), and `reload` (which re-reads files) is not dispatched. A crash,
 // an escaping exception or an internal-error reply is a finding: every bad
 // input must get a clear JSON-RPC error.
 
@@ -14,6 +15,7 @@
 #include "fuzz_catalog.h"
 #include "json_rpc.h"
 #include "method_dispatcher.h"
+#include "service/catalog_json.h"
 #include "service/message_framer.h"
 #include "service/plan_request_json.h"
 
