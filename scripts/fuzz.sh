@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (tests/fuzz/) with clang into build-fuzz/ and
 # runs each for SECONDS (default 60) on a working copy of its seed corpus.
-#   scripts/fuzz.sh [--build-only | --no-build] [--replay] [--target NAME]... [SECONDS]
-# --replay runs every seed once and does not fuzz (the fuzz_smoke test).
+#   scripts/fuzz.sh [--build-only | --no-build] [--replay | --seeds-only] [--target NAME]... [SECONDS]
+# --replay runs every seed once and does not fuzz (the fuzz_smoke test);
+# --seeds-only fuzzes from the seeds alone in a temporary corpus, not from
+# earlier finds (the fuzz_short test: slow finds of a long run stay out).
 # New inputs go to build-fuzz/corpus/<name>/, crashes, timeouts and
 # out-of-memory inputs to build-fuzz/artifacts/<name>/; the repository is
 # never written. Exits non-zero when a target found something.
@@ -11,14 +13,15 @@ cd "$(dirname "$0")/.."
 
 TARGETS=(rpc_message plan_request grasp_quality scene object_database hand_map mesh)
 BUILD=build-fuzz
-build=yes run=yes seconds=60 only=() replay=no
+build=yes run=yes seconds=60 only=() replay=no seeds_only=no
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --build-only) run=no ;;
     --no-build) build=no ;;
     --replay) replay=yes ;;
+    --seeds-only) seeds_only=yes ;;
     --target) only+=("$2"); shift ;;
-    -h|--help) sed -n '2,8p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,10p' "$0"; exit 0 ;;
     *) seconds="$1" ;;
   esac
   shift
@@ -39,6 +42,7 @@ fi
 fuzz_one() {
   local name=$1 corpus="$BUILD/corpus/$1" artifacts="$BUILD/artifacts/$1"
   local log="$BUILD/artifacts/$1.log"
+  [[ $seeds_only == yes ]] && corpus=$(mktemp -d "/tmp/hfts_fuzz_corpus_$1.XXXXXX")
   mkdir -p "$corpus" "$artifacts"
   cp -n tests/fuzz/corpus/"$name"/* "$corpus"/
   [[ $replay == yes ]] && corpus="tests/fuzz/corpus/$name"  # read only: -runs=0 adds nothing
@@ -57,6 +61,7 @@ fuzz_one() {
   speed=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
   [[ $status -ne 0 ]] && result="FOUND ($(grep -m1 -o 'ERROR: [A-Za-z]*: [a-z-]*\|ERROR: libFuzzer: [a-z-]*' "$log" || echo "exit $status"); see $log)"
   printf '%-16s %10s %8s %7s  %s\n' "$name" "${runs:-?}" "${speed:-?}" "$(ls "$corpus" | wc -l)" "$result"
+  [[ $seeds_only == yes ]] && rm -rf "$corpus"
   return "$status"
 }
 
