@@ -90,6 +90,52 @@ TEST(MeshLoader, BadFilesGiveClearErrorsNamingTheFile) {
   expectMeshError(dir / "nan.obj", "");
 }
 
+// Files that made assimp 5.2.5 read out of bounds (found by the mesh
+// fuzzer; tests/fuzz/third_party_crashes/): an error, not a crash.
+TEST(MeshLoader, MalformedFilesThatCrashAssimpGiveErrors) {
+  TempDir dir;
+  // A face naming a vertex that does not exist (assimp's post-processing
+  // read out of bounds; its ValidateDataStructure step now refuses it).
+  test::writeText(dir / "bad_index.ply",
+                  "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n"
+                  "property float y\nproperty float z\nelement face 2\n"
+                  "property list uchar int vertex_indices\nend_header\n"
+                  "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 4000000\n");
+  expectMeshError(dir / "bad_index.ply", "cannot be read");
+  // A binary PLY with a damaged header: assimp's importer itself reads
+  // past its buffer (SEGV), now in the child process. The fuzzer's input
+  // starts with a byte that picks the file type.
+  const std::string input =
+      test::readBytes(std::filesystem::path(HFTS_SOURCE_DIR) /
+                      "tests/fuzz/corpus/mesh/regression_assimp_ply_importer_segv");
+  ASSERT_GT(input.size(), 1u);
+  const std::filesystem::path crash = dir / "importer_segv.ply";
+  test::writeText(crash, input.substr(1));
+  expectMeshError(crash, "assimp");
+}
+
+// A binary PLY on which assimp 5.2.5 reads the file forever (mesh
+// fuzzer): the import is stopped at its time limit.
+TEST(MeshLoader, AnImportThatNeverEndsIsStoppedAtTheTimeLimit) {
+  TempDir dir;
+  const std::string input =
+      test::readBytes(std::filesystem::path(HFTS_SOURCE_DIR) /
+                      "tests/fuzz/corpus/mesh/regression_assimp_ply_endless_loop");
+  ASSERT_GT(input.size(), 1u);
+  test::writeText(dir / "endless.ply", input.substr(1));
+  IsolationLimits limits;
+  limits.time = std::chrono::seconds(2);
+  test::expectErrorMentioning<MeshError>([&] { loadMesh(dir / "endless.ply", 1.0, limits); },
+                                         {"endless.ply", "did not finish within 2 s"});
+}
+
+TEST(MeshLoader, DefaultImportLimitsGrowWithTheFile) {
+  EXPECT_EQ(meshImportLimits(0).time, std::chrono::seconds(60));
+  EXPECT_EQ(meshImportLimits(std::uintmax_t{100} << 20).time, std::chrono::seconds(160));
+  EXPECT_EQ(meshImportLimits(std::uintmax_t{1} << 30).extra_memory_bytes,
+            (std::size_t{2} << 30) + (std::size_t{64} << 30));
+}
+
 TEST(MeshLoader, RejectsANonPositiveScale) {
   TempDir dir;
   test::writeBinaryStl(dir / "cube.stl", test::cube(0.1));

@@ -6,9 +6,12 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "hfts_db/isolated_call.h"
 
 namespace hfts {
 
@@ -53,7 +56,16 @@ struct LoadedMesh {
 /// read or holds no usable surface (no triangles, all degenerate, non-finite
 /// coordinates, or all vertices in one plane). Open or non-manifold meshes
 /// load with a warning.
-LoadedMesh loadMesh(const std::filesystem::path& path, double scale = 1.0);
+///
+/// assimp runs in a child process (runIsolated) within `limits`: some
+/// malformed files make it crash or loop, which then gives a MeshError
+/// naming the file. Without `limits`, meshImportLimits(file size).
+LoadedMesh loadMesh(const std::filesystem::path& path, double scale = 1.0,
+                    const std::optional<IsolationLimits>& limits = std::nullopt);
+
+/// The default limits of an import: 60 s plus 1 s per MiB of file, 2 GiB
+/// of memory plus 64 bytes per byte of file.
+IsolationLimits meshImportLimits(std::uintmax_t fileBytes);
 
 /// Checks an in-memory mesh the same way (used by loadMesh); `what` names
 /// it in errors. Removes zero-area triangles and returns their count.

@@ -1,0 +1,143 @@
+#include "hfts_db/isolated_call.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+
+namespace hfts {
+namespace {
+
+constexpr char kResult = 'R';  // first byte: the rest is work()'s result
+constexpr char kThrew = 'E';   // first byte: the rest is the exception's message
+
+bool writeAll(int fd, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    data += n;
+    size -= static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+/// Reads the process's address space size (bytes), 0 if unknown.
+std::size_t addressSpaceBytes() {
+  long pages = 0;
+  if (FILE* statm = std::fopen("/proc/self/statm", "r")) {
+    if (std::fscanf(statm, "%ld", &pages) != 1) pages = 0;
+    std::fclose(statm);
+  }
+  return static_cast<std::size_t>(pages) * static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+}
+
+[[noreturn]] void runChild(const std::function<std::string()>& work, const IsolationLimits& limits,
+                           int fd) {
+  // A crash in third-party code ends the child; no handler of the parent's
+  // (a sanitizer's report, a fuzzer's crash file) runs for it.
+  for (const int signal : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE})
+    std::signal(signal, SIG_DFL);
+  if (limits.extra_memory_bytes > 0) {
+    const rlim_t cap = addressSpaceBytes() + limits.extra_memory_bytes;
+    const rlimit limit{cap, cap};
+    ::setrlimit(RLIMIT_AS, &limit);
+  }
+  std::string out;
+  try {
+    out = kResult + work();
+  } catch (const std::exception& e) {
+    out = kThrew + std::string(e.what());
+  } catch (...) {
+    out = kThrew + std::string("unknown exception");
+  }
+  // _exit: no atexit handlers or static destructors of the parent's state.
+  ::_exit(writeAll(fd, out.data(), out.size()) ? 0 : 1);
+}
+
+int waitForChild(pid_t pid) {
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  return status;
+}
+
+std::string seconds(std::chrono::milliseconds time) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", static_cast<double>(time.count()) / 1e3);
+  return text;
+}
+
+std::string describe(int status) {
+  if (WIFSIGNALED(status)) {
+    const int signal = WTERMSIG(status);
+    const char* name = ::strsignal(signal);
+    return "it crashed (signal " + std::to_string(signal) + ", " +
+           (name != nullptr ? name : "unknown") + ")";
+  }
+  if (WIFEXITED(status))
+    return "it stopped with exit status " + std::to_string(WEXITSTATUS(status));
+  return "it stopped unexpectedly";
+}
+
+}  // namespace
+
+std::string runIsolated(const std::function<std::string()>& work, const IsolationLimits& limits) {
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0)
+    throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    const int error = errno;
+    ::close(fds[0]);
+    ::close(fds[1]);
+    throw std::runtime_error(std::string("cannot start a process: ") + std::strerror(error));
+  }
+  if (pid == 0) {
+    ::close(fds[0]);
+    runChild(work, limits, fds[1]);
+  }
+  ::close(fds[1]);
+
+  std::string bytes;
+  const auto deadline = std::chrono::steady_clock::now() + limits.time;
+  bool timedOut = false;
+  char buffer[1 << 16];
+  for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) {
+      timedOut = true;
+      break;
+    }
+    pollfd p{fds[0], POLLIN, 0};
+    const int ready = ::poll(&p, 1, static_cast<int>(std::min<long long>(left.count(), 1000)));
+    if (ready < 0 && errno != EINTR) break;
+    if (ready <= 0) continue;
+    const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;  // end of file: the child is done (or died)
+    bytes.append(buffer, static_cast<std::size_t>(n));
+  }
+  ::close(fds[0]);
+  if (timedOut) ::kill(pid, SIGKILL);
+  const int status = waitForChild(pid);
+
+  using Kind = IsolatedCallError::Kind;
+  if (timedOut)
+    throw IsolatedCallError(Kind::kTimedOut,
+                            "it did not finish within " + seconds(limits.time) + " s");
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || bytes.empty())
+    throw IsolatedCallError(Kind::kCrashed, describe(status));
+  if (bytes[0] == kThrew) throw IsolatedCallError(Kind::kThrew, bytes.substr(1));
+  bytes.erase(0, 1);
+  return bytes;
+}
+
+}  // namespace hfts
