@@ -106,6 +106,39 @@ void BM_GraspQuality3ContactsStable(benchmark::State& state) {
 }
 BENCHMARK(BM_GraspQuality3ContactsStable);
 
+/// Large wrench sets, as a grasp.quality call may send (contacts x cone
+/// edges up to kMaxQualityWrenches): contacts around a 5 cm sphere with perturbed inward
+/// normals, mu = 0.5. Arguments: contacts, cone edges, 1 for Qhull. The
+/// incremental hull inserts only the wrenches that can change the depth;
+/// Qhull builds the whole 6-D hull, whose size grows with the cube of the
+/// number of wrenches.
+void BM_GraspQualityManyWrenches(benchmark::State& state) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> g;
+  std::vector<grasp::GraspQualityRequest> requests(8);
+  for (auto& r : requests) {
+    const auto contacts = static_cast<Eigen::Index>(state.range(0));
+    r.positions.resize(3, contacts);
+    r.normals.resize(3, contacts);
+    for (Eigen::Index i = 0; i < contacts; ++i) {
+      const Eigen::Vector3d p = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+      r.positions.col(i) = 0.05 * p;
+      r.normals.col(i) = (-p + 0.2 * Eigen::Vector3d(g(rng), g(rng), g(rng))).normalized();
+    }
+    r.torque_scale = 0.05;
+    r.cone_edges = static_cast<int>(state.range(1));
+    r.use_qhull = state.range(2) != 0;
+  }
+  runGraspQuality(state, requests);
+}
+BENCHMARK(BM_GraspQualityManyWrenches)
+    ->ArgNames({"contacts", "edges", "qhull"})
+    ->Args({3, 64, 0})
+    ->Args({3, 64, 1})
+    ->Args({4, 64, 0})
+    ->Args({32, 8, 0})
+    ->Unit(benchmark::kMillisecond);
+
 /// Full-robot collision checks (environment, target object, self) of
 /// configurations in a bundled scene. `freeOnly` keeps collision-free
 /// configurations only: no early exit, the worst case. `spheres`: the

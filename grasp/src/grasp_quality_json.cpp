@@ -82,6 +82,10 @@ GraspQualityRequest graspQualityRequestFromJson(const std::string& text) {
   if (edges != std::floor(edges) || edges < 3 || edges > 64)
     fail("cone_edges", "must be an integer in 3..64");
   r.cone_edges = static_cast<int>(edges);
+  if (contacts.size() * static_cast<std::size_t>(r.cone_edges) > kMaxQualityWrenches)
+    fail("cone_edges", "contacts x cone_edges must be at most " +
+                           std::to_string(kMaxQualityWrenches) + ", got " +
+                           std::to_string(contacts.size()) + " x " + std::to_string(r.cone_edges));
   if (!(r.torque_scale > 0)) fail("torque_scale", "must be > 0");
   if (!(r.friction > 0)) fail("friction", "must be > 0");
   return r;

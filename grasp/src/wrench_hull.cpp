@@ -7,13 +7,20 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
+
+#include "hfts_db/invalid_argument.h"
 
 namespace hfts::grasp {
 namespace {
 
 using Vector6 = Eigen::Matrix<double, 6, 1>;
 constexpr int kDim = 6;
+// A ridge (kDim - 1 wrench indices) is keyed by one 64-bit word.
+constexpr int kIndexBits = 12;
+constexpr Eigen::Index kMaxWrenches = Eigen::Index{1} << kIndexBits;
+static_assert((kDim - 1) * kIndexBits <= 64);
 
 struct Facet {
   std::array<int, kDim> vertices{};    // wrench indices
@@ -131,6 +138,10 @@ class Hull {
         return offset > eps_ ? offset : 0.0;
       }
       if (!insert(p)) return std::nullopt;
+      if (facets_.size() > kMaxHullFacets)
+        throw InvalidArgument("contacts", "the wrench hull of these contacts grew beyond " +
+                                              std::to_string(kMaxHullFacets) +
+                                              " facets; use fewer contacts or cone edges");
     }
   }
 
@@ -233,9 +244,29 @@ class Hull {
     return true;
   }
 
+  /// The keys of a facet's ridges (entry k: the ridge without vertices[k]),
+  /// each naming the ridge's vertex set exactly: a bit mask for at most 64
+  /// wrenches (the common, faster case), else the five indices in
+  /// increasing order, kIndexBits each.
+  std::array<std::uint64_t, kDim> ridgeKeys(const Facet& g) const {
+    std::array<std::uint64_t, kDim> keys{};
+    if (w_->cols() <= 64) {
+      std::uint64_t all = 0;
+      for (const int v : g.vertices) all |= std::uint64_t{1} << v;
+      for (std::size_t k = 0; k < kDim; ++k) keys[k] = all & ~(std::uint64_t{1} << g.vertices[k]);
+      return keys;
+    }
+    std::array<int, kDim> sorted = g.vertices;
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t k = 0; k < kDim; ++k)
+      for (const int u : sorted)
+        if (u != g.vertices[k]) keys[k] = (keys[k] << kIndexBits) | static_cast<std::uint64_t>(u);
+    return keys;
+  }
+
   /// New facets meet each other across ridges that contain p: pair them
   /// through a small open-addressing table keyed by the ridge's vertex set
-  /// (a bit mask: at most 64 wrenches, checked by the caller).
+  /// (ridgeKeys).
   bool linkNewFacets(std::size_t firstNew, int p) {
     const std::size_t ridges = (facets_.size() - firstNew) * (kDim - 1);
     if (table_.size() < 2 * ridges) {
@@ -248,12 +279,10 @@ class Hull {
     long unpaired = 0;
     for (std::size_t gi = firstNew; gi < facets_.size(); ++gi) {
       const Facet& g = facets_[gi];
-      std::uint64_t all = 0;
-      for (const int v : g.vertices) all |= std::uint64_t{1} << v;
+      const std::array<std::uint64_t, kDim> keys = ridgeKeys(g);
       for (int k = 0; k < kDim; ++k) {
-        const int v = g.vertices[static_cast<std::size_t>(k)];
-        if (v == p) continue;
-        const std::uint64_t key = all & ~(std::uint64_t{1} << v);
+        if (g.vertices[static_cast<std::size_t>(k)] == p) continue;
+        const std::uint64_t key = keys[static_cast<std::size_t>(k)];
         for (std::size_t h = (key * 0x9e3779b97f4a7c15ULL) >> 40;; ++h) {
           Slot& slot = table_[h & mask];
           if (slot.generation != generation_) {
@@ -301,7 +330,7 @@ std::optional<double> originDepthIncremental(const Eigen::Matrix<double, 6, Eige
   thread_local Hull hull;
   hull.reset(w);
   if (w.cols() <= kDim || !hull.buildSimplex()) return 0.0;
-  if (w.cols() > 64) return std::nullopt;  // ridge keys are 64-bit masks
+  if (w.cols() > kMaxWrenches) return std::nullopt;  // ridge keys hold 12-bit indices
   hull.assignConflicts();
   return hull.depth();
 }

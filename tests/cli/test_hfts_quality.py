@@ -44,6 +44,11 @@ class HftsQuality(unittest.TestCase):
         high = json.loads(quality(equator([0, 100, 230], friction=0.8)).stdout)["epsilon"]
         self.assertGreater(high, low)
 
+    def test_the_largest_request_is_answered(self):
+        result = quality(equator([0, 90, 180, 270], cone_edges=64, friction=100))
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertGreater(json.loads(result.stdout)["epsilon"], 60.0)
+
     def test_bad_requests_name_the_field(self):
         cases = [
             ("{", "request: not valid JSON"),
@@ -52,6 +57,9 @@ class HftsQuality(unittest.TestCase):
             (json.dumps(equator([0, 120], friction=-1)), "friction: must be > 0"),
             (json.dumps(equator([0, 120], cone_edges=2.5)), "cone_edges: must be an integer"),
             (json.dumps(equator([0, 120], normals="sideways")), "normals: must be"),
+            (json.dumps(equator(range(0, 360, 72), cone_edges=64)),
+             "cone_edges: contacts x cone_edges must be at most 256, got 5 x 64"),
+            (json.dumps(equator([0] * 65)), "contacts: holds more than 64 contacts"),
             (json.dumps(equator([0, 120], weight=3)), "weight: unknown field"),
             (json.dumps({"contacts": [{"position": [0, 0], "normal": [1, 0, 0]}]}),
              "contacts[0].position: must be an array of 3 numbers"),

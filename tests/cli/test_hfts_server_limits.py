@@ -4,6 +4,7 @@ the connection cap, the server-wide input budget, the read and idle
 timeouts, and memory given back after a flood of unfinished messages.
 Run by ctest with Debian's /usr/bin/python3; standard library only."""
 
+import math
 import os
 import socket
 import time
@@ -56,42 +57,57 @@ class ConnectionCap(ServerTest):
             return reply is not None and "result" in reply
 
 
-# Three contacts with 64 cone edges each: a 6-D hull of 192 wrenches that
-# takes seconds (about 2 s in a Release build; epsilon 0), where a grasp's
-# usual 3 x 8 take microseconds.
-SLOW_QUALITY = {"contacts": [{"position": [0.0017438739510555398, 0.002774101436863005, -0.009685739556643758], "normal": [0.39870276072233346, -0.2364231725488278, -0.8860813687660614]}, {"position": [-0.01271963264584821, 0.047369238703063254, 0.007185650007950226], "normal": [0.4156118834350019, -0.9047142887935933, -0.09358855699450222]}, {"position": [-0.006253206283417634, 0.04509974555770023, 0.029915904900800802], "normal": [-0.48512510236197376, -0.6466677490008256, -0.5886208095713993]}], "normals": "outward", "center": [0, 0, 0], "torque_scale": 0.05, "friction": 0.5, "cone_edges": 64}
+# Four contacts on a circle, 64 cone edges each, friction 100: the slowest
+# 6-D wrench hull of the 256 wrenches a request may have that we know of
+# (about 0.5 s and 650 k facets in a Release build), where a grasp's usual
+# 3 x 8 wrenches take microseconds.
+SLOW_QUALITY = {"contacts": [{"position": [0.05 * math.cos(a), 0.05 * math.sin(a), 0.0],
+                              "normal": [-math.cos(a), -math.sin(a), 0.0]}
+                             for a in (0.0, 0.5 * math.pi, math.pi, 1.5 * math.pi)],
+                "center": [0, 0, 0], "torque_scale": 0.05, "friction": 100, "cone_edges": 64}
 
 
 class SlowQuality(ServerTest):
-    OPTIONS = ("--workers", "1", "--queue", "1")
+    OPTIONS = ("--workers", "1", "--queue", "2")
 
-    def test_a_slow_grasp_quality_holds_up_no_other_connection(self):
+    def test_slow_grasp_quality_calls_hold_up_no_other_connection(self):
         with self.server.connect() as slow, self.server.connect() as other:
             began = time.monotonic()
-            slow.request("grasp.quality", SLOW_QUALITY, request_id=7)
-            time.sleep(0.2)  # it is being computed now
+            slow.request("grasp.quality", SLOW_QUALITY, request_id=0)
+            time.sleep(0.1)  # taken by the worker
+            for i in (1, 2):  # waiting: about 1.5 s of work in all
+                slow.request("grasp.quality", SLOW_QUALITY, request_id=i)
             self.assertIn("result", other.call("server.info"))
             waited = time.monotonic() - began
-            reply = slow.read()
+            replies = [slow.read() for _ in range(3)]
             total = time.monotonic() - began
-            self.assertEqual(reply["id"], 7)
-            self.assertEqual(reply["result"]["epsilon"], 0.0)
-            self.assertGreater(total, 0.5, "the slow input was not slow in this build")
-            # The server used to compute it on its I/O thread: server.info
-            # then came back only after the hull was done.
+            self.assertEqual(sorted(r["id"] for r in replies), [0, 1, 2])
+            for r in replies:
+                self.assertGreater(r["result"]["epsilon"], 60.0, r)
+            self.assertGreater(total, 0.75, "the slow input was not slow in this build")
+            # The server used to compute them on its I/O thread: server.info
+            # then came back only after the hulls were done.
             self.assertLess(waited, 0.5 * total)
 
     def test_calls_beyond_the_queue_are_busy_and_the_rest_answered(self):
         with self.server.connect() as c:
             c.request("grasp.quality", SLOW_QUALITY, request_id=0)
             time.sleep(0.2)  # taken by the worker: the queue is empty again
-            for i in (1, 2):
+            for i in (1, 2, 3):
                 c.request("grasp.quality", SLOW_QUALITY, request_id=i)
-            replies = {r["id"]: r for r in (c.read() for _ in range(3))}
-        # One computing, one waiting, the third refused at once.
-        self.assertError(replies[2], -32001, request_id=2, contains="grasp.quality calls are waiting")
-        for i in (0, 1):
-            self.assertEqual(replies[i]["result"]["epsilon"], 0.0, replies[i])
+            replies = {r["id"]: r for r in (c.read() for _ in range(4))}
+        # One computing, two waiting, the fourth refused at once.
+        self.assertError(replies[3], -32001, request_id=3, contains="grasp.quality calls are waiting")
+        for i in (0, 1, 2):
+            self.assertGreater(replies[i]["result"]["epsilon"], 60.0, replies[i])
+
+    def test_too_many_wrenches_are_refused_by_field(self):
+        with self.server.connect() as c:
+            reply = c.call("grasp.quality", dict(SLOW_QUALITY, cone_edges=65))
+            self.assertError(reply, -32602, field="cone_edges", request_id=1)
+            reply = c.call("grasp.quality", dict(SLOW_QUALITY, contacts=SLOW_QUALITY["contacts"] * 2))
+            self.assertError(reply, -32602, field="cone_edges", request_id=1,
+                             contains="contacts x cone_edges must be at most 256, got 8 x 64")
 
 
 class InputBudget(ServerTest):

@@ -204,6 +204,19 @@ TEST(GraspQuality, IncrementalHullAgreesWithQhullForUpTo64Wrenches) {
   EXPECT_GT(positive, 20);
 }
 
+// Beyond 64 wrenches (ridges keyed by 12-bit indices): fine cones and
+// many contacts, as a grasp.quality request may ask for.
+TEST(GraspQuality, IncrementalHullAgreesWithQhullBeyond64Wrenches) {
+  std::mt19937_64 rng(17);
+  int positive = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    GraspQualityRequest r = randomGrasp(3 + trial % 2, rng);
+    r.cone_edges = trial % 4 < 2 ? 24 : 32;  // 72 to 128 wrenches
+    positive += compareWithQhull(r, trial);
+  }
+  EXPECT_GT(positive, 2);
+}
+
 TEST(GraspQuality, DegenerateGraspsGiveZeroWithoutErrors) {
   // Four contacts in one plane: a well-defined, finite value.
   GraspQualityRequest planar = equator({0, 90, 180, 270});
@@ -234,6 +247,29 @@ TEST(GraspQuality, RejectsInvalidRequestsByField) {
   r.positions(1, 1) = std::nan("");
   EXPECT_THROW(graspQuality(r), std::invalid_argument);
   EXPECT_THROW(graspQuality(GraspQualityRequest{}), std::invalid_argument);
+  // The library takes any number of wrenches (the contact masks ask about
+  // hundreds of contacts); requests from outside are limited to
+  // kMaxQualityWrenches (grasp_quality_json).
+  r = equator({0, 72, 144, 216, 288});
+  r.cone_edges = 64;
+  EXPECT_GT(graspQuality(r).epsilon, 0.0);
+}
+
+// The slowest wrench sets of the largest size we know (contacts on a
+// circle, 64 edges, high friction) stay within the facet budget. Their
+// 64 edges include the 32 of the coarser cone, so epsilon cannot be
+// smaller.
+TEST(GraspQuality, TheWorstKnownLargeRequestsStayWithinTheHullBudget) {
+  for (const double mu : {10.0, 100.0}) {
+    GraspQualityRequest r = equator({0, 90, 180, 270});
+    r.friction = mu;
+    r.cone_edges = 32;
+    const double coarse = graspQuality(r).epsilon;
+    r.cone_edges = 64;
+    const double fine = graspQuality(r).epsilon;
+    EXPECT_GT(coarse, 0.5 * mu) << "mu " << mu;
+    EXPECT_GE(fine, coarse * (1 - 1e-12)) << "mu " << mu;
+  }
 }
 
 }  // namespace

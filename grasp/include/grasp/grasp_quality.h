@@ -11,6 +11,14 @@
 
 namespace hfts::grasp {
 
+/// Most wrenches (contacts x cone edges) a request from outside may have
+/// (graspQualityRequestFromJson: grasp.quality, hfts-quality; the library
+/// function takes any number). The cost of the 6-D hull grows steeply with
+/// them: 512 wrenches of contacts on a circle take about 2 s and 250 MB,
+/// 4096 over 2 min and 3.8 GB; at 256 the worst found is about 0.6 s
+/// (docs/grasp_quality.md).
+constexpr int kMaxQualityWrenches = 256;
+
 /// Which way the given contact normals point.
 enum class NormalDirection { kInward, kOutward };
 
@@ -24,7 +32,7 @@ struct GraspQualityRequest {
   double friction = 0.5;      ///< mu > 0
   int cone_edges = 8;         ///< K >= 3
   /// Use Qhull instead of the project's incremental hull (slower; for
-  /// cross-checks). Sets of more than 64 wrenches always use Qhull.
+  /// cross-checks).
   bool use_qhull = false;
 };
 
@@ -36,12 +44,14 @@ struct GraspQualityResult {
 
 /// Computes epsilon from the 6-D convex hull of the wrenches: the project's
 /// incremental hull, built only as far as the facet nearest the origin
-/// needs (Qhull for more than 64 wrenches or as a fallback). Degenerate wrench sets
+/// needs (Qhull as a fallback when rounding makes it inconsistent, or for
+/// more than 4096 wrenches, beyond what requests allow). Degenerate wrench sets
 /// (fewer than 7 wrenches, rank below 6, coplanar contacts that cannot
 /// resist every wrench, duplicates) give exactly 0 or the correct positive
 /// value, never an exception. Throws std::invalid_argument naming the field
-/// for mismatched sizes, no contacts, non-finite values, non-unit normals
-/// or parameters out of range.
+/// for mismatched sizes, no contacts, non-finite values, non-unit normals,
+/// parameters out of range, or a hull that would exceed its budget of
+/// 2^21 facets (about 400 MB; far beyond any request's need).
 GraspQualityResult graspQuality(const GraspQualityRequest& request);
 
 /// The K primitive wrenches of every contact (6 x K*n, column-major by
