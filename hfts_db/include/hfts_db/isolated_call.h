@@ -39,7 +39,10 @@ struct IsolationLimits {
 /// pipe and leaves with _exit; memory is the parent's, copied on write.
 /// Throws IsolatedCallError when `work` throws, when the child dies (the
 /// message names the signal) or when it has not finished within the time
-/// limit (it is then killed).
+/// limit (it is then killed). May be called from several threads at once
+/// (hfts-preprocess --jobs): the child has only the calling thread, and
+/// what it uses besides `work` (malloc, stdio) glibc keeps usable across
+/// fork; `work` must not wait for other threads.
 std::string runIsolated(const std::function<std::string()>& work, const IsolationLimits& limits);
 
 }  // namespace hfts
