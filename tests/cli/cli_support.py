@@ -6,6 +6,13 @@ import os
 import subprocess
 
 
+def sanitizer_slowdown():
+    """How much slower the programs run under the sanitizer of HFTS_SANITIZER
+    (scripts/sanitize.sh), as tests/support/plan_checks.h scales plan time."""
+    return {"address": 4.0, "thread": 10.0, "undefined": 2.0}.get(
+        os.environ.get("HFTS_SANITIZER", ""), 1.0)
+
+
 def run(binary, *args, check=None, timeout=240):
     """Runs `binary` with `args` (stdin closed, output captured); with
     `check`, asserts that it exits with that status."""

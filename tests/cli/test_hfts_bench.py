@@ -11,7 +11,7 @@ import sys
 import tempfile
 import unittest
 
-from cli_support import bench_options, build_databases, run
+from cli_support import bench_options, build_databases, run, sanitizer_slowdown
 
 BENCH = None
 PREPROCESS = None
@@ -68,7 +68,8 @@ class BenchCli(unittest.TestCase):
             self.assertIn(r["success"], ("0", "1"))
             success = r["success"] == "1"
             self.assertEqual(r["failure"] == "none", success, r)
-            self.assertLessEqual(float(r["time"]), TIME_LIMIT + 0.1, r)
+            # The planner stops within 0.1 s of its limit (slower under a sanitizer).
+            self.assertLessEqual(float(r["time"]), TIME_LIMIT + 0.1 * sanitizer_slowdown(), r)
             self.assertGreater(float(r["time"]), 0.0)
             gs, vgs, gns = int(r["gs"]), int(r["vgs"]), int(r["gns"])
             self.assertLessEqual(vgs, gs)

@@ -264,7 +264,7 @@ TEST(GraspMotionPlanner, MaskedGraspsNeverUseContactsAFingertipCannotTouch) {
 TEST(GraspMotionPlanner, GoalsWithoutAPathEndAtTheTimeLimit) {
   // Only goal sampling, no tree growth (p_g = 1): goals are found, no path.
   PlanRequest r = request("table", "mug", 1);
-  r.time_limit = 1.0;
+  r.time_limit = 1.0 * test::sanitizerSlowdown();
   r.parameters = {{"p_max", "1"}, {"p_min", "1"}};
   const PlanResult result = planGrasp(world(), r);
   EXPECT_EQ(result.failure, PlanFailure::kTimeLimit) << result.message;
