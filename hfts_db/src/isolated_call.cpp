@@ -61,7 +61,7 @@ std::size_t addressSpaceBytes() {
 }
 
 [[noreturn]] void runChild(const std::function<std::string()>& work, const IsolationLimits& limits,
-                           int fd) {
+                           pid_t parent, int fd) {
   // A crash in third-party code ends the child; no handler of the parent's
   // (a sanitizer's report, a fuzzer's crash file) runs for it.
   for (const int signal : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE})
@@ -72,8 +72,10 @@ std::size_t addressSpaceBytes() {
     ::setrlimit(RLIMIT_AS, &limit);
   }
   // Die with the parent: nobody would read the result or wait for us.
+  // (Compared with the parent's pid, not with 1: the parent may be init,
+  // e.g. a server that is a container's entry point.)
   ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-  if (::getppid() == 1) ::_exit(1);
+  if (::getppid() != parent) ::_exit(1);
   std::string out;
   try {
     out = kResult + work();
@@ -126,6 +128,7 @@ std::string runIsolated(const std::function<std::string()>& work, const Isolatio
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0)
     throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
     const int error = errno;
@@ -135,13 +138,13 @@ std::string runIsolated(const std::function<std::string()>& work, const Isolatio
   }
   if (pid == 0) {
     ::close(fds[0]);
-    runChild(work, limits, fds[1]);
+    runChild(work, limits, parent, fds[1]);
   }
   ::close(fds[1]);
 
   std::string bytes;
   const auto deadline = std::chrono::steady_clock::now() + limits.time;
-  bool timedOut = false;
+  bool timedOut = false, pollFailed = false;
   char buffer[1 << 16];
   for (;;) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
@@ -152,7 +155,10 @@ std::string runIsolated(const std::function<std::string()>& work, const Isolatio
     }
     pollfd p{fds[0], POLLIN, 0};
     const int ready = ::poll(&p, 1, static_cast<int>(std::min<long long>(left.count(), 1000)));
-    if (ready < 0 && errno != EINTR) break;
+    if (ready < 0 && errno != EINTR) {
+      pollFailed = true;
+      break;
+    }
     if (ready <= 0) continue;
     const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
     if (n < 0 && errno == EINTR) continue;
@@ -160,7 +166,7 @@ std::string runIsolated(const std::function<std::string()>& work, const Isolatio
     bytes.append(buffer, static_cast<std::size_t>(n));
   }
   ::close(fds[0]);
-  if (timedOut) ::kill(pid, SIGKILL);
+  if (timedOut || pollFailed) ::kill(pid, SIGKILL);  // waitpid must not wait for a hang
   const int status = waitForChild(pid);
 
   using Kind = IsolatedCallError::Kind;
