@@ -4,11 +4,11 @@
 // on some malformed PLY files, docs/reliability.md): the child's crash or
 // hang becomes an exception in the caller instead of ending the program.
 
-#include <chrono>
-#include <cstddef>
 #include <functional>
 #include <stdexcept>
 #include <string>
+
+#include "hfts_db/isolation_limits.h"
 
 namespace hfts {
 
@@ -25,14 +25,6 @@ class IsolatedCallError : public std::runtime_error {
   Kind kind_;
 };
 
-/// What the child may use.
-struct IsolationLimits {
-  std::chrono::milliseconds time{60'000};  ///< wall time; the child is killed beyond it
-  /// Address space the child may add to what it inherits (RLIMIT_AS); 0:
-  /// no limit. Beyond it allocations fail (std::bad_alloc in `work`).
-  std::size_t extra_memory_bytes = 0;
-};
-
 /// Calls `work` in a forked child and returns the bytes it returned. The
 /// child only runs `work` (with the default action for crash signals, so a
 /// crash ends it silently, even under a sanitizer), writes the result to a
@@ -42,7 +34,9 @@ struct IsolationLimits {
 /// limit (it is then killed). May be called from several threads at once
 /// (hfts-preprocess --jobs): the child has only the calling thread, and
 /// what it uses besides `work` (malloc, stdio) glibc keeps usable across
-/// fork; `work` must not wait for other threads.
+/// fork; `work` must not wait for other threads. Exception: in a GCC
+/// AddressSanitizer build (whose allocator is not fork-safe) a process with
+/// several threads runs `work` in place, without the isolation.
 std::string runIsolated(const std::function<std::string()>& work, const IsolationLimits& limits);
 
 }  // namespace hfts

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "hfts_db/isolated_call.h"
+#include "hfts_db/isolation_limits.h"
 
 namespace hfts {
 
