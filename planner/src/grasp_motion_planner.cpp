@@ -317,6 +317,8 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
   Eigen::VectorXd start = startOf(world.robot(), request);
   if (!(request.time_limit >= 0.0) || !std::isfinite(request.time_limit))
     throw InvalidArgument("time_limit", "must be a finite number >= 0");
+  if (!(request.trajectory_rate >= 0.0 && request.trajectory_rate <= kMaxTrajectoryRate))
+    throw InvalidArgument("trajectory_rate", "must be in [0, 1000] (samples per second)");
   const std::string name = request.object.empty() ? request.scene.target_object : request.object;
   const db::ObjectDatabase* object = world.object(name);
   if (object == nullptr)
@@ -341,6 +343,10 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
   result.path = std::move(found.path);
   result.path.push_back(found.goal.grasp);
   result.grasp = describeGrasp(world.robot(), found.goal, problem.scene.target_pose);
+  if (request.trajectory_rate > 0.0 && world.robot().maxAccelerations().size() > 0)
+    result.trajectory = graspTrajectory(result.path, problem.checker,
+                                        problem.parameters.planner->smoothing().final_resolution,
+                                        request.trajectory_rate);
   return result;
 }
 

@@ -76,6 +76,7 @@ class ConfigReader {
   ConfigReader(const json& root, std::string what, std::string prefix = {})
       : root_(root), what_(std::move(what)), prefix_(std::move(prefix)) {}
 
+  bool has(const char* key) const { return root_.contains(key); }
   const json& at(const char* key) const {
     if (!root_.contains(key)) failAt(key, "is required");
     return root_.at(key);
@@ -244,6 +245,13 @@ class RobotModelBuilder {
       model_.velocity_(d) = joint->limits->velocity;
       if (!(model_.lower_(d) < model_.upper_(d)))
         config_.fail("joint '" + name + "' has an empty range");
+      if (!(model_.velocity_(d) > 0.0) || !std::isfinite(model_.velocity_(d)))
+        config_.fail("joint '" + name + "' needs a positive velocity limit");
+    }
+    if (config_.has("max_accelerations")) {
+      model_.acceleration_ = config_.numbers("max_accelerations", n);
+      if ((model_.acceleration_.array() <= 0).any())
+        config_.failAt("max_accelerations", "must be positive");
     }
     model_.weights_ = config_.numbers("dof_weights", n);
     if ((model_.weights_.array() <= 0).any()) config_.failAt("dof_weights", "must be positive");

@@ -99,7 +99,7 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
                                          const PlanLimits& limits) {
   const JsonFields f(params, "");
   f.allowOnly({"scene", "object", "object_pose", "start", "time_limit", "algorithm", "iterations",
-               "seed", "parameters"});
+               "seed", "parameters", "trajectory_rate"});
   planner::PlanRequest r;
   r.scene = sceneOf(f, catalog);
   r.object = objectOf(f, catalog, r.scene);
@@ -120,6 +120,11 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
     r.iterations = f.positiveInt("iterations");
   }
   if (f.has("seed")) r.seed = f.unsignedInteger("seed");
+  if (f.has("trajectory_rate")) {
+    r.trajectory_rate = f.finite("trajectory_rate");
+    if (!(r.trajectory_rate >= 0.0 && r.trajectory_rate <= planner::kMaxTrajectoryRate))
+      f.fail("trajectory_rate", "must be in [0, 1000] samples per second (0: no trajectory)");
+  }
   if (f.has("parameters")) {
     r.parameters = parametersOf(f, catalog);
     // Numbers and numeric text alike (planGrasp reads both); other text is

@@ -34,6 +34,22 @@ json graspJson(const planner::PlannedGrasp& g, const std::vector<std::string>& j
           {"hand_configuration", vectorJson(g.hand_configuration)}};
 }
 
+/// Shaped like a ROS trajectory_msgs/JointTrajectory (time_from_start in
+/// seconds), with the phases' times.
+json trajectoryJson(const planner::GraspTrajectory& t, const std::vector<std::string>& jointNames) {
+  json points = json::array();
+  for (const planner::TrajectoryPoint& p : t.points)
+    points.push_back({{"positions", vectorJson(p.positions)},
+                      {"velocities", vectorJson(p.velocities)},
+                      {"accelerations", vectorJson(p.accelerations)},
+                      {"time_from_start", p.time}});
+  return {{"joint_names", jointNames},
+          {"points", std::move(points)},
+          {"duration", t.duration},
+          {"closing_start", t.closing_start},
+          {"deviation", t.deviation}};
+}
+
 json statsJson(const planner::PlanStatistics& s) {
   json out = json::object();
   planner::forEachStatistic(s, [&out](const char* name, auto value) { out[name] = value; });
@@ -59,6 +75,9 @@ json planResultToJson(const planner::PlanResult& result, const planner::PlanRequ
           {"joint_names", result.joint_names},
           {"path", std::move(path)},
           {"grasp", result.success ? graspJson(result.grasp, result.joint_names) : json()},
+          {"trajectory", result.trajectory.points.empty()
+                             ? json()
+                             : trajectoryJson(result.trajectory, result.joint_names)},
           {"stats", statsJson(result.stats)}};
 }
 

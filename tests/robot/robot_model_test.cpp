@@ -20,6 +20,9 @@ TEST(RobotModel, Kr5SdhHas13ActuatedDofInConfigOrder) {
   EXPECT_NEAR(m.lowerLimits()(0), -170.0 * M_PI / 180.0, 1e-9);
   EXPECT_NEAR(m.upperLimits()(5), 358.0 * M_PI / 180.0, 1e-9);
   EXPECT_NEAR(m.maxVelocities()(0), 375.0 * M_PI / 180.0, 1e-9);
+  ASSERT_EQ(m.maxAccelerations().size(), 13);
+  EXPECT_DOUBLE_EQ(m.maxAccelerations()(0), 8.0);
+  EXPECT_DOUBLE_EQ(m.maxAccelerations()(12), 5.0);
   EXPECT_DOUBLE_EQ(m.dofWeights()(0), 1.0);
   EXPECT_DOUBLE_EQ(m.dofWeights()(12), 0.25);
   EXPECT_TRUE(m.withinLimits(m.home()));
@@ -94,6 +97,15 @@ TEST(RobotModel, ConfigThatDoesNotMatchTheUrdfGivesClearErrors) {
   config = s.config;
   replaceOnce(config, "\"pregrasp_offset\": 0.1,", "");
   expectModelError(s.urdf, config, "robot 'x': pregrasp_offset: is required");
+  config = s.config;
+  replaceOnce(config, "\"max_accelerations\": [8,", "\"max_accelerations\": [0,");
+  expectModelError(s.urdf, config, "robot 'x': max_accelerations: must be positive");
+  config = s.config;
+  replaceOnce(config, "\"max_accelerations\": [8,", "\"max_accelerations\": [");
+  expectModelError(s.urdf, config, "robot 'x': max_accelerations: ");
+  std::string slow = s.urdf;
+  replaceOnce(slow, "velocity=\"6.544984694978735\"", "velocity=\"0\"");
+  expectModelError(slow, s.config, "joint 'a1' needs a positive velocity limit");
   config = s.config;
   replaceOnce(config, "\"home\": [0,", "\"home\": [9,");
   expectModelError(s.urdf, config, "robot 'x': home: value 9");

@@ -55,6 +55,7 @@ TEST(PlanRequestJson, MapsEveryField) {
              {"algorithm", "decoupled"},
              {"iterations", 60},
              {"seed", 18446744073709551615u},
+             {"trajectory_rate", 250},
              {"parameters", {{"p_max", 0.8}, {"kappa", 3}, {"step_size", "0.2"}}}});
   EXPECT_EQ(r.object, "bottle");
   ASSERT_TRUE(r.object_pose.has_value());
@@ -68,6 +69,7 @@ TEST(PlanRequestJson, MapsEveryField) {
   EXPECT_EQ(r.algorithm, planner::PlanAlgorithm::kDecoupled);
   EXPECT_EQ(r.iterations, 60);
   EXPECT_EQ(r.seed, 18446744073709551615u);
+  EXPECT_EQ(r.trajectory_rate, 250.0);
   EXPECT_EQ(r.parameters, (std::map<std::string, std::string>{
                               {"kappa", "3"}, {"p_max", "0.8"}, {"step_size", "0.2"}}));
 }
@@ -142,6 +144,9 @@ TEST(PlanRequestJson, RejectsBadNumbersAndShapes) {
                  ">= 1");
   expectRejected({{"scene", "bin"}, {"iterations", 20}}, "iterations", "only the decoupled");
   expectRejected({{"scene", "bin"}, {"algorithm", 2}}, "algorithm", "string");
+  expectRejected({{"scene", "bin"}, {"trajectory_rate", -1}}, "trajectory_rate", "[0, 1000]");
+  expectRejected({{"scene", "bin"}, {"trajectory_rate", 1e4}}, "trajectory_rate", "[0, 1000]");
+  expectRejected({{"scene", "bin"}, {"trajectory_rate", "100"}}, "trajectory_rate", "number");
   expectRejected({{"scene", "bin"}, {"parameters", {{"p_max", true}}}}, "parameters.p_max",
                  "number or a string");
   expectRejected(json::array(), "params", "must be an object");

@@ -93,6 +93,25 @@ TEST(PlanResultJson, EchoesTheRequestAndStatistics) {
   EXPECT_EQ(j.at("stats").at("rejected_colliding"), 0);
 }
 
+TEST(PlanResultJson, TheTrajectoryIsShapedLikeARosJointTrajectory) {
+  planner::PlanResult r = success();
+  const robot::RobotModel& robot = test::kr5Sdh();
+  const planner::TimeOptimalTrajectory t({r.path[0], r.path[1]}, robot.maxVelocities(),
+                                         robot.maxAccelerations());
+  r.trajectory.points = t.sample(50);
+  r.trajectory.duration = r.trajectory.closing_start = t.duration();
+  const json j = planResultToJson(r, request()).at("trajectory");
+  EXPECT_EQ(j.at("joint_names"), robot.dofNames());
+  ASSERT_EQ(j.at("points").size(), r.trajectory.points.size());
+  const json& last = j.at("points").back();
+  EXPECT_DOUBLE_EQ(last.at("time_from_start").get<double>(), t.duration());
+  for (const char* field : {"positions", "velocities", "accelerations"})
+    EXPECT_EQ(last.at(field).size(), 13u) << field;
+  EXPECT_DOUBLE_EQ(last.at("positions")[1].get<double>(), r.path[1][1]);
+  EXPECT_DOUBLE_EQ(j.at("duration").get<double>(), t.duration());
+  EXPECT_TRUE(planResultToJson(success(), request()).at("trajectory").is_null());
+}
+
 TEST(PlanResultJson, AFailureHasAReasonAndNoGrasp) {
   planner::PlanResult failed;
   failed.failure = planner::PlanFailure::kStartInCollision;

@@ -74,6 +74,20 @@ inline std::string sceneObjectName(const ::testing::TestParamInfo<SceneObject>& 
   return std::string(param.param.scene) + "_" + param.param.object;
 }
 
+/// The scene a plan was made in: the request's, with the object planned
+/// for where it was (the request's pose, else the scene's target pose, put
+/// on its support when it rests on one).
+inline robot::Scene plannedScene(const planner::PlanningWorld& world,
+                                 const planner::PlanRequest& request) {
+  const std::string name = request.object.empty() ? request.scene.target_object : request.object;
+  robot::Scene scene = request.scene;
+  scene.target_object = name;
+  scene.target_pose = request.object_pose
+                          ? *request.object_pose
+                          : robot::targetPose(scene, world.object(name)->geometry.mesh_vertices);
+  return scene;
+}
+
 /// A fresh collision checker at `resolution` (the planner promises its
 /// final resolution; a graze shallower than a sample step can hide between
 /// samples at any resolution, see docs/planning.md), the start, the joint
@@ -88,14 +102,8 @@ inline void expectValidPlan(const planner::PlanningWorld& world,
   using namespace planner;
   ASSERT_TRUE(result.success) << result.message;
   const RobotModel& robot = world.robot();
-  const std::string name = request.object.empty() ? request.scene.target_object : request.object;
-  const db::ObjectDatabase& object = *world.object(name);
-  Scene scene = request.scene;
-  scene.target_object = name;
-  // Where the object was: the request's pose, else the scene's target pose
-  // (put on its support when it rests on one).
-  scene.target_pose =
-      request.object_pose ? *request.object_pose : targetPose(scene, object.geometry.mesh_vertices);
+  const Scene scene = plannedScene(world, request);
+  const db::ObjectDatabase& object = *world.object(scene.target_object);
   EXPECT_TRUE(result.object_pose.isApprox(scene.target_pose, 1e-12));
   CollisionChecker checker(robot, scene, &object.geometry);
   ASSERT_GE(result.path.size(), 2u);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "grasp/hfts_space.h"
+#include "planner/grasp_trajectory.h"
 #include "planner/plan_statistics.h"
 #include "planner/planning_world.h"
 #include "robot/scene.h"
@@ -43,7 +44,12 @@ struct PlanRequest {
   /// Any declared planner parameter by name (see plannerParameters()),
   /// value as text, e.g. {"p_max", "0.8"}.
   std::map<std::string, std::string> parameters;
+  /// Samples per second of the result's trajectory, 0 .. kMaxTrajectoryRate;
+  /// 0: none (nor when the robot config has no max_accelerations).
+  double trajectory_rate = 100.0;
 };
+
+inline constexpr double kMaxTrajectoryRate = 1000.0;
 
 enum class PlanFailure {
   kNone,
@@ -89,6 +95,10 @@ struct PlanResult {
   /// target pose (resting on its support when the scene says so).
   Eigen::Isometry3d object_pose = Eigen::Isometry3d::Identity();
   PlannedGrasp grasp;
+  /// The path as a time-optimal trajectory (grasp_trajectory.h): empty
+  /// points when not asked for, when the robot has no acceleration limits,
+  /// or (never seen) when no collision-free one was found.
+  GraspTrajectory trajectory;
   PlanStatistics stats;
   /// The seed of the search this result is from: the request's, or with
   /// racing (parameter `threads` > 1) the winning copy's. A request with

@@ -82,6 +82,9 @@ class RobotModel {
   const Eigen::VectorXd& lowerLimits() const { return lower_; }
   const Eigen::VectorXd& upperLimits() const { return upper_; }
   const Eigen::VectorXd& maxVelocities() const { return velocity_; }
+  /// Joint acceleration limits (rad/s^2) from the config's optional
+  /// `max_accelerations`; empty when it has none (then no trajectories).
+  const Eigen::VectorXd& maxAccelerations() const { return acceleration_; }
   const Eigen::VectorXd& dofWeights() const { return weights_; }
   const Eigen::VectorXd& home() const { return home_; }
   /// The hand's open posture (hand DoF only) and the pre-grasp opening (rad).
@@ -123,7 +126,7 @@ class RobotModel {
   std::string name_;
   std::vector<std::string> dof_names_;
   int num_arm_dofs_ = 0;
-  Eigen::VectorXd lower_, upper_, velocity_, weights_, home_, hand_open_;
+  Eigen::VectorXd lower_, upper_, velocity_, acceleration_, weights_, home_, hand_open_;
   double pregrasp_offset_ = 0.0;
   std::vector<Link> links_;
   std::vector<Joint> joints_;

@@ -1,0 +1,78 @@
+#include "planner/grasp_trajectory.h"
+
+#include <cmath>
+
+#include "hfts_db/invalid_argument.h"
+
+namespace hfts::planner {
+namespace {
+
+/// Blends tighter by this factor each time one collides; below the
+/// smallest, the exact path.
+constexpr double kTighten = 4.0;
+constexpr int kTightenings = 3;
+
+/// True when every sample and the chord to the next is free.
+bool free(const std::vector<TrajectoryPoint>& points, robot::CollisionChecker& checker,
+          double resolution, bool allowFingertipContact) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::VectorXd& q = points[i].positions;
+    if (i == 0
+            ? (allowFingertipContact ? checker.inCollisionAllowingFingertipContact(q)
+                                     : checker.inCollision(q))
+            : !checker.isMotionValid(points[i - 1].positions, q, resolution, allowFingertipContact))
+      return false;
+  }
+  return true;
+}
+
+/// The samples of `t` at `rate` from `offset` on (its first skipped when
+/// `skipFirst`), times shifted by `offset`.
+void append(const TimeOptimalTrajectory& t, double rate, double offset, bool skipFirst,
+            std::vector<TrajectoryPoint>& out) {
+  std::vector<TrajectoryPoint> samples = t.sample(rate);
+  for (std::size_t i = skipFirst ? 1 : 0; i < samples.size(); ++i) {
+    samples[i].time += offset;
+    out.push_back(std::move(samples[i]));
+  }
+}
+
+}  // namespace
+
+GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
+                                robot::CollisionChecker& checker, double resolution, double rate,
+                                double maxDeviation) {
+  const robot::RobotModel& model = checker.model();
+  if (!(rate > 0.0) || !std::isfinite(rate))
+    throw InvalidArgument("trajectory_rate", "must be positive and finite");
+  if (path.size() < 2) throw InvalidArgument("path", "needs a pre-grasp and a grasp");
+  if (model.maxAccelerations().size() == 0)
+    throw robot::ModelError("robot '" + model.name() +
+                            "' has no max_accelerations in its config: trajectories need them");
+  const Eigen::VectorXd& v = model.maxVelocities();
+  const Eigen::VectorXd& a = model.maxAccelerations();
+  const std::vector<Eigen::VectorXd> approach(path.begin(), path.end() - 1);
+  TrajectoryOptions exact;
+  exact.max_deviation = 0.0;
+  const TimeOptimalTrajectory closing({path[path.size() - 2], path.back()}, v, a, exact);
+  std::vector<TrajectoryPoint> closingSamples = closing.sample(rate);
+  if (!free(closingSamples, checker, resolution, true)) return {};
+
+  TrajectoryOptions options;
+  for (int attempt = 0; attempt <= kTightenings + 1; ++attempt) {
+    options.max_deviation =
+        attempt > kTightenings ? 0.0 : maxDeviation / std::pow(kTighten, attempt);
+    const TimeOptimalTrajectory moving(approach, v, a, options);
+    GraspTrajectory out;
+    append(moving, rate, 0.0, false, out.points);
+    if (!free(out.points, checker, resolution, false)) continue;
+    out.closing_start = moving.duration();
+    out.duration = moving.duration() + closing.duration();
+    out.deviation = moving.deviation();
+    append(closing, rate, out.closing_start, true, out.points);
+    return out;
+  }
+  return {};
+}
+
+}  // namespace hfts::planner
