@@ -139,7 +139,7 @@ class HftsClient:
     def plan(self, scene, **options):
         """Plans a grasp and a path. scene: a scene name or an inline scene (dict);
         options: object, object_pose, start, time_limit, algorithm, iterations, seed,
-        parameters (docs/protocol.md)."""
+        parameters, trajectory_rate (docs/protocol.md)."""
         return self.call("plan", plan_params(scene, **options))
 
     def plan_async(self, scene, **options):

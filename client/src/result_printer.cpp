@@ -5,6 +5,9 @@
 #include <iomanip>
 #include <ostream>
 #include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace hfts::client {
 
@@ -108,12 +111,31 @@ void printPlan(const json& plan, std::ostream& out) {
     out << "path: " << plan.at("path").size() << " waypoints (start ... pre-grasp, grasp), length "
         << stats.at("path_length_smoothed").get<double>() << " (Eq. 3 metric; "
         << stats.at("path_length_raw").get<double>() << " before smoothing)\n";
+    if (const json& t = plan.value("trajectory", json()); t.is_object())
+      out << "trajectory: " << t.at("duration").get<double>() << " s, " << t.at("points").size()
+          << " points, the hand closes from " << t.at("closing_start").get<double>() << " s\n";
   } else {
     out << "plan: no plan, " << plan.at("reason").get<std::string>() << ": "
         << plan.at("message").get<std::string>() << " (" << what << ") after "
         << stats.at("planning_time").get<double>() << " s\n";
   }
   printStats(stats, out);
+}
+
+void writeTrajectoryCsv(const json& plan, std::ostream& out) {
+  const json& t = plan.value("trajectory", json());
+  if (!t.is_object()) throw std::runtime_error("the plan has no trajectory");
+  const auto names = t.at("joint_names").get<std::vector<std::string>>();
+  out << "time_from_start";
+  for (const char* suffix : {"", "_velocity", "_acceleration"})
+    for (const std::string& name : names) out << "," << name << suffix;
+  out << "\n" << std::setprecision(17);
+  for (const json& p : t.at("points")) {
+    out << p.at("time_from_start").get<double>();
+    for (const char* field : {"positions", "velocities", "accelerations"})
+      for (const json& v : p.at(field)) out << "," << v.get<double>();
+    out << "\n";
+  }
 }
 
 void printQuality(const json& quality, std::ostream& out) {

@@ -17,5 +17,9 @@ void printScenes(const nlohmann::json& scenes, std::ostream& out);
 /// (waypoints, length), timing and statistics.
 void printPlan(const nlohmann::json& plan, std::ostream& out);
 void printQuality(const nlohmann::json& quality, std::ostream& out);
+/// A plan's trajectory as CSV: a header time_from_start, the joint names
+/// (positions), <joint>_velocity and <joint>_acceleration for each, then
+/// one row per point. Throws std::runtime_error when the plan has none.
+void writeTrajectoryCsv(const nlohmann::json& plan, std::ostream& out);
 
 }  // namespace hfts::client

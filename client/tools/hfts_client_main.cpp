@@ -1,10 +1,10 @@
 // hfts-client: the planning service from the command line (docs/protocol.md).
 // Subcommands info, objects, scenes, plan, quality, shutdown. Prints a
 // human-readable summary, or the raw result with --json; --out FILE saves
-// the result (JSON); --retries N connects and sends again when the
-// connection fails before the answer (a balancer's instance died). Exit
-// codes: 0 done, 1 the server or the connection failed (message on
-// standard error), 3 the plan found no solution.
+// the result (JSON), plan --trajectory-csv FILE its trajectory; --retries N connects and sends
+// again when the connection fails before the answer (a balancer's instance died). Exit codes: 0
+// done, 1 the server or the connection failed (message on standard error), 3 the plan found no
+// solution.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -32,7 +32,8 @@ struct PlanOptions {
   std::string scene, scene_file, object, algorithm;
   std::vector<double> object_pose, start;
   std::vector<std::string> parameters;
-  double time_limit = 0.0;
+  double time_limit = 0.0, trajectory_rate = 0.0;
+  std::string trajectory_csv;
   int iterations = 0;
   std::uint64_t seed = 1;
 };
@@ -82,6 +83,7 @@ json planParams(const PlanOptions& p, const CLI::App& cmd) {
   if (cmd.count("--time-limit")) params["time_limit"] = p.time_limit;
   if (!p.algorithm.empty()) params["algorithm"] = p.algorithm;
   if (cmd.count("--iterations")) params["iterations"] = p.iterations;
+  if (cmd.count("--trajectory-rate")) params["trajectory_rate"] = p.trajectory_rate;
   if (!p.parameters.empty()) {
     params["parameters"] = json::object();
     for (const std::string& a : p.parameters) addParameter(params["parameters"], a);
@@ -105,6 +107,10 @@ void addPlanOptions(CLI::App& cmd, PlanOptions& p) {
   cmd.add_option("--iterations", p.iterations, "Decoupled: iterations per level");
   cmd.add_option("--seed", p.seed, "Random seed")->capture_default_str();
   cmd.add_option("--param", p.parameters, "Planner parameter NAME=VALUE (repeatable)");
+  cmd.add_option("--trajectory-rate", p.trajectory_rate,
+                 "Trajectory samples per second (server default 100; 0: none)");
+  cmd.add_option("--trajectory-csv", p.trajectory_csv, "Write the plan's trajectory as CSV to FILE")
+      ->type_name("FILE");
 }
 
 int output(const Options& o, const std::string& method, const json& result) {
@@ -181,7 +187,14 @@ int main(int argc, char** argv) {
                 << o.retries + 1 << ")\n";
     };
     hfts::client::RpcClient client(o.host, o.port, retry);
-    return output(o, method, client.call(method, params));
+    const json result = client.call(method, params);
+    const int status = output(o, method, result);
+    if (command == "plan" && !plan.trajectory_csv.empty() && status == 0) {
+      std::ostringstream csv;
+      hfts::client::writeTrajectoryCsv(result, csv);
+      hfts::db::writeFileAtomically(plan.trajectory_csv, csv.str());
+    }
+    return status;
   } catch (const hfts::client::RpcCallError& e) {
     std::cerr << "hfts-client: " << method << " failed: " << e.what() << " (error " << e.code()
               << ")\n";

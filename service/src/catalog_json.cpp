@@ -46,6 +46,8 @@ json robotJson(const robot::RobotModel& robot) {
           {"hand_joint_names", std::vector<std::string>(arm, names.end())},
           {"lower_limits", vectorJson(robot.lowerLimits())},
           {"upper_limits", vectorJson(robot.upperLimits())},
+          {"max_velocities", vectorJson(robot.maxVelocities())},
+          {"max_accelerations", vectorJson(robot.maxAccelerations())},
           {"home", vectorJson(robot.home())},
           {"fingertips", std::move(tips)}};
 }

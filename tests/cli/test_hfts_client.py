@@ -102,6 +102,32 @@ class CommandLine(ClientTest):
         self.assertTrue(plan["success"], plan["message"])
         self.assertEqual(plan["path"][0], [float(v) for v in start.split(",")])
 
+    def test_the_trajectory_is_printed_and_written_as_csv(self):
+        csv_path = os.path.join(self.tmp, "trajectory.csv")
+        text = self.ok("plan", "--scene", "bin", "--seed", "1", "--time-limit", "20",
+                       "--trajectory-rate", "50", "--trajectory-csv", csv_path)
+        self.assertRegex(text, r"\ntrajectory: [\d.]+ s, \d+ points, the hand closes from [\d.]+ s")
+        with open(csv_path) as f:
+            rows = [line.rstrip("\n").split(",") for line in f]
+        header, values = rows[0], [[float(v) for v in row] for row in rows[1:]]
+        joints = json.loads(self.ok("--json", "info"))["robot"]["joint_names"]
+        self.assertEqual(header, ["time_from_start"] + joints + [j + "_velocity" for j in joints]
+                         + [j + "_acceleration" for j in joints])
+        self.assertGreater(len(values), 10)
+        times = [row[0] for row in values]
+        self.assertEqual(times[0], 0.0)
+        self.assertTrue(all(b > a and b - a <= 1 / 50 + 1e-9 for a, b in zip(times, times[1:])))
+        n = len(joints)
+        for row in (values[0], values[-1]):  # at rest at both ends
+            self.assertEqual(row[1 + n:1 + 2 * n], [0.0] * n)
+        # Same plan, same trajectory: the Python client gets the points the CSV holds.
+        with hfts_client.HftsClient(self.server.host, self.server.port, timeout=120) as c:
+            plan = c.plan("bin", seed=1, time_limit=20, trajectory_rate=50)
+        points = plan["trajectory"]["points"]
+        self.assertEqual(len(points), len(values))
+        self.assertEqual(points[-1]["positions"], values[-1][1:1 + n])
+        self.assertEqual(points[-1]["time_from_start"], plan["trajectory"]["duration"])
+
     def test_an_inline_scene_file(self):
         scene = os.path.join(self.tmp, "my_bin.json")
         with open(os.path.join(CONFIG.source_dir, "objects", "scenes", "bin.json")) as f:
