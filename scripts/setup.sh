@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Installs every Debian 12 package the project builds, tests and runs with.
-# Idempotent: packages already present are left alone and apt is only
-# touched when something is missing. Needs root (or sudo) when it installs.
+# Installs every Debian 12 package the project builds, tests and runs with,
+# then the viewer's npm packages (viewer/package-lock.json) into
+# viewer/node_modules. Idempotent: packages already present are left alone,
+# apt and npm are only touched when something is missing. Needs root (or
+# sudo) when it installs Debian packages.
 set -euo pipefail
 
 PACKAGES=(
@@ -18,16 +20,33 @@ PACKAGES=(
   clang libclang-rt-14-dev haproxy
   # Python tooling (runs under /usr/bin/python3)
   python3 python3-numpy python3-h5py python3-matplotlib
+  # the viewer's tooling: the glTF validator (npm; Debian's npm package
+  # is added below unless the nodejs installed already brings npm)
+  nodejs
 )
+
+# npm packages at the versions of viewer/package-lock.json, unless present.
+install_npm_packages() {
+  local viewer
+  viewer="$(cd "$(dirname "$0")/.." && pwd)/viewer"
+  if [[ -f "$viewer/node_modules/.package-lock.json" &&
+        ! "$viewer/package-lock.json" -nt "$viewer/node_modules/.package-lock.json" ]]; then
+    return 0
+  fi
+  echo "setup: installing the viewer's npm packages"
+  (cd "$viewer" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+}
 
 missing=()
 for pkg in "${PACKAGES[@]}"; do
   status=$(dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null || true)
   [[ "$status" == "install ok installed" ]] || missing+=("$pkg")
 done
+command -v npm >/dev/null || missing+=(npm)
 
 if [[ ${#missing[@]} -eq 0 ]]; then
   echo "setup: all ${#PACKAGES[@]} packages present"
+  install_npm_packages
   exit 0
 fi
 
@@ -41,4 +60,5 @@ echo "setup: installing ${#missing[@]} packages: ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 "${SUDO[@]}" apt-get update -qq
 "${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+install_npm_packages
 echo "setup: done"

@@ -14,6 +14,7 @@
 
 #include "client/rpc_client.h"
 #include "hfts_db/atomic_file.h"
+#include "hfts_db/base64.h"
 #include "result_printer.h"
 
 namespace {
@@ -33,7 +34,7 @@ struct PlanOptions {
   std::vector<double> object_pose, start;
   std::vector<std::string> parameters;
   double time_limit = 0.0, trajectory_rate = 0.0;
-  std::string trajectory_csv;
+  std::string trajectory_csv, gltf;
   int iterations = 0;
   std::uint64_t seed = 1;
 };
@@ -84,6 +85,7 @@ json planParams(const PlanOptions& p, const CLI::App& cmd) {
   if (!p.algorithm.empty()) params["algorithm"] = p.algorithm;
   if (cmd.count("--iterations")) params["iterations"] = p.iterations;
   if (cmd.count("--trajectory-rate")) params["trajectory_rate"] = p.trajectory_rate;
+  if (!p.gltf.empty()) params["gltf"] = true;
   if (!p.parameters.empty()) {
     params["parameters"] = json::object();
     for (const std::string& a : p.parameters) addParameter(params["parameters"], a);
@@ -110,6 +112,8 @@ void addPlanOptions(CLI::App& cmd, PlanOptions& p) {
   cmd.add_option("--trajectory-rate", p.trajectory_rate,
                  "Trajectory samples per second (server default 100; 0: none)");
   cmd.add_option("--trajectory-csv", p.trajectory_csv, "Write the plan's trajectory as CSV to FILE")
+      ->type_name("FILE");
+  cmd.add_option("--gltf", p.gltf, "Write the plan as an animated binary glTF to FILE (.glb)")
       ->type_name("FILE");
 }
 
@@ -193,6 +197,12 @@ int main(int argc, char** argv) {
       std::ostringstream csv;
       hfts::client::writeTrajectoryCsv(result, csv);
       hfts::db::writeFileAtomically(plan.trajectory_csv, csv.str());
+    }
+    if (command == "plan" && !plan.gltf.empty() && status == 0) {
+      if (!result.contains("gltf"))
+        throw std::runtime_error("the plan has no trajectory to animate");
+      hfts::db::writeFileAtomically(
+          plan.gltf, hfts::db::base64Decode(result.at("gltf").get<std::string>(), "gltf"));
     }
     return status;
   } catch (const hfts::client::RpcCallError& e) {

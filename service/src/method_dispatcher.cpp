@@ -2,6 +2,7 @@
 
 #include <thread>
 
+#include "hfts_db/base64.h"
 #include "json_fields.h"
 #include "service/catalog_json.h"
 #include "service/plan_result_json.h"
@@ -185,14 +186,15 @@ MethodDispatcher::Outcome MethodDispatcher::runQuality(const PlanningCatalog& ca
 void MethodDispatcher::plan(const Call& call, const Caller& caller, const Finish& finish) {
   auto request = std::make_shared<const planner::PlanRequest>(
       planRequestFromJson(call.params, *catalog_, limits_));
+  const bool gltf = planWantsGltf(call.params);
   auto flag = std::make_shared<std::atomic<bool>>(false);
   const std::string key = call.id.dump();
   Finish done = [plans = caller.plans, key, flag, finish](Outcome o) {
     plans->remove(key, flag);
     finish(std::move(o));
   };
-  auto job = [catalog = catalog_, request, flag, done, post = post_] {
-    auto outcome = std::make_shared<Outcome>(runPlan(*catalog, *request, *flag));
+  auto job = [catalog = catalog_, request, flag, done, post = post_, gltf] {
+    auto outcome = std::make_shared<Outcome>(runPlan(*catalog, *request, *flag, gltf));
     post([done, outcome] { done(std::move(*outcome)); });
   };
   if (!pool_.trySubmit(flag, std::move(job)))
@@ -204,7 +206,7 @@ void MethodDispatcher::plan(const Call& call, const Caller& caller, const Finish
 
 MethodDispatcher::Outcome MethodDispatcher::runPlan(const PlanningCatalog& catalog,
                                                     const planner::PlanRequest& request,
-                                                    const std::atomic<bool>& cancel) {
+                                                    const std::atomic<bool>& cancel, bool gltf) {
   try {
     planner::PlanResult result;
     if (cancel.load()) {  // cancelled while queued: no need to set anything up
@@ -214,7 +216,10 @@ MethodDispatcher::Outcome MethodDispatcher::runPlan(const PlanningCatalog& catal
     } else {
       result = planner::planGrasp(catalog.world(), request, &cancel);
     }
-    return {planResultToJson(result, request), std::nullopt,
+    json out = planResultToJson(result, request);
+    if (gltf && !result.trajectory.points.empty())
+      out["gltf"] = db::base64Encode(planner::planGlb(catalog.world(), request, result));
+    return {std::move(out), std::nullopt,
             result.success ? "success" : planner::toString(result.failure)};
   } catch (const InvalidArgument& e) {  // planGrasp checks parameter values
     return {json(), invalidParam(e), ""};

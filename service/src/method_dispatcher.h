@@ -93,7 +93,7 @@ class MethodDispatcher {
   /// What server.info reports that changes only with the catalog.
   nlohmann::json staticInfo() const;
   static Outcome runPlan(const PlanningCatalog& catalog, const planner::PlanRequest& request,
-                         const std::atomic<bool>& cancel);
+                         const std::atomic<bool>& cancel, bool gltf);
   static Outcome runQuality(const PlanningCatalog& catalog, const nlohmann::json& params,
                             const std::atomic<bool>& cancel);
 

@@ -95,11 +95,18 @@ std::map<std::string, std::string> parametersOf(const JsonFields& f,
 
 }  // namespace
 
+bool planWantsGltf(const json& params) {
+  const JsonFields f(params, "");
+  if (!f.has("gltf")) return false;
+  if (!f.at("gltf").is_boolean()) f.fail("gltf", "must be true or false");
+  return f.at("gltf").get<bool>();
+}
+
 planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatalog& catalog,
                                          const PlanLimits& limits) {
   const JsonFields f(params, "");
   f.allowOnly({"scene", "object", "object_pose", "start", "time_limit", "algorithm", "iterations",
-               "seed", "parameters", "trajectory_rate"});
+               "seed", "parameters", "trajectory_rate", "gltf"});
   planner::PlanRequest r;
   r.scene = sceneOf(f, catalog);
   r.object = objectOf(f, catalog, r.scene);

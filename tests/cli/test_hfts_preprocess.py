@@ -146,7 +146,7 @@ class PreprocessCli(unittest.TestCase):
             self.assertTrue(any(n.startswith("palm") for n in names), names)
             self.assertTrue(any(n.startswith("thumb_distal") for n in names), names)
             self.assertGreaterEqual(len(doc["meshes"]), 40)
-            self.assertEqual(len(doc["materials"]), 5)
+            self.assertEqual(len(doc["materials"]), 7)
 
     def test_export_scene_rejects_bad_configurations_and_missing_databases(self):
         scene = os.path.join(SOURCE_DIR, "objects", "scenes", "table.json")

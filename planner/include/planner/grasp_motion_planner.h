@@ -121,6 +121,13 @@ std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world);
 /// seeds derived from it (SplitMix64).
 std::uint64_t racingSeed(std::uint64_t seed, int copy);
 
+/// A successful plan as an animated binary glTF (robot/plan_export.h):
+/// the request's scene, the object where it was planned, the robot moving
+/// along the result's trajectory, the contacts and the path. Throws
+/// InvalidArgument ("trajectory") when the result has no trajectory.
+std::string planGlb(const PlanningWorld& world, const PlanRequest& request,
+                    const PlanResult& result);
+
 /// Plans a grasp and a path to it. Single-threaded (kRrtConnect: two
 /// threads, both joined before it returns); the same request and seed give
 /// the same result unless the time limit cuts it short (kRrtConnect: see

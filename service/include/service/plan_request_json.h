@@ -21,7 +21,8 @@ struct PlanLimits {
 /// Maps the params of a `plan` call onto a PlanRequest, checking every
 /// field against the catalog: `scene` (a scene name or an inline scene of
 /// primitives), `object`, `object_pose`, `start`, `time_limit`, `algorithm`,
-/// `iterations`, `seed` and `parameters`. The result always has
+/// `iterations`, `seed`, `parameters` and `trajectory_rate` (`gltf` is
+/// allowed: see planWantsGltf). The result always has
 /// `object` and `time_limit` set. Throws RpcError(kInvalidParams) whose
 /// message and field name the offending member ("start[3]",
 /// "object_pose.orientation", "parameters.p_max") for unknown fields and
@@ -31,5 +32,10 @@ struct PlanLimits {
 /// Parameter values are otherwise checked by planGrasp.
 planner::PlanRequest planRequestFromJson(const nlohmann::json& params,
                                          const PlanningCatalog& catalog, const PlanLimits& limits);
+
+/// The plan call's `gltf` (default false): the result then carries the plan
+/// as an animated binary glTF, base64 (planner::planGlb). Throws like
+/// planRequestFromJson when it is not a boolean.
+bool planWantsGltf(const nlohmann::json& params);
 
 }  // namespace hfts::service

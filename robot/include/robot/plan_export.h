@@ -1,0 +1,42 @@
+#pragma once
+// A planned grasp as an animated binary glTF (docs/trajectories.md): the
+// scene, the object, the robot with one node per link moving along the
+// trajectory, the contacts as small markers with their normals, and the
+// path the palm takes as a line. Any glTF viewer plays it.
+
+#include <Eigen/Geometry>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "hfts_db/object_database.h"
+#include "robot/robot_model.h"
+#include "robot/scene.h"
+
+namespace hfts::robot {
+
+/// What is shown besides the scene.
+struct PlanAnimation {
+  std::vector<double> times;                                      ///< s from 0, increasing
+  std::vector<Eigen::VectorXd> configurations;                    ///< one per time
+  Eigen::Isometry3d object_pose = Eigen::Isometry3d::Identity();  ///< the target, world frame
+  Eigen::Matrix3Xd contacts, inward_normals;  ///< world frame, one column per contact
+  std::vector<Eigen::VectorXd> path;          ///< the planned path (drawn through the palm)
+};
+
+/// The .glb bytes (assimp's glTF 2 exporter; world frame turned to glTF's
+/// y up, metres). One animation, "plan", with a translation and a
+/// rotation channel per link node, keyed at `times`. Throws
+/// InvalidArgument naming the field: times and configurations of
+/// different lengths, empty, not increasing or not finite, a configuration
+/// of the wrong size, contacts and normals of different shapes.
+std::string planGlb(const RobotModel& model, const Scene& scene, const db::ObjectGeometry* target,
+                    const PlanAnimation& plan);
+
+/// planGlb written to `path` (atomically); InvalidArgument ("path") unless
+/// it ends in .glb.
+void exportPlanGlb(const RobotModel& model, const Scene& scene, const db::ObjectGeometry* target,
+                   const PlanAnimation& plan, const std::filesystem::path& path);
+
+}  // namespace hfts::robot

@@ -1,0 +1,128 @@
+#!/usr/bin/env python3
+"""The plan and scene glTF exports against the Khronos glTF validator (npm
+gltf-validator, installed by scripts/setup.sh into viewer/node_modules):
+no errors. Also the structure of a plan's animation. Run by ctest with
+/usr/bin/python3; standard library only."""
+
+import json
+import os
+import shutil
+import struct
+import subprocess
+import tempfile
+import unittest
+
+from hfts_server_fixture import CONFIG, FAR_AWAY, RunningServer, run_tests
+
+
+def read_glb(path):
+    """The JSON chunk of a binary glTF."""
+    with open(path, "rb") as f:
+        data = f.read()
+    magic, version, length = struct.unpack_from("<4sII", data, 0)
+    assert (magic, version, length) == (b"glTF", 2, len(data)), (magic, version, length)
+    size, kind = struct.unpack_from("<I4s", data, 12)
+    assert kind == b"JSON"
+    return json.loads(data[20:20 + size]), data
+
+
+def accessor_values(doc, data, index):
+    """Float values of an accessor of the glb's binary chunk, one tuple per element."""
+    accessor = doc["accessors"][index]
+    view = doc["bufferViews"][accessor["bufferView"]]
+    json_size = struct.unpack_from("<I", data, 12)[0]
+    binary = 20 + json_size + 8  # JSON chunk, then the BIN chunk's header
+    width = {"SCALAR": 1, "VEC3": 3, "VEC4": 4}[accessor["type"]]
+    start = binary + view.get("byteOffset", 0) + accessor.get("byteOffset", 0)
+    stride = view.get("byteStride", 4 * width)
+    return [struct.unpack_from("<%df" % width, data, start + i * stride)
+            for i in range(accessor["count"])]
+
+
+class GltfExport(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="hfts-gltf-")
+        cls.server = RunningServer(os.path.join(cls.tmp, "log"))
+        cls.validator = os.path.join(CONFIG.source_dir, "viewer", "tools", "validate_gltf.js")
+
+    @classmethod
+    def tearDownClass(cls):
+        code = cls.server.stop()
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+        assert code == 0, code
+
+    def client(self, *args):
+        return subprocess.run([CONFIG.client, "--port", str(self.server.port), *map(str, args)],
+                              capture_output=True, text=True, timeout=120)
+
+    def plan_glb(self, scene):
+        glb = os.path.join(self.tmp, scene + "_plan.glb")
+        result = self.client("plan", "--scene", scene, "--seed", "1", "--time-limit", "20",
+                             "--gltf", glb, "--trajectory-rate", "50")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        return glb
+
+    def validate(self, *files):
+        result = subprocess.run(["node", self.validator, *files], capture_output=True, text=True,
+                                timeout=120)
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+        lines = result.stdout.splitlines()
+        for f in files:
+            line = next(l for l in lines if l.startswith(os.path.basename(f) + ":"))
+            self.assertRegex(line, r": 0 errors, \d+ warnings")
+        return lines
+
+    def test_plans_and_scenes_pass_the_khronos_validator(self):
+        files = [self.plan_glb("table"), self.plan_glb("bin")]
+        scene = os.path.join(self.tmp, "table_scene.glb")
+        subprocess.run([CONFIG.preprocess, "--export-scene",
+                        os.path.join(CONFIG.source_dir, "objects", "scenes", "table.json"), scene,
+                        "--db", CONFIG.db_dir], check=True, capture_output=True, timeout=120)
+        files.append(scene)
+        lines = self.validate(*files)
+        self.assertRegex(lines[0], r", 1 animations, ")
+
+    def test_a_plan_animates_every_link_along_its_trajectory(self):
+        glb = self.plan_glb("table")
+        doc, data = read_glb(glb)
+        names = [n.get("name", "") for n in doc["nodes"]]
+        for expected in ("palm", "link_1", "thumb_distal", "mug", "contacts", "contact_normals",
+                         "path"):
+            self.assertIn(expected, names)
+        plan = self.server.call("plan", {"scene": "table", "seed": 1, "time_limit": 20,
+                                         "trajectory_rate": 50})["result"]
+        self.assertEqual(len(plan["grasp"]["contacts_world"]), 3)
+        [animation] = doc["animations"]
+        animated = {doc["nodes"][c["target"]["node"]]["name"] for c in animation["channels"]}
+        links_with_geometry = {"link_1", "link_2", "palm", "finger_1_distal", "thumb_distal"}
+        self.assertTrue(links_with_geometry <= animated, animated)
+        self.assertNotIn("mug", animated)
+        palm = names.index("palm")
+        [translation] = [c for c in animation["channels"]
+                         if c["target"] == {"node": palm, "path": "translation"}]
+        sampler = animation["samplers"][translation["sampler"]]
+        times = [t[0] for t in accessor_values(doc, data, sampler["input"])]
+        positions = accessor_values(doc, data, sampler["output"])
+        self.assertEqual(len(times), len(plan["trajectory"]["points"]))
+        self.assertAlmostEqual(times[-1], plan["trajectory"]["duration"], places=4)
+        self.assertEqual(times[0], 0.0)
+        moved = sum((a - b) ** 2 for a, b in zip(positions[0], positions[-1])) ** 0.5
+        self.assertGreater(moved, 0.05, "the palm moves from the start to the grasp")
+
+    def test_no_gltf_without_a_plan_and_bad_values_are_refused(self):
+        glb = os.path.join(self.tmp, "none.glb")
+        result = self.client("plan", "--scene", "table", "--object-pose", "3,0,0,0,0,0,1",
+                             "--time-limit", "0.3", "--gltf", glb)
+        self.assertEqual(result.returncode, 3, result.stderr)
+        self.assertFalse(os.path.exists(glb))
+        answer = self.server.call("plan", {"scene": "table", "gltf": "yes"})
+        self.assertEqual(answer["error"]["code"], -32602)
+        self.assertEqual(answer["error"]["data"]["field"], "gltf")
+        answer = self.server.call("plan", {"scene": "table", "object_pose": FAR_AWAY,
+                                           "time_limit": 0.3, "gltf": True})
+        self.assertNotIn("gltf", answer["result"])
+
+
+if __name__ == "__main__":
+    run_tests(with_client=True)

@@ -1,0 +1,91 @@
+#include "robot/plan_export.h"
+
+#include <gtest/gtest.h>
+
+#include <assimp/scene.h>
+#include <assimp/Importer.hpp>
+
+#include <cstring>
+
+#include "hfts_db/invalid_argument.h"
+#include "robot/kinematics.h"
+
+#include "robot_fixture.h"
+
+namespace hfts::robot {
+namespace {
+
+PlanAnimation moveA1(const RobotModel& robot) {
+  PlanAnimation plan;
+  for (int k = 0; k < 5; ++k) {
+    const Eigen::VectorXd a1 = Eigen::VectorXd::Unit(robot.numDofs(), 0);
+    plan.times.push_back(0.5 * k);
+    plan.configurations.push_back(robot.home() + 0.2 * k * a1);
+  }
+  plan.path = {robot.home(), plan.configurations.back()};
+  plan.contacts = Eigen::Matrix3Xd::Zero(3, 2);
+  plan.inward_normals = Eigen::Matrix3Xd::Zero(3, 2);
+  plan.inward_normals.row(2).setOnes();
+  return plan;
+}
+
+TEST(PlanExport, EveryLinkWithGeometryIsAnimatedAlongTheGivenTimes) {
+  const RobotModel& robot = test::kr5Sdh();
+  const PlanAnimation plan = moveA1(robot);
+  const std::string glb = planGlb(robot, Scene{}, nullptr, plan);
+  ASSERT_GT(glb.size(), 12u);
+  EXPECT_EQ(glb.substr(0, 4), "glTF");
+
+  Assimp::Importer importer;
+  const aiScene* read = importer.ReadFileFromMemory(glb.data(), glb.size(), 0, "glb");
+  ASSERT_NE(read, nullptr) << importer.GetErrorString();
+  ASSERT_EQ(read->mNumAnimations, 1u);
+  const aiAnimation& a = *read->mAnimations[0];
+  std::size_t withGeometry = 0;
+  for (const Link& l : robot.links()) withGeometry += l.shapes.empty() ? 0 : 1;
+  EXPECT_EQ(a.mNumChannels, withGeometry);
+  const aiNodeAnim* palm = nullptr;
+  for (unsigned c = 0; c < a.mNumChannels; ++c)
+    if (std::strcmp(a.mChannels[c]->mNodeName.C_Str(), "palm") == 0) palm = a.mChannels[c];
+  ASSERT_NE(palm, nullptr);
+  ASSERT_EQ(palm->mNumPositionKeys, plan.times.size());
+  // The last key is the palm's pose at the last configuration.
+  const Eigen::Vector3d expected =
+      forwardKinematics(robot, plan.configurations.back())[robot.palmLink()].translation();
+  const aiVector3D& last = palm->mPositionKeys[plan.times.size() - 1].mValue;
+  EXPECT_NEAR(last.x, expected.x(), 1e-5);
+  EXPECT_NEAR(last.y, expected.y(), 1e-5);
+  EXPECT_NEAR(last.z, expected.z(), 1e-5);
+  EXPECT_NE(read->mRootNode->FindNode("path"), nullptr);
+  EXPECT_NE(read->mRootNode->FindNode("contacts"), nullptr);
+}
+
+TEST(PlanExport, BadAnimationsAreRefusedByField) {
+  const RobotModel& robot = test::kr5Sdh();
+  const auto field = [&](const PlanAnimation& plan) {
+    try {
+      planGlb(robot, Scene{}, nullptr, plan);
+    } catch (const InvalidArgument& e) {
+      return e.field();
+    }
+    return std::string("(accepted)");
+  };
+  PlanAnimation p = moveA1(robot);
+  EXPECT_EQ(field(p), "(accepted)");
+  p.times.pop_back();
+  EXPECT_EQ(field(p), "configurations");
+  p = moveA1(robot);
+  p.times[2] = p.times[1];
+  EXPECT_EQ(field(p), "times");
+  p = moveA1(robot);
+  p.configurations[3] = Eigen::VectorXd::Zero(3);
+  EXPECT_EQ(field(p), "configurations[3]");
+  p = moveA1(robot);
+  p.inward_normals = Eigen::Matrix3Xd::Zero(3, 1);
+  EXPECT_EQ(field(p), "inward_normals");
+  EXPECT_EQ(field(PlanAnimation{}), "times");
+  EXPECT_THROW(exportPlanGlb(robot, Scene{}, nullptr, moveA1(robot), "plan.gltf"), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace hfts::robot
