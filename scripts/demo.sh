@@ -43,15 +43,16 @@ cat build/demo_server.out
 build/bin/hfts-client --port "$port" info
 echo
 echo "== A grasp and a path in the table scene: build/bin/hfts-client --port $port plan --scene table"
-rm -f build/demo_plan.glb build/demo_trajectory.csv
+rm -f build/demo_plan.glb build/demo_plan.html build/demo_trajectory.csv
 build/bin/hfts-client --port "$port" --out build/demo_plan.json plan --scene table --seed 1 \
   --time-limit 30 --gltf build/demo_plan.glb --trajectory-csv build/demo_trajectory.csv ||
   [[ $? -eq 3 ]]  # 3: no plan within the time limit (printed above)
 echo "(the whole result as JSON: build/demo_plan.json; the server's log: build/demo_server.log)"
 if [[ -f build/demo_plan.glb ]]; then
-  echo "(the plan animated: build/demo_plan.glb, plays in any glTF viewer, e.g. drag it onto"
-  echo " https://gltf-viewer.donmccurdy.com or open it in Blender; its trajectory as CSV:"
-  echo " build/demo_trajectory.csv, docs/trajectories.md)"
+  build/bin/hfts-client view build/demo_plan.json -o build/demo_plan.html
+  echo "(open build/demo_plan.html in a web browser to watch the plan: play, scrub, orbit;"
+  echo " the animation alone, build/demo_plan.glb, plays in any glTF viewer, e.g. Blender;"
+  echo " the trajectory as CSV: build/demo_trajectory.csv; docs/viewer.md, docs/trajectories.md)"
 fi
 build/bin/hfts-client --port "$port" shutdown
 wait "$server"

@@ -20,21 +20,27 @@ PACKAGES=(
   clang libclang-rt-14-dev haproxy
   # Python tooling (runs under /usr/bin/python3)
   python3 python3-numpy python3-h5py python3-matplotlib
-  # the viewer's tooling: the glTF validator (npm; Debian's npm package
-  # is added below unless the nodejs installed already brings npm)
-  nodejs
+  # the viewer (viewer/): node and npm for three.js, esbuild, the glTF
+  # validator and puppeteer-core (Debian's npm package is added below
+  # unless the nodejs installed already brings npm); chromium for its tests
+  nodejs chromium
 )
 
-# npm packages at the versions of viewer/package-lock.json, unless present.
+# npm packages at the versions of viewer/package-lock.json, unless present,
+# and the viewer's bundle (viewer/dist/viewer.js), unless up to date.
 install_npm_packages() {
   local viewer
   viewer="$(cd "$(dirname "$0")/.." && pwd)/viewer"
-  if [[ -f "$viewer/node_modules/.package-lock.json" &&
-        ! "$viewer/package-lock.json" -nt "$viewer/node_modules/.package-lock.json" ]]; then
-    return 0
+  if [[ ! -f "$viewer/node_modules/.package-lock.json" ||
+        "$viewer/package-lock.json" -nt "$viewer/node_modules/.package-lock.json" ]]; then
+    echo "setup: installing the viewer's npm packages"
+    (cd "$viewer" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
   fi
-  echo "setup: installing the viewer's npm packages"
-  (cd "$viewer" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+  if [[ ! -f "$viewer/dist/viewer.js" || "$viewer/src/main.js" -nt "$viewer/dist/viewer.js" ||
+        "$viewer/node_modules/.package-lock.json" -nt "$viewer/dist/viewer.js" ]]; then
+    echo "setup: bundling the viewer (viewer/dist/viewer.js)"
+    (cd "$viewer" && npm run --silent build >/dev/null)
+  fi
 }
 
 missing=()

@@ -1,13 +1,16 @@
 // hfts-client: the planning service from the command line (docs/protocol.md).
-// Subcommands info, objects, scenes, plan, quality, shutdown. Prints a
-// human-readable summary, or the raw result with --json; --out FILE saves
-// the result (JSON), plan --trajectory-csv FILE its trajectory; --retries N connects and sends
-// again when the connection fails before the answer (a balancer's instance died). Exit codes: 0
-// done, 1 the server or the connection failed (message on standard error), 3 the plan found no
+// Subcommands info, objects, scenes, plan, quality, shutdown, and view (a
+// saved plan as an HTML page; no server). Prints a human-readable summary,
+// or the raw result with --json; --out FILE saves the result (JSON), plan
+// --trajectory-csv / --gltf FILE its trajectory and animation; --retries N
+// connects and sends again when the connection fails before the answer (a
+// balancer's instance died). Exit codes: 0 done, 1 the server or the
+// connection failed (message on standard error), 3 the plan found no
 // solution.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -15,6 +18,7 @@
 #include "client/rpc_client.h"
 #include "hfts_db/atomic_file.h"
 #include "hfts_db/base64.h"
+#include "plan_page.h"
 #include "result_printer.h"
 
 namespace {
@@ -43,6 +47,18 @@ struct QualityOptions {
   std::string file, object;
 };
 
+struct ViewOptions {
+  std::string plan, output, glb, viewer_dir = HFTS_VIEWER_DIR;
+};
+
+std::string readBinaryFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read '" + path + "'");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
 json readJsonFile(const std::string& path) {
   std::ostringstream text;
   if (path == "-") {
@@ -57,6 +73,18 @@ json readJsonFile(const std::string& path) {
   } catch (const json::exception& e) {
     throw std::runtime_error("'" + path + "' is not valid JSON: " + e.what());
   }
+}
+
+/// `view`: the plan's page, written next to nothing but `output`.
+int writeView(const ViewOptions& v) {
+  const json plan = readJsonFile(v.plan);
+  const std::string glb = v.glb.empty() ? std::string() : readBinaryFile(v.glb);
+  const std::string output = v.output.empty()
+                                 ? std::filesystem::path(v.plan).replace_extension(".html").string()
+                                 : v.output;
+  hfts::db::writeFileAtomically(output, hfts::client::planPage(plan, glb, v.viewer_dir));
+  std::cout << "wrote " << output << ": open it in a web browser (no server needed)\n";
+  return 0;
 }
 
 /// "name=value": a number when the value reads as one, else text.
@@ -167,9 +195,28 @@ int main(int argc, char** argv) {
   qualityCmd->add_option("--object", quality.object,
                          "Contacts are in this object's frame: centre and rho from its database");
   app.add_subcommand("shutdown", "Stop the server (from the same machine only)");
+  ViewOptions view;
+  CLI::App* viewCmd =
+      app.add_subcommand("view", "Write a plan as one HTML page with the 3-D viewer (no server)");
+  viewCmd->add_option("plan", view.plan, "Plan result JSON (--out of plan ... --gltf)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  viewCmd->add_option("-o,--output", view.output, "The page (default: PLAN with .html)");
+  viewCmd->add_option("--glb", view.glb, "The plan's .glb, if the JSON does not hold it")
+      ->check(CLI::ExistingFile);
+  viewCmd->add_option("--viewer-dir", view.viewer_dir, "The viewer's folder")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   const std::string command = app.get_subcommands().front()->get_name();
+  if (command == "view") {
+    try {
+      return writeView(view);
+    } catch (const std::exception& e) {
+      std::cerr << "hfts-client: " << e.what() << "\n";
+      return 1;
+    }
+  }
   const std::map<std::string, std::string> methods = {
       {"info", "server.info"}, {"objects", "objects.list"},  {"scenes", "scenes.list"},
       {"plan", "plan"},        {"quality", "grasp.quality"}, {"shutdown", "shutdown"}};

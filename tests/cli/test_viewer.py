@@ -1,0 +1,99 @@
+#!/usr/bin/env python3
+"""The plan viewer in a real browser: a plan made through hfts-server and
+hfts-client, written as one page by `hfts-client view`, opened in headless
+Chromium (Debian's chromium, driven by puppeteer-core from npm; both
+installed by scripts/setup.sh): no console errors, the robot moves between
+the first and the last frame where the palm is, the contacts are drawn.
+Run by ctest with /usr/bin/python3; standard library only."""
+
+import json
+import os
+import shutil
+import subprocess
+import tempfile
+import unittest
+
+from hfts_server_fixture import CONFIG, RunningServer, run_tests
+
+
+class Viewer(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="hfts-viewer-")
+        cls.server = RunningServer(os.path.join(cls.tmp, "log"))
+
+    @classmethod
+    def tearDownClass(cls):
+        code = cls.server.stop()
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+        assert code == 0, code
+
+    def client(self, *args):
+        return subprocess.run([CONFIG.client, "--port", str(self.server.port), *map(str, args)],
+                              capture_output=True, text=True, timeout=120)
+
+    def page(self, scene):
+        plan = os.path.join(self.tmp, scene + ".json")
+        result = self.client("--out", plan, "plan", "--scene", scene, "--seed", "1",
+                             "--time-limit", "20", "--gltf", os.path.join(self.tmp, scene + ".glb"))
+        self.assertEqual(result.returncode, 0, result.stderr)
+        html = os.path.join(self.tmp, scene + ".html")
+        result = self.client("view", plan, "-o", html)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("wrote " + html, result.stdout)
+        return plan, html
+
+    def check(self, html):
+        shots = os.path.join(self.tmp, os.path.basename(html) + "_shots")
+        result = subprocess.run(
+            ["node", os.path.join(CONFIG.source_dir, "viewer", "tools", "check_viewer.js"),
+             html, shots], capture_output=True, text=True, timeout=300)
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+        for png in ("first.png", "last.png"):
+            self.assertGreater(os.path.getsize(os.path.join(shots, png)), 10000)
+        return json.loads(result.stdout)
+
+    def test_the_page_loads_plays_and_shows_the_contacts(self):
+        for scene in ("table", "bin"):
+            with self.subTest(scene=scene):
+                plan_path, html = self.page(scene)
+                with open(plan_path) as f:
+                    plan = json.load(f)
+                report = self.check(html)
+                self.assertEqual(report["consoleErrors"], [])
+                self.assertAlmostEqual(report["duration"], plan["trajectory"]["duration"], places=3)
+                self.assertEqual(report["contacts"], 3)
+                self.assertEqual(report["markers"], 9)  # a sphere, a normal and a cone each
+                self.assertGreaterEqual(report["animatedNodes"], 15)
+                # The robot moved: many pixels change near the palm's two places.
+                self.assertGreater(report["changedNearPalm"], 2000, report)
+                self.assertGreater(report["redPixels"], 10, report)
+
+    def test_view_needs_a_successful_plan_with_its_gltf(self):
+        failed = os.path.join(self.tmp, "failed.json")
+        result = self.client("--out", failed, "plan", "--scene", "table", "--object-pose",
+                             "3,0,0,0,0,0,1", "--time-limit", "0.3")
+        self.assertEqual(result.returncode, 3)
+        result = self.client("view", failed)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("not a successful plan result", result.stderr)
+        bare = os.path.join(self.tmp, "bare.json")
+        self.assertEqual(self.client("--out", bare, "plan", "--scene", "table").returncode, 0)
+        result = self.client("view", bare)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("the plan has no glTF", result.stderr)
+        result = self.client("view", bare, "--glb", bare)
+        self.assertIn("not a binary glTF", result.stderr)
+        result = self.client("view", bare, "--glb", os.path.join(self.tmp, "no.glb"))
+        self.assertNotEqual(result.returncode, 0)
+        self.assertIn("--glb: File does not exist", result.stderr)
+        full = os.path.join(self.tmp, "full.json")
+        self.assertEqual(self.client("--out", full, "plan", "--scene", "table", "--gltf",
+                                     os.path.join(self.tmp, "full.glb")).returncode, 0)
+        result = self.client("view", full, "--viewer-dir", self.tmp)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("scripts/setup.sh", result.stderr)
+
+
+if __name__ == "__main__":
+    run_tests(with_client=True)

@@ -1,0 +1,193 @@
+// The plan viewer (docs/viewer.md): a plan's animated glTF (robot, scene,
+// object, path) with its plan JSON (grasp, statistics). Play, pause and
+// scrub the trajectory, orbit the camera, see the contacts with their
+// normals and friction cones. `hfts-client view PLAN.json -o plan.html`
+// embeds everything in one page (window.HFTS_PLAN, window.HFTS_GLB_BASE64);
+// without them the page asks for the two files.
+import * as THREE from 'three';
+import {GLTFLoader} from 'three/examples/jsm/loaders/GLTFLoader.js';
+import {OrbitControls} from 'three/examples/jsm/controls/OrbitControls.js';
+
+const FRICTION = 0.5;  // the planner's default (docs/grasp_quality.md)
+const CONE_HEIGHT = 0.03;
+
+/// World (z up, the planner's frame) to the glTF's y up.
+function toView([x, y, z]) {
+  return new THREE.Vector3(x, z, -y);
+}
+
+function base64Bytes(text) {
+  const binary = atob(text);
+  const bytes = new Uint8Array(binary.length);
+  for (let i = 0; i < binary.length; ++i) bytes[i] = binary.charCodeAt(i);
+  return bytes.buffer;
+}
+
+/// Red spheres on the contacts, arrows along the inward normals and the
+/// friction cones (half-angle atan(mu)) opening outwards, where the finger is.
+function contactMarkers(grasp) {
+  const group = new THREE.Group();
+  group.name = 'contact_markers';
+  const red = new THREE.MeshStandardMaterial({color: 0xe02020});
+  const coneMaterial = new THREE.MeshStandardMaterial(
+      {color: 0xffc020, transparent: true, opacity: 0.45, side: THREE.DoubleSide, depthWrite: false});
+  const radius = CONE_HEIGHT * FRICTION;
+  for (const c of grasp.contacts_world) {
+    const p = toView(c.position);
+    const inward = toView(c.normal).normalize();
+    const dot = new THREE.Mesh(new THREE.SphereGeometry(0.006, 16, 12), red);
+    dot.position.copy(p);
+    group.add(dot);
+    group.add(new THREE.ArrowHelper(inward, p.clone().addScaledVector(inward, -0.04), 0.04,
+                                    0xe02020, 0.012, 0.006));
+    // ConeGeometry points its apex along +y, centred: put the apex on the
+    // contact and the base outwards.
+    const cone = new THREE.Mesh(new THREE.ConeGeometry(radius, CONE_HEIGHT, 24, 1, true), coneMaterial);
+    cone.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), inward);
+    cone.position.copy(p).addScaledVector(inward, -CONE_HEIGHT / 2);
+    group.add(cone);
+  }
+  return group;
+}
+
+function statsTable(plan) {
+  const s = plan.stats, g = plan.grasp, t = plan.trajectory;
+  const rows = [
+    ['scene', plan.scene], ['object', plan.object], ['algorithm', `${plan.algorithm}, seed ${plan.seed}`],
+    ['epsilon', g.epsilon.toPrecision(4)], ['reachability', `${(1000 * g.reachability).toFixed(2)} mm`],
+    ['fingertip error', `${(1000 * g.fingertip_error).toFixed(2)} mm`],
+    ['planning time', `${s.planning_time.toFixed(3)} s`], ['iterations', s.iterations],
+    ['goal sampling', `${s.goal_sampling_calls} calls, ${s.valid_goal_samples} valid`],
+    ['HFTS nodes', s.hfts_nodes_explored], ['collision checks', s.collision_checks],
+    ['path', `${plan.path.length} waypoints, length ${s.path_length_smoothed.toFixed(3)}`],
+    ['trajectory', `${t.duration.toFixed(2)} s, hand closes at ${t.closing_start.toFixed(2)} s`],
+    ['friction cones', `mu = ${FRICTION}`],
+  ];
+  return rows.map(([k, v]) => `<tr><th>${k}</th><td>${v}</td></tr>`).join('');
+}
+
+function show(plan, glb) {
+  const container = document.getElementById('view');
+  const renderer = new THREE.WebGLRenderer({antialias: true, preserveDrawingBuffer: true});
+  renderer.setPixelRatio(window.devicePixelRatio);
+  renderer.setSize(container.clientWidth, container.clientHeight);
+  container.appendChild(renderer.domElement);
+  const scene = new THREE.Scene();
+  scene.background = new THREE.Color(0xf4f4f0);
+  scene.add(new THREE.HemisphereLight(0xffffff, 0x606060, 2.0));
+  const sun = new THREE.DirectionalLight(0xffffff, 1.5);
+  sun.position.set(2, 4, 3);
+  scene.add(sun);
+  const grid = new THREE.GridHelper(2, 20, 0xa0a0a0, 0xd0d0d0);
+  scene.add(grid);
+  const camera = new THREE.PerspectiveCamera(45, container.clientWidth / container.clientHeight, 0.01, 50);
+  const controls = new OrbitControls(camera, renderer.domElement);
+
+  new GLTFLoader().parse(glb, '', (gltf) => {
+    scene.add(gltf.scene);
+    const markers = contactMarkers(plan.grasp);
+    scene.add(markers);
+    const box = new THREE.Box3().setFromObject(gltf.scene);
+    // Look at the object from the robot's side, turned 50 degrees and from
+    // above: the approach and the hand on the object are in view.
+    const target = toView(plan.object_pose.position);
+    const towardsRobot = new THREE.Vector3(-target.x, 0, -target.z);
+    if (towardsRobot.lengthSq() < 1e-6) towardsRobot.set(1, 0, 0);
+    towardsRobot.normalize().applyAxisAngle(new THREE.Vector3(0, 1, 0), THREE.MathUtils.degToRad(50));
+    controls.target.copy(target);
+    camera.position.copy(target).addScaledVector(towardsRobot, 1.3).add(new THREE.Vector3(0, 0.8, 0));
+    camera.lookAt(target);
+    controls.update();
+    grid.position.y = box.min.y;
+
+    const mixer = new THREE.AnimationMixer(gltf.scene);
+    const clip = gltf.animations[0];
+    const action = mixer.clipAction(clip);
+    action.setLoop(THREE.LoopOnce);
+    action.clampWhenFinished = true;
+    action.play();
+    const slider = document.getElementById('time');
+    const label = document.getElementById('clock');
+    const button = document.getElementById('play');
+    slider.max = clip.duration;
+    let playing = false;
+    let last = performance.now();
+    const setTime = (t) => {
+      const clamped = Math.min(Math.max(t, 0), clip.duration);
+      action.paused = false;
+      action.enabled = true;
+      mixer.setTime(clamped);
+      slider.value = clamped;
+      label.textContent = `${clamped.toFixed(2)} / ${clip.duration.toFixed(2)} s`;
+      renderer.render(scene, camera);
+    };
+    const setPlaying = (on) => {
+      playing = on;
+      button.textContent = on ? 'Pause' : 'Play';
+      if (on && mixer.time >= clip.duration) setTime(0);
+      last = performance.now();
+    };
+    button.onclick = () => setPlaying(!playing);
+    slider.oninput = () => {
+      setPlaying(false);
+      setTime(parseFloat(slider.value));
+    };
+    document.getElementById('stats').innerHTML = statsTable(plan);
+    const frame = (now) => {
+      if (playing) {
+        const t = mixer.time + (now - last) / 1000;
+        setTime(t);
+        if (t >= clip.duration) setPlaying(false);
+      }
+      last = now;
+      controls.update();
+      renderer.render(scene, camera);
+      requestAnimationFrame(frame);
+    };
+    setTime(0);
+    requestAnimationFrame(frame);
+    // For tests and scripts: the state of the page and a way to move in time.
+    window.viewer = {
+      duration: clip.duration,
+      contacts: plan.grasp.contacts_world.length,
+      markers: markers.children.length,
+      animatedNodes: new Set(clip.tracks.map((t) => t.name.split('.')[0])).size,
+      setTime,
+      render: () => renderer.render(scene, camera),
+      /// Where a node (a link's name) is on the canvas now, in CSS pixels.
+      screenPosition: (name) => {
+        const node = gltf.scene.getObjectByName(name);
+        if (!node) return null;
+        const p = node.getWorldPosition(new THREE.Vector3()).project(camera);
+        const rect = renderer.domElement.getBoundingClientRect();
+        return {x: (p.x + 1) / 2 * rect.width, y: (1 - p.y) / 2 * rect.height};
+      },
+    };
+    window.viewerReady = true;
+  }, (error) => {
+    document.getElementById('stats').textContent = `cannot read the glTF: ${error.message || error}`;
+    console.error('cannot read the glTF', error);
+  });
+}
+
+function askForFiles() {
+  const panel = document.getElementById('stats');
+  panel.innerHTML = '<p>Open a plan: its .glb and its .json (hfts-client --out PLAN.json plan ... --gltf PLAN.glb).</p>' +
+      '<input id="files" type="file" multiple accept=".glb,.json">';
+  document.getElementById('files').onchange = async (event) => {
+    let plan = null, glb = null;
+    for (const file of event.target.files) {
+      if (file.name.endsWith('.glb')) glb = await file.arrayBuffer();
+      else plan = JSON.parse(await file.text());
+    }
+    if (plan && !glb && plan.gltf) glb = base64Bytes(plan.gltf);
+    if (plan && glb) show(plan, glb);
+    else panel.insertAdjacentHTML('beforeend', '<p>Both files are needed.</p>');
+  };
+}
+
+if (window.HFTS_PLAN && window.HFTS_GLB_BASE64) {
+  show(window.HFTS_PLAN, base64Bytes(window.HFTS_GLB_BASE64));
+} else {
+  askForFiles();
+}
