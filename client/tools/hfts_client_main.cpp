@@ -40,6 +40,7 @@ struct PlanOptions {
   double time_limit = 0.0, trajectory_rate = 0.0;
   std::string trajectory_csv, gltf;
   int iterations = 0;
+  bool explored = false;
   std::uint64_t seed = 1;
 };
 
@@ -114,6 +115,7 @@ json planParams(const PlanOptions& p, const CLI::App& cmd) {
   if (cmd.count("--iterations")) params["iterations"] = p.iterations;
   if (cmd.count("--trajectory-rate")) params["trajectory_rate"] = p.trajectory_rate;
   if (!p.gltf.empty()) params["gltf"] = true;
+  if (p.explored) params["explored"] = true;
   if (!p.parameters.empty()) {
     params["parameters"] = json::object();
     for (const std::string& a : p.parameters) addParameter(params["parameters"], a);
@@ -141,6 +143,8 @@ void addPlanOptions(CLI::App& cmd, PlanOptions& p) {
                  "Trajectory samples per second (server default 100; 0: none)");
   cmd.add_option("--trajectory-csv", p.trajectory_csv, "Write the plan's trajectory as CSV to FILE")
       ->type_name("FILE");
+  cmd.add_flag("--explored", p.explored,
+               "Include the HFTS nodes the goal sampler visited (coupled; the viewer draws them)");
   cmd.add_option("--gltf", p.gltf, "Write the plan as an animated binary glTF to FILE (.glb)")
       ->type_name("FILE");
 }

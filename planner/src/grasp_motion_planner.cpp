@@ -124,6 +124,7 @@ struct Problem {
         scene(sceneOf(request, o)),
         start(std::move(q0)),
         seed(request.seed),
+        explored(request.explored),
         checker(w.robot(), scene, &o.geometry, w.collisionMesh(o.name)),
         si(makeSpaceInformation(w.robot(), checker, kTreeResolution)),
         parameters(si, request),
@@ -154,6 +155,7 @@ struct Problem {
   const robot::Scene scene;
   const Eigen::VectorXd start;
   const std::uint64_t seed;
+  const bool explored;  ///< record the goal hierarchy cache's nodes
   robot::CollisionChecker checker;
   const ob::SpaceInformationPtr si;
   PlanParameters parameters;
@@ -202,11 +204,29 @@ ob::PlannerTerminationCondition terminationCondition(double timeLimit,
 /// how it went.
 struct SearchOutcome {
   bool solved = false;
+  std::vector<ExploredNode> explored;
   std::vector<Eigen::VectorXd> path;
   GoalSample goal;
   GoalSamplerStatistics goals;
   PlanStatistics stats;
 };
+
+std::vector<ExploredNode> exploredNodes(const GoalHierarchyCache& cache, SamplingTools& tools) {
+  std::vector<ExploredNode> out;
+  for (std::size_t n = 1; n < cache.size(); ++n) {
+    const CacheNode& node = cache.node(static_cast<int>(n));
+    const grasp::GraspEvaluation e = tools.objective.evaluate(node.hfts);
+    ExploredNode x;
+    x.level = node.hfts.level;
+    x.contacts_object = tools.space.representative(node.hfts).positions;
+    x.value = e.value;
+    x.quality = e.quality;
+    x.goal = std::any_of(node.configurations.begin(), node.configurations.end(),
+                         [](const CachedConfiguration& c) { return c.goal; });
+    out.push_back(std::move(x));
+  }
+  return out;
+}
 
 /// The multi-tree CBiRRT (Algorithm 1) with the coupled goal sampler
 /// (Algorithm 2) or the decoupled one.
@@ -233,6 +253,9 @@ SearchOutcome searchMultiTree(Problem& p, bool coupled,
   out.goals = sampler->statistics();
   out.stats = planStatistics(planner.statistics(), out.goals, tools.objective.evaluations(),
                              p.checker.checkCount());
+  if (const auto* hfts = dynamic_cast<const HftsGoalSampler*>(sampler.get());
+      hfts != nullptr && p.explored)
+    out.explored = exploredNodes(hfts->cache(), tools);
   if (out.solved) {
     out.path = planner.solutionPath();
     out.goal = planner.reachedGoal();
@@ -338,6 +361,7 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
           ? searchBaseline(problem, ptc)
           : searchMultiTree(problem, request.algorithm == PlanAlgorithm::kCoupled, ptc);
   result.stats = found.stats;
+  result.explored = std::move(found.explored);
   if (!found.solved) return failed(std::move(result), failureOf(found.goals, cancel));
   result.success = true;
   result.path = std::move(found.path);

@@ -106,7 +106,7 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
                                          const PlanLimits& limits) {
   const JsonFields f(params, "");
   f.allowOnly({"scene", "object", "object_pose", "start", "time_limit", "algorithm", "iterations",
-               "seed", "parameters", "trajectory_rate", "gltf"});
+               "seed", "parameters", "trajectory_rate", "gltf", "explored"});
   planner::PlanRequest r;
   r.scene = sceneOf(f, catalog);
   r.object = objectOf(f, catalog, r.scene);
@@ -127,6 +127,10 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
     r.iterations = f.positiveInt("iterations");
   }
   if (f.has("seed")) r.seed = f.unsignedInteger("seed");
+  if (f.has("explored")) {
+    if (!f.at("explored").is_boolean()) f.fail("explored", "must be true or false");
+    r.explored = f.at("explored").get<bool>();
+  }
   if (f.has("trajectory_rate")) {
     r.trajectory_rate = f.finite("trajectory_rate");
     if (!(r.trajectory_rate >= 0.0 && r.trajectory_rate <= planner::kMaxTrajectoryRate))

@@ -50,6 +50,21 @@ json trajectoryJson(const planner::GraspTrajectory& t, const std::vector<std::st
           {"deviation", t.deviation}};
 }
 
+json exploredJson(const std::vector<planner::ExploredNode>& nodes) {
+  json out = json::array();
+  for (const planner::ExploredNode& n : nodes) {
+    json contacts = json::array();
+    for (Eigen::Index c = 0; c < n.contacts_object.cols(); ++c)
+      contacts.push_back(vectorJson(n.contacts_object.col(c)));
+    out.push_back({{"level", n.level},
+                   {"contacts_object", std::move(contacts)},
+                   {"value", n.value},
+                   {"epsilon", n.quality},
+                   {"goal", n.goal}});
+  }
+  return out;
+}
+
 json statsJson(const planner::PlanStatistics& s) {
   json out = json::object();
   planner::forEachStatistic(s, [&out](const char* name, auto value) { out[name] = value; });
@@ -62,23 +77,25 @@ json planResultToJson(const planner::PlanResult& result, const planner::PlanRequ
   json path = json::array();
   for (const Eigen::VectorXd& q : result.path) path.push_back(vectorJson(q));
   const bool coupled = request.algorithm == planner::PlanAlgorithm::kCoupled;
-  return {{"success", result.success},
-          {"reason", planner::toString(result.failure)},
-          {"message", result.message},
-          {"scene", request.scene.name},
-          {"object", request.object},
-          {"object_pose", poseJson(result.object_pose)},
-          {"algorithm", coupled ? "coupled" : "decoupled"},
-          {"seed", request.seed},
-          {"plan_seed", result.seed},
-          {"time_limit", request.time_limit},
-          {"joint_names", result.joint_names},
-          {"path", std::move(path)},
-          {"grasp", result.success ? graspJson(result.grasp, result.joint_names) : json()},
-          {"trajectory", result.trajectory.points.empty()
-                             ? json()
-                             : trajectoryJson(result.trajectory, result.joint_names)},
-          {"stats", statsJson(result.stats)}};
+  json out = {{"success", result.success},
+              {"reason", planner::toString(result.failure)},
+              {"message", result.message},
+              {"scene", request.scene.name},
+              {"object", request.object},
+              {"object_pose", poseJson(result.object_pose)},
+              {"algorithm", coupled ? "coupled" : "decoupled"},
+              {"seed", request.seed},
+              {"plan_seed", result.seed},
+              {"time_limit", request.time_limit},
+              {"joint_names", result.joint_names},
+              {"path", std::move(path)},
+              {"grasp", result.success ? graspJson(result.grasp, result.joint_names) : json()},
+              {"trajectory", result.trajectory.points.empty()
+                                 ? json()
+                                 : trajectoryJson(result.trajectory, result.joint_names)},
+              {"stats", statsJson(result.stats)}};
+  if (request.explored) out["explored"] = exploredJson(result.explored);
+  return out;
 }
 
 }  // namespace hfts::service

@@ -69,6 +69,21 @@ class Viewer(unittest.TestCase):
                 self.assertGreater(report["changedNearPalm"], 2000, report)
                 self.assertGreater(report["redPixels"], 10, report)
 
+    def test_the_explored_nodes_are_drawn_on_the_object(self):
+        plan_path = os.path.join(self.tmp, "explored.json")
+        result = self.client("--out", plan_path, "plan", "--scene", "bin", "--seed", "1",
+                             "--time-limit", "20", "--explored", "--gltf",
+                             os.path.join(self.tmp, "explored.glb"))
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(plan_path) as f:
+            plan = json.load(f)
+        self.assertEqual(len(plan["explored"]), plan["stats"]["hfts_nodes_explored"])
+        html = os.path.join(self.tmp, "explored.html")
+        self.assertEqual(self.client("view", plan_path, "-o", html).returncode, 0)
+        report = self.check(html)
+        self.assertEqual(report["consoleErrors"], [])
+        self.assertEqual(report["explored"], 3 * len(plan["explored"]))
+
     def test_view_needs_a_successful_plan_with_its_gltf(self):
         failed = os.path.join(self.tmp, "failed.json")
         result = self.client("--out", failed, "plan", "--scene", "table", "--object-pose",

@@ -52,6 +52,34 @@ TEST(GraspMotionPlanner, DecoupledBaselinePlansToo) {
   expectValidPlan(r, planGrasp(world(), r));
 }
 
+TEST(GraspMotionPlanner, ExploredNodesAreTheCachedNodesOnTheObjectsContacts) {
+  PlanRequest r = request("bin", "blob", 5);
+  const PlanResult quiet = planGrasp(world(), r);
+  ASSERT_TRUE(quiet.success) << quiet.message;
+  EXPECT_TRUE(quiet.explored.empty()) << "only when asked";
+  r.explored = true;
+  const PlanResult result = planGrasp(world(), r);
+  ASSERT_TRUE(result.success) << result.message;
+  EXPECT_EQ(result.explored.size(), result.stats.hfts_nodes_explored);
+  const db::ObjectDatabase& blob = *world().object("blob");
+  bool someGoal = false;
+  for (const ExploredNode& n : result.explored) {
+    EXPECT_GE(n.level, 1);
+    EXPECT_LE(n.level, 3);
+    ASSERT_EQ(n.contacts_object.cols(), 3);
+    for (Eigen::Index c = 0; c < 3; ++c) {
+      const Eigen::Vector3d p = n.contacts_object.col(c);
+      const double nearest = (blob.positions.rowwise() - p.transpose()).rowwise().norm().minCoeff();
+      EXPECT_LT(nearest, 1e-12) << "a representative is one of the object's contacts";
+    }
+    EXPECT_GE(n.value, 0.0);
+    someGoal = someGoal || n.goal;
+  }
+  EXPECT_TRUE(someGoal) << "the plan's goal came from a cached node";
+  r.algorithm = PlanAlgorithm::kDecoupled;
+  EXPECT_TRUE(planGrasp(world(), r).explored.empty()) << "the decoupled sampler has no cache";
+}
+
 TEST(GraspMotionPlanner, SameSeedGivesTheSamePath) {
   const PlanRequest r = request("bin", "blob", 5);
   const PlanResult a = planGrasp(world(), r);

@@ -56,6 +56,7 @@ TEST(PlanRequestJson, MapsEveryField) {
              {"iterations", 60},
              {"seed", 18446744073709551615u},
              {"trajectory_rate", 250},
+             {"explored", true},
              {"parameters", {{"p_max", 0.8}, {"kappa", 3}, {"step_size", "0.2"}}}});
   EXPECT_EQ(r.object, "bottle");
   ASSERT_TRUE(r.object_pose.has_value());
@@ -70,6 +71,7 @@ TEST(PlanRequestJson, MapsEveryField) {
   EXPECT_EQ(r.iterations, 60);
   EXPECT_EQ(r.seed, 18446744073709551615u);
   EXPECT_EQ(r.trajectory_rate, 250.0);
+  EXPECT_TRUE(r.explored);
   EXPECT_EQ(r.parameters, (std::map<std::string, std::string>{
                               {"kappa", "3"}, {"p_max", "0.8"}, {"step_size", "0.2"}}));
 }
@@ -145,6 +147,7 @@ TEST(PlanRequestJson, RejectsBadNumbersAndShapes) {
   expectRejected({{"scene", "bin"}, {"iterations", 20}}, "iterations", "only the decoupled");
   expectRejected({{"scene", "bin"}, {"algorithm", 2}}, "algorithm", "string");
   expectRejected({{"scene", "bin"}, {"trajectory_rate", -1}}, "trajectory_rate", "[0, 1000]");
+  expectRejected({{"scene", "bin"}, {"explored", 1}}, "explored", "true or false");
   expectRejected({{"scene", "bin"}, {"trajectory_rate", 1e4}}, "trajectory_rate", "[0, 1000]");
   expectRejected({{"scene", "bin"}, {"trajectory_rate", "100"}}, "trajectory_rate", "number");
   expectRejected({{"scene", "bin"}, {"parameters", {{"p_max", true}}}}, "parameters.p_max",

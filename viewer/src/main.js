@@ -50,6 +50,33 @@ function contactMarkers(grasp) {
   return group;
 }
 
+/// The HFTS nodes the goal sampler visited (plan --explored; the paper's
+/// Fig. 5): each node's representative contacts on the object, coloured
+/// from blue (lowest Eq. (1) value) to red (highest), top-level nodes larger.
+function exploredMarkers(plan) {
+  const group = new THREE.Group();
+  group.name = 'explored';
+  const nodes = plan.explored || [];
+  const order = nodes.map((n, i) => [n.value, i]).sort((a, b) => a[0] - b[0]);
+  const rank = new Array(nodes.length);
+  order.forEach(([, i], r) => { rank[i] = nodes.length > 1 ? r / (nodes.length - 1) : 1; });
+  const [px, py, pz] = plan.object_pose.position;
+  const [qx, qy, qz, qw] = plan.object_pose.orientation;
+  const rotation = new THREE.Quaternion(qx, qy, qz, qw);
+  nodes.forEach((node, i) => {
+    const colour = new THREE.Color().setHSL(0.66 * (1 - rank[i]), 0.9, 0.5);
+    const material = new THREE.MeshBasicMaterial({color: colour});
+    const radius = node.level === 1 ? 0.005 : node.level === 2 ? 0.0035 : 0.0025;
+    for (const c of node.contacts_object) {
+      const world = new THREE.Vector3(...c).applyQuaternion(rotation).add(new THREE.Vector3(px, py, pz));
+      const dot = new THREE.Mesh(new THREE.SphereGeometry(radius, 10, 8), material);
+      dot.position.copy(toView([world.x, world.y, world.z]));
+      group.add(dot);
+    }
+  });
+  return group;
+}
+
 function statsTable(plan) {
   const s = plan.stats, g = plan.grasp, t = plan.trajectory;
   const rows = [
@@ -63,6 +90,7 @@ function statsTable(plan) {
     ['trajectory', `${t.duration.toFixed(2)} s, hand closes at ${t.closing_start.toFixed(2)} s`],
     ['friction cones', `mu = ${FRICTION}`],
   ];
+  if (plan.explored) rows.push(['explored nodes', `${plan.explored.length} (blue: low, red: high Eq. 1 value)`]);
   return rows.map(([k, v]) => `<tr><th>${k}</th><td>${v}</td></tr>`).join('');
 }
 
@@ -87,6 +115,11 @@ function show(plan, glb) {
     scene.add(gltf.scene);
     const markers = contactMarkers(plan.grasp);
     scene.add(markers);
+    const explored = exploredMarkers(plan);
+    scene.add(explored);
+    const toggle = document.getElementById('show-explored');
+    toggle.parentElement.hidden = !plan.explored;
+    toggle.onchange = () => { explored.visible = toggle.checked; };
     const box = new THREE.Box3().setFromObject(gltf.scene);
     // Look at the object from the robot's side, turned 50 degrees and from
     // above: the approach and the hand on the object are in view.
@@ -151,6 +184,7 @@ function show(plan, glb) {
       duration: clip.duration,
       contacts: plan.grasp.contacts_world.length,
       markers: markers.children.length,
+      explored: explored.children.length,
       animatedNodes: new Set(clip.tracks.map((t) => t.name.split('.')[0])).size,
       setTime,
       render: () => renderer.render(scene, camera),

@@ -45,7 +45,8 @@ async function main() {
     };
     const viewer = await page.evaluate(() => ({
       duration: window.viewer.duration, contacts: window.viewer.contacts,
-      markers: window.viewer.markers, animatedNodes: window.viewer.animatedNodes}));
+      markers: window.viewer.markers, explored: window.viewer.explored,
+      animatedNodes: window.viewer.animatedNodes}));
     // Pixels of the canvas at both ends, compared in the page.
     const comparison = await page.evaluate(() => {
       const canvas = document.querySelector('#view canvas');

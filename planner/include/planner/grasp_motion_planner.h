@@ -47,6 +47,8 @@ struct PlanRequest {
   /// Samples per second of the result's trajectory, 0 .. kMaxTrajectoryRate;
   /// 0: none (nor when the robot config has no max_accelerations).
   double trajectory_rate = 100.0;
+  /// Record the HFTS nodes the coupled goal sampler visited (PlanResult::explored).
+  bool explored = false;
 };
 
 inline constexpr double kMaxTrajectoryRate = 1000.0;
@@ -69,6 +71,16 @@ enum class PlanFailure {
 
 /// Snake-case name used in JSON and CSV ("time_limit", ...).
 const char* toString(PlanFailure failure);
+
+/// An HFTS node the coupled goal sampler cached (the paper's Fig. 5): its
+/// representative contacts and how Eq. (1) rated it.
+struct ExploredNode {
+  int level = 0;
+  Eigen::Matrix3Xd contacts_object;  ///< one column per finger, object frame
+  double value = 0.0;                ///< Eq. (1): Q / (R + alpha)
+  double quality = 0.0;              ///< epsilon of the representative grasp
+  bool goal = false;                 ///< it gave a collision-free goal configuration
+};
 
 struct PlannedGrasp {
   grasp::HftsNode node;
@@ -99,6 +111,9 @@ struct PlanResult {
   /// points when not asked for, when the robot has no acceleration limits,
   /// or (never seen) when no collision-free one was found.
   GraspTrajectory trajectory;
+  /// With PlanRequest::explored and the coupled planner: every node of the
+  /// goal hierarchy cache but the root, in the order cached.
+  std::vector<ExploredNode> explored;
   PlanStatistics stats;
   /// The seed of the search this result is from: the request's, or with
   /// racing (parameter `threads` > 1) the winning copy's. A request with
