@@ -163,6 +163,11 @@ class ServerTest(unittest.TestCase):
         shutil.rmtree(cls.tmp, ignore_errors=True)
         assert code == 0, f"hfts-server exited with {code}"
 
+    def client(self, *args):
+        """hfts-client (CONFIG.client) against this server."""
+        return subprocess.run([CONFIG.client, "--port", str(self.server.port), *map(str, args)],
+                               capture_output=True, text=True, timeout=120)
+
     def assertError(self, response, code, field=None, request_id=None, contains=None):
         self.assertIn("error", response, response)
         self.assertEqual(response["jsonrpc"], "2.0")

@@ -6,13 +6,10 @@ no errors. Also the structure of a plan's animation. Run by ctest with
 
 import json
 import os
-import shutil
 import struct
 import subprocess
-import tempfile
-import unittest
 
-from hfts_server_fixture import CONFIG, FAR_AWAY, RunningServer, run_tests
+from hfts_server_fixture import CONFIG, FAR_AWAY, ServerTest, run_tests
 
 
 def read_glb(path):
@@ -39,22 +36,13 @@ def accessor_values(doc, data, index):
             for i in range(accessor["count"])]
 
 
-class GltfExport(unittest.TestCase):
+class GltfExport(ServerTest):
+    OPTIONS = ()
+
     @classmethod
     def setUpClass(cls):
-        cls.tmp = tempfile.mkdtemp(prefix="hfts-gltf-")
-        cls.server = RunningServer(os.path.join(cls.tmp, "log"))
+        super().setUpClass()
         cls.validator = os.path.join(CONFIG.source_dir, "viewer", "tools", "validate_gltf.js")
-
-    @classmethod
-    def tearDownClass(cls):
-        code = cls.server.stop()
-        shutil.rmtree(cls.tmp, ignore_errors=True)
-        assert code == 0, code
-
-    def client(self, *args):
-        return subprocess.run([CONFIG.client, "--port", str(self.server.port), *map(str, args)],
-                              capture_output=True, text=True, timeout=120)
 
     def plan_glb(self, scene):
         glb = os.path.join(self.tmp, scene + "_plan.glb")

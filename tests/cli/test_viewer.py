@@ -8,29 +8,13 @@ Run by ctest with /usr/bin/python3; standard library only."""
 
 import json
 import os
-import shutil
 import subprocess
-import tempfile
-import unittest
 
-from hfts_server_fixture import CONFIG, RunningServer, run_tests
+from hfts_server_fixture import CONFIG, ServerTest, run_tests
 
 
-class Viewer(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        cls.tmp = tempfile.mkdtemp(prefix="hfts-viewer-")
-        cls.server = RunningServer(os.path.join(cls.tmp, "log"))
-
-    @classmethod
-    def tearDownClass(cls):
-        code = cls.server.stop()
-        shutil.rmtree(cls.tmp, ignore_errors=True)
-        assert code == 0, code
-
-    def client(self, *args):
-        return subprocess.run([CONFIG.client, "--port", str(self.server.port), *map(str, args)],
-                              capture_output=True, text=True, timeout=120)
+class Viewer(ServerTest):
+    OPTIONS = ()
 
     def page(self, scene):
         plan = os.path.join(self.tmp, scene + ".json")
