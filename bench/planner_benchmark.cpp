@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <vector>
 #include <filesystem>
 #include <random>
 
 #include "grasp/grasp_quality.h"
+#include "planner/time_parameterization.h"
 #include "preprocess/database_builder.h"
 #include "robot/arm_ik.h"
 #include "robot/collision_checker.h"
@@ -202,6 +204,35 @@ BENCHMARK_CAPTURE(BM_CollisionCheck, bin_free_fcl, std::string("bin"), true, fal
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_CollisionCheck, bin_free_spheres, std::string("bin"), true, true)
     ->Unit(benchmark::kMicrosecond);
+
+/// A time-optimal trajectory (planner/time_parameterization.h) through
+/// `waypoints` random configurations a random walk apart (each joint
+/// +-0.4 rad per step), the KR5 + SDH's limits, sampled at 100 Hz; one
+/// path per iteration from a fixed list of 16.
+void BM_TimeOptimalTrajectory(benchmark::State& state) {
+  std::mt19937_64 rng(1);
+  std::vector<std::vector<Eigen::VectorXd>> paths(16);
+  for (auto& path : paths) {
+    Eigen::VectorXd q = robot().home();
+    for (int i = 0; i < state.range(0); ++i) {
+      for (Eigen::Index d = 0; d < q.size(); ++d)
+        q(d) = std::clamp(q(d) + std::uniform_real_distribution<double>(-0.4, 0.4)(rng),
+                          robot().lowerLimits()(d), robot().upperLimits()(d));
+      path.push_back(q);
+    }
+  }
+  std::size_t next = 0;
+  double seconds = 0.0;
+  for (auto _ : state) {
+    const planner::TimeOptimalTrajectory t(paths[next++ % paths.size()], robot().maxVelocities(),
+                                           robot().maxAccelerations());
+    benchmark::DoNotOptimize(t.sample(100.0));
+    seconds += t.duration();
+  }
+  state.counters["trajectory_s"] =
+      benchmark::Counter(seconds / static_cast<double>(state.iterations()));
+}
+BENCHMARK(BM_TimeOptimalTrajectory)->Arg(5)->Arg(20)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
