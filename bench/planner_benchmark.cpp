@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <vector>
 #include <filesystem>
 #include <random>
+#include <vector>
 
 #include "grasp/grasp_quality.h"
 #include "planner/time_parameterization.h"
