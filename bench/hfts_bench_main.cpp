@@ -38,6 +38,7 @@ struct Options {
   std::vector<std::string> scenes, objects, placements{"target"},
       algorithms{"coupled", "decoupled20", "decoupled60", "decoupled100"};
   int runs = 10;
+  int firstSeed = 1;
   double timeLimit = 60.0;
   bool quick = false, noPlots = false;
   std::string commandLine;
@@ -63,6 +64,7 @@ struct Experiment {
   std::vector<Case> cases;
   std::shared_ptr<const PlanningWorld> world;
   int runs = 0;
+  int firstSeed = 1;  ///< seeds firstSeed .. firstSeed + runs - 1
   double timeLimit = 0.0;
   fs::path csv;
   fs::path outDir;  ///< experiment mode only: logs and plots go here
@@ -93,8 +95,11 @@ Given addOptions(CLI::App& app, Options& o) {
                                 "coupled, decoupledN (N iterations/level), rrtconnect[N]")
                      ->delimiter(',')
                      ->capture_default_str();
-  g.runs = app.add_option("--runs", o.runs, "Runs per combination, with seeds 1..N")
+  g.runs = app.add_option("--runs", o.runs, "Runs per combination, with seeds F..F+N-1")
                ->capture_default_str();
+  app.add_option("--first-seed", o.firstSeed, "F: the first seed of each combination's runs")
+      ->check(CLI::Range(0, 1 << 30))
+      ->capture_default_str();
   g.timeLimit =
       app.add_option("--time-limit", o.timeLimit, "Seconds per run")->capture_default_str();
   auto* out = app.add_option("--out", o.out, "CSV file, one row per run (rewritten after each run)")
@@ -216,6 +221,7 @@ Experiment prepare(const Options& o) {
   checkParameterNames(e.algorithms, *e.world);
   e.cases = casesOf(scenes, *e.world, o);
   e.runs = o.runs;
+  e.firstSeed = o.firstSeed;
   e.timeLimit = o.timeLimit;
   e.csv = o.out;
   e.outDir = o.outDir;
@@ -263,8 +269,9 @@ void writeLog(const Experiment& e, const Case& c, const std::vector<RunRecord>& 
       "hfts-bench: integrated grasp and motion planning (HFTS, ICRA 2017)\n"
       "scene " +
       c.scene.name + ", object " + c.object + " at placement '" + c.placement + "'\n" +
-      "one planGrasp call per run, seeds 1.." + std::to_string(e.runs) +
-      "; rrtconnect samples goals in a second thread\n" + "command: " + commandLine + "\n";
+      "one planGrasp call per run, seeds " + std::to_string(e.firstSeed) + ".." +
+      std::to_string(e.firstSeed + e.runs - 1) + "; rrtconnect samples goals in a second thread\n" +
+      "command: " + commandLine + "\n";
   fs::create_directories(e.outDir / "ompl");
   const std::string at = c.placement == "target" ? "" : "_" + c.placement;
   hfts::bench::writeOmplBenchmarkLog(
@@ -283,7 +290,7 @@ std::vector<RunRecord> runAll(const Experiment& e, const std::string& commandLin
   for (const Case& c : e.cases) {
     const auto started = std::chrono::system_clock::now();
     for (const Algorithm& algorithm : e.algorithms)
-      for (int seed = 1; seed <= e.runs; ++seed) {
+      for (int seed = e.firstSeed; seed < e.firstSeed + e.runs; ++seed) {
         records.push_back(runOnce(e, c, algorithm, seed));
         hfts::bench::writeCsvAtomically(e.csv, records);
         progress.done(records.back());

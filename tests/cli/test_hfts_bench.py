@@ -150,6 +150,21 @@ class BenchCli(unittest.TestCase):
         self.assertEqual(result.returncode, 2)
         self.assertIn("--out", result.stderr)
 
+    def test_first_seed_continues_a_series(self):
+        csv_path = os.path.join(self.tmp, "seed2.csv")
+        result = self.run_bench("--out", csv_path, "--scenes", "table", "--objects", "mug",
+                                "--algorithms", "coupled", "--runs", "1", "--first-seed", "2",
+                                "--time-limit", TIME_LIMIT)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(csv_path, newline="") as f:
+            [row] = list(csv.DictReader(f))
+        header = self.rows[0]
+        [same] = [dict(zip(header, r)) for r in self.rows[1:] if r[2] == "coupled" and r[3] == "2"]
+        self.assertEqual(row["seed"], "2")
+        for column in ("success", "gs", "vgs", "gns", "path_length", "epsilon"):
+            self.assertEqual(row[column], same[column], column)  # the same run as in the series
+        self.assertIn("--first-seed", self.usage_error("--first-seed", "-1"))
+
     def test_unknown_object_is_a_usage_error_naming_the_databases(self):
         err = self.usage_error("--scenes", "table", "--objects", "teapot")
         self.assertIn("unknown object 'teapot' (valid: mug)", err)
