@@ -61,16 +61,16 @@ std::string readBinaryFile(const std::string& path) {
 }
 
 json readJsonFile(const std::string& path) {
-  std::ostringstream text;
+  std::string text;
   if (path == "-") {
-    text << std::cin.rdbuf();
+    std::ostringstream in;
+    in << std::cin.rdbuf();
+    text = in.str();
   } else {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw std::runtime_error("cannot read '" + path + "'");
-    text << in.rdbuf();
+    text = readBinaryFile(path);
   }
   try {
-    return json::parse(text.str());
+    return json::parse(text);
   } catch (const json::exception& e) {
     throw std::runtime_error("'" + path + "' is not valid JSON: " + e.what());
   }

@@ -13,8 +13,8 @@ constexpr double kTighten = 4.0;
 constexpr int kTightenings = 3;
 
 /// True when every sample and the chord to the next is free.
-bool free(const std::vector<TrajectoryPoint>& points, robot::CollisionChecker& checker,
-          double resolution, bool allowFingertipContact) {
+bool collisionFree(const std::vector<TrajectoryPoint>& points, robot::CollisionChecker& checker,
+                   double resolution, bool allowFingertipContact) {
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Eigen::VectorXd& q = points[i].positions;
     if (i == 0
@@ -26,12 +26,11 @@ bool free(const std::vector<TrajectoryPoint>& points, robot::CollisionChecker& c
   return true;
 }
 
-/// The samples of `t` at `rate` from `offset` on (its first skipped when
-/// `skipFirst`), times shifted by `offset`.
-void append(const TimeOptimalTrajectory& t, double rate, double offset, bool skipFirst,
-            std::vector<TrajectoryPoint>& out) {
-  std::vector<TrajectoryPoint> samples = t.sample(rate);
-  for (std::size_t i = skipFirst ? 1 : 0; i < samples.size(); ++i) {
+/// `samples` but the first (the end of what comes before), times shifted
+/// by `offset`, appended to `out`.
+void appendAfter(std::vector<TrajectoryPoint> samples, double offset,
+                 std::vector<TrajectoryPoint>& out) {
+  for (std::size_t i = 1; i < samples.size(); ++i) {
     samples[i].time += offset;
     out.push_back(std::move(samples[i]));
   }
@@ -56,20 +55,22 @@ GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
   exact.max_deviation = 0.0;
   const TimeOptimalTrajectory closing({path[path.size() - 2], path.back()}, v, a, exact);
   std::vector<TrajectoryPoint> closingSamples = closing.sample(rate);
-  if (!free(closingSamples, checker, resolution, true)) return {};
+  if (!collisionFree(closingSamples, checker, resolution, true)) return {};
 
   TrajectoryOptions options;
   for (int attempt = 0; attempt <= kTightenings + 1; ++attempt) {
-    options.max_deviation =
+    const double deviation =
         attempt > kTightenings ? 0.0 : maxDeviation / std::pow(kTighten, attempt);
+    if (attempt > 0 && deviation == options.max_deviation) continue;  // tried already
+    options.max_deviation = deviation;
     const TimeOptimalTrajectory moving(approach, v, a, options);
     GraspTrajectory out;
-    append(moving, rate, 0.0, false, out.points);
-    if (!free(out.points, checker, resolution, false)) continue;
+    out.points = moving.sample(rate);
+    if (!collisionFree(out.points, checker, resolution, false)) continue;
     out.closing_start = moving.duration();
     out.duration = moving.duration() + closing.duration();
     out.deviation = moving.deviation();
-    append(closing, rate, out.closing_start, true, out.points);
+    appendAfter(std::move(closingSamples), out.closing_start, out.points);
     return out;
   }
   return {};

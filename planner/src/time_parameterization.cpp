@@ -183,12 +183,15 @@ class IntervalLimits {
       if (std::abs(d1[i]) > kFlat) max_x = std::min(max_x, (v[i] / d1[i]) * (v[i] / d1[i]));
   }
 
-  /// The path accelerations allowed at x: [lowest, highest].
-  double lowest(double x) const { return extreme(lower_, x, -1.0); }
-  double highest(double x) const { return extreme(upper_, x, 1.0); }
+  /// The highest path acceleration allowed at x.
+  double highest(double x) const {
+    double out = std::numeric_limits<double>::infinity();
+    for (const Row& r : upper_) out = std::min(out, (r.c - r.b * x) / r.a);
+    return out;
+  }
 
   /// The largest x from which some allowed u over a step of `ds` ends at
-  /// x' = x + 2 ds u in [0, next]: max x with [lowest(x), highest(x)]
+  /// x' = x + 2 ds u in [0, next]: max x with the allowed accelerations
   /// meeting [-x / 2ds, (next - x) / 2ds], at most max_x; -1 when none.
   double controllable(double ds, double next) const {
     std::vector<Row> lower = lower_, upper = upper_;
@@ -219,15 +222,6 @@ class IntervalLimits {
     else if (r.b > 0.0)  // f'_i ~ 0: the joint's limit bounds x alone
       max_x = std::min(max_x, r.c / r.b);
   }
-
-  static double extreme(const std::vector<Row>& rows, double x, double sign) {
-    double out = sign * std::numeric_limits<double>::infinity();
-    for (const Row& r : rows) {
-      const double u = (r.c - r.b * x) / r.a;
-      out = sign > 0.0 ? std::min(out, u) : std::max(out, u);
-    }
-    return out;
-  }
 };
 
 }  // namespace
@@ -250,12 +244,6 @@ TimeOptimalTrajectory::TimeOptimalTrajectory(const std::vector<Eigen::VectorXd>&
   deviation_ = blendedPath(w, options.max_deviation, segments_);
   solveTimeLaw(options);
   certifyLimits();
-}
-
-std::size_t TimeOptimalTrajectory::segmentAt(double s) const {
-  const auto after = std::upper_bound(segments_.begin(), segments_.end(), s,
-                                      [](double v, const Segment& g) { return v < g.start; });
-  return static_cast<std::size_t>(std::max<std::ptrdiff_t>(0, after - segments_.begin() - 1));
 }
 
 void TimeOptimalTrajectory::solveTimeLaw(const TrajectoryOptions& options) {

@@ -50,6 +50,12 @@ std::string JsonFields::string(const char* key) const {
   return v.get<std::string>();
 }
 
+bool JsonFields::boolean(const char* key) const {
+  const json& v = at(key);
+  if (!v.is_boolean()) fail(key, "must be true or false");
+  return v.get<bool>();
+}
+
 std::string JsonFields::name(const char* key) const {
   std::string value = string(key);
   if (!robot::isSafeName(value))

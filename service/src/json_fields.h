@@ -29,6 +29,7 @@ class JsonFields {
   [[noreturn]] void fail(const std::string& key, const std::string& problem) const;
 
   std::string string(const char* key) const;
+  bool boolean(const char* key) const;
   /// A string that is safe as a file stem (planner::isSafeName).
   std::string name(const char* key) const;
   double finite(const char* key) const;

@@ -97,9 +97,7 @@ std::map<std::string, std::string> parametersOf(const JsonFields& f,
 
 bool planWantsGltf(const json& params) {
   const JsonFields f(params, "");
-  if (!f.has("gltf")) return false;
-  if (!f.at("gltf").is_boolean()) f.fail("gltf", "must be true or false");
-  return f.at("gltf").get<bool>();
+  return f.has("gltf") && f.boolean("gltf");
 }
 
 planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatalog& catalog,
@@ -127,10 +125,7 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
     r.iterations = f.positiveInt("iterations");
   }
   if (f.has("seed")) r.seed = f.unsignedInteger("seed");
-  if (f.has("explored")) {
-    if (!f.at("explored").is_boolean()) f.fail("explored", "must be true or false");
-    r.explored = f.at("explored").get<bool>();
-  }
+  if (f.has("explored")) r.explored = f.boolean("explored");
   if (f.has("trajectory_rate")) {
     r.trajectory_rate = f.finite("trajectory_rate");
     if (!(r.trajectory_rate >= 0.0 && r.trajectory_rate <= planner::kMaxTrajectoryRate))

@@ -187,7 +187,6 @@ function show(plan, glb) {
       explored: explored.children.length,
       animatedNodes: new Set(clip.tracks.map((t) => t.name.split('.')[0])).size,
       setTime,
-      render: () => renderer.render(scene, camera),
       /// Where a node (a link's name) is on the canvas now, in CSS pixels.
       screenPosition: (name) => {
         const node = gltf.scene.getObjectByName(name);

@@ -92,7 +92,6 @@ class TimeOptimalTrajectory {
   double duration_ = 0.0, deviation_ = 0.0, scale_ = 1.0;
   Eigen::VectorXd maxVelocity_, maxAcceleration_;
 
-  std::size_t segmentAt(double s) const;
   void solveTimeLaw(const TrajectoryOptions& options);
   void certifyLimits();
 };
