@@ -37,19 +37,36 @@ Eigen::VectorXd GraspConfigurator::openedHand(const Eigen::VectorXd& hand) const
   // A DoF opens its finger when it moves the fingertip against the pad
   // normal (away from the surface the pad pushes on): the sign comes from
   // the fingertip Jacobian at this posture, so no per-robot table is needed.
+  // A DoF that drives several fingers (a gripper's mimic jaws) opens them
+  // only when it moves each of them mostly along its pad normal, all the
+  // same way; one that turns fingers sideways (the SDH knuckle) stays.
   const int arm = model_.numArmDofs();
   Eigen::VectorXd q = Eigen::VectorXd::Zero(model_.numDofs());
   q.tail(hand.size()) = hand;
   const robot::LinkPoses poses = robot::forwardKinematics(model_, q);
   Eigen::VectorXd towardsPad = Eigen::VectorXd::Zero(hand.size());
+  std::vector<bool> alongPads(static_cast<std::size_t>(hand.size()), true);
+  std::vector<int> signs(static_cast<std::size_t>(hand.size()), 0);
   for (const robot::Fingertip& tip : model_.fingertips()) {
     const auto j = jacobian(model_, poses, tip.link, tip.point);
     const Eigen::Vector3d pad = poses[static_cast<std::size_t>(tip.link)].linear() * tip.normal;
-    towardsPad += (pad.transpose() * j.topRows<3>().rightCols(hand.size())).transpose();
+    const Eigen::MatrixXd motion = j.topRows<3>().rightCols(hand.size());
+    const Eigen::VectorXd along = (pad.transpose() * motion).transpose();
+    towardsPad += along;
+    for (Eigen::Index h = 0; h < hand.size(); ++h) {
+      const double moved = motion.col(h).norm();
+      if (moved < 1e-12) continue;  // this finger does not move with DoF h
+      const auto k = static_cast<std::size_t>(h);
+      const int sign = along(h) > 0.0 ? 1 : -1;
+      if (std::abs(along(h)) < 0.5 * moved || (signs[k] != 0 && signs[k] != sign))
+        alongPads[k] = false;
+      signs[k] = sign;
+    }
   }
   Eigen::VectorXd open = hand;
   for (Eigen::Index h = 0; h < hand.size(); ++h) {
-    if (!singleFinger_[static_cast<std::size_t>(h)] || towardsPad(h) == 0.0) continue;
+    const auto k = static_cast<std::size_t>(h);
+    if (!(singleFinger_[k] || alongPads[k]) || towardsPad(h) == 0.0) continue;
     const double step = towardsPad(h) > 0.0 ? -model_.pregraspOffset() : model_.pregraspOffset();
     open(h) =
         std::clamp(hand(h) + step, model_.lowerLimits()(arm + h), model_.upperLimits()(arm + h));

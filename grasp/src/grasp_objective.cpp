@@ -8,6 +8,12 @@
 
 namespace hfts::grasp {
 
+ObjectiveOptions objectiveOptions(const robot::RobotModel& robot) {
+  ObjectiveOptions options;
+  options.torsional_friction = robot.torsionalFriction();
+  return options;
+}
+
 GraspQualityRequest qualityRequest(const HftsSpace& space, const GraspContacts& contacts,
                                    const ObjectiveOptions& options) {
   GraspQualityRequest q;
@@ -18,6 +24,7 @@ GraspQualityRequest qualityRequest(const HftsSpace& space, const GraspContacts& 
   q.torque_scale = space.database().geometry.rho;
   q.friction = options.friction;
   q.cone_edges = options.cone_edges;
+  q.torsional_friction = options.torsional_friction;
   return q;
 }
 

@@ -38,6 +38,8 @@ void validate(const GraspQualityRequest& r) {
   check(std::isfinite(r.torque_scale) && r.torque_scale > 0, "torque_scale", "must be > 0");
   check(std::isfinite(r.friction) && r.friction > 0, "friction", "must be > 0");
   check(r.cone_edges >= 3 && r.cone_edges <= 64, "cone_edges", "must be in 3..64");
+  check(std::isfinite(r.torsional_friction) && r.torsional_friction >= 0, "torsional_friction",
+        "must be >= 0");
 }
 
 /// Qhull's error messages go to a FILE; ours are exceptions or a 0 result.
@@ -109,8 +111,10 @@ Eigen::Matrix<double, 6, Eigen::Dynamic> contactWrenches(const GraspQualityReque
   validate(r);
   const Eigen::Index n = r.positions.cols();
   const int k = r.cone_edges;
+  const bool soft = r.torsional_friction > 0.0;
+  const int perContact = soft ? k + 2 : k;
   const double sign = r.direction == NormalDirection::kInward ? 1.0 : -1.0;
-  Eigen::Matrix<double, 6, Eigen::Dynamic> w(6, n * k);
+  Eigen::Matrix<double, 6, Eigen::Dynamic> w(6, n * perContact);
   const ContactPlane plane = contactPlane(r.positions);
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Vector3d normal = sign * r.normals.col(i).normalized();
@@ -120,7 +124,12 @@ Eigen::Matrix<double, 6, Eigen::Dynamic> contactWrenches(const GraspQualityReque
     for (int e = 0; e < k; ++e) {
       const double angle = 2.0 * M_PI * e / k;
       const Eigen::Vector3d f = normal + r.friction * (std::cos(angle) * t1 + std::sin(angle) * t2);
-      w.col(i * k + e) << f, arm.cross(f);
+      w.col(i * perContact + e) << f, arm.cross(f);
+    }
+    if (soft) {
+      const Eigen::Vector3d twist = (r.torsional_friction / r.torque_scale) * normal;
+      w.col(i * perContact + k) << normal, arm.cross(normal) + twist;
+      w.col(i * perContact + k + 1) << normal, arm.cross(normal) - twist;
     }
   }
   return w;

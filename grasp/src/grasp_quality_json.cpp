@@ -44,8 +44,9 @@ GraspQualityRequest graspQualityRequestFromJson(const std::string& text) {
     fail("request", std::string("not valid JSON: ") + e.what());
   }
   if (!root.is_object()) fail("request", "must be a JSON object");
-  static const std::set<std::string> known = {"contacts",     "normals",  "center",
-                                              "torque_scale", "friction", "cone_edges"};
+  static const std::set<std::string> known = {"contacts",          "normals",  "center",
+                                              "torque_scale",      "friction", "cone_edges",
+                                              "torsional_friction"};
   for (const auto& item : root.items())
     if (!known.count(item.key())) fail(item.key(), "unknown field");
   if (!root.contains("contacts") || !root["contacts"].is_array() || root["contacts"].empty())
@@ -78,16 +79,21 @@ GraspQualityRequest graspQualityRequestFromJson(const std::string& text) {
   if (root.contains("center")) r.center = vector3(root["center"], "center");
   r.torque_scale = number(root, "torque_scale", r.torque_scale);
   r.friction = number(root, "friction", r.friction);
+  r.torsional_friction = number(root, "torsional_friction", r.torsional_friction);
   const double edges = number(root, "cone_edges", r.cone_edges);
   if (edges != std::floor(edges) || edges < 3 || edges > 64)
     fail("cone_edges", "must be an integer in 3..64");
   r.cone_edges = static_cast<int>(edges);
-  if (contacts.size() * static_cast<std::size_t>(r.cone_edges) > kMaxQualityWrenches)
-    fail("cone_edges", "contacts x cone_edges must be at most " +
+  const bool soft = r.torsional_friction > 0;
+  const std::size_t perContact = static_cast<std::size_t>(r.cone_edges) + (soft ? 2 : 0);
+  if (contacts.size() * perContact > kMaxQualityWrenches)
+    fail("cone_edges", std::string("contacts x cone_edges") +
+                           (soft ? " (+ 2 torsions per soft contact)" : "") + " must be at most " +
                            std::to_string(kMaxQualityWrenches) + ", got " +
-                           std::to_string(contacts.size()) + " x " + std::to_string(r.cone_edges));
+                           std::to_string(contacts.size()) + " x " + std::to_string(perContact));
   if (!(r.torque_scale > 0)) fail("torque_scale", "must be > 0");
   if (!(r.friction > 0)) fail("friction", "must be > 0");
+  if (!(r.torsional_friction >= 0)) fail("torsional_friction", "must be >= 0");
   return r;
 }
 

@@ -8,8 +8,11 @@
 namespace hfts::grasp::hand {
 namespace {
 
-constexpr int kRows = 6 * kFingers;  // position and normal residual per finger
-using Residuals = Eigen::Matrix<double, kRows, 1>;
+/// Position and normal residual per finger: 6 m rows, a compile-time
+/// size (Rows) in the linear algebra of a step, so that its products
+/// unroll and vectorise as for a fixed hand (solveStep dispatches on m).
+template <int Rows>
+using Residuals = Eigen::Matrix<double, Rows, 1>;
 /// Row-major, so that the Cholesky inner loops run over contiguous rows.
 using Square = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor, kMaxDofs + 3,
                              kMaxDofs + 3>;
@@ -29,8 +32,8 @@ struct Covariance {
 };
 
 Covariance covariance(const Tips& positions, const Tips& normals, const Target& target) {
-  const Eigen::Matrix3d p = positions.colwise() - positions.rowwise().mean();
-  const Eigen::Matrix3d c = target.contacts.colwise() - target.contacts.rowwise().mean();
+  const Tips p = positions.colwise() - positions.rowwise().mean();
+  const Tips c = target.contacts.colwise() - target.contacts.rowwise().mean();
   const double l2 = target.lambda * target.lambda;
   return {p * c.transpose() + l2 * normals * target.pad_normals.transpose(),
           p.squaredNorm() + c.squaredNorm() +
@@ -48,29 +51,32 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
 /// position residuals and their Jacobians are centred over the fingers.
 /// Rows: 3 position and 3 normal residuals per finger. Columns: the hand
 /// DoF, then a rotation of the palm about the fingertips' centroid.
-using Jacobian = Eigen::Matrix<double, kRows, Eigen::Dynamic, 0, kRows, kMaxDofs + 3>;
+template <int Rows>
+using Jacobian = Eigen::Matrix<double, Rows, Eigen::Dynamic, 0, Rows, kMaxDofs + 3>;
 
-void linearize(const TipState& tips, const Alignment& pose, const Target& target, Residuals& r,
-               Jacobian& j) {
+template <int Rows>
+void linearize(const TipState& tips, const Alignment& pose, const Target& target,
+               Residuals<Rows>& r, Jacobian<Rows>& j) {
+  constexpr int fingers = Rows / 6;
   const auto dofs = tips.d_positions.cols();
   const Eigen::Matrix3d back = pose.rotation.transpose();
   const Tips contacts = back * (target.contacts.colwise() - pose.translation);
   const Tips pads = back * target.pad_normals;
   const Eigen::Vector3d tipMean = tips.positions.rowwise().mean();
   const Eigen::Vector3d residualMean = tipMean - contacts.rowwise().mean();
-  const Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxDofs> dMean =
-      (tips.d_positions.middleRows<3>(0) + tips.d_positions.middleRows<3>(3) +
-       tips.d_positions.middleRows<3>(6)) /
-      3.0;
-  j.resize(kRows, dofs + 3);
-  for (int i = 0; i < kFingers; ++i) {
-    const int p = 3 * i, n = 3 * kFingers + 3 * i;
-    r.segment<3>(p) = tips.positions.col(i) - contacts.col(i) - residualMean;
-    r.segment<3>(n) = target.lambda * (tips.normals.col(i) - pads.col(i));
+  Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxDofs> dMean =
+      tips.d_positions.middleRows<3>(0);
+  for (int i = 1; i < fingers; ++i) dMean += tips.d_positions.middleRows<3>(3 * i);
+  dMean /= static_cast<double>(fingers);
+  j.resize(Rows, dofs + 3);
+  for (int i = 0; i < fingers; ++i) {
+    const int p = 3 * i, n = 3 * fingers + 3 * i;
+    r.template segment<3>(p) = tips.positions.col(i) - contacts.col(i) - residualMean;
+    r.template segment<3>(n) = target.lambda * (tips.normals.col(i) - pads.col(i));
     j.block(p, 0, 3, dofs) = tips.d_positions.middleRows<3>(p) - dMean;
     j.block(n, 0, 3, dofs) = target.lambda * tips.d_normals.middleRows<3>(p);
-    j.block<3, 3>(p, dofs) = -skew(tips.positions.col(i) - tipMean);
-    j.block<3, 3>(n, dofs) = -target.lambda * skew(tips.normals.col(i));
+    j.template block<3, 3>(p, dofs) = -skew(tips.positions.col(i) - tipMean);
+    j.template block<3, 3>(n, dofs) = -target.lambda * skew(tips.normals.col(i));
   }
 }
 
@@ -104,8 +110,9 @@ bool solvePositiveDefinite(Square& a, Step& b) {
 /// One damped Gauss-Newton step (Marquardt scaling). Joints at a limit
 /// that the gradient pushes further out are held, so clamping does not
 /// stall the other joints. False when the system cannot be solved.
-bool dampedStep(const Residuals& r, Jacobian& j, const HandVector& q, const HandChains& chains,
-                double mu, Step& step) {
+template <int Rows>
+bool dampedStep(const Residuals<Rows>& r, Jacobian<Rows>& j, const HandVector& q,
+                const HandChains& chains, double mu, Step& step) {
   step.noalias() = -(j.transpose() * r);
   for (Eigen::Index d = 0; d < q.size(); ++d) {
     const bool atLower = q(d) <= chains.lower()(d) && step(d) < 0;
@@ -121,6 +128,30 @@ bool dampedStep(const Residuals& r, Jacobian& j, const HandVector& q, const Hand
   for (Eigen::Index k = 0; k < a.rows(); ++k)
     a(k, k) = a(k, k) > 0 ? a(k, k) * (1.0 + mu) : 1.0;  // held or inert variables stay put
   return solvePositiveDefinite(a, step);
+}
+
+/// The damped step of the linearised problem at `tips` for m = Rows / 6
+/// fingers.
+template <int Rows>
+bool solveStep(const TipState& tips, const Alignment& pose, const Target& target,
+               const HandVector& q, const HandChains& chains, double mu, Step& step) {
+  Residuals<Rows> r;
+  Jacobian<Rows> j;
+  linearize<Rows>(tips, pose, target, r, j);
+  return dampedStep<Rows>(r, j, q, chains, mu, step);
+}
+
+bool solveStep(const TipState& tips, const Alignment& pose, const Target& target,
+               const HandVector& q, const HandChains& chains, double mu, Step& step) {
+  static_assert(robot::hand::kMinFingers == 2 && robot::hand::kMaxFingers == 4);
+  switch (tips.positions.cols()) {
+    case 2:
+      return solveStep<12>(tips, pose, target, q, chains, mu, step);
+    case 3:
+      return solveStep<18>(tips, pose, target, q, chains, mu, step);
+    default:
+      return solveStep<24>(tips, pose, target, q, chains, mu, step);
+  }
 }
 
 /// exp(skew(w)) by Rodrigues' formula.
@@ -178,10 +209,15 @@ Alignment align(const Tips& positions, const Tips& normals, const Target& target
 
 double costOf(const Tips& positions, const Tips& normals, const Target& target,
               const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation) {
-  const Tips placed = (rotation * positions).colwise() + translation;
+  // Column by column: fixed-size vector arithmetic, whatever the finger count.
   const double l2 = target.lambda * target.lambda;
-  return (placed - target.contacts).squaredNorm() +
-         l2 * (rotation * normals - target.pad_normals).squaredNorm();
+  double cost = 0.0;
+  for (Eigen::Index f = 0; f < positions.cols(); ++f) {
+    const Eigen::Vector3d p = rotation * positions.col(f) + translation - target.contacts.col(f);
+    const Eigen::Vector3d n = rotation * normals.col(f) - target.pad_normals.col(f);
+    cost += p.squaredNorm() + l2 * n.squaredNorm();
+  }
+  return cost;
 }
 
 Refinement::Refinement(const HandChains& chains, const HandMapOptions& posture,
@@ -199,7 +235,7 @@ void Refinement::track(int stages, int iterationsPerStage) {
   for (int k = 1; k <= stages; ++k) {
     const double tau = static_cast<double>(k) / (stages + 1);
     target_.contacts = (1 - tau) * startP + tau * goal.contacts;
-    for (int f = 0; f < kFingers; ++f) {
+    for (Eigen::Index f = 0; f < goal.contacts.cols(); ++f) {
       // Normalised blend; opposite normals have no midpoint, take the goal.
       const Eigen::Vector3d n = (1 - tau) * startN.col(f) + tau * goal.pad_normals.col(f);
       target_.pad_normals.col(f) = n.norm() > 1e-6 ? n.normalized() : goal.pad_normals.col(f);
@@ -228,11 +264,8 @@ void Refinement::iterate(int iterations) {
 
 /// One Levenberg-Marquardt iteration; true when the step was accepted.
 bool Refinement::step() {
-  Residuals r;
-  Jacobian j;
   Step delta;
-  linearize(tips(), best_.pose, target_, r, j);
-  if (!dampedStep(r, j, best_.q, *chains_, mu_, delta)) {
+  if (!solveStep(tips(), best_.pose, target_, best_.q, *chains_, mu_, delta)) {
     mu_ *= 8.0;
     return false;
   }

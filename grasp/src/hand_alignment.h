@@ -1,5 +1,5 @@
 #pragma once
-// Putting the fingertips onto a contact triple: the best palm pose for a
+// Putting the fingertips onto their contacts (m = 2..4 of them): the best palm pose for a
 // fixed hand posture (weighted Kabsch, closed form) and the local
 // refinement of posture and pose together (Levenberg-Marquardt). Private to
 // the hand reachability code; the residual is the one defined in
@@ -12,12 +12,11 @@ namespace hfts::grasp::hand {
 
 using robot::hand::HandChains;
 using robot::hand::HandVector;
-using robot::hand::kFingers;
 using robot::hand::kMaxDofs;
 using robot::hand::Tips;
 using robot::hand::TipState;
 
-/// A contact triple in finger order: column f is the contact finger f must
+/// Contacts in finger order (one column per finger): column f is the contact finger f must
 /// reach and the direction its pad must face (the inward contact normal).
 struct Target {
   Tips contacts;
@@ -26,7 +25,7 @@ struct Target {
 };
 
 /// A palm pose, target <- palm, and its cost: the sum over the fingers of
-/// |R f + t - c|^2 + lambda^2 |R a - b|^2 (so R(h) = sqrt(cost / 3)).
+/// |R f + t - c|^2 + lambda^2 |R a - b|^2 (so R(h) = sqrt(cost / m)).
 struct Alignment {
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();

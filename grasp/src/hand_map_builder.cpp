@@ -1,5 +1,5 @@
 // Building the hand reachability map: seeded sampling of the hand joint
-// space, the grasp-posture test and the triple descriptor
+// space, the grasp-posture test and the m-finger descriptor
 // (docs/hand_reachability.md).
 
 #include "grasp/hand_map_builder.h"
@@ -38,6 +38,43 @@ double distanceToOrigin(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                       (a - c).cross(p - c).dot(normal) >= 0;
   if (inside) best = std::min(best, p.norm());
   return best;
+}
+
+/// Distance from the origin to the tetrahedron (a, b, c, d): 0 inside (the
+/// origin on the same side of every face as the opposite vertex), else the
+/// nearest face's.
+double distanceToOrigin(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                        const Eigen::Vector3d& c, const Eigen::Vector3d& d) {
+  const auto sameSide = [](const Eigen::Vector3d& p, const Eigen::Vector3d& q,
+                           const Eigen::Vector3d& r, const Eigen::Vector3d& opposite) {
+    const Eigen::Vector3d normal = (q - p).cross(r - p);
+    return normal.dot(opposite - p) * normal.dot(-p) >= 0.0;
+  };
+  const double volume = (b - a).cross(c - a).dot(d - a);
+  if (std::abs(volume) > 1e-12 && sameSide(a, b, c, d) && sameSide(a, b, d, c) &&
+      sameSide(a, c, d, b) && sameSide(b, c, d, a))
+    return 0.0;
+  return std::min({distanceToOrigin(a, b, c), distanceToOrigin(a, b, d), distanceToOrigin(a, c, d),
+                   distanceToOrigin(b, c, d)});
+}
+
+/// Distance from the origin to the convex hull of the columns (2..4).
+double distanceToOrigin(const FingerColumns& points) {
+  switch (points.cols()) {
+    case 2:
+      return closestOnSegment(points.col(0), points.col(1)).norm();
+    case 3:
+      return distanceToOrigin(points.col(0), points.col(1), points.col(2));
+    default:
+      return distanceToOrigin(points.col(0), points.col(1), points.col(2), points.col(3));
+  }
+}
+
+void checkFingers(Eigen::Index fingers) {
+  if (fingers < robot::hand::kMinFingers || fingers > robot::hand::kMaxFingers)
+    throw InvalidArgument("fingers", "must be in " + std::to_string(robot::hand::kMinFingers) +
+                                         ".." + std::to_string(robot::hand::kMaxFingers) +
+                                         ", got " + std::to_string(fingers));
 }
 
 Eigen::Vector3d unitOrZero(const Eigen::Vector3d& v) {
@@ -96,7 +133,7 @@ db::HandMap emptyMap(const robot::RobotModel& model, const robot::hand::HandChai
   map.lower_limits = chains.lower();
   map.upper_limits = chains.upper();
   map.finger_names = chains.fingerNames();
-  map.descriptor = kHandDescriptorName;
+  map.descriptor = handDescriptorName(chains.numFingers());
   map.parameters = options;
   return map;
 }
@@ -109,34 +146,82 @@ db::RowMatrixXd rows(const std::vector<double>& data, Eigen::Index cols) {
 
 }  // namespace
 
-bool isGraspPosture(const Eigen::Matrix3d& positions, const Eigen::Matrix3d& padNormals,
+const char* handDescriptorName(int fingers) {
+  checkFingers(fingers);
+  constexpr const char* kNames[] = {"pair-distance-normals-5", "triangle-edges-normals-12",
+                                    "quadrilateral-edges-diagonals-normals-18"};
+  return kNames[fingers - 2];
+}
+
+int handDescriptorSize(int fingers) {
+  checkFingers(fingers);
+  constexpr int kSizes[] = {5, 12, 18};
+  return kSizes[fingers - 2];
+}
+
+bool isGraspPosture(const FingerColumns& positions, const FingerColumns& padNormals,
                     const HandMapOptions& options) {
-  for (int i = 0; i < 3; ++i) {
-    const int j = (i + 1) % 3, k = (i + 2) % 3;
-    if ((positions.col(j) - positions.col(i)).norm() < options.min_fingertip_distance) return false;
+  const Eigen::Index m = positions.cols();
+  checkFingers(m);
+  const Eigen::Vector3d sum = positions.rowwise().sum();
+  for (Eigen::Index i = 0; i < m; ++i) {
+    for (Eigen::Index j = i + 1; j < m; ++j)
+      if ((positions.col(j) - positions.col(i)).norm() < options.min_fingertip_distance)
+        return false;
     const Eigen::Vector3d towardsOthers =
-        0.5 * (positions.col(j) + positions.col(k)) - positions.col(i);
+        (sum - positions.col(i)) / static_cast<double>(m - 1) - positions.col(i);
     if (padNormals.col(i).dot(towardsOthers) <= 0.0) return false;
   }
   // Friction cones of half-angle atan(mu) around the pad normals can cancel.
   const double reach = options.friction / std::sqrt(1.0 + options.friction * options.friction);
-  return distanceToOrigin(padNormals.col(0), padNormals.col(1), padNormals.col(2)) <= reach;
+  return distanceToOrigin(padNormals) <= reach;
 }
 
-Eigen::Matrix<double, kHandDescriptorSize, 1> handDescriptor(const Eigen::Matrix3d& positions,
-                                                             const Eigen::Matrix3d& padNormals,
-                                                             double normalWeight) {
-  Eigen::Matrix<double, kHandDescriptorSize, 1> d;
-  for (int i = 0; i < 3; ++i) {
-    const int j = (i + 1) % 3, k = (i + 2) % 3;
+namespace {
+
+/// m = 2: the distance, the pads' components along the line through the
+/// fingertips and the dihedral angle between them about it.
+void pairDescriptor(const FingerColumns& positions, const FingerColumns& pads, double weight,
+                    HandDescriptor& d) {
+  const Eigen::Vector3d e = positions.col(1) - positions.col(0);
+  const Eigen::Vector3d u = unitOrZero(e);
+  const double a0 = pads.col(0).dot(u), a1 = pads.col(1).dot(u);
+  const Eigen::Vector3d t0 = pads.col(0) - a0 * u, t1 = pads.col(1) - a1 * u;
+  d << e.norm(), weight * a0, weight * a1, weight * t0.dot(t1), weight * u.dot(t0.cross(t1));
+}
+
+/// m >= 3: cyclic edges (and the diagonals of four), then each pad in the
+/// frame of its finger's two cyclic successors.
+void polygonDescriptor(const FingerColumns& positions, const FingerColumns& pads, double weight,
+                       HandDescriptor& d) {
+  const Eigen::Index m = positions.cols();
+  const Eigen::Index edges = m == 4 ? 6 : m;
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const Eigen::Index j = (i + 1) % m, k = (i + 2) % m;
     const Eigen::Vector3d eij = positions.col(j) - positions.col(i);
     const Eigen::Vector3d uij = unitOrZero(eij);
     const Eigen::Vector3d uik = unitOrZero(positions.col(k) - positions.col(i));
-    const Eigen::Vector3d n = padNormals.col(i);
+    const Eigen::Vector3d n = pads.col(i);
     d(i) = eij.norm();
-    d.segment<3>(3 + 3 * i) << n.dot(uij), n.dot(uik), n.dot(uij.cross(uik));
+    d.segment<3>(edges + 3 * i) << n.dot(uij), n.dot(uik), n.dot(uij.cross(uik));
   }
-  d.tail<9>() *= normalWeight;
+  if (m == 4) {
+    d(4) = (positions.col(2) - positions.col(0)).norm();
+    d(5) = (positions.col(3) - positions.col(1)).norm();
+  }
+  d.tail(3 * m) *= weight;
+}
+
+}  // namespace
+
+HandDescriptor handDescriptor(const FingerColumns& positions, const FingerColumns& padNormals,
+                              double normalWeight) {
+  const auto m = static_cast<int>(positions.cols());
+  HandDescriptor d(handDescriptorSize(m));
+  if (m == 2)
+    pairDescriptor(positions, padNormals, normalWeight, d);
+  else
+    polygonDescriptor(positions, padNormals, normalWeight, d);
   return d;
 }
 
@@ -159,17 +244,19 @@ db::HandMap buildHandMap(const robot::RobotModel& model, const HandMapOptions& o
     if (!isGraspPosture(tips.positions, tips.normals, options)) continue;
     const auto descriptor = handDescriptor(tips.positions, tips.normals, options.normal_weight);
     configurations.insert(configurations.end(), q.data(), q.data() + dofs);
-    positions.insert(positions.end(), tips.positions.data(), tips.positions.data() + 9);
-    normals.insert(normals.end(), tips.normals.data(), tips.normals.data() + 9);
+    positions.insert(positions.end(), tips.positions.data(),
+                     tips.positions.data() + tips.positions.size());
+    normals.insert(normals.end(), tips.normals.data(), tips.normals.data() + tips.normals.size());
     descriptors.insert(descriptors.end(), descriptor.data(), descriptor.data() + descriptor.size());
   }
   if (configurations.empty())
     throw robot::ModelError(model.name() + ": no grasp posture in " +
                             std::to_string(map.num_draws) + " random hand configurations");
   map.configurations = rows(configurations, dofs);
-  map.positions = rows(positions, 9);
-  map.normals = rows(normals, 9);
-  map.descriptors = rows(descriptors, kHandDescriptorSize);
+  const Eigen::Index columns = 3 * chains.numFingers();
+  map.positions = rows(positions, columns);
+  map.normals = rows(normals, columns);
+  map.descriptors = rows(descriptors, handDescriptorSize(chains.numFingers()));
   return map;
 }
 

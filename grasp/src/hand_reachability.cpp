@@ -20,41 +20,102 @@
 namespace hfts::grasp {
 namespace {
 
-/// The six ways to put three contacts on three fingers: kOrders[o][f] is
-/// the contact on finger f.
-constexpr std::array<std::array<int, 3>, 6> kOrders = {
-    {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {2, 1, 0}, {1, 0, 2}}};
+/// The ways to put m contacts on m fingers: order[f] is the contact on
+/// finger f. All m! permutations, grouped by cyclic rotation (for m = 3:
+/// the three rotations of the identity, then those of its reflection).
+using Order = std::array<int, robot::hand::kMaxFingers>;
+
+std::vector<Order> fingerOrders(int m) {
+  Order first{};
+  std::iota(first.begin(), first.begin() + m, 0);
+  std::vector<Order> out;
+  for (Order p = first;;) {
+    if (std::find(out.begin(), out.end(), p) == out.end())
+      for (int r = 0; r < m; ++r) {
+        Order rotated{};
+        for (int f = 0; f < m; ++f)
+          rotated[static_cast<std::size_t>(f)] = p[static_cast<std::size_t>((f + r) % m)];
+        out.push_back(rotated);
+      }
+    if (!std::next_permutation(p.begin(), p.begin() + m)) break;
+  }
+  return out;
+}
 
 /// Descriptors searched in single precision: the search only proposes
 /// candidates, and floats make it faster.
-using DescriptorRows = Eigen::Matrix<float, Eigen::Dynamic, kHandDescriptorSize, Eigen::RowMajor>;
+using DescriptorRows = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-/// nanoflann's view of the descriptor rows.
+/// nanoflann's view of the descriptor rows, Dim floats each (row-major):
+/// the row stride is a compile-time constant in the distance loops.
+template <int Dim>
 struct DescriptorCloud {
-  const DescriptorRows* rows = nullptr;
-  std::size_t kdtree_get_point_count() const { return static_cast<std::size_t>(rows->rows()); }
-  float kdtree_get_pt(std::size_t i, std::size_t d) const {
-    return (*rows)(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(d));
-  }
+  const float* data = nullptr;
+  std::size_t rows = 0;
+  std::size_t kdtree_get_point_count() const { return rows; }
+  float kdtree_get_pt(std::size_t i, std::size_t d) const { return data[i * Dim + d]; }
   template <typename Box>
   bool kdtree_get_bbox(Box&) const {
     return false;
   }
 };
 
-using Tree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, DescriptorCloud>,
-                                        DescriptorCloud, kHandDescriptorSize, std::uint32_t>;
+/// A k-d tree over the descriptor rows, of the descriptor's size fixed at
+/// compile time (the distance loops unroll) behind one interface.
+class DescriptorIndex {
+ public:
+  virtual ~DescriptorIndex() = default;
+  /// Up to `k` approximate nearest rows (relative tolerance `eps`);
+  /// returns how many were found.
+  virtual std::size_t nearest(const float* query, std::size_t k, float eps, std::uint32_t* indices,
+                              float* distances) const = 0;
+};
+
+template <int Dim>
+class FixedDescriptorIndex final : public DescriptorIndex {
+ public:
+  explicit FixedDescriptorIndex(const DescriptorRows& rows)
+      : cloud_{rows.data(), static_cast<std::size_t>(rows.rows())},
+        tree_(Dim, cloud_, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {}
+
+  std::size_t nearest(const float* query, std::size_t k, float eps, std::uint32_t* indices,
+                      float* distances) const override {
+    nanoflann::KNNResultSet<float, std::uint32_t> result(k);
+    result.init(indices, distances);
+    tree_.findNeighbors(result, query, nanoflann::SearchParams(0, eps));
+    return result.size();
+  }
+
+ private:
+  using Cloud = DescriptorCloud<Dim>;
+  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Cloud>,
+                                                   Cloud, Dim, std::uint32_t>;
+  Cloud cloud_;
+  Tree tree_;
+};
+
+std::unique_ptr<DescriptorIndex> makeIndex(const DescriptorRows& rows) {
+  switch (rows.cols()) {
+    case 5:
+      return std::make_unique<FixedDescriptorIndex<5>>(rows);
+    case 12:
+      return std::make_unique<FixedDescriptorIndex<12>>(rows);
+    case 18:
+      return std::make_unique<FixedDescriptorIndex<18>>(rows);
+    default:
+      throw std::logic_error("no descriptor index of size " + std::to_string(rows.cols()));
+  }
+}
 
 constexpr std::size_t kMaxNeighbours = 256;
 
 /// R(h) below 1e-6 m counts as exactly reached: no further probe is finished.
-constexpr double kExactCost = 3.0 * 1e-12;
+constexpr double kExactResidual2 = 1e-12;
 
 struct Candidate {
   double cost = 0.0;
   std::uint32_t sample = 0;
-  std::size_t order = 0;  ///< index into kOrders
+  std::size_t order = 0;  ///< index into the finger orders
 };
 
 [[noreturn]] void mismatch(const std::string& robot, const std::string& problem) {
@@ -82,19 +143,20 @@ void checkOptions(const HandQueryOptions& o) {
     throw InvalidArgument("HandQueryOptions::search_tolerance", "must be >= 0");
 }
 
-void checkInput(const Eigen::Matrix3Xd& m, const char* name, bool unit) {
-  if (m.cols() != 3)
-    throw InvalidArgument(
-        name, "must be 3 x 3 (one column per contact), got 3 x " + std::to_string(m.cols()));
+void checkInput(const Eigen::Matrix3Xd& m, Eigen::Index fingers, const char* name, bool unit) {
+  if (m.cols() != fingers)
+    throw InvalidArgument(name, "must be 3 x " + std::to_string(fingers) +
+                                    " (one column per contact), got 3 x " +
+                                    std::to_string(m.cols()));
   if (!m.allFinite()) throw InvalidArgument(name, "holds a non-finite value");
-  for (int c = 0; unit && c < 3; ++c)
+  for (Eigen::Index c = 0; unit && c < fingers; ++c)
     if (std::abs(m.col(c).norm() - 1.0) > 1e-3)
       throw InvalidArgument(name, "column " + std::to_string(c) + " is not a unit vector (norm " +
                                       std::to_string(m.col(c).norm()) + ")");
 }
 
 robot::hand::Tips tipsOf(const db::RowMatrixXd& rows, std::uint32_t sample) {
-  return Eigen::Map<const robot::hand::Tips>(rows.row(sample).data());
+  return Eigen::Map<const Eigen::Matrix3Xd>(rows.row(sample).data(), 3, rows.cols() / 3);
 }
 
 }  // namespace
@@ -103,23 +165,27 @@ struct HandReachability::Impl {
   robot::hand::HandChains chains;
   db::HandMap map;
   HandQueryOptions options;
-  /// Row 6 s + o: the descriptor of sample s's fingertips as they sit on
-  /// contacts given in canonical order under finger order kOrders[o], so one
-  /// k-d tree search covers every assignment of contacts to fingers.
+  int fingers;
+  std::vector<Order> orders;
+  /// Row (number of orders) s + o: the descriptor of sample s's fingertips
+  /// as they sit on contacts given in canonical order under finger order
+  /// orders[o], so one k-d tree search covers every assignment of contacts
+  /// to fingers.
   DescriptorRows ordered;
-  DescriptorCloud cloud;
-  std::unique_ptr<Tree> tree;
+  std::unique_ptr<DescriptorIndex> index;
 
   Impl(const robot::RobotModel& model, db::HandMap m, HandQueryOptions o)
-      : chains(model), map(std::move(m)), options(o) {
+      : chains(model),
+        map(std::move(m)),
+        options(o),
+        fingers(chains.numFingers()),
+        orders(fingerOrders(fingers)) {
     checkOptions(options);
     db::validateHandMap(map, "hand map of '" + map.robot_name + "'");
     checkMatchesRobot(model.name());
     checkReproducedByKinematics(model.name());
     ordered = orderedDescriptors();
-    cloud.rows = &ordered;
-    tree = std::make_unique<Tree>(kHandDescriptorSize, cloud,
-                                  nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    index = makeIndex(ordered);
   }
 
   void checkMatchesRobot(const std::string& robot) const {
@@ -129,8 +195,9 @@ struct HandReachability::Impl {
     if ((map.lower_limits - chains.lower()).cwiseAbs().maxCoeff() > 1e-12 ||
         (map.upper_limits - chains.upper()).cwiseAbs().maxCoeff() > 1e-12)
       mismatch(robot, "hand joint limits differ");
-    if (map.descriptor != kHandDescriptorName || map.descriptors.cols() != kHandDescriptorSize)
-      mismatch(robot, "descriptor '" + map.descriptor + "' is not '" + kHandDescriptorName + "'");
+    const std::string descriptor = handDescriptorName(fingers);
+    if (map.descriptor != descriptor || map.descriptors.cols() != handDescriptorSize(fingers))
+      mismatch(robot, "descriptor '" + map.descriptor + "' is not '" + descriptor + "'");
   }
 
   /// A map of another hand geometry (other fingertip points or links)
@@ -151,30 +218,32 @@ struct HandReachability::Impl {
 
   DescriptorRows orderedDescriptors() const {
     const auto n = static_cast<Eigen::Index>(map.numSamples());
-    const auto orders = static_cast<Eigen::Index>(kOrders.size());
-    DescriptorRows out(n * orders, kHandDescriptorSize);
+    const auto count = static_cast<Eigen::Index>(orders.size());
+    DescriptorRows out(n * count, handDescriptorSize(fingers));
     for (Eigen::Index s = 0; s < n; ++s) {
       const robot::hand::Tips tips = tipsOf(map.positions, static_cast<std::uint32_t>(s));
       const robot::hand::Tips pads = tipsOf(map.normals, static_cast<std::uint32_t>(s));
-      for (std::size_t o = 0; o < kOrders.size(); ++o) {
-        robot::hand::Tips p, a;  // column c: the finger on contact c
-        for (std::size_t f = 0; f < 3; ++f) {
-          p.col(kOrders[o][f]) = tips.col(static_cast<Eigen::Index>(f));
-          a.col(kOrders[o][f]) = pads.col(static_cast<Eigen::Index>(f));
+      for (std::size_t o = 0; o < orders.size(); ++o) {
+        robot::hand::Tips p(3, fingers), a(3, fingers);  // column c: the finger on contact c
+        for (int f = 0; f < fingers; ++f) {
+          p.col(orders[o][static_cast<std::size_t>(f)]) = tips.col(f);
+          a.col(orders[o][static_cast<std::size_t>(f)]) = pads.col(f);
         }
-        out.row(s * orders + static_cast<Eigen::Index>(o)) =
+        out.row(s * count + static_cast<Eigen::Index>(o)) =
             handDescriptor(p, a, map.parameters.normal_weight).transpose().cast<float>();
       }
     }
     return out;
   }
 
-  /// The contacts in the finger order kOrders[order]; pads face inwards.
+  /// The contacts in the finger order orders[order]; pads face inwards.
   hand::Target target(const Eigen::Matrix3Xd& contacts, const Eigen::Matrix3Xd& outward,
                       std::size_t order) const {
     hand::Target t;
-    for (std::size_t f = 0; f < 3; ++f) {
-      const int c = kOrders[order][f];
+    t.contacts.resize(3, fingers);
+    t.pad_normals.resize(3, fingers);
+    for (int f = 0; f < fingers; ++f) {
+      const int c = orders[order][static_cast<std::size_t>(f)];
       t.contacts.col(f) = contacts.col(c);
       t.pad_normals.col(f) = -outward.col(c);
     }
@@ -190,27 +259,29 @@ struct HandReachability::Impl {
                                     const Eigen::Matrix3Xd& outward) const {
     std::array<std::uint32_t, kMaxNeighbours> indices;
     std::array<float, kMaxNeighbours> distances;
-    nanoflann::KNNResultSet<float, std::uint32_t> result(
-        std::min<std::size_t>(static_cast<std::size_t>(options.neighbours), kMaxNeighbours));
-    result.init(indices.data(), distances.data());
     const hand::Target given = target(contacts, outward, 0);
-    const Eigen::Matrix<float, kHandDescriptorSize, 1> d =
+    const Eigen::Matrix<float, Eigen::Dynamic, 1, 0, kMaxHandDescriptorSize, 1> d =
         handDescriptor(given.contacts, given.pad_normals, given.lambda).cast<float>();
-    tree->findNeighbors(result, d.data(),
-                        nanoflann::SearchParams(0, static_cast<float>(options.search_tolerance)));
-    std::vector<Candidate> out(result.size());
+    const std::size_t found = index->nearest(
+        d.data(),
+        std::min<std::size_t>(static_cast<std::size_t>(options.neighbours), kMaxNeighbours),
+        static_cast<float>(options.search_tolerance), indices.data(), distances.data());
+    std::vector<Candidate> out(found);
     for (std::size_t i = 0; i < out.size(); ++i) {
-      const std::uint32_t s = indices[i] / kOrders.size();
-      const std::size_t o = indices[i] % kOrders.size();
+      const std::uint32_t s = static_cast<std::uint32_t>(indices[i] / orders.size());
+      const std::size_t o = indices[i] % orders.size();
       const hand::Target t = target(contacts, outward, o);
       out[i] = {hand::alignmentCost(tipsOf(map.positions, s), tipsOf(map.normals, s), t), s, o};
     }
     std::sort(out.begin(), out.end(),
               [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
-    std::array<bool, kOrders.size()> seen{};
+    std::vector<bool> seen(orders.size());
     auto front = out.begin();
     for (auto c = out.begin(); c != out.end(); ++c)
-      if (!std::exchange(seen[c->order], true)) std::rotate(front++, c, c + 1);
+      if (!seen[c->order]) {
+        seen[c->order] = true;
+        std::rotate(front++, c, c + 1);
+      }
     return out;
   }
 
@@ -233,7 +304,8 @@ struct HandReachability::Impl {
     std::size_t best = rank[0];
     const std::size_t finished =
         std::min(probed, static_cast<std::size_t>(options.finished_candidates));
-    for (std::size_t i = 0; i < finished && probes[best].cost() > kExactCost; ++i) {
+    const double exactCost = kExactResidual2 * fingers;
+    for (std::size_t i = 0; i < finished && probes[best].cost() > exactCost; ++i) {
       probes[rank[i]].iterate(options.refine_iterations);
       if (probes[rank[i]].cost() < probes[best].cost()) best = rank[i];
     }
@@ -280,18 +352,19 @@ struct HandReachability::Impl {
     const robot::hand::TipState& tips = refined.tips();
     const Eigen::Matrix3d& rot = best.pose.rotation;
     const robot::hand::Tips placed = (rot * tips.positions).colwise() + best.pose.translation;
-    const Eigen::Vector3d cosines =
-        (rot * tips.normals).cwiseProduct(t.pad_normals).colwise().sum().transpose();
+    const Eigen::RowVectorXd cosines =
+        (rot * tips.normals).cwiseProduct(t.pad_normals).colwise().sum();
     HandQuery out;
-    out.residual = std::sqrt(best.pose.cost / 3.0);
-    out.position_error = std::sqrt((placed - t.contacts).squaredNorm() / 3.0);
+    out.residual = std::sqrt(best.pose.cost / fingers);
+    out.position_error = std::sqrt((placed - t.contacts).squaredNorm() / fingers);
     out.normal_error = std::acos(std::clamp(cosines.minCoeff(), -1.0, 1.0));
     out.hand_configuration = best.q;
     out.palm_pose.linear() = rot;
     out.palm_pose.translation() = best.pose.translation;
-    out.finger_of_contact.assign(3, -1);
-    for (std::size_t f = 0; f < 3; ++f)
-      out.finger_of_contact[static_cast<std::size_t>(kOrders[from.order][f])] = static_cast<int>(f);
+    out.finger_of_contact.assign(static_cast<std::size_t>(fingers), -1);
+    for (int f = 0; f < fingers; ++f)
+      out.finger_of_contact[static_cast<std::size_t>(
+          orders[from.order][static_cast<std::size_t>(f)])] = f;
     out.map_sample = from.sample;
     return out;
   }
@@ -320,16 +393,16 @@ const HandQueryOptions& HandReachability::options() const {
 
 HandQuery HandReachability::query(const Eigen::Matrix3Xd& contactPositions,
                                   const Eigen::Matrix3Xd& outwardContactNormals) const {
-  checkInput(contactPositions, "contactPositions", false);
-  checkInput(outwardContactNormals, "outwardContactNormals", true);
+  checkInput(contactPositions, impl_->fingers, "contactPositions", false);
+  checkInput(outwardContactNormals, impl_->fingers, "outwardContactNormals", true);
   return impl_->query(contactPositions, outwardContactNormals);
 }
 
 std::vector<HandQuery> HandReachability::queryAlternatives(
     const Eigen::Matrix3Xd& contactPositions, const Eigen::Matrix3Xd& outwardContactNormals,
     double maxPositionError, double minHandDifference) const {
-  checkInput(contactPositions, "contactPositions", false);
-  checkInput(outwardContactNormals, "outwardContactNormals", true);
+  checkInput(contactPositions, impl_->fingers, "contactPositions", false);
+  checkInput(outwardContactNormals, impl_->fingers, "outwardContactNormals", true);
   if (!(maxPositionError >= 0.0)) throw InvalidArgument("maxPositionError", "must be >= 0");
   if (!(minHandDifference >= 0.0)) throw InvalidArgument("minHandDifference", "must be >= 0");
   return impl_->queryAlternatives(contactPositions, outwardContactNormals, maxPositionError,

@@ -73,8 +73,11 @@ struct PlanParameters {
     declareParameter(all, "sphere_tier", {0, 1, 1}, sphereTier);
     declareParameter(all, "threads", kThreadsRange, threads);  // planGrasp reads it
   }
-  PlanParameters(const ob::SpaceInformationPtr& si, const PlanRequest& request)
+  /// The request's parameters for `robot` (its fingertips' contact model).
+  PlanParameters(const ob::SpaceInformationPtr& si, const PlanRequest& request,
+                 const robot::RobotModel& robot)
       : PlanParameters(si) {
+    goals.objective.torsional_friction = robot.torsionalFriction();
     set(request);
   }
   PlanParameters(const PlanParameters&) = delete;
@@ -127,7 +130,7 @@ struct Problem {
         explored(request.explored),
         checker(w.robot(), scene, &o.geometry, w.collisionMesh(o.name)),
         si(makeSpaceInformation(w.robot(), checker, kTreeResolution)),
-        parameters(si, request),
+        parameters(si, request, w.robot()),
         // A robot whose fingertips have no measurable pad is not masked.
         usable(
             parameters.goals.mask_contacts == 0 || w.padRadius() <= grasp::kContactMaskClearance

@@ -28,7 +28,8 @@ GraspabilityReport graspabilityReport(const db::ObjectDatabase& object,
     const grasp::HandReachability fast(robot, map);
     const grasp::HandReachability thorough(robot, map, grasp::HandQueryOptions::thorough());
     const grasp::HftsSpace space(object, static_cast<int>(robot.fingertips().size()));
-    report.value = grasp::graspability(space, fast, thorough, {}, 1000, kTolerance);
+    report.value = grasp::graspability(space, fast, thorough, grasp::objectiveOptions(robot), 1000,
+                                       kTolerance);
   } catch (const std::exception& e) {
     report.note = e.what();
   }

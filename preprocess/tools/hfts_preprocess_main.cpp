@@ -12,6 +12,7 @@
 #include "preprocess/contact_export.h"
 #include "preprocess/contact_filters.h"
 #include "preprocess/database_builder.h"
+#include "robot_check.h"
 #include "scene_export_command.h"
 
 namespace {
@@ -109,9 +110,10 @@ int main(int argc, char** argv) {
       "Builds Hierarchical Fingertip Space databases (HDF5) from object meshes.\n"
       "  hfts-preprocess MESH_OR_DIR -o OUTDIR [options]\n"
       "  hfts-preprocess --inspect FILE.h5 [--json]\n"
-      "  hfts-preprocess --export-ply FILE.h5 OUT.ply",
+      "  hfts-preprocess --export-ply FILE.h5 OUT.ply\n"
+      "  hfts-preprocess --check-robot ROBOT.json",
       "hfts-preprocess"};
-  std::string input, outDir, inspectFile, handConfig;
+  std::string input, outDir, inspectFile, handConfig, checkConfig;
   std::vector<std::string> plyArgs, sceneArgs;
   hfts::preprocess::SceneExportOptions sceneOptions;
   bool json = false, quiet = false;
@@ -131,6 +133,10 @@ int main(int argc, char** argv) {
   auto* handOpt = app.add_option("--hand", handConfig,
                                  "Build the hand reachability map of ROBOT.json into -o DIR")
                       ->type_name("ROBOT.json");
+  auto* checkOpt =
+      app.add_option("--check-robot", checkConfig,
+                     "Check ROBOT.json and its URDF for planning; exit 1 when something is wrong")
+          ->type_name("ROBOT.json");
   auto* sceneOpt = app.add_option("--export-scene", sceneArgs,
                                   "Write SCENE.json with robot and object as binary glTF")
                        ->expected(2)
@@ -149,6 +155,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", hfts::preprocess::producerName());
   inspectOpt->excludes(plyOpt);
   handOpt->excludes(inspectOpt)->excludes(plyOpt)->excludes(sceneOpt);
+  checkOpt->excludes(inspectOpt)->excludes(plyOpt)->excludes(sceneOpt)->excludes(handOpt);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -161,6 +168,9 @@ int main(int argc, char** argv) {
                      hfts::preprocess::repositoryPath(sceneOptions.robot,
                                                       "robots/kr5_sdh/kr5_sdh.json", argv[0]));
     if (!plyArgs.empty()) return exportPly(plyArgs);
+    if (!checkConfig.empty())
+      return hfts::preprocess::printRobotFindings(hfts::preprocess::checkRobot(checkConfig),
+                                                  std::cout);
     if (!handConfig.empty()) {
       if (outDir.empty()) throw std::invalid_argument("--hand needs -o DIR");
       return hfts::preprocess::handMapCommand(handConfig, outDir, params.seed);

@@ -11,9 +11,11 @@ HandChains::HandChains(const RobotModel& model) {
   if (dofs < 1 || dofs > kMaxDofs)
     throw ModelError(model.name() + ": the hand has " + std::to_string(dofs) +
                      " DoF; the reachability map supports 1 to " + std::to_string(kMaxDofs));
-  if (static_cast<int>(model.fingertips().size()) != kFingers)
-    throw ModelError(model.name() + ": the hand has " + std::to_string(model.fingertips().size()) +
-                     " fingertips; the reachability map needs exactly " + std::to_string(kFingers));
+  const auto fingers = static_cast<int>(model.fingertips().size());
+  if (fingers < kMinFingers || fingers > kMaxFingers)
+    throw ModelError(model.name() + ": the hand has " + std::to_string(fingers) +
+                     " fingertips; the reachability map supports " + std::to_string(kMinFingers) +
+                     " to " + std::to_string(kMaxFingers));
   lower_ = model.lowerLimits().tail(dofs);
   upper_ = model.upperLimits().tail(dofs);
   dof_names_.assign(model.dofNames().begin() + arm, model.dofNames().end());
@@ -60,15 +62,17 @@ HandChains::Chain HandChains::chainTo(const RobotModel& model, const Fingertip& 
 }
 
 void HandChains::evaluate(const double* q, TipState& state, bool withJacobians) const {
-  for (int f = 0; f < kFingers; ++f)
+  state.positions.resize(3, numFingers());
+  state.normals.resize(3, numFingers());
+  for (int f = 0; f < numFingers(); ++f)
     evaluateFinger(chains_[static_cast<std::size_t>(f)], q, f, state);
   if (withJacobians) jacobians(state);
 }
 
 void HandChains::jacobians(TipState& state) const {
-  state.d_positions.setZero(3 * kFingers, numDofs());
-  state.d_normals.setZero(3 * kFingers, numDofs());
-  for (int f = 0; f < kFingers; ++f) {
+  state.d_positions.setZero(3 * numFingers(), numDofs());
+  state.d_normals.setZero(3 * numFingers(), numDofs());
+  for (int f = 0; f < numFingers(); ++f) {
     const Eigen::Vector3d p = state.positions.col(f), n = state.normals.col(f);
     for (int k = 0; k < state.moving[f]; ++k) {
       const TipState::JointFrame& joint = state.frames[f][k];

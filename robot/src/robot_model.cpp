@@ -136,6 +136,7 @@ class RobotModelBuilder {
     addDofs();
     addLimitsAndPostures();
     addFingertips();
+    addContactModel();
     addDisabledCollisions();
     markHandLinks();
     model_.spheres_ = std::make_shared<RobotModel::LazySpheres>();
@@ -295,6 +296,22 @@ class RobotModelBuilder {
       f.normal.normalize();
       model_.fingertips_.push_back(f);
     }
+  }
+
+  void addContactModel() {
+    const std::string contact =
+        config_.has("contact_model") ? config_.string("contact_model") : "hard_finger";
+    if (contact == "hard_finger") {
+      if (config_.has("torsional_friction"))
+        config_.failAt("torsional_friction", "applies only to \"contact_model\": \"soft_finger\"");
+      return;
+    }
+    if (contact != "soft_finger")
+      config_.failAt("contact_model",
+                     "must be \"hard_finger\" or \"soft_finger\", got '" + contact + "'");
+    model_.torsional_friction_ = config_.number("torsional_friction");
+    if (!(model_.torsional_friction_ > 0.0))
+      config_.failAt("torsional_friction", "must be > 0 (m of torque per unit normal force)");
   }
 
   void addDisabledCollisions() {

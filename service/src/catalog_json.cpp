@@ -99,8 +99,8 @@ json scenesJson(const PlanningCatalog& catalog) {
 
 json graspQualityJson(const json& params, const PlanningCatalog& catalog) {
   const JsonFields f(params, "");
-  f.allowOnly(
-      {"contacts", "normals", "center", "torque_scale", "friction", "cone_edges", "object"});
+  f.allowOnly({"contacts", "normals", "center", "torque_scale", "friction", "cone_edges",
+               "torsional_friction", "object"});
   json request = params;
   if (f.has("object")) {
     const std::string name = f.name("object");

@@ -17,9 +17,10 @@ PlanningCatalog::PlanningCatalog(std::shared_ptr<const planner::PlanningWorld> w
       skipped_(std::move(skipped)) {
   const int fingers = static_cast<int>(world_->robot().fingertips().size());
   for (const std::string& name : world_->objectNames())
-    graspability_.emplace(name,
-                          grasp::graspability(grasp::HftsSpace(*world_->object(name), fingers),
-                                              world_->handMap(), world_->thoroughHandMap()));
+    graspability_.emplace(
+        name,
+        grasp::graspability(grasp::HftsSpace(*world_->object(name), fingers), world_->handMap(),
+                            world_->thoroughHandMap(), grasp::objectiveOptions(world_->robot())));
 }
 
 std::shared_ptr<const PlanningCatalog> PlanningCatalog::load(const CatalogSources& sources) {

@@ -195,6 +195,57 @@ class PreprocessCli(unittest.TestCase):
         self.assertEqual(result.returncode, 1)
         self.assertIn("missing.json", result.stderr)
 
+    def test_check_robot_passes_the_bundled_robot(self):
+        robot = os.path.join(SOURCE_DIR, "robots", "kr5_sdh", "kr5_sdh.json")
+        result = run("--check-robot", robot, check=0)
+        self.assertIn("the robot is ready for planning", result.stdout)
+        for topic in ("model: 'kr5_sdh': 13 DoF (6 arm, 7 hand)", "hand: ", "arm IK: closed form",
+                      "home: free of self collisions", "spheres: "):
+            self.assertIn(topic, result.stdout)
+        self.assertNotIn("error", result.stdout)
+
+    def edited_robot(self, name, edit):
+        """The KR5 + SDH config with `edit` applied, in a temporary folder
+        (the URDF beside it)."""
+        folder = os.path.join(self.tmp, "robot-" + name)
+        os.makedirs(folder, exist_ok=True)
+        source = os.path.join(SOURCE_DIR, "robots", "kr5_sdh")
+        shutil.copy(os.path.join(source, "kr5_sdh.urdf"), folder)
+        with open(os.path.join(source, "kr5_sdh.json")) as f:
+            config = json.load(f)
+        edit(config)
+        path = os.path.join(folder, "robot.json")
+        with open(path, "w") as f:
+            json.dump(config, f)
+        return path
+
+    def test_check_robot_names_what_is_wrong(self):
+        def missing_key(c):
+            del c["pregrasp_offset"]
+
+        def no_disabled_pairs(c):
+            c["disabled_collisions"] = []
+
+        def tips_on_the_palm(c):
+            for tip in c["fingertips"]:
+                tip.update(link="palm", point=[0, 0, 0.1], normal=[0, 0, 1])
+
+        def five_fingertips(c):
+            c["fingertips"] += c["fingertips"][:2]
+
+        cases = [
+            (missing_key, "error    config: ", "pregrasp_offset: is required"),
+            (no_disabled_pairs, "error    home: links '", "to disabled_collisions"),
+            (tips_on_the_palm, "error    hand: ", "no grasp posture"),
+            (five_fingertips, "error    fingertips: ", "2 to 4 fingertips"),
+        ]
+        for edit, line, hint in cases:
+            result = run("--check-robot", self.edited_robot(edit.__name__, edit))
+            self.assertEqual(result.returncode, 1, (edit.__name__, result.stdout))
+            self.assertIn(line, result.stdout, edit.__name__)
+            self.assertIn(hint, result.stdout, edit.__name__)
+            self.assertIn("not ready for planning", result.stdout)
+
     def test_database_md_python_example_runs(self):
         with open(os.path.join(SOURCE_DIR, "docs", "database.md")) as f:
             blocks = re.findall(r"```python\n(.*?)```", f.read(), re.S)

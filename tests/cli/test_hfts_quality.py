@@ -44,6 +44,13 @@ class HftsQuality(unittest.TestCase):
         high = json.loads(quality(equator([0, 100, 230], friction=0.8)).stdout)["epsilon"]
         self.assertGreater(high, low)
 
+    def test_soft_fingers_hold_two_opposed_contacts(self):
+        hard = json.loads(quality(equator([0, 180])).stdout)["epsilon"]
+        soft = quality(equator([0, 180], torsional_friction=0.1))
+        self.assertEqual(soft.returncode, 0, soft.stderr)
+        self.assertEqual(hard, 0.0)
+        self.assertGreater(json.loads(soft.stdout)["epsilon"], 0.0)
+
     def test_the_largest_request_is_answered(self):
         result = quality(equator([0, 90, 180, 270], cone_edges=64, friction=100))
         self.assertEqual(result.returncode, 0, result.stderr)
@@ -60,6 +67,11 @@ class HftsQuality(unittest.TestCase):
             (json.dumps(equator(range(0, 360, 72), cone_edges=64)),
              "cone_edges: contacts x cone_edges must be at most 256, got 5 x 64"),
             (json.dumps(equator([0] * 65)), "contacts: holds more than 64 contacts"),
+            (json.dumps(equator([0, 180], torsional_friction=-1)),
+             "torsional_friction: must be >= 0"),
+            (json.dumps(equator(range(0, 360, 90), cone_edges=63, torsional_friction=0.01)),
+             "cone_edges: contacts x cone_edges (+ 2 torsions per soft contact) must be at most "
+             "256, got 4 x 65"),
             (json.dumps(equator([0, 120], weight=3)), "weight: unknown field"),
             (json.dumps({"contacts": [{"position": [0, 0], "normal": [1, 0, 0]}]}),
              "contacts[0].position: must be an array of 3 numbers"),

@@ -230,8 +230,84 @@ TEST(GraspQuality, DegenerateGraspsGiveZeroWithoutErrors) {
   EXPECT_GT(graspQuality(many).epsilon, graspQuality(equator({0, 120, 240})).epsilon);
 }
 
+// Soft fingers (docs/grasp_quality.md): each contact also pushes a pure
+// torsion of +-gamma about its normal. The reference adds those columns
+// itself to the hard-finger wrenches and enumerates the facets by brute
+// force, independent of both hulls and of the soft-finger code.
+Eigen::Matrix<double, 6, Eigen::Dynamic> withTorsions(const GraspQualityRequest& soft) {
+  GraspQualityRequest hard = soft;
+  hard.torsional_friction = 0.0;
+  const Eigen::Matrix<double, 6, Eigen::Dynamic> edges = contactWrenches(hard);
+  const Eigen::Index n = soft.positions.cols();
+  Eigen::Matrix<double, 6, Eigen::Dynamic> w(6, edges.cols() + 2 * n);
+  w.leftCols(edges.cols()) = edges;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Vector3d normal = soft.normals.col(i);  // inward
+    const Eigen::Vector3d torque =
+        (soft.positions.col(i) - soft.center).cross(normal) / soft.torque_scale;
+    const Eigen::Vector3d twist = soft.torsional_friction / soft.torque_scale * normal;
+    w.col(edges.cols() + 2 * i) << normal, torque + twist;
+    w.col(edges.cols() + 2 * i + 1) << normal, torque - twist;
+  }
+  return w;
+}
+
+TEST(GraspQuality, SoftFingersMatchAnIndependentReference) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.2, 1.0), gamma(0.001, 0.02);
+  int positive = 0;
+  std::normal_distribution<double> g;
+  for (int trial = 0; trial < 30; ++trial) {
+    GraspQualityRequest r = randomGrasp(2 + trial % 2, rng);
+    if (r.positions.cols() == 2) {  // nearly opposed, as a parallel-jaw gripper takes them
+      const Eigen::Vector3d across =
+          (-r.positions.col(0).normalized() + 0.15 * Eigen::Vector3d(g(rng), g(rng), g(rng)))
+              .normalized();
+      r.positions.col(1) = 0.05 * across;
+      r.normals.col(1) = (-across + 0.1 * Eigen::Vector3d(g(rng), g(rng), g(rng))).normalized();
+      r.normals.col(0) = -r.positions.col(0).normalized();
+    }
+    r.friction = u(rng);
+    r.cone_edges = 4;
+    r.torsional_friction = gamma(rng);
+    const double expected = bruteForceEpsilon(withTorsions(r));
+    const double actual = graspQuality(r).epsilon;
+    EXPECT_NEAR(actual, expected, 1e-9 * std::max(expected, 1e-12)) << "trial " << trial;
+    r.use_qhull = true;
+    EXPECT_NEAR(graspQuality(r).epsilon, expected, 1e-9 * std::max(expected, 1e-12))
+        << "trial " << trial;
+    positive += expected > 0;
+  }
+  EXPECT_GT(positive, 10);
+}
+
+TEST(GraspQuality, TwoOpposedSoftFingersHoldWhereHardOnesCannot) {
+  // A parallel-jaw grasp across a 5 cm sphere: hard point contacts cannot
+  // resist a torque about the line through them; soft pads can.
+  GraspQualityRequest r = equator({0, 180});
+  r.positions *= 0.05;
+  r.torque_scale = 0.05;
+  EXPECT_EQ(graspQuality(r).epsilon, 0.0);
+  double previous = 0.0;
+  for (const double gamma : {0.001, 0.003, 0.01}) {
+    r.torsional_friction = gamma;
+    const double epsilon = graspQuality(r).epsilon;
+    EXPECT_GT(epsilon, previous) << "gamma " << gamma;  // grows with the torsional friction
+    EXPECT_NEAR(epsilon, bruteForceEpsilon(withTorsions(r)), 1e-9 * epsilon) << "gamma " << gamma;
+    previous = epsilon;
+  }
+  // Three contacts: soft fingers only add wrenches, so epsilon cannot fall.
+  GraspQualityRequest three = equator({0, 120, 240});
+  const double hard = graspQuality(three).epsilon;
+  three.torsional_friction = 0.05;
+  EXPECT_GE(graspQuality(three).epsilon, hard);
+}
+
 TEST(GraspQuality, RejectsInvalidRequestsByField) {
   GraspQualityRequest r = equator({0, 120, 240});
+  r.torsional_friction = -0.001;
+  EXPECT_THROW(graspQuality(r), std::invalid_argument);
+  r = equator({0, 120, 240});
   r.normals(0, 0) = 2.0;
   EXPECT_THROW(graspQuality(r), std::invalid_argument);
   r = equator({0, 120, 240});

@@ -187,7 +187,7 @@ TEST(HandMapBuilder, DefaultMapIsSmall) {
   EXPECT_LT(static_cast<double>(doubles) * 8, 3e6);  // bytes
 }
 
-TEST(HandMapBuilder, RejectsBadOptionsAndHandsWithoutThreeFingertips) {
+TEST(HandMapBuilder, RejectsBadOptionsAndHandsOfOneFingertip) {
   for (const auto& edit : std::vector<std::function<void(HandMapOptions&)>>{
            [](HandMapOptions& o) { o.num_samples = 0; },
            [](HandMapOptions& o) { o.max_draws = o.num_samples - 1; },
@@ -198,10 +198,12 @@ TEST(HandMapBuilder, RejectsBadOptionsAndHandsWithoutThreeFingertips) {
     edit(options);
     EXPECT_THROW(buildHandMap(kr5(), options), std::invalid_argument);
   }
-  const robot::RobotModel twoFingers =
-      editedKr5([](nlohmann::json& c) { c["fingertips"].erase(2); });
-  test::expectErrorMentioning<robot::ModelError>([&] { buildHandMap(twoFingers); },
-                                                 {"2 fingertips", "exactly 3"});
+  const robot::RobotModel oneFinger = editedKr5([](nlohmann::json& c) {
+    c["fingertips"].erase(2);
+    c["fingertips"].erase(1);
+  });
+  test::expectErrorMentioning<robot::ModelError>([&] { buildHandMap(oneFinger); },
+                                                 {"1 fingertips", "2 to 4"});
 }
 
 TEST(IsGraspPosture, OpposingPadsQualifyOthersDoNot) {

@@ -116,6 +116,31 @@ TEST(RobotModel, ConfigThatDoesNotMatchTheUrdfGivesClearErrors) {
   expectModelError(urdf, s.config, "'knuckle_mimic' is movable but neither listed nor a mimic");
 }
 
+TEST(RobotModel, ContactModelIsHardFingersUnlessTheConfigSaysSoft) {
+  Sources s;
+  EXPECT_EQ(RobotModel::fromStrings(s.urdf, s.config, "kr5").torsionalFriction(), 0.0);
+  std::string config = s.config;
+  replaceOnce(config, "\"pregrasp_offset\"",
+              "\"contact_model\": \"soft_finger\", \"torsional_friction\": 0.004, "
+              "\"pregrasp_offset\"");
+  EXPECT_EQ(RobotModel::fromStrings(s.urdf, config, "soft").torsionalFriction(), 0.004);
+  config = s.config;
+  replaceOnce(config, "\"pregrasp_offset\"", "\"contact_model\": \"soft\", \"pregrasp_offset\"");
+  expectModelError(s.urdf, config, "robot 'x': contact_model: must be \"hard_finger\" or");
+  config = s.config;
+  replaceOnce(config, "\"pregrasp_offset\"",
+              "\"contact_model\": \"soft_finger\", \"pregrasp_offset\"");
+  expectModelError(s.urdf, config, "robot 'x': torsional_friction: is required");
+  config = s.config;
+  replaceOnce(config, "\"pregrasp_offset\"",
+              "\"contact_model\": \"soft_finger\", \"torsional_friction\": -1, "
+              "\"pregrasp_offset\"");
+  expectModelError(s.urdf, config, "robot 'x': torsional_friction: must be > 0");
+  config = s.config;
+  replaceOnce(config, "\"pregrasp_offset\"", "\"torsional_friction\": 0.01, \"pregrasp_offset\"");
+  expectModelError(s.urdf, config, "torsional_friction: applies only to");
+}
+
 TEST(RobotModel, MissingFilesAreNamed) {
   test::expectErrorMentioning<ModelError>([] { RobotModel::load("/nonexistent/robot.json"); },
                                           {"/nonexistent/robot.json"});

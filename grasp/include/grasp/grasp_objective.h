@@ -17,11 +17,17 @@ struct ObjectiveOptions {
   double alpha = 1e-6;  ///< Eq. (1): keeps the ratio finite when R(h) = 0
   double friction = 0.5;
   int cone_edges = 8;
+  /// Soft-finger torsional friction gamma (m), 0 for hard fingers: the
+  /// robot's contact model (RobotModel::torsionalFriction).
+  double torsional_friction = 0.0;
 };
 
+/// The default options with the contact model of the robot's fingertips.
+ObjectiveOptions objectiveOptions(const robot::RobotModel& robot);
+
 /// Q(h)'s request for `contacts` of the space's object: outward normals,
-/// the object's centre of mass and rho, the options' friction and cone
-/// edges.
+/// the object's centre of mass and rho, the options' friction, cone
+/// edges and torsional friction.
 GraspQualityRequest qualityRequest(const HftsSpace& space, const GraspContacts& contacts,
                                    const ObjectiveOptions& options);
 

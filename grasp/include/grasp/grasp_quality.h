@@ -2,7 +2,8 @@
 // The Ferrari-Canny L1 grasp quality (epsilon), the Q(h) of the paper's
 // Eq. (1). Conventions fixed in docs/grasp_quality.md: inward normals,
 // K-edge friction cones with normal component 1, torques about the centre
-// of mass scaled by 1/rho.
+// of mass scaled by 1/rho; hard-finger (point) contacts, or soft-finger
+// contacts that also resist a torque about their normal.
 
 #include <Eigen/Core>
 
@@ -31,6 +32,11 @@ struct GraspQualityRequest {
   double torque_scale = 1.0;  ///< rho: largest distance from centre to surface (m), > 0
   double friction = 0.5;      ///< mu > 0
   int cone_edges = 8;         ///< K >= 3
+  /// Soft-finger contacts: gamma (m), the largest torque about the
+  /// contact normal per unit normal force (a pad of radius a pressed
+  /// uniformly with friction mu gives gamma = 2/3 mu a). 0: hard-finger
+  /// point contacts (the paper's model).
+  double torsional_friction = 0.0;
   /// Use Qhull instead of the project's incremental hull (slower; for
   /// cross-checks).
   bool use_qhull = false;
@@ -54,9 +60,12 @@ struct GraspQualityResult {
 /// 2^21 facets (about 400 MB; far beyond any request's need).
 GraspQualityResult graspQuality(const GraspQualityRequest& request);
 
-/// The K primitive wrenches of every contact (6 x K*n, column-major by
-/// contact): f_k = n + mu (cos(2 pi k/K) t1 + sin(2 pi k/K) t2), w = [f;
-/// (p - c) x f / rho], with inward unit normals n. The tangent t1 comes
+/// The primitive wrenches of every contact (6 x E*n, column-major by
+/// contact; E = K, or K + 2 for soft fingers): f_k = n + mu (cos(2 pi k/K)
+/// t1 + sin(2 pi k/K) t2), w = [f; (p - c) x f / rho], with inward unit
+/// normals n; soft fingers add the pure torsions [n; (p - c) x n / rho +-
+/// gamma n / rho] (the corners of the linearised elliptic limit surface
+/// on the torsion axis, so epsilon stays conservative). The tangent t1 comes
 /// from the grasp itself (the contacts' plane, centroid, centre), so
 /// epsilon is invariant under rigid motions and reordering of the contacts
 /// (for even K, also under the sign ambiguity of that plane's normal).

@@ -11,7 +11,8 @@ namespace hfts::grasp {
 /// Parses {"contacts": [{"position": [x,y,z], "normal": [x,y,z]}, ...],
 /// "normals": "inward" | "outward" (default inward), "center": [x,y,z]
 /// (default origin), "torque_scale": rho (default 1), "friction": mu
-/// (default 0.5), "cone_edges": K (default 8)}. Throws std::invalid_argument
+/// (default 0.5), "cone_edges": K (default 8), "torsional_friction": gamma
+/// (m, default 0: hard fingers)}. Throws std::invalid_argument
 /// naming the field for malformed JSON, unknown keys, wrong types or
 /// lengths, non-finite numbers and values out of range.
 GraspQualityRequest graspQualityRequestFromJson(const std::string& text);

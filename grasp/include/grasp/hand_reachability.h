@@ -1,7 +1,8 @@
 #pragma once
 // Hand reachability R(h) of the paper's Eq. (1): how well the hand alone
-// (any palm pose, the hand DoF within their limits) can put its three
-// fingertips onto a contact triple with the pads pushing into the surface.
+// (any palm pose, the hand DoF within their limits) can put its m
+// fingertips (m = 2..4) onto m contacts with the pads pushing into the
+// surface.
 // Answered from a precomputed hand map (hfts_db/hand_map.h) through a k-d
 // tree and refined locally (docs/hand_reachability.md).
 
@@ -33,7 +34,7 @@ struct HandQueryOptions {
   static HandQueryOptions thorough() { return {64, 3.0, 12, 3, 2, 6, 20}; }
 };
 
-/// The answer for one contact triple.
+/// The answer for one grasp (m contacts).
 struct HandQuery {
   /// R(h) >= 0 (m): the root-mean-square over the fingers i of
   /// sqrt(|T f_i(q) - c_i|^2 + lambda^2 |R_T a_i(q) + o_i|^2) for the
@@ -60,7 +61,7 @@ struct HandQuery {
 /// rad.
 bool samePosture(const HandQuery& a, const HandQuery& b, double minHandDifference);
 
-/// Answers R(h) for contact triples from a hand map. Queries are const and
+/// Answers R(h) for m-contact grasps from a hand map. Queries are const and
 /// thread-safe.
 class HandReachability {
  public:
@@ -74,11 +75,12 @@ class HandReachability {
   HandReachability(HandReachability&&) noexcept;
   HandReachability& operator=(HandReachability&&) noexcept;
 
-  /// R(h) and the hand posture and palm pose achieving it for three
-  /// contacts (columns, any frame, metres) with unit outward normals. Tries
-  /// every assignment of contacts to fingers. Throws std::invalid_argument
-  /// naming the argument for a shape other than 3 x 3, non-finite values or
-  /// normals that are not unit vectors (+-1e-3).
+  /// R(h) and the hand posture and palm pose achieving it for m contacts
+  /// (columns, any frame, metres; m the hand's fingertips) with unit
+  /// outward normals. Tries every assignment of contacts to fingers (m!).
+  /// Throws std::invalid_argument naming the argument for a shape other
+  /// than 3 x m, non-finite values or normals that are not unit vectors
+  /// (+-1e-3).
   HandQuery query(const Eigen::Matrix3Xd& contactPositions,
                   const Eigen::Matrix3Xd& outwardContactNormals) const;
 

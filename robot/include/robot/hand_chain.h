@@ -14,14 +14,18 @@
 
 namespace hfts::robot::hand {
 
-/// The reachability map is defined for three-fingered hands (the contact
-/// triples of the paper's m = 3 HFTS); hands may have up to kMaxDofs DoF.
-inline constexpr int kFingers = 3;
+/// The reachability map is defined for hands of kMinFingers to kMaxFingers
+/// fingertips (the m-contact HFTS: a parallel-jaw gripper, the paper's
+/// three-fingered hand, a four-fingered hand) and up to kMaxDofs DoF.
+inline constexpr int kMinFingers = 2;
+inline constexpr int kMaxFingers = 4;
 inline constexpr int kMaxDofs = 16;
 
-using Tips = Eigen::Matrix3d;  ///< one column per finger
+/// One column per finger (m columns; fixed capacity, never allocates).
+using Tips = Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxFingers>;
 /// Rows 3i..3i+2: derivative of finger i's vector; one column per hand DoF.
-using TipJacobian = Eigen::Matrix<double, 3 * kFingers, Eigen::Dynamic, 0, 3 * kFingers, kMaxDofs>;
+using TipJacobian =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3 * kMaxFingers, kMaxDofs>;
 using HandVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxDofs, 1>;
 
 /// Fingertip positions and unit pad normals (palm frame) of one hand
@@ -41,18 +45,20 @@ struct TipState {
     int dof = 0;
     bool revolute = true;
   };
-  JointFrame frames[kFingers][kMaxDofs];
-  int moving[kFingers] = {};
+  JointFrame frames[kMaxFingers][kMaxDofs];
+  int moving[kMaxFingers] = {};
 };
 
 class HandChains {
  public:
-  /// Throws ModelError when the hand does not have kFingers fingertips, has
+  /// Throws ModelError when the hand has fewer than kMinFingers or more than
+  /// kMaxFingers fingertips, has
   /// more than kMaxDofs DoF, or a fingertip link is not below the palm
   /// through hand joints only.
   explicit HandChains(const RobotModel& model);
 
   int numDofs() const { return static_cast<int>(lower_.size()); }
+  int numFingers() const { return static_cast<int>(chains_.size()); }
   const Eigen::VectorXd& lower() const { return lower_; }
   const Eigen::VectorXd& upper() const { return upper_; }
   const std::vector<std::string>& dofNames() const { return dof_names_; }

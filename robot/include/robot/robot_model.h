@@ -90,6 +90,11 @@ class RobotModel {
   /// The hand's open posture (hand DoF only) and the pre-grasp opening (rad).
   const Eigen::VectorXd& handOpen() const { return hand_open_; }
   double pregraspOffset() const { return pregrasp_offset_; }
+  /// The fingertips' contact model from the config's `contact_model`:
+  /// 0 for "hard_finger" (point contacts with friction, the default), the
+  /// config's `torsional_friction` gamma (m) for "soft_finger" (contacts
+  /// that also resist a torque about their normal, docs/grasp_quality.md).
+  double torsionalFriction() const { return torsional_friction_; }
 
   /// Links in topological order (a parent before its children); link 0 is
   /// the root (the base link).
@@ -128,6 +133,7 @@ class RobotModel {
   int num_arm_dofs_ = 0;
   Eigen::VectorXd lower_, upper_, velocity_, acceleration_, weights_, home_, hand_open_;
   double pregrasp_offset_ = 0.0;
+  double torsional_friction_ = 0.0;
   std::vector<Link> links_;
   std::vector<Joint> joints_;
   int flange_link_ = -1;
