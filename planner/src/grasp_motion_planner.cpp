@@ -106,7 +106,7 @@ struct PlanParameters {
 
 Eigen::VectorXd startOf(const robot::RobotModel& robot, const PlanRequest& request) {
   const Eigen::VectorXd start =
-      request.start ? *request.start : request.scene.start.value_or(robot.home());
+      request.start ? *request.start : request.scene.startFor(robot.name()).value_or(robot.home());
   if (start.size() != robot.numDofs())
     throw InvalidArgument("start", std::to_string(robot.numDofs()) + " values expected, got " +
                                        std::to_string(start.size()));

@@ -38,9 +38,17 @@ std::shared_ptr<const PlanningWorld> PlanningWorld::load(const std::filesystem::
                              " (build it with: hfts-preprocess --hand " + robotConfig.string() +
                              " -o " + dbDir.string() + ")");
   db::HandMap map = db::loadHandMap(mapPath);
+  // Hand maps of every robot (<robot name>_hand_map.h5) share the folder
+  // with the object databases.
+  const auto isHandMap = [](const fs::path& file) {
+    const std::string name = file.filename().string();
+    const std::string suffix = "_hand_map.h5";
+    return name.size() > suffix.size() &&
+           name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
   std::vector<fs::path> files;
   for (const fs::directory_entry& e : fs::directory_iterator(dbDir))
-    if (e.is_regular_file() && e.path().extension() == ".h5" && e.path() != mapPath)
+    if (e.is_regular_file() && e.path().extension() == ".h5" && !isHandMap(e.path()))
       files.push_back(e.path());
   std::sort(files.begin(), files.end());
   std::map<std::string, db::ObjectDatabase> objects;

@@ -29,7 +29,7 @@ int exportSceneCommand(const std::vector<std::string>& args, const SceneExportOp
   const robot::RobotModel model =
       robot::RobotModel::load(repositoryPath(options.robot, "robots/kr5_sdh/kr5_sdh.json", argv0));
   const robot::Scene scene = robot::loadScene(args.at(0));
-  Eigen::VectorXd q = scene.start ? *scene.start : model.home();
+  Eigen::VectorXd q = scene.startFor(model.name()).value_or(model.home());
   if (!options.config.empty())
     q = Eigen::Map<const Eigen::VectorXd>(options.config.data(),
                                           static_cast<Eigen::Index>(options.config.size()));

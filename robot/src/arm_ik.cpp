@@ -13,6 +13,9 @@ namespace hfts::robot {
 namespace {
 
 constexpr double kGeometryTolerance = 1e-9;
+/// Numerical solutions of a redundant arm closer than this (rad, every
+/// joint) count as the same.
+constexpr double kDistinctRedundantSolutions = 0.1;
 
 using Vec2 = Eigen::Vector2d;
 
@@ -70,7 +73,7 @@ struct ArmIk::Impl {
   Eigen::Isometry3d palmInFlange = Eigen::Isometry3d::Identity();
   // Product of exponentials of the arm: axes and points at the zero
   // configuration, and the flange pose there. Much cheaper than full FK.
-  Eigen::Vector3d axis[6], point[6];
+  std::vector<Eigen::Vector3d> axis, point;
   Eigen::Isometry3d flange0 = Eigen::Isometry3d::Identity();
   Eigen::Matrix3d frame4Zero = Eigen::Matrix3d::Identity();
 
@@ -85,9 +88,11 @@ struct ArmIk::Impl {
 
   explicit Impl(const RobotModel& m) : model(m) {}
 
+  int dofs() const { return model.numArmDofs(); }
+
   Eigen::VectorXd full(const Eigen::VectorXd& arm) const {
     Eigen::VectorXd q = Eigen::VectorXd::Zero(model.numDofs());
-    q.head(6) = arm;
+    q.head(dofs()) = arm;
     return q;
   }
 
@@ -114,7 +119,7 @@ struct ArmIk::Impl {
   bool reaches(const Eigen::VectorXd& arm, const Eigen::Isometry3d& flange) const;
   Eigen::Isometry3d flangePose(const Eigen::VectorXd& arm) const {
     Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-    for (int d = 0; d < 6; ++d) t = t * screw(d, arm(d));
+    for (int d = 0; d < dofs(); ++d) t = t * screw(d, arm(d));
     return t * flange0;
   }
   /// Where joints 1-3 put the wrist centre (PoE on its zero position).
@@ -131,18 +136,21 @@ struct ArmIk::Impl {
 };
 
 void ArmIk::Impl::findChain() {
-  if (model.numArmDofs() != 6) throw ModelError("ArmIk: the arm must have 6 DoF");
-  armJoints.assign(6, -1);
+  const int n = dofs();
+  if (n < 6)
+    throw ModelError("ArmIk: the arm must have at least 6 DoF (a full pose needs 6), it has " +
+                     std::to_string(n));
+  armJoints.assign(static_cast<std::size_t>(n), -1);
   for (std::size_t j = 0; j < model.joints().size(); ++j) {
     const Joint& joint = model.joints()[j];
-    if (joint.dof >= 0 && joint.dof < 6) {
+    if (joint.dof >= 0 && joint.dof < n) {
       if (joint.type != Joint::Type::kRevolute || joint.multiplier != 1.0 || joint.offset != 0.0)
         throw ModelError("ArmIk: arm joint '" + joint.name + "' must be a plain revolute joint");
       armJoints[static_cast<std::size_t>(joint.dof)] = static_cast<int>(j);
     }
   }
-  // Walking from the flange to the root must meet the arm joints 6..1 in order.
-  int expected = 5;
+  // Walking from the flange to the root must meet the arm joints n..1 in order.
+  int expected = n - 1;
   for (int l = model.flangeLink(); model.links()[static_cast<std::size_t>(l)].parent_joint >= 0;) {
     const int j = model.links()[static_cast<std::size_t>(l)].parent_joint;
     const Joint& joint = model.joints()[static_cast<std::size_t>(j)];
@@ -163,15 +171,16 @@ void ArmIk::Impl::findChain() {
   const LinkPoses zero = forwardKinematics(model, Eigen::VectorXd::Zero(model.numDofs()));
   palmInFlange = zero[static_cast<std::size_t>(model.flangeLink())].inverse() *
                  zero[static_cast<std::size_t>(model.palmLink())];
-  for (int d = 0; d < 6; ++d) {
-    axis[d] = jointAxis(zero, d);
-    point[d] = jointFrame(zero, d).translation();
+  for (int d = 0; d < n; ++d) {
+    axis.push_back(jointAxis(zero, d));
+    point.push_back(jointFrame(zero, d).translation());
   }
   flange0 = zero[static_cast<std::size_t>(model.flangeLink())];
   frame4Zero = jointFrame(zero, 3).linear();
 }
 
 void ArmIk::Impl::detectClosedForm() {
+  if (dofs() != 6) return;  // redundant arms: numerical
   const LinkPoses zero = forwardKinematics(model, Eigen::VectorXd::Zero(model.numDofs()));
   Eigen::Vector3d o[6], u[6];
   for (int d = 0; d < 6; ++d) {
@@ -266,8 +275,9 @@ void ArmIk::Impl::appendWristSolutions(const Eigen::Vector3d& q123, const Eigen:
 /// within the limits.
 void ArmIk::Impl::appendTurns(const Eigen::VectorXd& base,
                               std::vector<Eigen::VectorXd>& out) const {
-  std::vector<std::vector<double>> turns(6);
-  for (int d = 0; d < 6; ++d) {
+  const int n = dofs();
+  std::vector<std::vector<double>> turns(static_cast<std::size_t>(n));
+  for (int d = 0; d < n; ++d) {
     const double wrapped = wrapToPi(base(d));
     for (int k = -2; k <= 2; ++k) {
       const double value = wrapped + 2.0 * M_PI * k;
@@ -277,17 +287,17 @@ void ArmIk::Impl::appendTurns(const Eigen::VectorXd& base,
     }
     if (turns[static_cast<std::size_t>(d)].empty()) return;
   }
-  std::vector<std::size_t> pick(6, 0);
+  std::vector<std::size_t> pick(static_cast<std::size_t>(n), 0);
   while (true) {
-    Eigen::VectorXd arm(6);
-    for (int d = 0; d < 6; ++d)
+    Eigen::VectorXd arm(n);
+    for (int d = 0; d < n; ++d)
       arm(d) = turns[static_cast<std::size_t>(d)][pick[static_cast<std::size_t>(d)]];
     out.push_back(arm);
     int d = 0;
-    while (d < 6 &&
+    while (d < n &&
            ++pick[static_cast<std::size_t>(d)] == turns[static_cast<std::size_t>(d)].size())
       pick[static_cast<std::size_t>(d++)] = 0;
-    if (d == 6) break;
+    if (d == n) break;
   }
 }
 
@@ -310,14 +320,16 @@ std::optional<Eigen::VectorXd> ArmIk::Impl::descend(const Eigen::Isometry3d& fla
     const Eigen::AngleAxisd rot(flange.linear() * at.linear().transpose());
     error.tail<3>() = rot.angle() * rot.axis();
     if (error.norm() < 1e-12) break;
-    const Eigen::Matrix<double, 6, 6> j =
-        jacobian(model, poses, model.flangeLink(), Eigen::Vector3d::Zero()).leftCols<6>();
+    const Eigen::Matrix<double, 6, Eigen::Dynamic> j =
+        jacobian(model, poses, model.flangeLink(), Eigen::Vector3d::Zero()).leftCols(dofs());
     // Less damping near the goal gives quadratic convergence at the end.
     const double damping = error.norm() < 1e-3 ? 1e-9 : lambda2;
-    const Eigen::Matrix<double, 6, 1> step =
+    const Eigen::VectorXd step =
         j.transpose() *
         (j * j.transpose() + damping * Eigen::Matrix<double, 6, 6>::Identity()).ldlt().solve(error);
-    arm = (arm + step).cwiseMax(model.lowerLimits().head(6)).cwiseMin(model.upperLimits().head(6));
+    arm = (arm + step)
+              .cwiseMax(model.lowerLimits().head(dofs()))
+              .cwiseMin(model.upperLimits().head(dofs()));
   }
   if (!reaches(arm, flange)) return std::nullopt;
   return arm;
@@ -362,16 +374,19 @@ std::vector<Eigen::VectorXd> ArmIk::solvePalm(const Eigen::Isometry3d& palm,
 std::vector<Eigen::VectorXd> ArmIk::solveNumerically(const Eigen::Isometry3d& flange,
                                                      std::mt19937_64& rng) const {
   const RobotModel& model = impl_->model;
+  // A redundant arm reaches a pose along a continuum of configurations:
+  // keep those apart by a useful step, not by rounding.
+  const double distinct = impl_->dofs() > 6 ? kDistinctRedundantSolutions : 1e-6;
   std::vector<Eigen::VectorXd> out;
   for (int r = 0; r < impl_->options.restarts; ++r) {
-    Eigen::VectorXd seed(6);
-    for (int d = 0; d < 6; ++d)
+    Eigen::VectorXd seed(impl_->dofs());
+    for (int d = 0; d < impl_->dofs(); ++d)
       seed(d) = std::uniform_real_distribution<double>(model.lowerLimits()(d),
                                                        model.upperLimits()(d))(rng);
     const std::optional<Eigen::VectorXd> found = impl_->descend(flange, seed);
     if (!found) continue;
     const bool known = std::any_of(out.begin(), out.end(), [&](const Eigen::VectorXd& s) {
-      return (s - *found).cwiseAbs().maxCoeff() < 1e-6;
+      return (s - *found).cwiseAbs().maxCoeff() < distinct;
     });
     if (!known) out.push_back(*found);
   }

@@ -124,6 +124,12 @@ Placement parsePlacement(const Fields& f, const Scene& scene, std::string name) 
 
 }  // namespace
 
+std::optional<Eigen::VectorXd> Scene::startFor(const std::string& robot) const {
+  const auto it = robot_starts.find(robot);
+  if (it != robot_starts.end()) return it->second;
+  return start;
+}
+
 const Obstacle* Scene::obstacle(const std::string& obstacleName) const {
   for (const Obstacle& o : obstacles)
     if (o.name == obstacleName) return &o;
@@ -241,7 +247,17 @@ Scene parseScene(const std::string& text, const std::filesystem::path& baseDir,
       scene.placements.push_back(parsePlacement(p, scene, name));
     }
   }
-  if (f.has("start")) scene.start = f.numbers("start", -1);
+  if (f.has("start")) {
+    if (f.at("start").is_object()) {  // per robot: {"<robot name>": [...], ...}
+      const Fields starts(f.at("start"), "start", what);
+      for (const auto& item : f.at("start").items()) {
+        if (!isSafeName(item.key())) starts.failAt(item.key(), "must be a robot name");
+        scene.robot_starts.emplace(item.key(), starts.numbers(item.key().c_str(), -1));
+      }
+    } else {
+      scene.start = f.numbers("start", -1);
+    }
+  }
   return scene;
 }
 

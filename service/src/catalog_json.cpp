@@ -82,6 +82,7 @@ json scenesJson(const PlanningCatalog& catalog) {
     json obstacles = json::array();
     for (const robot::Obstacle& o : scene.obstacles)
       obstacles.push_back({{"name", o.name}, {"type", typeName(o.type)}});
+    const std::optional<Eigen::VectorXd> start = scene.startFor(catalog.world().robot().name());
     json placements = json::array();
     for (const robot::Placement& p : scene.placements)
       placements.push_back({{"name", p.name}, {"pose", poseJson(p.pose)}, {"rest_on", p.rest_on}});
@@ -92,7 +93,7 @@ json scenesJson(const PlanningCatalog& catalog) {
                       {"target_rest_on", scene.target_rest_on},
                       {"placements", std::move(placements)},
                       {"obstacles", std::move(obstacles)},
-                      {"start", scene.start ? vectorJson(*scene.start) : json()}});
+                      {"start", start ? vectorJson(*start) : json()}});
   }
   return {{"scenes", std::move(scenes)}};
 }

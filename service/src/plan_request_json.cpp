@@ -60,7 +60,8 @@ std::string objectOf(const JsonFields& f, const PlanningCatalog& catalog,
 void checkStart(const JsonFields& f, const robot::RobotModel& robot,
                 const planner::PlanRequest& r) {
   const char* field = r.start ? "start" : "scene.start";
-  const Eigen::VectorXd start = r.start ? *r.start : r.scene.start.value_or(robot.home());
+  const Eigen::VectorXd start =
+      r.start ? *r.start : r.scene.startFor(robot.name()).value_or(robot.home());
   if (start.size() != robot.numDofs())
     f.fail(field, "must hold " + std::to_string(robot.numDofs()) + " values, got " +
                       std::to_string(start.size()));

@@ -51,7 +51,7 @@ std::vector<Eigen::VectorXd> zigZag() {
 /// the table top (as in the planner's start-in-collision test).
 std::vector<Eigen::VectorXd> throughTheTable() {
   const robot::Scene scene = tableScene();
-  return {*scene.start,
+  return {*scene.startFor("kr5_sdh"),
           (Eigen::VectorXd(13) << 0, 0.6, 0.5, 0, 1.57, 0, 0, -0.2, 0.2, -0.2, 0.2, -0.2, 0.2)
               .finished()};
 }

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "robot/kinematics.h"
+#include "robot_fixture.h"
 #include "test_meshes.h"
 
 namespace hfts::robot {
@@ -17,9 +18,15 @@ const RobotModel& kr5() {
   return model;
 }
 
+const RobotModel& panda() {
+  static const RobotModel model = RobotModel::load(std::filesystem::path(HFTS_SOURCE_DIR) /
+                                                   "robots/panda_gripper/panda_gripper.json");
+  return model;
+}
+
 Eigen::VectorXd randomArm(const RobotModel& model, std::mt19937_64& rng) {
-  Eigen::VectorXd arm(6);
-  for (int d = 0; d < 6; ++d)
+  Eigen::VectorXd arm(model.numArmDofs());
+  for (int d = 0; d < model.numArmDofs(); ++d)
     arm(d) =
         std::uniform_real_distribution<double>(model.lowerLimits()(d), model.upperLimits()(d))(rng);
   return arm;
@@ -120,6 +127,55 @@ TEST(ArmIk, ArmsWithoutASphericalWristFallBackToDampedLeastSquares) {
     ASSERT_FALSE(solutions.empty());
     for (const auto& arm : solutions) EXPECT_LT(poseError(ik.flangePose(arm), target), 1e-6);
   }
+}
+
+// The Panda's 7 DoF: a continuum of solutions per pose. Round trips from
+// random configurations: every solution reaches the pose, lies within the
+// limits and differs from the others by at least 0.1 rad in some joint.
+TEST(ArmIk, SevenDofArmRoundTripsThroughTheNumericalSolver) {
+  ArmIk ik(panda());
+  EXPECT_FALSE(ik.isAnalytic());
+  std::mt19937_64 rng(7);
+  int solvedWithSeveral = 0;
+  for (int i = 0; i < 20; ++i) {
+    const Eigen::VectorXd source = randomArm(panda(), rng);
+    const Eigen::Isometry3d target = ik.flangePose(source);
+    // The same pose by the model's own forward kinematics.
+    Eigen::VectorXd q = panda().home();
+    q.head(7) = source;
+    EXPECT_LT(
+        poseError(forwardKinematics(panda(), q)[static_cast<std::size_t>(panda().flangeLink())],
+                  target),
+        1e-12);
+    const auto solutions = ik.solveFlange(target, rng);
+    ASSERT_FALSE(solutions.empty()) << i;
+    for (std::size_t a = 0; a < solutions.size(); ++a) {
+      ASSERT_EQ(solutions[a].size(), 7);
+      EXPECT_LT(poseError(ik.flangePose(solutions[a]), target), 1e-6);
+      q.head(7) = solutions[a];
+      EXPECT_TRUE(panda().withinLimits(q));
+      for (std::size_t b = 0; b < a; ++b)
+        EXPECT_GE((solutions[a] - solutions[b]).cwiseAbs().maxCoeff(), 0.1);
+    }
+    solvedWithSeveral += solutions.size() > 1 ? 1 : 0;
+  }
+  EXPECT_GE(solvedWithSeveral, 15);  // the redundancy shows
+}
+
+TEST(ArmIk, ArmsOfFewerThanSixDofAreRefused) {
+  std::string config = test::readBytes(test::sourcePath("robots/kr5_sdh/kr5_sdh.json"));
+  const auto at = config.find(", \"a6\"]");
+  ASSERT_NE(at, std::string::npos);
+  config.replace(at, 7, "]");
+  const std::string hand = "\"hand_joints\": [";
+  config.replace(config.find(hand), hand.size(), hand + "\"a6\", ");
+  // a6 counts as a hand DoF now: the open hand has one more value.
+  const std::string open = "\"hand_open\": [";
+  config.replace(config.find(open), open.size(), open + "0, ");
+  const RobotModel five = RobotModel::fromStrings(
+      test::readBytes(test::sourcePath("robots/kr5_sdh/kr5_sdh.urdf")), config, "five");
+  ASSERT_EQ(five.numArmDofs(), 5);
+  test::expectErrorMentioning<ModelError>([&] { ArmIk ik(five); }, {"at least 6 DoF", "has 5"});
 }
 
 }  // namespace

@@ -69,7 +69,7 @@ TEST(CollisionChecker, EveryBundledObjectFitsEveryPlacementOfEveryScene) {
         CollisionPair pair;
         EXPECT_EQ(checker.targetTouchesObstacles(&pair), misfits.count(where) == 1)
             << pair.first << " / " << pair.second;
-        const Eigen::VectorXd start = placed.start ? *placed.start : m().home();
+        const Eigen::VectorXd start = placed.startFor(m().name()).value_or(m().home());
         EXPECT_FALSE(checker.inCollision(start, &pair)) << pair.first << " / " << pair.second;
         EXPECT_GT(checker.clearance(start), 0.0);  // the base stands 1 mm above the table
       }

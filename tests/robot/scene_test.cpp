@@ -50,6 +50,25 @@ TEST(Scene, ParsesPosesInRosQuaternionOrder) {
   EXPECT_FALSE(s.start.has_value());
 }
 
+TEST(Scene, StartsPerRobotOrForAnyRobot) {
+  const Scene shelf = loadScene(test::sourcePath("objects/scenes/shelf.json"));
+  EXPECT_FALSE(shelf.start.has_value());
+  ASSERT_TRUE(shelf.startFor("kr5_sdh").has_value());
+  EXPECT_EQ(shelf.startFor("kr5_sdh")->size(), 13);
+  EXPECT_EQ((*shelf.startFor("kr5_sdh"))(0), 1.2);  // turned away from the cabinet
+  EXPECT_EQ(shelf.startFor("panda_gripper")->size(), 8);
+  EXPECT_FALSE(shelf.startFor("another_robot").has_value());  // its home
+  std::string text = kMinimal;
+  text.insert(text.size() - 1, R"(, "start": [0.1, 0.2])");
+  EXPECT_EQ(*parseScene(text, ".", "x").startFor("any"), Eigen::Vector2d(0.1, 0.2));
+  text = kMinimal;
+  text.insert(text.size() - 1, R"(, "start": {"r": [0.1, "x"]})");
+  expectSceneError(text, "start.r", "");
+  text = kMinimal;
+  text.insert(text.size() - 1, R"(, "start": {"../r": [0.1]})");
+  expectSceneError(text, "start.../r", "must be a robot name");
+}
+
 TEST(Scene, MeshObstaclesLoadRelativeToTheSceneFile) {
   test::TempDir dir;
   test::writeBinaryStl(dir / "block.stl", test::cube(0.1));

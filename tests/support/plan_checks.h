@@ -109,7 +109,7 @@ inline void expectValidPlan(const planner::PlanningWorld& world,
   ASSERT_GE(result.path.size(), 2u);
   EXPECT_EQ(result.joint_names, robot.dofNames());
   EXPECT_TRUE(result.path.front().isApprox(
-      request.start.value_or(scene.start.value_or(robot.home())), 1e-12));
+      request.start.value_or(scene.startFor(robot.name()).value_or(robot.home())), 1e-12));
   for (const Eigen::VectorXd& q : result.path) EXPECT_TRUE(robot.withinLimits(q));
   for (std::size_t i = 1; i + 1 < result.path.size(); ++i)
     EXPECT_TRUE(checker.isMotionValid(result.path[i - 1], result.path[i], resolution))

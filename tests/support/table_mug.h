@@ -46,7 +46,7 @@ struct TableMug {
                                         checker,       scene.target_pose, scene.robot_base};
   std::mt19937_64 rng{5};
   planner::GoalSamplingContext context{&space, &objective, &configurator, &checker, &rng};
-  Eigen::VectorXd start = scene.start.value_or(world.robot().home());
+  Eigen::VectorXd start = scene.startFor(world.robot().name()).value_or(world.robot().home());
   StartOnly knowledge{checker.metric(), start};
 };
 

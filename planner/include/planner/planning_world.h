@@ -33,7 +33,8 @@ class PlanningWorld {
   PlanningWorld& operator=(const PlanningWorld&) = delete;
 
   /// Loads the robot config, `<robot name>_hand_map.h5` from `dbDir` and
-  /// every other `*.h5` there as an object database. An object database
+  /// every other `*.h5` there but hand maps (`*_hand_map.h5`, of any
+  /// robot) as an object database. An object database
   /// that fails to load is skipped and its error appended to `skipped`
   /// (when given); a missing directory, robot or hand map throws
   /// (std::runtime_error naming the file).

@@ -20,15 +20,19 @@ struct IkOptions {
 };
 
 /// All arm configurations that put the flange at a pose, within the joint
-/// limits. Uses the closed form when the arm has a spherical wrist on a
-/// planar shoulder-elbow chain (such as the KR5: axis 1 vertical, axes 2 and
-/// 3 parallel, axes 4-6 meeting in one point); otherwise damped least
-/// squares from random seeds. Every returned solution is verified by
-/// forward kinematics.
+/// limits. Uses the closed form when the arm has 6 DoF with a spherical
+/// wrist on a planar shoulder-elbow chain (such as the KR5: axis 1
+/// vertical, axes 2 and 3 parallel, axes 4-6 meeting in one point);
+/// otherwise damped least squares from random seeds (IkOptions::restarts
+/// of them). A redundant arm (more than 6 DoF, e.g. the Panda's 7) has a
+/// continuum of solutions: the numerical solver returns those its seeds
+/// reach, at least 0.1 rad apart in some joint. Every returned solution is
+/// verified by forward kinematics.
 class ArmIk {
  public:
-  /// Throws ModelError if the arm is not a chain of 6 revolute joints from
-  /// the base to the flange link, or the palm is not rigidly fixed to it.
+  /// Throws ModelError if the arm is not a chain of at least 6 revolute
+  /// joints from the base to the flange link, or the palm is not rigidly
+  /// fixed to it.
   explicit ArmIk(const RobotModel& model);
   ~ArmIk();
   ArmIk(ArmIk&&) noexcept;
@@ -36,7 +40,7 @@ class ArmIk {
   /// True when the closed form applies (selected from the geometry).
   bool isAnalytic() const;
 
-  /// All arm solutions (6 values each; extra turns of joints whose range
+  /// All arm solutions (numArmDofs() values each; extra turns of joints whose range
   /// exceeds a full turn are separate solutions) for a flange pose in the
   /// base frame. `rng` seeds the numerical solver (unused by the closed form).
   std::vector<Eigen::VectorXd> solveFlange(const Eigen::Isometry3d& flange,
@@ -48,7 +52,7 @@ class ArmIk {
   std::vector<Eigen::VectorXd> solveNumerically(const Eigen::Isometry3d& flange,
                                                 std::mt19937_64& rng) const;
 
-  /// Flange pose of arm configuration `arm` (6 values).
+  /// Flange pose of arm configuration `arm` (numArmDofs() values).
   Eigen::Isometry3d flangePose(const Eigen::VectorXd& arm) const;
   /// The palm in the flange frame.
   const Eigen::Isometry3d& palmInFlange() const;

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -73,7 +74,16 @@ struct Scene {
   /// Other named places for the target (`placements` in the file), e.g.
   /// lying or near a wall; withPlacement() makes one the target's.
   std::vector<Placement> placements;
-  std::optional<Eigen::VectorXd> start;  ///< robot configuration; the robot's home if absent
+  /// The robot's start configuration (`start` as an array in the file),
+  /// for any robot with that many DoF; the robot's home if absent.
+  std::optional<Eigen::VectorXd> start;
+  /// Starts per robot (`start` as an object in the file: {"<robot name>":
+  /// [...]}), so that one scene serves several robots.
+  std::map<std::string, Eigen::VectorXd> robot_starts;
+
+  /// The start of the robot named `robot`: its entry of robot_starts, else
+  /// `start` (nullopt: the robot's home).
+  std::optional<Eigen::VectorXd> startFor(const std::string& robot) const;
 
   /// The obstacle named `name`, or nullptr.
   const Obstacle* obstacle(const std::string& name) const;

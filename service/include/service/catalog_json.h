@@ -21,7 +21,8 @@ nlohmann::json objectsJson(const PlanningCatalog& catalog);
 
 /// Result of `scenes.list`: {"scenes": [{"name", "description",
 /// "target_object", "target_pose", "obstacles": [{"name", "type"}],
-/// "start"}]}; "start" is null when the scene starts at the robot's home.
+/// "start"}]}; "start" is the scene's start for the server's robot, null
+/// when that robot starts at its home.
 nlohmann::json scenesJson(const PlanningCatalog& catalog);
 
 /// Result of `grasp.quality`: {"epsilon"}. The params are those of
