@@ -10,6 +10,7 @@
 #include <string>
 
 #include "grasp/hand_reachability.h"
+#include "hand_fixture.h"
 #include "robot/kinematics.h"
 #include "test_meshes.h"
 
@@ -137,41 +138,12 @@ const Hand& hand(int fingers) {
   return fingers == 2 ? two : four;
 }
 
-/// Fingertips and pad normals in the palm frame, by the model's own forward
-/// kinematics (not the hand chains of the map).
-struct Posture {
-  Eigen::Matrix3Xd tips;
-  Eigen::Matrix3Xd pads;
-};
+using Posture = test::HandPosture;
+using test::randomGraspPosture;
+using test::randomPose;
 
 Posture postureOf(const robot::RobotModel& model, const Eigen::VectorXd& hand) {
-  Eigen::VectorXd q = model.home();
-  q.tail(model.numHandDofs()) = hand;
-  const robot::LinkPoses poses = robot::forwardKinematics(model, q);
-  const robot::FingertipFrames frames = robot::fingertipFrames(model, poses);
-  const Eigen::Isometry3d palmInverse = poses[static_cast<std::size_t>(model.palmLink())].inverse();
-  return {palmInverse * frames.positions, palmInverse.linear() * frames.normals};
-}
-
-Posture randomGraspPosture(const robot::RobotModel& model, std::mt19937_64& rng) {
-  const int arm = model.numArmDofs();
-  for (;;) {
-    Eigen::VectorXd hand(model.numHandDofs());
-    for (Eigen::Index d = 0; d < hand.size(); ++d)
-      hand(d) = std::uniform_real_distribution<double>(model.lowerLimits()(arm + d),
-                                                       model.upperLimits()(arm + d))(rng);
-    Posture p = postureOf(model, hand);
-    if (isGraspPosture(p.tips, p.pads, HandMapOptions{})) return p;
-  }
-}
-
-Eigen::Isometry3d randomPose(std::mt19937_64& rng) {
-  std::normal_distribution<double> normal;
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() =
-      Eigen::Quaterniond(normal(rng), normal(rng), normal(rng), normal(rng)).normalized().matrix();
-  pose.translation() = Eigen::Vector3d(normal(rng), normal(rng), normal(rng));
-  return pose;
+  return test::handPostureOf(model, hand);
 }
 
 /// Contacts the hand reaches exactly: fingertips moved rigidly, outward
@@ -294,7 +266,8 @@ TEST_P(FingerCount, ExactForMapSamplesInAnyContactOrder) {
   std::mt19937_64 rng(5);
   for (int i = 0; i < 40; ++i) {
     const auto s = static_cast<Eigen::Index>(rng() % h.map.numSamples());
-    const Posture p{Eigen::Map<const Eigen::Matrix3Xd>(h.map.positions.row(s).data(), 3, m),
+    const Posture p{h.map.configurations.row(s).transpose(),
+                    Eigen::Map<const Eigen::Matrix3Xd>(h.map.positions.row(s).data(), 3, m),
                     Eigen::Map<const Eigen::Matrix3Xd>(h.map.normals.row(s).data(), 3, m)};
     const Contacts c = reachable(p, randomPose(rng), rng);
     const HandQuery answer = h.reachability.query(c.positions, c.outward);

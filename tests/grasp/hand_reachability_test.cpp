@@ -8,6 +8,7 @@
 #include <functional>
 #include <random>
 
+#include "hand_fixture.h"
 #include "robot/kinematics.h"
 #include "test_meshes.h"
 
@@ -45,43 +46,17 @@ robot::RobotModel editedKr5(const std::function<void(nlohmann::json&)>& edit) {
                                         "edited kr5_sdh");
 }
 
-/// Fingertips and pad normals of a hand configuration in the palm frame,
-/// by the robot's own forward kinematics (not the map's code).
-struct Posture {
-  Eigen::VectorXd hand;
-  Eigen::Matrix3d tips;
-  Eigen::Matrix3d pads;
-};
+using Posture = test::HandPosture;
 
 Posture postureOf(const Eigen::VectorXd& hand) {
-  Eigen::VectorXd q = kr5().home();
-  q.tail(kr5().numHandDofs()) = hand;
-  const robot::LinkPoses poses = robot::forwardKinematics(kr5(), q);
-  const robot::FingertipFrames frames = robot::fingertipFrames(kr5(), poses);
-  const Eigen::Isometry3d palmInverse = poses[static_cast<std::size_t>(kr5().palmLink())].inverse();
-  return {hand, palmInverse * frames.positions, palmInverse.linear() * frames.normals};
+  return test::handPostureOf(kr5(), hand);
 }
 
 Posture randomGraspPosture(std::mt19937_64& rng) {
-  const int arm = kr5().numArmDofs(), dofs = kr5().numHandDofs();
-  for (;;) {
-    Eigen::VectorXd hand(dofs);
-    for (int d = 0; d < dofs; ++d)
-      hand(d) = std::uniform_real_distribution<double>(kr5().lowerLimits()(arm + d),
-                                                       kr5().upperLimits()(arm + d))(rng);
-    Posture p = postureOf(hand);
-    if (isGraspPosture(p.tips, p.pads, HandMapOptions{})) return p;
-  }
+  return test::randomGraspPosture(kr5(), rng);
 }
 
-Eigen::Isometry3d randomPose(std::mt19937_64& rng) {
-  std::normal_distribution<double> normal;
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() =
-      Eigen::Quaterniond(normal(rng), normal(rng), normal(rng), normal(rng)).normalized().matrix();
-  pose.translation() = Eigen::Vector3d(normal(rng), normal(rng), normal(rng));
-  return pose;
-}
+using test::randomPose;
 
 struct Triple {
   Eigen::Matrix3Xd contacts = Eigen::Matrix3Xd(3, 3);
