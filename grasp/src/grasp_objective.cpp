@@ -64,8 +64,10 @@ GraspEvaluation GraspObjective::evaluate(const HftsNode& node) {
   const HandQuery hand = reachability_.query(grasp.positions, grasp.outward_normals);
   e.reachability = hand.residual;
   e.hand_blocked = handCheck_ && handCheck_(hand);
-  e.value = e.quality / (e.reachability + options_.alpha +
-                         (e.hand_blocked ? kBlockedHandPenalty : 0.0));  // Eq. (1)
+  const double distance =
+      e.reachability + options_.alpha + (e.hand_blocked ? kBlockedHandPenalty : 0.0);
+  e.value = e.quality / distance;  // Eq. (1)
+  if (options_.unstable_by_reach != 0 && !(e.quality > 0.0)) e.value = -distance;
   slot = {node, e, true};
   ++size_;
   return e;

@@ -225,6 +225,12 @@ HandDescriptor handDescriptor(const FingerColumns& positions, const FingerColumn
   return d;
 }
 
+HandMapOptions handMapOptions(const robot::RobotModel& model) {
+  HandMapOptions options;
+  if (model.handMapNormalWeight() > 0.0) options.normal_weight = model.handMapNormalWeight();
+  return options;
+}
+
 db::HandMap buildHandMap(const robot::RobotModel& model, const HandMapOptions& options) {
   checkOptions(options);
   const robot::hand::HandChains chains(model);

@@ -66,18 +66,21 @@ void quietOmpl() {
 /// own (its smoothing's included) and goal sampling's (the samplers' and
 /// the objective's), merged. The RRTConnect baseline reads the same names.
 struct PlanParameters {
-  explicit PlanParameters(const ob::SpaceInformationPtr& si)
+  /// The defaults for `robot`: its fingertips' contact model, and for
+  /// two fingertips unstable pairs ranked by reach (grasp_objective.h).
+  PlanParameters(const ob::SpaceInformationPtr& si, const robot::RobotModel& robot)
       : planner(std::make_shared<MultiTreeCBiRRT>(si)) {
     all.include(planner->params());
     declareParameters(all, goals);
     declareParameter(all, "sphere_tier", {0, 1, 1}, sphereTier);
     declareParameter(all, "threads", kThreadsRange, threads);  // planGrasp reads it
+    goals.objective.torsional_friction = robot.torsionalFriction();
+    goals.objective.unstable_by_reach = robot.fingertips().size() == 2 ? 1 : 0;
   }
-  /// The request's parameters for `robot` (its fingertips' contact model).
+  /// The request's parameters over the robot's defaults.
   PlanParameters(const ob::SpaceInformationPtr& si, const PlanRequest& request,
                  const robot::RobotModel& robot)
-      : PlanParameters(si) {
-    goals.objective.torsional_friction = robot.torsionalFriction();
+      : PlanParameters(si, robot) {
     set(request);
   }
   PlanParameters(const PlanParameters&) = delete;
@@ -451,7 +454,8 @@ std::uint64_t racingSeed(std::uint64_t seed, int copy) {
 std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world) {
   quietOmpl();
   robot::CollisionChecker checker(world.robot(), robot::Scene{}, nullptr);
-  const PlanParameters parameters(makeSpaceInformation(world.robot(), checker, kTreeResolution));
+  const PlanParameters parameters(makeSpaceInformation(world.robot(), checker, kTreeResolution),
+                                  world.robot());
   std::vector<PlannerParameterInfo> out;
   for (const auto& [name, param] : parameters.all.getParams())
     out.push_back({name, param->getValue(), param->getRangeSuggestion()});

@@ -108,6 +108,7 @@ void declareParameters(ompl::base::ParamSet& params, grasp::ObjectiveOptions& ob
   declareParameter(params, "alpha", {1e-12, 1e-6, 1.0}, objective.alpha);
   declareParameter(params, "friction", {0.001, 0.05, 10.0}, objective.friction);
   declareParameter(params, "cone_edges", {3, 1, 64}, objective.cone_edges);
+  declareParameter(params, "unstable_by_reach", {0, 1, 1}, objective.unstable_by_reach);
 }
 
 }  // namespace hfts::planner

@@ -14,7 +14,7 @@ int handMapCommand(const std::string& robotConfig, const std::string& outDir,
                    unsigned long long seed) {
   const auto start = std::chrono::steady_clock::now();
   const robot::RobotModel model = robot::RobotModel::load(robotConfig);
-  grasp::HandMapOptions options;
+  grasp::HandMapOptions options = grasp::handMapOptions(model);
   options.seed = seed;
   db::HandMap map = grasp::buildHandMap(model, options);
   map.producer = "hfts-preprocess --hand";

@@ -87,7 +87,7 @@ class RobotChecker {
               " fingertips (the m of the m-contact HFTS); the config lists " + std::to_string(m));
       return;
     }
-    grasp::HandMapOptions options;
+    grasp::HandMapOptions options = grasp::handMapOptions(model_);
     options.num_samples = 200;
     options.max_draws = 200000;
     try {

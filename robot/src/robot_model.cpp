@@ -137,6 +137,7 @@ class RobotModelBuilder {
     addLimitsAndPostures();
     addFingertips();
     addContactModel();
+    addHandMapSettings();
     addDisabledCollisions();
     markHandLinks();
     model_.spheres_ = std::make_shared<RobotModel::LazySpheres>();
@@ -312,6 +313,13 @@ class RobotModelBuilder {
     model_.torsional_friction_ = config_.number("torsional_friction");
     if (!(model_.torsional_friction_ > 0.0))
       config_.failAt("torsional_friction", "must be > 0 (m of torque per unit normal force)");
+  }
+
+  void addHandMapSettings() {
+    if (!config_.has("hand_map_normal_weight")) return;
+    model_.hand_map_normal_weight_ = config_.number("hand_map_normal_weight");
+    if (!(model_.hand_map_normal_weight_ > 0.0))
+      config_.failAt("hand_map_normal_weight", "must be > 0 (m)");
   }
 
   void addDisabledCollisions() {

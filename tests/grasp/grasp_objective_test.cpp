@@ -25,6 +25,36 @@ TEST(GraspObjective, UsesBothQualityAndReachability) {
   EXPECT_EQ(objective.evaluations(), 1u);  // cached
 }
 
+TEST(GraspObjective, UnstableByReachRanksUnstableGraspsByReachBelowStableOnes) {
+  const HftsSpace space(test::bundledObjects().at("box"), 3);
+  ObjectiveOptions options;
+  options.unstable_by_reach = 1;
+  GraspObjective paper(space, reachability());
+  GraspObjective byReach(space, reachability(), options);
+  int unstable = 0, stable = 0;
+  double lowestStable = 1e300, highestUnstable = -1e300;
+  for (std::uint64_t i = 0; i < 400; ++i) {
+    const HftsNode node = space.child(space.root(), i * 17);
+    const GraspEvaluation a = paper.evaluate(node), b = byReach.evaluate(node);
+    EXPECT_EQ(a.quality, b.quality);
+    EXPECT_EQ(a.reachability, b.reachability);
+    if (a.quality > 0) {
+      ++stable;
+      EXPECT_EQ(b.value, a.value);  // Eq. (1) unchanged for stable grasps
+      lowestStable = std::min(lowestStable, b.value);
+    } else {
+      ++unstable;
+      EXPECT_EQ(a.value, 0.0);
+      EXPECT_DOUBLE_EQ(b.value, -(b.reachability + options.alpha));
+      highestUnstable = std::max(highestUnstable, b.value);
+    }
+  }
+  ASSERT_GT(stable, 0);
+  ASSERT_GT(unstable, 0);
+  EXPECT_LT(highestUnstable, 0.0);
+  EXPECT_GT(lowestStable, highestUnstable);
+}
+
 TEST(GraspObjective, CachesEveryNodeOnceAcrossGrowth) {
   const HftsSpace space(test::bundledObjects().at("box"), 3);
   GraspObjective objective(space, reachability());

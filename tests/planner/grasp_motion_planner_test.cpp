@@ -431,7 +431,10 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
                                             {"smoothing_steps", 200},
                                             {"final_resolution", 0.0025},
                                             {"collision_resolution", 0.02},
-                                            {"max_fingertip_error", 0.005}};
+                                            {"max_fingertip_error", 0.005},
+                                            // Eq. (1) as in the paper for the SDH's three
+                                            // fingers (1 only for two-fingered hands).
+                                            {"unstable_by_reach", 0}};
   for (const PlannerParameterInfo& p : plannerParameters(world())) {
     const auto it = expected.find(p.name);
     if (it == expected.end()) continue;
@@ -439,7 +442,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
     expected.erase(it);
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
-  EXPECT_EQ(plannerParameters(world()).size(), 28u) << "a parameter was added or removed";
+  EXPECT_EQ(plannerParameters(world()).size(), 29u) << "a parameter was added or removed";
 }
 
 }  // namespace

@@ -141,6 +141,18 @@ TEST(RobotModel, ContactModelIsHardFingersUnlessTheConfigSaysSoft) {
   expectModelError(s.urdf, config, "torsional_friction: applies only to");
 }
 
+TEST(RobotModel, HandMapNormalWeightIsOptionalAndPositive) {
+  Sources s;
+  EXPECT_EQ(RobotModel::fromStrings(s.urdf, s.config, "kr5").handMapNormalWeight(), 0.0);
+  std::string config = s.config;
+  replaceOnce(config, "\"pregrasp_offset\"",
+              "\"hand_map_normal_weight\": 0.005, \"pregrasp_offset\"");
+  EXPECT_EQ(RobotModel::fromStrings(s.urdf, config, "w").handMapNormalWeight(), 0.005);
+  config = s.config;
+  replaceOnce(config, "\"pregrasp_offset\"", "\"hand_map_normal_weight\": 0, \"pregrasp_offset\"");
+  expectModelError(s.urdf, config, "robot 'x': hand_map_normal_weight: must be > 0");
+}
+
 TEST(RobotModel, MissingFilesAreNamed) {
   test::expectErrorMentioning<ModelError>([] { RobotModel::load("/nonexistent/robot.json"); },
                                           {"/nonexistent/robot.json"});

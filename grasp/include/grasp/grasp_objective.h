@@ -20,6 +20,14 @@ struct ObjectiveOptions {
   /// Soft-finger torsional friction gamma (m), 0 for hard fingers: the
   /// robot's contact model (RobotModel::torsionalFriction).
   double torsional_friction = 0.0;
+  /// 1: an unstable grasp (Q = 0) is valued -(R + alpha) instead of 0, so
+  /// that among grasps without force closure the climb still moves towards
+  /// those the hand reaches; every stable grasp stays above every unstable
+  /// one. 0: Eq. (1) as in the paper (a flat 0 for all unstable grasps).
+  /// For two-fingered hands most contact pairs are unstable and the
+  /// reachable ones are the nearly antipodal ones, so the planner turns it
+  /// on for them (parameter "unstable_by_reach").
+  int unstable_by_reach = 0;
 };
 
 /// The default options with the contact model of the robot's fingertips.
@@ -38,6 +46,7 @@ struct GraspEvaluation {
   /// Q / (R + alpha). With R = 0 the value is Q / alpha: an exactly
   /// reachable grasp outranks any inexact one of similar quality, and
   /// among exact ones quality decides.
+  /// With ObjectiveOptions::unstable_by_reach, -(R + alpha) for Q = 0.
   double value = 0.0;
   /// With a hand check (GraspObjective::setHandCheck): the hand, placed as
   /// R(h)'s answer places it, meets an obstacle. Its value is then

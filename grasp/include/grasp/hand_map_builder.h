@@ -57,6 +57,10 @@ bool isGraspPosture(const FingerColumns& positions, const FingerColumns& padNorm
 HandDescriptor handDescriptor(const FingerColumns& positions, const FingerColumns& padNormals,
                               double normalWeight);
 
+/// The default options with the robot's own settings (its config's
+/// `hand_map_normal_weight`).
+HandMapOptions handMapOptions(const robot::RobotModel& model);
+
 /// Samples the hand joint space within the limits (a Halton sequence
 /// shifted by the seed: even coverage, no clusters) and keeps the
 /// configurations that pass isGraspPosture, until options.num_samples are

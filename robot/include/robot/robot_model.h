@@ -95,6 +95,11 @@ class RobotModel {
   /// config's `torsional_friction` gamma (m) for "soft_finger" (contacts
   /// that also resist a torque about their normal, docs/grasp_quality.md).
   double torsionalFriction() const { return torsional_friction_; }
+  /// The config's optional `hand_map_normal_weight` (m, > 0): the weight
+  /// of a pad-normal error against a fingertip-position error in the hand
+  /// map and R(h) (HandMapParameters::normal_weight); 0 when the config
+  /// does not set it (the map's default, 0.03 m).
+  double handMapNormalWeight() const { return hand_map_normal_weight_; }
 
   /// Links in topological order (a parent before its children); link 0 is
   /// the root (the base link).
@@ -134,6 +139,7 @@ class RobotModel {
   Eigen::VectorXd lower_, upper_, velocity_, acceleration_, weights_, home_, hand_open_;
   double pregrasp_offset_ = 0.0;
   double torsional_friction_ = 0.0;
+  double hand_map_normal_weight_ = 0.0;
   std::vector<Link> links_;
   std::vector<Joint> joints_;
   int flange_link_ = -1;
