@@ -39,7 +39,7 @@ void printGrasp(const json& grasp, std::ostream& out) {
     out << "  contact " << finger++ << ": position " << numbers(c.at("position"), 4)
         << " m, inward normal " << numbers(c.at("normal"), 3) << " (world frame)\n";
   out << "  hand (" << names(grasp.at("hand_joint_names"))
-      << "): " << numbers(grasp.at("hand_configuration"), 3) << " rad\n";
+      << "): " << numbers(grasp.at("hand_configuration"), 3) << " (rad; m for sliding joints)\n";
 }
 
 void printStats(const json& s, std::ostream& out) {

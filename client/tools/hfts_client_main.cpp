@@ -132,7 +132,8 @@ void addPlanOptions(CLI::App& cmd, PlanOptions& p) {
   cmd.add_option("--object-pose", p.object_pose, "x,y,z,qx,qy,qz,qw (default: the scene's)")
       ->delimiter(',')
       ->expected(7);
-  cmd.add_option("--start", p.start, "Start configuration, 13 values (default: the scene's)")
+  cmd.add_option("--start", p.start,
+                 "Start configuration, one value per robot DoF (default: the scene's)")
       ->delimiter(',');
   cmd.add_option("--time-limit", p.time_limit, "Seconds (default and maximum: the server's)");
   cmd.add_option("--algorithm", p.algorithm, "coupled (default) or decoupled");
