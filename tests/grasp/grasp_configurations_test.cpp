@@ -120,5 +120,23 @@ TEST(GraspConfigurations, PregraspOpensSingleFingerJointsOnly) {
   for (int h = 1; h < 7; ++h) EXPECT_NEAR(open(h), hand(h) - m().pregraspOffset(), 1e-12);
 }
 
+// A DoF that drives several fingers opens them when it moves each along
+// its pad normal the same way: a parallel-jaw gripper's mimic jaws.
+TEST(GraspConfigurations, PregraspOpensAGrippersMimicJaws) {
+  const robot::RobotModel panda =
+      robot::RobotModel::load(test::sourcePath("robots/panda_gripper/panda_gripper.json"));
+  const HandReachability fast(panda, buildHandMap(panda, handMapOptions(panda)));
+  const robot::ArmIk ik(panda);
+  robot::Scene scene;
+  robot::CollisionChecker checker(panda, scene, nullptr);
+  const GraspConfigurator configurator(panda, ik, fast, checker, scene.target_pose,
+                                       scene.robot_base);
+  const Eigen::VectorXd closed = Eigen::VectorXd::Constant(1, 0.02);
+  // Positive jaw travel opens: the jaws move apart by the pre-grasp offset.
+  EXPECT_NEAR(configurator.openedHand(closed)(0), 0.02 + panda.pregraspOffset(), 1e-12);
+  // At the stop they stay there.
+  EXPECT_EQ(configurator.openedHand(Eigen::VectorXd::Constant(1, 0.04))(0), 0.04);
+}
+
 }  // namespace
 }  // namespace hfts::grasp
