@@ -130,15 +130,17 @@ class HftsClient:
     def info(self):
         return self.call("server.info")
 
-    def objects(self):
-        return self.call("objects.list")
+    def objects(self, robot=None):
+        """The object databases, graspability for `robot` (default: the server's first)."""
+        return self.call("objects.list", {"robot": robot} if robot else None)
 
-    def scenes(self):
-        return self.call("scenes.list")
+    def scenes(self, robot=None):
+        """The scenes, their start for `robot` (default: the server's first)."""
+        return self.call("scenes.list", {"robot": robot} if robot else None)
 
     def plan(self, scene, **options):
         """Plans a grasp and a path. scene: a scene name or an inline scene (dict);
-        options: object, object_pose, start, time_limit, algorithm, iterations, seed,
+        options: robot, object, object_pose, start, time_limit, algorithm, iterations, seed,
         parameters, trajectory_rate (docs/protocol.md)."""
         return self.call("plan", plan_params(scene, **options))
 
@@ -176,6 +178,7 @@ def main(argv=None):
                         help="attempts again when the connection fails before the answer")
     parser.add_argument("command", choices=["info", "objects", "scenes", "plan", "shutdown"])
     parser.add_argument("scene", nargs="?", help="plan: the scene name")
+    parser.add_argument("--robot", help="a robot of the server (default: its first)")
     parser.add_argument("--object")
     parser.add_argument("--time-limit", type=float)
     parser.add_argument("--seed", type=int)
@@ -185,8 +188,10 @@ def main(argv=None):
             if args.command == "plan":
                 if not args.scene:
                     parser.error("plan needs a scene")
-                result = client.plan(args.scene, object=args.object, time_limit=args.time_limit,
-                                     seed=args.seed)
+                result = client.plan(args.scene, robot=args.robot, object=args.object,
+                                     time_limit=args.time_limit, seed=args.seed)
+            elif args.command in ("objects", "scenes"):
+                result = getattr(client, args.command)(args.robot)
             else:
                 result = getattr(client, args.command)()
     except (RpcError, OSError) as e:

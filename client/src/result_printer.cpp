@@ -61,10 +61,15 @@ void printInfo(const json& info, std::ostream& out) {
   const json& limits = info.at("limits");
   const json& load = info.at("load");
   out << info.at("name").get<std::string>() << " " << info.at("version").get<std::string>() << " ("
-      << info.at("protocol").get<std::string>() << ")\n"
-      << "robot: " << robot.at("name").get<std::string>() << ", " << robot.at("joint_names").size()
-      << " DoF: " << names(robot.at("joint_names")) << "\n"
-      << "objects: " << info.at("objects").get<int>()
+      << info.at("protocol").get<std::string>() << ")\n";
+  // Servers before several robots list only "robot".
+  const json robots = info.contains("robots") ? info.at("robots") : json::array({robot});
+  for (std::size_t i = 0; i < robots.size(); ++i)
+    out << "robot: " << robots[i].at("name").get<std::string>() << ", "
+        << robots[i].at("joint_names").size() << " DoF, " << robots[i].at("fingertips").size()
+        << " fingertips" << (robots.size() > 1 && i == 0 ? " (the default)" : "") << ": "
+        << names(robots[i].at("joint_names")) << "\n";
+  out << "objects: " << info.at("objects").get<int>()
       << ", scenes: " << info.at("scenes").get<int>() << "\n"
       << "workers: " << load.at("workers").get<int>() << " (" << load.at("running").get<int>()
       << " planning, " << load.at("queued").get<int>() << " queued, queue capacity "
@@ -74,8 +79,12 @@ void printInfo(const json& info, std::ostream& out) {
 }
 
 void printObjects(const json& objects, std::ostream& out) {
+  // Graspability: the share of sampled leaf grasps that are stable and
+  // reachable for the robot's hand in free space.
+  const std::string robot = objects.value("robot", std::string());
   out << std::left << std::setw(16) << "object" << std::right << std::setw(10) << "contacts"
-      << "  nodes per level   rho (m)\n";
+      << "  nodes per level   rho (m)  graspable"
+      << (robot.empty() ? std::string() : " (" + robot + ")") << "\n";
   for (const json& o : objects.at("objects")) {
     std::string levels;
     for (const json& n : o.at("nodes_per_level"))
@@ -83,7 +92,11 @@ void printObjects(const json& objects, std::ostream& out) {
     out << std::left << std::setw(16) << o.at("name").get<std::string>() << std::right
         << std::setw(10) << o.at("contacts").get<int>() << "  " << std::left << std::setw(16)
         << levels << std::right << std::fixed << std::setprecision(4) << std::setw(9)
-        << o.at("rho").get<double>() << "\n";
+        << o.at("rho").get<double>();
+    if (o.contains("graspability"))
+      out << std::setprecision(1) << std::setw(10)
+          << 100.0 * o.at("graspability").at("fraction").get<double>() << " %";
+    out << "\n";
   }
   out.unsetf(std::ios::floatfield);
   for (const json& why : objects.at("skipped"))
@@ -101,6 +114,7 @@ void printScenes(const json& scenes, std::ostream& out) {
 void printPlan(const json& plan, std::ostream& out) {
   const json& stats = plan.at("stats");
   const std::string what =
+      (plan.contains("robot") ? plan.at("robot").get<std::string>() + ", " : std::string()) +
       plan.at("scene").get<std::string>() + ", " + plan.at("object").get<std::string>() + ", " +
       plan.at("algorithm").get<std::string>() + ", seed " + plan.at("seed").dump();
   out << std::setprecision(4);

@@ -34,7 +34,7 @@ struct Options {
 };
 
 struct PlanOptions {
-  std::string scene, scene_file, object, algorithm;
+  std::string robot, scene, scene_file, object, algorithm;
   std::vector<double> object_pose, start;
   std::vector<std::string> parameters;
   double time_limit = 0.0, trajectory_rate = 0.0;
@@ -103,6 +103,7 @@ void addParameter(json& parameters, const std::string& assignment) {
 
 json planParams(const PlanOptions& p, const CLI::App& cmd) {
   json params = {{"seed", p.seed}};
+  if (!p.robot.empty()) params["robot"] = p.robot;
   params["scene"] = p.scene_file.empty() ? json(p.scene) : readJsonFile(p.scene_file);
   if (!p.object.empty()) params["object"] = p.object;
   if (!p.object_pose.empty())
@@ -123,7 +124,12 @@ json planParams(const PlanOptions& p, const CLI::App& cmd) {
   return params;
 }
 
+void addRobotOption(CLI::App& cmd, std::string& robot) {
+  cmd.add_option("--robot", robot, "A robot of the server (info lists them; default its first)");
+}
+
 void addPlanOptions(CLI::App& cmd, PlanOptions& p) {
+  addRobotOption(cmd, p.robot);
   auto* scene = cmd.add_option("--scene", p.scene, "A scene of the server (scenes lists them)");
   cmd.add_option("--scene-file", p.scene_file, "An inline scene: a scene file of primitives")
       ->check(CLI::ExistingFile)
@@ -188,9 +194,11 @@ int main(int argc, char** argv) {
                  "answer (not for shutdown)")
       ->check(CLI::Range(0, 100))
       ->capture_default_str();
-  app.add_subcommand("info", "Server version, robot, limits and load");
-  app.add_subcommand("objects", "The object databases");
-  app.add_subcommand("scenes", "The scenes");
+  app.add_subcommand("info", "Server version, robots, limits and load");
+  std::string listedRobot;
+  addRobotOption(*app.add_subcommand("objects", "The object databases and their graspability"),
+                 listedRobot);
+  addRobotOption(*app.add_subcommand("scenes", "The scenes"), listedRobot);
   CLI::App* planCmd = app.add_subcommand("plan", "Plan a grasp and a path to it");
   addPlanOptions(*planCmd, plan);
   CLI::App* qualityCmd = app.add_subcommand("quality", "Ferrari-Canny epsilon of a grasp");
@@ -232,6 +240,8 @@ int main(int argc, char** argv) {
       if (plan.scene.empty() && plan.scene_file.empty())
         throw std::runtime_error("plan needs --scene NAME or --scene-file FILE");
       params = planParams(plan, *planCmd);
+    } else if ((command == "objects" || command == "scenes") && !listedRobot.empty()) {
+      params["robot"] = listedRobot;
     } else if (command == "quality") {
       params = readJsonFile(quality.file);
       if (!quality.object.empty() && params.is_object()) params["object"] = quality.object;

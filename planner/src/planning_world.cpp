@@ -2,42 +2,29 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 #include "robot/collision_checker.h"
 #include "robot/fingertip_geometry.h"
 
 namespace hfts::planner {
 
-PlanningWorld::PlanningWorld(robot::RobotModel robot, db::HandMap handMap,
-                             std::map<std::string, db::ObjectDatabase> objects)
-    : robot_(std::move(robot)),
-      ik_(robot_),
-      fast_(robot_, handMap),
-      thorough_(robot_, std::move(handMap), grasp::HandQueryOptions::thorough()),
-      objects_(std::move(objects)),
-      padRadius_(robot::smallestPadRadius(robot_)) {
-  robot_.spheres();  // built now, not in the first plan's time
+namespace fs = std::filesystem;
+
+ObjectLibrary::ObjectLibrary(std::map<std::string, db::ObjectDatabase> objects)
+    : objects_(std::move(objects)) {
   for (const auto& [name, database] : objects_)
-    collisionMeshes_.emplace(
+    collision_meshes_.emplace(
         name, std::make_unique<const robot::CollisionMesh>(
                   TriangleMesh{database.geometry.mesh_vertices, database.geometry.mesh_triangles}));
 }
 
-PlanningWorld::~PlanningWorld() = default;
+ObjectLibrary::~ObjectLibrary() = default;
 
-std::shared_ptr<const PlanningWorld> PlanningWorld::load(const std::filesystem::path& robotConfig,
-                                                         const std::filesystem::path& dbDir,
+std::shared_ptr<const ObjectLibrary> ObjectLibrary::load(const fs::path& dbDir,
                                                          std::vector<std::string>* skipped) {
-  namespace fs = std::filesystem;
   if (!fs::is_directory(dbDir))
     throw std::runtime_error("database directory " + dbDir.string() + " does not exist");
-  robot::RobotModel robot = robot::RobotModel::load(robotConfig);
-  const fs::path mapPath = dbDir / (robot.name() + "_hand_map.h5");
-  if (!fs::exists(mapPath))
-    throw std::runtime_error("no hand reachability map " + mapPath.string() +
-                             " (build it with: hfts-preprocess --hand " + robotConfig.string() +
-                             " -o " + dbDir.string() + ")");
-  db::HandMap map = db::loadHandMap(mapPath);
   // Hand maps of every robot (<robot name>_hand_map.h5) share the folder
   // with the object databases.
   const auto isHandMap = [](const fs::path& file) {
@@ -62,24 +49,77 @@ std::shared_ptr<const PlanningWorld> PlanningWorld::load(const std::filesystem::
       if (skipped != nullptr) skipped->push_back(file.string() + ": " + e.what());
     }
   }
-  return std::make_shared<const PlanningWorld>(std::move(robot), std::move(map),
-                                               std::move(objects));
+  return std::make_shared<const ObjectLibrary>(std::move(objects));
 }
 
-const db::ObjectDatabase* PlanningWorld::object(const std::string& name) const {
+const db::ObjectDatabase* ObjectLibrary::object(const std::string& name) const {
   const auto it = objects_.find(name);
   return it == objects_.end() ? nullptr : &it->second;
 }
 
-const robot::CollisionMesh* PlanningWorld::collisionMesh(const std::string& name) const {
-  const auto it = collisionMeshes_.find(name);
-  return it == collisionMeshes_.end() ? nullptr : it->second.get();
+const robot::CollisionMesh* ObjectLibrary::collisionMesh(const std::string& name) const {
+  const auto it = collision_meshes_.find(name);
+  return it == collision_meshes_.end() ? nullptr : it->second.get();
 }
 
-std::vector<std::string> PlanningWorld::objectNames() const {
+std::vector<std::string> ObjectLibrary::names() const {
   std::vector<std::string> names;
   for (const auto& entry : objects_) names.push_back(entry.first);
   return names;
+}
+
+PlanningWorld::PlanningWorld(robot::RobotModel robot, db::HandMap handMap,
+                             std::map<std::string, db::ObjectDatabase> objects)
+    : PlanningWorld(std::move(robot), std::move(handMap),
+                    std::make_shared<const ObjectLibrary>(std::move(objects))) {}
+
+PlanningWorld::PlanningWorld(robot::RobotModel robot, db::HandMap handMap,
+                             std::shared_ptr<const ObjectLibrary> objects)
+    : robot_(std::move(robot)),
+      ik_(robot_),
+      fast_(robot_, handMap),
+      thorough_(robot_, std::move(handMap), grasp::HandQueryOptions::thorough()),
+      objects_(std::move(objects)),
+      padRadius_(robot::smallestPadRadius(robot_)) {
+  if (objects_ == nullptr) throw std::invalid_argument("PlanningWorld: no object library");
+  robot_.spheres();  // built now, not in the first plan's time
+}
+
+PlanningWorld::~PlanningWorld() = default;
+
+namespace {
+
+/// The robot config and its hand map from `dbDir`, errors naming the file.
+std::pair<robot::RobotModel, db::HandMap> robotAndHandMap(const fs::path& robotConfig,
+                                                          const fs::path& dbDir) {
+  if (!fs::is_directory(dbDir))
+    throw std::runtime_error("database directory " + dbDir.string() + " does not exist");
+  robot::RobotModel robot = robot::RobotModel::load(robotConfig);
+  const fs::path mapPath = dbDir / (robot.name() + "_hand_map.h5");
+  if (!fs::exists(mapPath))
+    throw std::runtime_error("no hand reachability map " + mapPath.string() +
+                             " (build it with: hfts-preprocess --hand " + robotConfig.string() +
+                             " -o " + dbDir.string() + ")");
+  db::HandMap map = db::loadHandMap(mapPath);
+  return {std::move(robot), std::move(map)};
+}
+
+}  // namespace
+
+std::shared_ptr<const PlanningWorld> PlanningWorld::load(const fs::path& robotConfig,
+                                                         const fs::path& dbDir,
+                                                         std::vector<std::string>* skipped) {
+  auto [robot, map] = robotAndHandMap(robotConfig, dbDir);
+  return std::make_shared<const PlanningWorld>(std::move(robot), std::move(map),
+                                               ObjectLibrary::load(dbDir, skipped));
+}
+
+std::shared_ptr<const PlanningWorld> PlanningWorld::load(
+    const fs::path& robotConfig, const fs::path& dbDir,
+    std::shared_ptr<const ObjectLibrary> objects) {
+  auto [robot, map] = robotAndHandMap(robotConfig, dbDir);
+  return std::make_shared<const PlanningWorld>(std::move(robot), std::move(map),
+                                               std::move(objects));
 }
 
 }  // namespace hfts::planner

@@ -52,14 +52,37 @@ json robotJson(const robot::RobotModel& robot) {
           {"fingertips", std::move(tips)}};
 }
 
-json plannerParametersJson(const PlanningCatalog& catalog) {
+json plannerParametersJson(const CatalogRobot& robot) {
   json out = json::array();
-  for (const planner::PlannerParameterInfo& p : catalog.plannerParameters())
+  for (const planner::PlannerParameterInfo& p : robot.parameters)
     out.push_back({{"name", p.name}, {"default", p.default_value}, {"range", p.range}});
   return out;
 }
 
-json objectsJson(const PlanningCatalog& catalog) {
+json robotsJson(const PlanningCatalog& catalog) {
+  json out = json::array();
+  for (const CatalogRobot& r : catalog.robots()) {
+    json robot = robotJson(r.model());
+    robot["planner_parameters"] = plannerParametersJson(r);
+    out.push_back(std::move(robot));
+  }
+  return out;
+}
+
+const CatalogRobot& requestedRobot(const json& params, const PlanningCatalog& catalog) {
+  const JsonFields f(params, "");
+  if (!f.has("robot")) return catalog.robots().front();
+  const std::string name = f.name("robot");
+  const CatalogRobot* robot = catalog.findRobot(name);
+  if (robot == nullptr) {
+    std::string known;
+    for (const std::string& n : catalog.robotNames()) known += (known.empty() ? "" : ", ") + n;
+    f.fail("robot", "unknown robot '" + name + "' (this server plans for: " + known + ")");
+  }
+  return *robot;
+}
+
+json objectsJson(const PlanningCatalog& catalog, const CatalogRobot& robot) {
   json objects = json::array();
   for (const std::string& name : catalog.world().objectNames()) {
     const db::ObjectDatabase& o = *catalog.world().object(name);
@@ -70,19 +93,19 @@ json objectsJson(const PlanningCatalog& catalog) {
                        {"nodes_per_level", nodes},
                        {"center_of_mass", vectorJson(o.geometry.center_of_mass)},
                        {"rho", o.geometry.rho},
-                       {"graspability", graspabilityJson(catalog.graspability(name))},
+                       {"graspability", graspabilityJson(robot.graspability.at(name))},
                        {"source_mesh", o.source_mesh}});
   }
-  return {{"objects", std::move(objects)}, {"skipped", catalog.skipped()}};
+  return {{"robot", robot.name()}, {"objects", std::move(objects)}, {"skipped", catalog.skipped()}};
 }
 
-json scenesJson(const PlanningCatalog& catalog) {
+json scenesJson(const PlanningCatalog& catalog, const CatalogRobot& robot) {
   json scenes = json::array();
   for (const auto& [name, scene] : catalog.scenes()) {
     json obstacles = json::array();
     for (const robot::Obstacle& o : scene.obstacles)
       obstacles.push_back({{"name", o.name}, {"type", typeName(o.type)}});
-    const std::optional<Eigen::VectorXd> start = scene.startFor(catalog.world().robot().name());
+    const std::optional<Eigen::VectorXd> start = scene.startFor(robot.name());
     json placements = json::array();
     for (const robot::Placement& p : scene.placements)
       placements.push_back({{"name", p.name}, {"pose", poseJson(p.pose)}, {"rest_on", p.rest_on}});
@@ -95,7 +118,7 @@ json scenesJson(const PlanningCatalog& catalog) {
                       {"obstacles", std::move(obstacles)},
                       {"start", start ? vectorJson(*start) : json()}});
   }
-  return {{"scenes", std::move(scenes)}};
+  return {{"robot", robot.name()}, {"scenes", std::move(scenes)}};
 }
 
 json graspQualityJson(const json& params, const PlanningCatalog& catalog) {

@@ -23,6 +23,12 @@ void noParams(const Call& call) {
   JsonFields(call.params, "").allowOnly({});
 }
 
+/// The params of a listing that may name a robot ({"robot": name}).
+const CatalogRobot& listedRobot(const Call& call, const PlanningCatalog& catalog) {
+  JsonFields(call.params, "").allowOnly({"robot"});
+  return requestedRobot(call.params, catalog);
+}
+
 }  // namespace
 
 MethodDispatcher::MethodDispatcher(const ServerOptions& options,
@@ -125,9 +131,10 @@ json MethodDispatcher::staticInfo() const {
            {"server.info", "objects.list", "scenes.list", "plan", "grasp.quality", "cancel",
             "shutdown", "reload"}},
           {"robot", robotJson(catalog_->robot())},
+          {"robots", robotsJson(*catalog_)},
           {"objects", catalog_->world().objectNames().size()},
           {"scenes", catalog_->scenes().size()},
-          {"planner_parameters", plannerParametersJson(*catalog_)},
+          {"planner_parameters", plannerParametersJson(catalog_->robots().front())},
           {"limits",
            {{"max_time_limit", limits_.max_time_limit},
             {"max_threads", limits_.max_threads},
@@ -142,13 +149,11 @@ json MethodDispatcher::staticInfo() const {
 }
 
 void MethodDispatcher::objects(const Call& call, const Caller&, const Finish& finish) {
-  noParams(call);
-  finish({objectsJson(*catalog_), std::nullopt, ""});
+  finish({objectsJson(*catalog_, listedRobot(call, *catalog_)), std::nullopt, ""});
 }
 
 void MethodDispatcher::scenes(const Call& call, const Caller&, const Finish& finish) {
-  noParams(call);
-  finish({scenesJson(*catalog_), std::nullopt, ""});
+  finish({scenesJson(*catalog_, listedRobot(call, *catalog_)), std::nullopt, ""});
 }
 
 void MethodDispatcher::quality(const Call& call, const Caller&, const Finish& finish) {
@@ -186,6 +191,7 @@ MethodDispatcher::Outcome MethodDispatcher::runQuality(const PlanningCatalog& ca
 void MethodDispatcher::plan(const Call& call, const Caller& caller, const Finish& finish) {
   auto request = std::make_shared<const planner::PlanRequest>(
       planRequestFromJson(call.params, *catalog_, limits_));
+  const planner::PlanningWorld* world = requestedRobot(call.params, *catalog_).world.get();
   const bool gltf = planWantsGltf(call.params);
   auto flag = std::make_shared<std::atomic<bool>>(false);
   const std::string key = call.id.dump();
@@ -193,8 +199,9 @@ void MethodDispatcher::plan(const Call& call, const Caller& caller, const Finish
     plans->remove(key, flag);
     finish(std::move(o));
   };
-  auto job = [catalog = catalog_, request, flag, done, post = post_, gltf] {
-    auto outcome = std::make_shared<Outcome>(runPlan(*catalog, *request, *flag, gltf));
+  // The catalog keeps the world alive while the plan runs.
+  auto job = [catalog = catalog_, world, request, flag, done, post = post_, gltf] {
+    auto outcome = std::make_shared<Outcome>(runPlan(*world, *request, *flag, gltf));
     post([done, outcome] { done(std::move(*outcome)); });
   };
   if (!pool_.trySubmit(flag, std::move(job)))
@@ -204,7 +211,7 @@ void MethodDispatcher::plan(const Call& call, const Caller& caller, const Finish
   caller.plans->add(key, flag);
 }
 
-MethodDispatcher::Outcome MethodDispatcher::runPlan(const PlanningCatalog& catalog,
+MethodDispatcher::Outcome MethodDispatcher::runPlan(const planner::PlanningWorld& world,
                                                     const planner::PlanRequest& request,
                                                     const std::atomic<bool>& cancel, bool gltf) {
   try {
@@ -212,13 +219,14 @@ MethodDispatcher::Outcome MethodDispatcher::runPlan(const PlanningCatalog& catal
     if (cancel.load()) {  // cancelled while queued: no need to set anything up
       result.failure = planner::PlanFailure::kCancelled;
       result.message = "cancelled before it started";
-      result.joint_names = catalog.robot().dofNames();
+      result.joint_names = world.robot().dofNames();
     } else {
-      result = planner::planGrasp(catalog.world(), request, &cancel);
+      result = planner::planGrasp(world, request, &cancel);
     }
     json out = planResultToJson(result, request);
+    out["robot"] = world.robot().name();
     if (gltf && !result.trajectory.points.empty())
-      out["gltf"] = db::base64Encode(planner::planGlb(catalog.world(), request, result));
+      out["gltf"] = db::base64Encode(planner::planGlb(world, request, result));
     return {std::move(out), std::nullopt,
             result.success ? "success" : planner::toString(result.failure)};
   } catch (const InvalidArgument& e) {  // planGrasp checks parameter values
@@ -259,7 +267,8 @@ void MethodDispatcher::reload(const Call& call, const Caller&, const Finish& fin
       catalog = PlanningCatalog::load(options_.sources);
       std::vector<std::string> scenes;
       for (const auto& entry : catalog->scenes()) scenes.push_back(entry.first);
-      fresh->result = {{"objects", catalog->world().objectNames()},
+      fresh->result = {{"robots", catalog->robotNames()},
+                       {"objects", catalog->world().objectNames()},
                        {"scenes", scenes},
                        {"skipped", catalog->skipped()}};
     } catch (const std::exception& e) {

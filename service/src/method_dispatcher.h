@@ -92,7 +92,7 @@ class MethodDispatcher {
   static std::string describe(const RpcError& error);
   /// What server.info reports that changes only with the catalog.
   nlohmann::json staticInfo() const;
-  static Outcome runPlan(const PlanningCatalog& catalog, const planner::PlanRequest& request,
+  static Outcome runPlan(const planner::PlanningWorld& world, const planner::PlanRequest& request,
                          const std::atomic<bool>& cancel, bool gltf);
   static Outcome runQuality(const PlanningCatalog& catalog, const nlohmann::json& params,
                             const std::atomic<bool>& cancel);

@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "json_fields.h"
+#include "service/catalog_json.h"
 #include "service/rpc_error.h"
 
 namespace hfts::service {
@@ -69,15 +70,14 @@ void checkStart(const JsonFields& f, const robot::RobotModel& robot,
   if (!robot.withinLimits(start, 1e-9, &why)) f.fail(field, "outside the joint limits: " + why);
 }
 
-std::map<std::string, std::string> parametersOf(const JsonFields& f,
-                                                const PlanningCatalog& catalog) {
+std::map<std::string, std::string> parametersOf(const JsonFields& f, const CatalogRobot& robot) {
   const JsonFields p(f.at("parameters"), "parameters");
   std::map<std::string, std::string> out;
   for (const auto& item : f.at("parameters").items()) {
     const std::string& name = item.key();
     if (name == "time_limit" || name == "iterations")
       p.fail(name, "set it with the top-level '" + name + "' field");
-    const auto& declared = catalog.plannerParameters();
+    const auto& declared = robot.parameters;
     if (std::none_of(declared.begin(), declared.end(),
                      [&](const planner::PlannerParameterInfo& i) { return i.name == name; }))
       p.fail(name, "unknown planner parameter (see server.info)");
@@ -104,14 +104,22 @@ bool planWantsGltf(const json& params) {
 planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatalog& catalog,
                                          const PlanLimits& limits) {
   const JsonFields f(params, "");
-  f.allowOnly({"scene", "object", "object_pose", "start", "time_limit", "algorithm", "iterations",
-               "seed", "parameters", "trajectory_rate", "gltf", "explored"});
+  f.allowOnly({"robot", "scene", "object", "object_pose", "start", "time_limit", "algorithm",
+               "iterations", "seed", "parameters", "trajectory_rate", "gltf", "explored"});
+  const CatalogRobot& planned = requestedRobot(params, catalog);
   planner::PlanRequest r;
   r.scene = sceneOf(f, catalog);
   r.object = objectOf(f, catalog, r.scene);
   if (f.has("object_pose")) r.object_pose = f.pose("object_pose");
-  const robot::RobotModel& robot = catalog.robot();
-  if (f.has("start")) r.start = f.numbers("start", robot.numDofs());
+  const robot::RobotModel& robot = planned.model();
+  if (f.has("start")) {
+    const json& start = f.at("start");
+    if (start.is_array() && static_cast<Eigen::Index>(start.size()) != robot.numDofs())
+      f.fail("start", "must hold " + std::to_string(robot.numDofs()) +
+                          " values, one per joint of robot '" + robot.name() + "', got " +
+                          std::to_string(start.size()));
+    r.start = f.numbers("start", robot.numDofs());
+  }
   checkStart(f, robot, r);
   r.time_limit = std::min(f.has("time_limit") ? f.positive("time_limit") : limits.max_time_limit,
                           limits.max_time_limit);
@@ -133,7 +141,7 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
       f.fail("trajectory_rate", "must be in [0, 1000] samples per second (0: no trajectory)");
   }
   if (f.has("parameters")) {
-    r.parameters = parametersOf(f, catalog);
+    r.parameters = parametersOf(f, planned);
     // Numbers and numeric text alike (planGrasp reads both); other text is
     // left to planGrasp's own check.
     if (const auto it = r.parameters.find("threads"); it != r.parameters.end()) {

@@ -1,5 +1,5 @@
-// hfts-server: the planning service (docs/protocol.md). Loads the robot,
-// the hand map, the object databases and the scenes, prints
+// hfts-server: the planning service (docs/protocol.md). Loads the robots,
+// their hand maps, the object databases and the scenes, prints
 // "hfts-server listening on ADDRESS:PORT" on standard output and serves
 // until a shutdown call, SIGINT or SIGTERM. One log line per request on
 // standard error.
@@ -17,14 +17,20 @@ int main(int argc, char** argv) {
   hfts::service::ServerOptions o;
   o.sources.database_dir = "build/databases";
   o.port = 7450;  // hfts-client's default too
-  std::string robot = o.sources.robot_config.string(), db = o.sources.database_dir.string(),
-              scenes = o.sources.scene_dir.string();
+  std::vector<std::string> robots;
+  std::string db = o.sources.database_dir.string(), scenes = o.sources.scene_dir.string();
   double maxMessageMiB = static_cast<double>(o.max_message_bytes) / (1 << 20);
   double maxBufferedMiB = static_cast<double>(o.max_buffered_bytes) / (1 << 20);
   bool quiet = false;
   CLI::App app{"hfts-server: grasp and motion planning over TCP JSON-RPC 2.0 (docs/protocol.md)"};
-  app.add_option("--robot", robot, "Robot config")->capture_default_str();
-  app.add_option("--db", db, "Object databases and the robot's hand map")->capture_default_str();
+  app.add_option("--robot", robots,
+                 "Robot config; repeat it to serve several robots (a plan's \"robot\" names "
+                 "one, default the first) [default: " +
+                     o.sources.robot_configs.front().string() + "]")
+      ->take_all()
+      ->expected(1)
+      ->allow_extra_args(false);
+  app.add_option("--db", db, "Object databases and every robot's hand map")->capture_default_str();
   app.add_option("--scenes", scenes, "Scene files (*.json)")->capture_default_str();
   app.add_option("--bind", o.bind_address, "Address to listen on")->capture_default_str();
   app.add_option("--port", o.port, "TCP port; 0 picks a free one")->capture_default_str();
@@ -67,7 +73,9 @@ int main(int argc, char** argv) {
   mallopt(M_MMAP_THRESHOLD, 128 * 1024);
 #endif
 
-  o.sources = {robot, db, scenes};
+  o.sources.database_dir = db;
+  o.sources.scene_dir = scenes;
+  if (!robots.empty()) o.sources.robot_configs.assign(robots.begin(), robots.end());
   o.max_message_bytes = static_cast<std::size_t>(maxMessageMiB * (1 << 20));
   o.max_buffered_bytes = static_cast<std::size_t>(maxBufferedMiB * (1 << 20));
   o.log = quiet ? nullptr : &std::cerr;

@@ -23,16 +23,17 @@ def run(binary, *args, check=None, timeout=240):
     return result
 
 
-def build_databases(preprocess, source_dir, out_dir, objects):
-    """The databases of the named bundled objects and the KR5 + SDH hand map,
-    written into `out_dir` with hfts-preprocess (what hfts-bench and
-    hfts-server read)."""
+def build_databases(preprocess, source_dir, out_dir, objects, robots=("kr5_sdh",)):
+    """The databases of the named bundled objects and the hand maps of the
+    named bundled robots (default the KR5 + SDH), written into `out_dir` with
+    hfts-preprocess (what hfts-bench and hfts-server read)."""
     meshes = os.path.join(source_dir, "objects", "meshes")
     for mesh in sorted(os.listdir(meshes)):
         if os.path.splitext(mesh)[0] in objects:
             run(preprocess, os.path.join(meshes, mesh), "-o", out_dir, "-q", check=0)
-    robot = os.path.join(source_dir, "robots", "kr5_sdh", "kr5_sdh.json")
-    run(preprocess, "--hand", robot, "-o", out_dir, check=0)
+    for robot in robots:
+        config = os.path.join(source_dir, "robots", robot, robot + ".json")
+        run(preprocess, "--hand", config, "-o", out_dir, check=0)
 
 
 def bench_options():

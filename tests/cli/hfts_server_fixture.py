@@ -1,9 +1,9 @@
 """Runs a real hfts-server for the service's integration tests (standard library only).
 
 run_tests() parses --server, --preprocess, --source-dir and --client,
-builds the mug and blob databases and the hand map into a temporary
-directory once (CONFIG.db_dir, about half a second) and runs the module's
-tests. RunningServer starts hfts-server on an ephemeral port and reads the
+builds the mug and blob databases and the hand maps of the KR5 + SDH and
+the Panda + gripper into a temporary directory once (CONFIG.db_dir, about
+half a second) and runs the module's tests. RunningServer starts hfts-server on an ephemeral port and reads the
 port from its first line; ServerTest gives a test class one server.
 """
 
@@ -49,7 +49,8 @@ def run_tests(with_client=False):
         setattr(CONFIG, key, value and os.path.abspath(value))
     CONFIG.db_dir = tempfile.mkdtemp(prefix="hfts-service-db-")
     try:
-        build_databases(CONFIG.preprocess, CONFIG.source_dir, CONFIG.db_dir, ["mug", "blob"])
+        build_databases(CONFIG.preprocess, CONFIG.source_dir, CONFIG.db_dir, ["mug", "blob"],
+                        robots=("kr5_sdh", "panda_gripper"))
         program = unittest.main(argv=[sys.argv[0], *rest], verbosity=2, exit=False)
     finally:
         shutil.rmtree(CONFIG.db_dir, ignore_errors=True)

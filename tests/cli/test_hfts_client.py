@@ -49,7 +49,7 @@ class CommandLine(ClientTest):
     def test_info_is_readable_and_json_is_the_raw_result(self):
         text = self.ok("info")
         self.assertRegex(text, r"^hfts-server \d+\.\d+\.\d+ ")
-        self.assertIn("robot: kr5_sdh, 13 DoF: a1 a2 a3 a4 a5 a6 knuckle", text)
+        self.assertIn("robot: kr5_sdh, 13 DoF, 3 fingertips: a1 a2 a3 a4 a5 a6 knuckle", text)
         self.assertIn("objects: 2, scenes: 3", text)
         self.assertIn("workers: 2 (0 planning, 0 queued, queue capacity 64)", text)
         info = json.loads(self.ok("--json", "info"))
@@ -69,7 +69,8 @@ class CommandLine(ClientTest):
     def test_plan_prints_grasp_path_timing_and_stats(self):
         text = self.ok("plan", "--scene", "bin", "--seed", "1", "--time-limit", "20")
         lines = text.splitlines()
-        self.assertRegex(lines[0], r"^plan: success \(bin, blob, coupled, seed 1\) in [\d.]+ s$")
+        self.assertRegex(lines[0],
+                         r"^plan: success \(kr5_sdh, bin, blob, coupled, seed 1\) in [\d.]+ s$")
         self.assertRegex(lines[1], r"^grasp: epsilon [\d.e-]+, reachability [\d.e-]+ m, "
                                    r"fingertip error [\d.e-]+ m, HFTS node on level 3$")
         self.assertEqual(sum(l.startswith("  contact ") for l in lines), 3)
@@ -136,7 +137,7 @@ class CommandLine(ClientTest):
         with open(scene, "w") as f:
             json.dump(data, f)
         text = self.ok("plan", "--scene-file", scene, "--time-limit", "20")
-        self.assertIn("plan: success (my_bin, blob, coupled, seed 1)", text)
+        self.assertIn("plan: success (kr5_sdh, my_bin, blob, coupled, seed 1)", text)
 
     def test_a_plan_without_solution_exits_with_3(self):
         result = self.client("plan", "--scene", "table", "--object-pose",
@@ -161,7 +162,8 @@ class CommandLine(ClientTest):
         self.assertIn("plan failed: object: unknown object 'teapot'", result.stderr)
         self.assertIn("(error -32602)", result.stderr)
         bad = self.client("plan", "--scene", "table", "--start", "1,2,3")
-        self.assertIn("start: must be an array of 13 numbers, got 3", bad.stderr)
+        self.assertIn("start: must hold 13 values, one per joint of robot 'kr5_sdh', got 3",
+                      bad.stderr)
         quality = self.client("quality", "-", stdin='{"contacts": []}')
         self.assertEqual(quality.returncode, 1)
         self.assertIn("contacts: must be a non-empty array", quality.stderr)

@@ -56,7 +56,8 @@ class Malformed(ServerTest):
     def test_invalid_params_name_the_field(self):
         start = [0, -1.5707963, 1.5707963, 0, 1.5707963, 0, 0, -0.2, 0.2, -0.2, 0.2, -0.2, 0.2]
         cases = [
-            ({"scene": "table", "start": start[:12]}, "start", "13 numbers, got 12"),
+            ({"scene": "table", "start": start[:12]}, "start",
+             "must hold 13 values, one per joint of robot 'kr5_sdh', got 12"),
             ({"scene": "table", "start": start[:-1] + [4.0]}, "start", "thumb_distal_joint"),
             ({"scene": "table", "start": start[:3] + ["x"] + start[4:]}, "start[3]", "number"),
             ({"scene": "table", "object_pose": {"position": [0.5, 0, 0],

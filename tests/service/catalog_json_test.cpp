@@ -30,7 +30,8 @@ TEST(CatalogJson, RobotNamesItsJointsAndLimits) {
 }
 
 TEST(CatalogJson, ListsTheObjectsWithTheirHierarchy) {
-  const json o = objectsJson(test::serviceCatalog());
+  const json o = objectsJson(test::serviceCatalog(), test::serviceCatalog().robots().front());
+  EXPECT_EQ(o.at("robot"), "kr5_sdh");
   ASSERT_EQ(o.at("objects").size(), 3u);
   const json& mug = o.at("objects")[2];
   EXPECT_EQ(mug.at("name"), "mug");
@@ -50,7 +51,8 @@ TEST(CatalogJson, ListsTheObjectsWithTheirHierarchy) {
 }
 
 TEST(CatalogJson, ListsTheScenes) {
-  const json s = scenesJson(test::serviceCatalog()).at("scenes");
+  const json s =
+      scenesJson(test::serviceCatalog(), test::serviceCatalog().robots().front()).at("scenes");
   ASSERT_EQ(s.size(), 3u);
   EXPECT_EQ(s[1].at("name"), "shelf");
   EXPECT_EQ(s[1].at("target_object"), "bottle");
@@ -61,8 +63,33 @@ TEST(CatalogJson, ListsTheScenes) {
   EXPECT_EQ(s[0].at("obstacles")[6], json::parse(R"({"name": "can_in_bin", "type": "cylinder"})"));
 }
 
+TEST(CatalogJson, EveryRobotIsListedAndTheListingsAreItsOwn) {
+  const PlanningCatalog& two = test::twoRobotCatalog();
+  const json robots = robotsJson(two);
+  ASSERT_EQ(robots.size(), 2u);
+  EXPECT_EQ(robots[0].at("name"), "kr5_sdh");
+  EXPECT_EQ(robots[1].at("name"), "panda_gripper");
+  EXPECT_EQ(robots[1].at("joint_names").size(), 8u);
+  EXPECT_EQ(robots[1].at("fingertips").size(), 2u);
+  EXPECT_EQ(robots[1].at("planner_parameters").size(), two.robots()[1].parameters.size());
+  const CatalogRobot& panda = two.robots()[1];
+  // The shelf has a start for each robot; the bin has none (home).
+  const json scenes = scenesJson(two, panda);
+  EXPECT_EQ(scenes.at("robot"), "panda_gripper");
+  EXPECT_EQ(scenes.at("scenes")[1].at("name"), "shelf");
+  EXPECT_EQ(scenes.at("scenes")[1].at("start").size(), 8u);
+  EXPECT_TRUE(scenes.at("scenes")[0].at("start").is_null());
+  // Graspability is the Panda's: its own numbers, not the SDH's.
+  const json objects = objectsJson(two, panda);
+  EXPECT_EQ(objects.at("robot"), "panda_gripper");
+  const json& mug = objects.at("objects")[2];
+  EXPECT_EQ(mug.at("graspability").at("stable"), panda.graspability.at("mug").stable);
+  EXPECT_NE(mug.at("graspability"),
+            objectsJson(two, two.robots()[0]).at("objects")[2].at("graspability"));
+}
+
 TEST(CatalogJson, ParametersListEveryDeclaredOne) {
-  const json p = plannerParametersJson(test::serviceCatalog());
+  const json p = plannerParametersJson(test::serviceCatalog().robots().front());
   EXPECT_EQ(p.size(), test::serviceCatalog().plannerParameters().size());
   bool found = false;
   for (const json& item : p)

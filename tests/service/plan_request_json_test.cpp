@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "service/catalog_json.h"
 #include "service/rpc_error.h"
 #include "service_catalog.h"
 
@@ -108,6 +109,45 @@ TEST(PlanRequestJson, AcceptsAnInlineSceneOfPrimitives) {
   expectRejected({{"scene", broken}}, "scene.obstacles[0].size", "must be positive");
 }
 
+TEST(PlanRequestJson, TheRobotFieldPicksWhoseJointsAndParametersCount) {
+  const PlanningCatalog& two = test::twoRobotCatalog();
+  const auto parseFor = [&](const json& params) {
+    return planRequestFromJson(params, two, PlanLimits{60.0});
+  };
+  const json panda = {{"scene", "table"}, {"robot", "panda_gripper"}};
+  EXPECT_EQ(&requestedRobot(panda, two), two.findRobot("panda_gripper"));
+  EXPECT_EQ(&requestedRobot({{"scene", "table"}}, two), &two.robots().front());
+  json eight = panda;  // seven arm joints and the jaws
+  eight["start"] = {0, -0.3, 0, -2.2, 0, 2.0, 0.8, 0.04};
+  ASSERT_TRUE(parseFor(eight).start.has_value());
+  EXPECT_EQ(parseFor(eight).start->size(), 8);
+  eight["parameters"] = {{"unstable_by_reach", 0}};  // declared for every robot
+  EXPECT_EQ(parseFor(eight).parameters.at("unstable_by_reach"), "0");
+  // The KR5's 13 values are wrong for the Panda, and the other way round.
+  json thirteen = panda;
+  thirteen["start"] = start();
+  try {
+    parseFor(thirteen);
+    ADD_FAILURE() << "a 13-value start accepted for the Panda";
+  } catch (const RpcError& e) {
+    EXPECT_EQ(e.field(), "start");
+    EXPECT_NE(std::string(e.what()).find(
+                  "must hold 8 values, one per joint of robot 'panda_gripper', got 13"),
+              std::string::npos);
+  }
+  eight.erase("robot");
+  EXPECT_THROW(parseFor(eight), RpcError) << "the default robot has 13 joints";
+  try {
+    parseFor({{"scene", "table"}, {"robot", "ur5e"}});
+    ADD_FAILURE() << "an unknown robot accepted";
+  } catch (const RpcError& e) {
+    EXPECT_EQ(e.field(), "robot");
+    EXPECT_NE(std::string(e.what()).find("(this server plans for: kr5_sdh, panda_gripper)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(PlanRequestJson, RejectsUnknownAndUnsafeNames) {
   expectRejected(json::object(), "scene", "required");
   expectRejected({{"scene", "kitchen"}}, "scene",
@@ -116,7 +156,11 @@ TEST(PlanRequestJson, RejectsUnknownAndUnsafeNames) {
   expectRejected({{"scene", "bin"}, {"object", "teapot"}}, "object", "unknown object 'teapot'");
   expectRejected({{"scene", "bin"}, {"object", "/tmp/mug"}}, "object", "path characters");
   expectRejected({{"scene", "bin"}, {"object", ".hidden"}}, "object", "not a valid name");
-  expectRejected({{"scene", "bin"}, {"robot", "x"}}, "robot", "unknown field");
+  expectRejected({{"scene", "bin"}, {"robot", "x"}}, "robot",
+                 "unknown robot 'x' (this server plans for: kr5_sdh)");
+  expectRejected({{"scene", "bin"}, {"robot", "../kr5_sdh"}}, "robot", "path characters");
+  expectRejected({{"scene", "bin"}, {"robot", 5}}, "robot", "string");
+  expectRejected({{"scene", "bin"}, {"rob", "kr5_sdh"}}, "rob", "unknown field");
   expectRejected({{"scene", "bin"}, {"parameters", {{"warp", 1}}}}, "parameters.warp",
                  "unknown planner parameter");
   expectRejected({{"scene", "bin"}, {"parameters", {{"time_limit", 1}}}}, "parameters.time_limit",
@@ -126,7 +170,8 @@ TEST(PlanRequestJson, RejectsUnknownAndUnsafeNames) {
 TEST(PlanRequestJson, RejectsBadNumbersAndShapes) {
   json shortStart = start();
   shortStart.erase(12);
-  expectRejected({{"scene", "bin"}, {"start", shortStart}}, "start", "13 numbers, got 12");
+  expectRejected({{"scene", "bin"}, {"start", shortStart}}, "start",
+                 "must hold 13 values, one per joint of robot 'kr5_sdh', got 12");
   json textStart = start();
   textStart[4] = "x";
   expectRejected({{"scene", "bin"}, {"start", textStart}}, "start[4]", "must be a number");

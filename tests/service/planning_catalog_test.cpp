@@ -25,7 +25,7 @@ struct Sources {
     std::filesystem::copy_file(test::sourcePath("objects/scenes/table.json"),
                                dir / "scenes" / "kitchen_table.json");
     test::writeText(dir / "scenes" / "broken.json", "{\"name\": \"broken\"}");
-    sources = {test::sourcePath("robots/kr5_sdh/kr5_sdh.json"), dir / "db", dir / "scenes"};
+    sources = {{test::sourcePath("robots/kr5_sdh/kr5_sdh.json")}, dir / "db", dir / "scenes"};
   }
 };
 
@@ -61,6 +61,50 @@ TEST(PlanningCatalog, MissingDirectoriesOrMapThrowNamingThem) {
   std::filesystem::remove(s.dir / "db" / "kr5_sdh_hand_map.h5");
   test::expectErrorMentioning<std::runtime_error>([&] { PlanningCatalog::load(s.sources); },
                                                   {"kr5_sdh_hand_map.h5"});
+}
+
+const std::filesystem::path kPandaConfig = "robots/panda_gripper/panda_gripper.json";
+
+TEST(PlanningCatalog, ServesSeveralRobotsOverTheSameObjects) {
+  Sources s;
+  const robot::RobotModel panda = robot::RobotModel::load(test::sourcePath(kPandaConfig));
+  db::saveHandMap(grasp::buildHandMap(panda, grasp::handMapOptions(panda)),
+                  s.dir / "db" / "panda_gripper_hand_map.h5");
+  s.sources.robot_configs.push_back(test::sourcePath(kPandaConfig));
+  const auto catalog = PlanningCatalog::load(s.sources);
+  EXPECT_EQ(catalog->robotNames(), (std::vector<std::string>{"kr5_sdh", "panda_gripper"}));
+  EXPECT_EQ(catalog->robot().name(), "kr5_sdh") << "the first config is the default";
+  const CatalogRobot* second = catalog->findRobot("panda_gripper");
+  ASSERT_NE(second, nullptr);
+  EXPECT_EQ(second->model().numDofs(), 8);
+  EXPECT_EQ(second->model().fingertips().size(), 2u);
+  EXPECT_EQ(second->world->objects(), catalog->world().objects()) << "objects loaded once";
+  EXPECT_EQ(catalog->findRobot("ur5e"), nullptr);
+  ASSERT_EQ(catalog->skipped().size(), 2u) << "the broken database is reported once";
+  // Defaults and graspability are the robot's own.
+  const auto defaultOf = [](const CatalogRobot& r, const std::string& name) {
+    for (const planner::PlannerParameterInfo& p : r.parameters)
+      if (p.name == name) return p.default_value;
+    return std::string("missing");
+  };
+  EXPECT_EQ(defaultOf(catalog->robots().front(), "unstable_by_reach"), "0");
+  EXPECT_EQ(defaultOf(*second, "unstable_by_reach"), "1");
+  EXPECT_EQ(second->graspability.at("mug").sampled, 1000);
+  EXPECT_NE(second->graspability.at("mug").stable, catalog->graspability("mug").stable);
+}
+
+TEST(PlanningCatalog, TwoConfigsOfOneRobotOrAMissingMapAreNamed) {
+  Sources s;
+  s.sources.robot_configs.push_back(test::sourcePath("robots/kr5_sdh/kr5_sdh.json"));
+  test::expectErrorMentioning<std::runtime_error>([&] { PlanningCatalog::load(s.sources); },
+                                                  {"a second robot named 'kr5_sdh'"});
+  s.sources.robot_configs.back() = test::sourcePath(kPandaConfig);
+  test::expectErrorMentioning<std::runtime_error>(
+      [&] { PlanningCatalog::load(s.sources); },
+      {"panda_gripper_hand_map.h5", "hfts-preprocess --hand"});
+  s.sources.robot_configs.clear();
+  test::expectErrorMentioning<std::runtime_error>([&] { PlanningCatalog::load(s.sources); },
+                                                  {"no robot config"});
 }
 
 }  // namespace

@@ -42,4 +42,19 @@ inline const service::PlanningCatalog& serviceCatalog() {
   return catalog;
 }
 
+/// The KR5 + SDH (the default) and the Panda + gripper over the same
+/// objects and scenes, as `hfts-server --robot A --robot B` serves them.
+inline const service::PlanningCatalog& twoRobotCatalog() {
+  static const service::PlanningCatalog catalog = [] {
+    const robot::RobotModel panda =
+        robot::RobotModel::load(sourcePath("robots/panda_gripper/panda_gripper.json"));
+    auto kr5 = std::make_shared<const planner::PlanningWorld>(
+        kr5Sdh(), grasp::buildHandMap(kr5Sdh()), sceneTargetObjects());
+    auto second = std::make_shared<const planner::PlanningWorld>(
+        panda, grasp::buildHandMap(panda, grasp::handMapOptions(panda)), kr5->objects());
+    return service::PlanningCatalog({kr5, second}, bundledScenes(), sourcePath("objects/scenes"));
+  }();
+  return catalog;
+}
+
 }  // namespace hfts::test

@@ -21,6 +21,33 @@ class CollisionMesh;
 
 namespace hfts::planner {
 
+/// The object databases of a folder with their collision hierarchies.
+/// Immutable once built; the worlds of several robots share one.
+class ObjectLibrary {
+ public:
+  explicit ObjectLibrary(std::map<std::string, db::ObjectDatabase> objects);
+  ~ObjectLibrary();
+  ObjectLibrary(const ObjectLibrary&) = delete;
+  ObjectLibrary& operator=(const ObjectLibrary&) = delete;
+
+  /// Loads every `*.h5` of `dbDir` but hand maps (`*_hand_map.h5`, of any
+  /// robot) as an object database. A database that fails to load is
+  /// skipped and its error appended to `skipped` (when given); a missing
+  /// directory throws std::runtime_error naming it.
+  static std::shared_ptr<const ObjectLibrary> load(const std::filesystem::path& dbDir,
+                                                   std::vector<std::string>* skipped = nullptr);
+
+  /// nullptr for an unknown name.
+  const db::ObjectDatabase* object(const std::string& name) const;
+  /// The collision hierarchy of an object's mesh; nullptr for an unknown name.
+  const robot::CollisionMesh* collisionMesh(const std::string& name) const;
+  std::vector<std::string> names() const;
+
+ private:
+  std::map<std::string, db::ObjectDatabase> objects_;
+  std::map<std::string, std::unique_ptr<const robot::CollisionMesh>> collision_meshes_;
+};
+
 /// What plans are made with: the robot, its hand reachability map and the
 /// object databases. Immutable once built; share it between threads.
 class PlanningWorld {
@@ -28,19 +55,24 @@ class PlanningWorld {
   /// Throws ModelError when the map does not belong to the robot.
   PlanningWorld(robot::RobotModel robot, db::HandMap handMap,
                 std::map<std::string, db::ObjectDatabase> objects);
+  /// A world whose objects another robot's world shares.
+  PlanningWorld(robot::RobotModel robot, db::HandMap handMap,
+                std::shared_ptr<const ObjectLibrary> objects);
   ~PlanningWorld();
   PlanningWorld(const PlanningWorld&) = delete;
   PlanningWorld& operator=(const PlanningWorld&) = delete;
 
   /// Loads the robot config, `<robot name>_hand_map.h5` from `dbDir` and
-  /// every other `*.h5` there but hand maps (`*_hand_map.h5`, of any
-  /// robot) as an object database. An object database
-  /// that fails to load is skipped and its error appended to `skipped`
-  /// (when given); a missing directory, robot or hand map throws
-  /// (std::runtime_error naming the file).
+  /// the object databases there (ObjectLibrary::load, which appends what
+  /// it skipped to `skipped`); a missing directory, robot or hand map
+  /// throws (std::runtime_error naming the file).
   static std::shared_ptr<const PlanningWorld> load(const std::filesystem::path& robotConfig,
                                                    const std::filesystem::path& dbDir,
                                                    std::vector<std::string>* skipped = nullptr);
+  /// The same with objects already loaded (a server with several robots).
+  static std::shared_ptr<const PlanningWorld> load(const std::filesystem::path& robotConfig,
+                                                   const std::filesystem::path& dbDir,
+                                                   std::shared_ptr<const ObjectLibrary> objects);
 
   const robot::RobotModel& robot() const { return robot_; }
   const robot::ArmIk& ik() const { return ik_; }
@@ -48,11 +80,14 @@ class PlanningWorld {
   const grasp::HandReachability& handMap() const { return fast_; }
   const grasp::HandReachability& thoroughHandMap() const { return thorough_; }
   /// nullptr for an unknown name.
-  const db::ObjectDatabase* object(const std::string& name) const;
+  const db::ObjectDatabase* object(const std::string& name) const { return objects_->object(name); }
   /// The collision hierarchy of an object's mesh, built once with the
-  /// world; nullptr for an unknown name.
-  const robot::CollisionMesh* collisionMesh(const std::string& name) const;
-  std::vector<std::string> objectNames() const;
+  /// objects; nullptr for an unknown name.
+  const robot::CollisionMesh* collisionMesh(const std::string& name) const {
+    return objects_->collisionMesh(name);
+  }
+  std::vector<std::string> objectNames() const { return objects_->names(); }
+  const std::shared_ptr<const ObjectLibrary>& objects() const { return objects_; }
   /// The smallest fingertip's pad radius (robot::smallestPadRadius): the
   /// room a finger needs beside a contact.
   double padRadius() const { return padRadius_; }
@@ -62,8 +97,7 @@ class PlanningWorld {
   robot::ArmIk ik_;
   grasp::HandReachability fast_;
   grasp::HandReachability thorough_;
-  std::map<std::string, db::ObjectDatabase> objects_;
-  std::map<std::string, std::unique_ptr<const robot::CollisionMesh>> collisionMeshes_;
+  std::shared_ptr<const ObjectLibrary> objects_;
   double padRadius_ = 0.0;
 };
 

@@ -12,18 +12,29 @@ namespace hfts::service {
 /// "lower_limits", "upper_limits", "home", "fingertips"}.
 nlohmann::json robotJson(const robot::RobotModel& robot);
 
-/// [{"name", "default", "range"}, ...], the parameters a plan may set.
-nlohmann::json plannerParametersJson(const PlanningCatalog& catalog);
+/// [{"name", "default", "range"}, ...], the parameters a plan for this
+/// robot may set (some defaults depend on the robot).
+nlohmann::json plannerParametersJson(const CatalogRobot& robot);
 
-/// Result of `objects.list`: {"objects": [{"name", "contacts",
-/// "nodes_per_level", "center_of_mass", "rho", "source_mesh"}], "skipped"}.
-nlohmann::json objectsJson(const PlanningCatalog& catalog);
+/// [robotJson + {"planner_parameters"}, ...], every robot of the catalog,
+/// the default first.
+nlohmann::json robotsJson(const PlanningCatalog& catalog);
 
-/// Result of `scenes.list`: {"scenes": [{"name", "description",
+/// The robot a call's params name in "robot" (a robot name); the catalog's
+/// first when there is none. Throws RpcError(kInvalidParams) naming
+/// "robot" and the known robots for an unknown one.
+const CatalogRobot& requestedRobot(const nlohmann::json& params, const PlanningCatalog& catalog);
+
+/// Result of `objects.list`: {"robot", "objects": [{"name", "contacts",
+/// "nodes_per_level", "center_of_mass", "rho", "graspability",
+/// "source_mesh"}], "skipped"}; graspability is for `robot`'s hand.
+nlohmann::json objectsJson(const PlanningCatalog& catalog, const CatalogRobot& robot);
+
+/// Result of `scenes.list`: {"robot", "scenes": [{"name", "description",
 /// "target_object", "target_pose", "obstacles": [{"name", "type"}],
-/// "start"}]}; "start" is the scene's start for the server's robot, null
-/// when that robot starts at its home.
-nlohmann::json scenesJson(const PlanningCatalog& catalog);
+/// "start"}]}; "start" is the scene's start for `robot`, null when that
+/// robot starts at its home.
+nlohmann::json scenesJson(const PlanningCatalog& catalog, const CatalogRobot& robot);
 
 /// Result of `grasp.quality`: {"epsilon"}. The params are those of
 /// hfts-quality (docs/grasp_quality.md); with "object" (a database name)

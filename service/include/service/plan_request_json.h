@@ -19,16 +19,16 @@ struct PlanLimits {
 };
 
 /// Maps the params of a `plan` call onto a PlanRequest, checking every
-/// field against the catalog: `scene` (a scene name or an inline scene of
-/// primitives), `object`, `object_pose`, `start`, `time_limit`, `algorithm`,
-/// `iterations`, `seed`, `parameters` and `trajectory_rate` (`gltf` is
-/// allowed: see planWantsGltf). The result always has
-/// `object` and `time_limit` set. Throws RpcError(kInvalidParams) whose
-/// message and field name the offending member ("start[3]",
-/// "object_pose.orientation", "parameters.p_max") for unknown fields and
-/// names, names with path characters, wrong types and lengths, non-finite
+/// field against the catalog and the robot it plans for (`robot`, a robot
+/// name of the catalog, default its first; see requestedRobot): `scene` (a scene name or an inline
+/// scene of primitives), `object`, `object_pose`, `start`, `time_limit`, `algorithm`, `iterations`,
+/// `seed`, `parameters` and `trajectory_rate` (`gltf` is allowed: see planWantsGltf). The result
+/// always has `object` and `time_limit` set. Throws RpcError(kInvalidParams) whose message and
+/// field name the offending member ("start[3]", "object_pose.orientation", "parameters.p_max") for
+/// unknown fields and names, names with path characters, wrong types and lengths, non-finite
 /// numbers, zero-norm quaternions and start configurations outside the
-/// joint limits, and a numeric `threads` above limits.max_threads.
+/// joint limits of that robot, and a numeric `threads` above
+/// limits.max_threads.
 /// Parameter values are otherwise checked by planGrasp.
 planner::PlanRequest planRequestFromJson(const nlohmann::json& params,
                                          const PlanningCatalog& catalog, const PlanLimits& limits);
