@@ -143,8 +143,11 @@ class RobotChecker {
       const Eigen::VectorXd arm = randomConfiguration().head(model_.numArmDofs());
       if (!ik->solveFlange(ik->flangePose(arm), ikRng).empty()) ++solved;
     }
-    const std::string method =
-        ik->isAnalytic() ? "closed form" : "numerical (damped least squares)";
+    const std::string method = ik->form() == robot::ArmIk::Form::kSphericalWrist
+                                   ? "closed form (spherical wrist)"
+                               : ik->form() == robot::ArmIk::Form::kThreeParallel
+                                   ? "closed form (three parallel axes, UR type)"
+                                   : "numerical (damped least squares)";
     const std::string result = method + ", " + std::to_string(solved) + " of " +
                                std::to_string(kIkPoses) + " random reachable poses solved";
     if (solved < kIkPoses * 9 / 10)

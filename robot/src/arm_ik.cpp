@@ -1,7 +1,8 @@
-// Arm inverse kinematics: closed form for a spherical wrist on a planar
-// shoulder-elbow chain (geometry read from the model), damped least squares
-// otherwise. The wrist uses the Paden-Kahan subproblems on the axes as they
-// are at the zero configuration (product of exponentials).
+// Arm inverse kinematics: closed forms for a spherical wrist on a planar
+// shoulder-elbow chain and for three parallel middle axes (UR type), the
+// geometry read from the model; damped least squares otherwise. Both
+// closed forms work on the axes as they are at the zero configuration
+// (product of exponentials) with the Paden-Kahan subproblems.
 #include "robot/arm_ik.h"
 
 #include <cmath>
@@ -77,14 +78,20 @@ struct ArmIk::Impl {
   Eigen::Isometry3d flange0 = Eigen::Isometry3d::Identity();
   Eigen::Matrix3d frame4Zero = Eigen::Matrix3d::Identity();
 
-  // Closed-form geometry (valid when analytic).
-  bool analytic = false;
+  // Closed-form geometry (valid when form is not kNumerical).
+  ArmIk::Form form = ArmIk::Form::kNumerical;
   Eigen::Vector3d o1, eh, er;  // axis-1 point, axis-1 direction, radial direction
   Vec2 o2, upper, fore;        // shoulder point and link vectors in the (r, h) plane
   double s2 = 1, s3 = 1;       // axes 2, 3 along +/- (eh x er)
   Eigen::Vector3d wristInFlange, wrist0;
   Eigen::Vector3d w4, w5, w6;  // wrist axes in the joint-4 frame at zero
   Eigen::Matrix3d flangeInWrist0;
+  // Three parallel axes (UR type): their direction ep, the point where axes 5
+  // and 6 meet (zero configuration, and in the flange frame), its offset
+  // along the direction from the axis-1 point, and a point on axis 4.
+  Eigen::Vector3d ep, ea, eb, meet0, meetInFlange, onAxis4;
+  double meetOffset = 0.0;
+  double sy[3] = {1, 1, 1};  // axes 2-4 along +/- ep
 
   explicit Impl(const RobotModel& m) : model(m) {}
 
@@ -110,13 +117,19 @@ struct ArmIk::Impl {
 
   void findChain();
   void detectClosedForm();
+  void detectSphericalWrist();
+  void detectThreeParallel();
   std::vector<Eigen::VectorXd> closedForm(const Eigen::Isometry3d& flange) const;
+  std::vector<Eigen::VectorXd> threeParallel(const Eigen::Isometry3d& flange) const;
+  void appendThreeParallelArm(const Eigen::Isometry3d& flange, double q1, double q5,
+                              std::vector<Eigen::VectorXd>& out) const;
   void appendWristSolutions(const Eigen::Vector3d& q123, const Eigen::Matrix3d& target,
                             std::vector<Eigen::VectorXd>& out) const;
   void appendTurns(const Eigen::VectorXd& base, std::vector<Eigen::VectorXd>& out) const;
   std::optional<Eigen::VectorXd> descend(const Eigen::Isometry3d& flange,
                                          Eigen::VectorXd arm) const;
   bool reaches(const Eigen::VectorXd& arm, const Eigen::Isometry3d& flange) const;
+  Vec2 planar(const Eigen::Vector3d& p) const { return Vec2(p.dot(ea), p.dot(eb)); }
   Eigen::Isometry3d flangePose(const Eigen::VectorXd& arm) const {
     Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
     for (int d = 0; d < dofs(); ++d) t = t * screw(d, arm(d));
@@ -181,6 +194,11 @@ void ArmIk::Impl::findChain() {
 
 void ArmIk::Impl::detectClosedForm() {
   if (dofs() != 6) return;  // redundant arms: numerical
+  detectSphericalWrist();
+  if (form == ArmIk::Form::kNumerical) detectThreeParallel();
+}
+
+void ArmIk::Impl::detectSphericalWrist() {
   const LinkPoses zero = forwardKinematics(model, Eigen::VectorXd::Zero(model.numDofs()));
   Eigen::Vector3d o[6], u[6];
   for (int d = 0; d < 6; ++d) {
@@ -218,7 +236,34 @@ void ArmIk::Impl::detectClosedForm() {
   w5 = frame4.transpose() * u[4];
   w6 = frame4.transpose() * u[5];
   flangeInWrist0 = frame4.transpose() * flange0.linear();
-  analytic = true;
+  form = ArmIk::Form::kSphericalWrist;
+}
+
+void ArmIk::Impl::detectThreeParallel() {
+  const double tol = kGeometryTolerance;
+  // Axes 2, 3 and 4 parallel; axes 1 and 5 perpendicular to them.
+  ep = axis[1];
+  for (const int d : {2, 3})
+    if (axis[d].cross(ep).norm() > tol) return;
+  if (std::abs(axis[0].dot(ep)) > tol || std::abs(axis[4].dot(ep)) > tol) return;
+  // Axes 5 and 6 meet in one point.
+  const Eigen::Vector3d n56 = axis[4].cross(axis[5]);
+  if (n56.norm() < 1e-6 || std::abs(n56.normalized().dot(point[5] - point[4])) > tol) return;
+  meet0 = point[4] + (point[5] - point[4]).cross(axis[5]).dot(n56) / n56.squaredNorm() * axis[4];
+  meetInFlange = flange0.inverse() * meet0;
+  meetOffset = (meet0 - point[0]).dot(ep);
+  onAxis4 = point[3];
+  for (int i = 0; i < 3; ++i)
+    sy[i] = axis[static_cast<std::size_t>(i) + 1].dot(ep) > 0 ? 1.0 : -1.0;
+  // The plane of the shoulder and the elbow, (ea, eb, ep) right-handed: a
+  // rotation by t about +ep turns its coordinates by +t.
+  ea = ep.unitOrthogonal();
+  eb = ep.cross(ea);
+  o2 = planar(point[1]);
+  upper = planar(point[2]) - o2;
+  fore = planar(onAxis4) - planar(point[2]);
+  if (upper.norm() < 1e-6 || fore.norm() < 1e-6) return;
+  form = ArmIk::Form::kThreeParallel;
 }
 
 std::vector<Eigen::VectorXd> ArmIk::Impl::closedForm(const Eigen::Isometry3d& flange) const {
@@ -248,6 +293,73 @@ std::vector<Eigen::VectorXd> ArmIk::Impl::closedForm(const Eigen::Isometry3d& fl
     }
   }
   return out;
+}
+
+// Three parallel axes (UR type). Axes 5 and 6 meet in a point that only
+// joints 1-4 move, and its offset along the parallel axes from axis 1 is
+// fixed: that gives q1 (two). The angle between axis 6 and the parallel
+// axes is set by q5 alone (two). The orientation then gives the sum of
+// q2..q4 and q6, and the point on axis 4 below the meeting point the planar
+// shoulder and elbow (two). Up to eight solutions, each verified by
+// forward kinematics.
+std::vector<Eigen::VectorXd> ArmIk::Impl::threeParallel(const Eigen::Isometry3d& flange) const {
+  std::vector<Eigen::VectorXd> out;
+  const Eigen::Vector3d v = flange * meetInFlange - point[0];
+  // Axis 1 turns ep to cos(q1) ep + sin(q1) (axis1 x ep).
+  const double along = v.dot(ep), side = v.dot(axis[0].cross(ep)), r = std::hypot(along, side);
+  if (r < 1e-12 || std::abs(meetOffset) > r) return out;
+  const double front = std::atan2(side, along), spread = std::acos(meetOffset / r);
+  const Eigen::Vector3d axis6 = flange.linear() * flange0.linear().transpose() * axis[5];
+  // ep . R(axis5, q5) axis6_0 = c5 cos(q5) + s5 sin(q5), as axis 5 is
+  // perpendicular to ep.
+  const double c5 = ep.dot(axis[5]), s5 = ep.dot(axis[4].cross(axis[5])), r5 = std::hypot(c5, s5);
+  for (const double q1 : {front + spread, front - spread}) {
+    const double wanted = (rotation(axis[0], q1) * ep).dot(axis6);
+    if (std::abs(wanted) > r5 + 1e-12) continue;
+    const double tilt = std::acos(std::clamp(wanted / r5, -1.0, 1.0)), q5Front = std::atan2(s5, c5);
+    for (const double q5 : {q5Front + tilt, q5Front - tilt}) {
+      appendThreeParallelArm(flange, q1, q5, out);
+      if (tilt == 0.0) break;
+    }
+    if (spread == 0.0) break;
+  }
+  return out;
+}
+
+void ArmIk::Impl::appendThreeParallelArm(const Eigen::Isometry3d& flange, double q1, double q5,
+                                         std::vector<Eigen::VectorXd>& out) const {
+  const Eigen::Matrix3d r1 = rotation(axis[0], q1), r5 = rotation(axis[4], q5);
+  const Eigen::Matrix3d target = flange.linear(), zero = flange0.linear();
+  // target = r1 R(ep, phi) r5 R(axis6, q6) zero, phi = sum of s_i q_i (i = 2..4).
+  const Eigen::Vector3d tilted = r5 * axis[5];
+  double phi = 0.0, q6 = 0.0;
+  if ((tilted - ep * ep.dot(tilted)).norm() > 1e-9) {
+    phi = subproblem1(ep, tilted, r1.transpose() * target * zero.transpose() * axis[5]);
+    const Eigen::Matrix3d turn6 =
+        (r1 * rotation(ep, phi) * r5).transpose() * target * zero.transpose();
+    const Eigen::Vector3d probe = axis[5].unitOrthogonal();
+    q6 = subproblem1(axis[5], probe, turn6 * probe);
+  } else {  // axis 6 along ep: only phi + q6 matters; take q6 = 0
+    const Eigen::Matrix3d turnY = r1.transpose() * target * zero.transpose() * r5.transpose();
+    const Eigen::Vector3d probe = ep.unitOrthogonal();
+    phi = subproblem1(ep, probe, turnY * probe);
+  }
+  // The point on axis 4 that joints 2 and 3 must place.
+  const Eigen::Vector3d meet = screw(0, -q1) * (flange * meetInFlange);
+  const Vec2 d = planar(meet - rotation(ep, phi) * (meet0 - onAxis4)) - o2;
+  const double a = upper.norm(), b = fore.norm();
+  const double c = (d.squaredNorm() - a * a - b * b) / (2 * a * b);
+  if (std::abs(c) > 1.0 + 1e-12) return;
+  const double delta = angleOf(fore) - angleOf(upper);
+  for (const int elbow : {1, -1}) {
+    const double phi3 = elbow * std::acos(std::clamp(c, -1.0, 1.0)) - delta;
+    const double phi2 = angleOf(d) - angleOf(upper + rotated(fore, phi3));
+    Eigen::VectorXd arm(6);
+    arm << q1, sy[0] * phi2, sy[1] * phi3, sy[2] * (phi - phi2 - phi3), q5, q6;
+    for (int j = 0; j < 6; ++j) arm(j) = wrapToPi(arm(j));
+    if (reaches(arm, flange)) out.push_back(arm);
+    if (c >= 1.0 || c <= -1.0) break;
+  }
 }
 
 void ArmIk::Impl::appendWristSolutions(const Eigen::Vector3d& q123, const Eigen::Matrix3d& target,
@@ -344,7 +456,10 @@ ArmIk::~ArmIk() = default;
 ArmIk::ArmIk(ArmIk&&) noexcept = default;
 
 bool ArmIk::isAnalytic() const {
-  return impl_->analytic;
+  return impl_->form != Form::kNumerical;
+}
+ArmIk::Form ArmIk::form() const {
+  return impl_->form;
 }
 IkOptions& ArmIk::options() {
   return impl_->options;
@@ -358,11 +473,14 @@ Eigen::Isometry3d ArmIk::flangePose(const Eigen::VectorXd& arm) const {
 
 std::vector<Eigen::VectorXd> ArmIk::solveFlange(const Eigen::Isometry3d& flange,
                                                 std::mt19937_64& rng) const {
-  if (!impl_->analytic) return solveNumerically(flange, rng);
+  if (impl_->form == Form::kNumerical) return solveNumerically(flange, rng);
   std::vector<Eigen::VectorXd> out;
-  // The closed form verifies each branch (wrist centre and orientation);
-  // whole turns do not change the pose, so their variants are added as is.
-  for (const Eigen::VectorXd& arm : impl_->closedForm(flange)) impl_->appendTurns(arm, out);
+  // The closed forms verify each branch; whole turns do not change the
+  // pose, so their variants are added as they are.
+  const std::vector<Eigen::VectorXd> branches = impl_->form == Form::kSphericalWrist
+                                                    ? impl_->closedForm(flange)
+                                                    : impl_->threeParallel(flange);
+  for (const Eigen::VectorXd& arm : branches) impl_->appendTurns(arm, out);
   return out;
 }
 

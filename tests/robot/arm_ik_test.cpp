@@ -162,6 +162,123 @@ TEST(ArmIk, SevenDofArmRoundTripsThroughTheNumericalSolver) {
   EXPECT_GE(solvedWithSeveral, 15);  // the redundancy shows
 }
 
+/// A UR-type arm from standard DH parameters as Universal Robots publish
+/// them (alpha = pi/2, 0, 0, pi/2, -pi/2, 0; joint frames as in their
+/// ROS description), with a small two-jaw gripper on the flange.
+RobotModel urTypeArm(double d1, double a2, double a3, double d4, double d5, double d6) {
+  const auto joint = [](const std::string& name, const std::string& parent,
+                        const std::string& child, const std::string& origin) {
+    return "<joint name=\"" + name + "\" type=\"revolute\"><parent link=\"" + parent +
+           "\"/><child link=\"" + child + "\"/>" + origin +
+           "<axis xyz=\"0 0 1\"/><limit lower=\"-6.283185307179586\" "
+           "upper=\"6.283185307179586\" velocity=\"3.14\" effort=\"1\"/></joint>";
+  };
+  const auto xyz = [](double x, double y, double z, const std::string& rpy = "0 0 0") {
+    std::ostringstream o;
+    o.precision(17);
+    o << "<origin xyz=\"" << x << " " << y << " " << z << "\" rpy=\"" << rpy << "\"/>";
+    return o.str();
+  };
+  const std::string half = "1.5707963267948966", pi = "3.141592653589793";
+  std::string urdf = "<robot name=\"ur_type\">";
+  for (const char* link : {"base", "shoulder", "upper_arm", "forearm", "wrist_1", "wrist_2",
+                           "wrist_3", "palm", "left", "right"})
+    urdf += "<link name=\"" + std::string(link) + "\"/>";
+  urdf += joint("j1", "base", "shoulder", xyz(0, 0, d1)) +
+          joint("j2", "shoulder", "upper_arm", xyz(0, 0, 0, half + " 0 0")) +
+          joint("j3", "upper_arm", "forearm", xyz(a2, 0, 0)) +
+          joint("j4", "forearm", "wrist_1", xyz(a3, 0, d4)) +
+          joint("j5", "wrist_1", "wrist_2", xyz(0, -d5, 0, half + " 0 0")) +
+          joint("j6", "wrist_2", "wrist_3", xyz(0, d6, 0, half + " " + pi + " " + pi)) +
+          "<joint name=\"adapter\" type=\"fixed\"><parent link=\"wrist_3\"/>"
+          "<child link=\"palm\"/>" +
+          xyz(0, 0, 0.03) +
+          "</joint>"
+          "<joint name=\"jaw\" type=\"prismatic\"><parent link=\"palm\"/><child link=\"left\"/>" +
+          xyz(0, 0, 0.05) +
+          "<axis xyz=\"0 1 0\"/><limit lower=\"0\" upper=\"0.04\" velocity=\"0.1\" "
+          "effort=\"1\"/></joint>"
+          "<joint name=\"jaw_mimic\" type=\"prismatic\"><parent link=\"palm\"/>"
+          "<child link=\"right\"/>" +
+          xyz(0, 0, 0.05) +
+          "<axis xyz=\"0 -1 0\"/><limit lower=\"0\" upper=\"0.04\" velocity=\"0.1\" "
+          "effort=\"1\"/><mimic joint=\"jaw\"/></joint></robot>";
+  const std::string config = R"({
+    "name": "ur_type", "urdf": "ur_type.urdf", "base_link": "base", "flange_link": "wrist_3",
+    "palm_link": "palm", "arm_joints": ["j1", "j2", "j3", "j4", "j5", "j6"],
+    "hand_joints": ["jaw"],
+    "fingertips": [
+      {"name": "left", "link": "left", "point": [0, 0, 0.02], "normal": [0, -1, 0]},
+      {"name": "right", "link": "right", "point": [0, 0, 0.02], "normal": [0, 1, 0]}],
+    "contact_model": "soft_finger", "torsional_friction": 0.003,
+    "hand_open": [0.04], "pregrasp_offset": 0.01, "dof_weights": [1, 1, 1, 1, 1, 1, 1],
+    "home": [0, -1.5707963267948966, 1.5707963267948966, 0, 0, 0, 0.04],
+    "disabled_collisions": [["palm", "left"]]})";
+  return RobotModel::fromStrings(urdf, config, "UR-type test arm");
+}
+
+/// Round trips from random configurations: every solution reaches the pose
+/// within the limits, the source is among them, and damped least squares
+/// from many seeds finds nothing else.
+void expectClosedFormRoundTrips(const RobotModel& model, std::uint64_t seed) {
+  ArmIk ik(model);
+  ASSERT_EQ(ik.form(), ArmIk::Form::kThreeParallel);
+  std::mt19937_64 rng(seed);
+  std::size_t total = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const Eigen::VectorXd source = randomArm(model, rng);
+    const Eigen::Isometry3d target = ik.flangePose(source);
+    const std::vector<Eigen::VectorXd> solutions = ik.solveFlange(target, rng);
+    total += solutions.size();
+    Eigen::VectorXd q = model.home();
+    for (const Eigen::VectorXd& arm : solutions) {
+      ASSERT_LT(poseError(ik.flangePose(arm), target), 1e-6) << arm.transpose();
+      q.head(6) = arm;
+      ASSERT_TRUE(model.withinLimits(q)) << arm.transpose();
+    }
+    ASSERT_TRUE(contains(solutions, source, 1e-6)) << "source " << source.transpose();
+    q.head(6) = source;  // the solver's pose is the model's own
+    ASSERT_LT(poseError(forwardKinematics(model, q)[static_cast<std::size_t>(model.flangeLink())],
+                        target),
+              1e-12);
+  }
+  // Eight branches, each in 2^6 turns within +-2 pi: many per pose.
+  EXPECT_GT(total, 3000u * 8);
+  ik.options().restarts = 40;
+  std::size_t numerical = 0;
+  for (int i = 0; i < 50; ++i) {
+    const Eigen::Isometry3d target = ik.flangePose(randomArm(model, rng));
+    const std::vector<Eigen::VectorXd> closed = ik.solveFlange(target, rng);
+    for (const Eigen::VectorXd& arm : ik.solveNumerically(target, rng)) {
+      EXPECT_TRUE(contains(closed, arm, 1e-5)) << "missed " << arm.transpose();
+      ++numerical;
+    }
+  }
+  EXPECT_GT(numerical, 50u);
+}
+
+TEST(ArmIk, UrTypeArmsUseTheirClosedForm) {
+  expectClosedFormRoundTrips(urTypeArm(0.1625, -0.425, -0.3922, 0.1333, 0.0997, 0.0996), 21);
+  // UR10e, and an arm of the same type with other signs and no shoulder offset.
+  expectClosedFormRoundTrips(urTypeArm(0.1807, -0.6127, -0.57155, 0.17415, 0.11985, 0.11655), 22);
+  expectClosedFormRoundTrips(urTypeArm(0.3, 0.5, 0.4, 0.0, -0.1, 0.08), 23);
+}
+
+TEST(ArmIk, AWristSingularityStillReachesThePose) {
+  const RobotModel ur5e = urTypeArm(0.1625, -0.425, -0.3922, 0.1333, 0.0997, 0.0996);
+  const ArmIk ik(ur5e);
+  std::mt19937_64 rng(5);
+  for (const double q5 : {0.0, M_PI}) {  // axis 6 parallel to axes 2-4
+    Eigen::VectorXd source(6);
+    source << 0.3, -1.2, 1.4, -0.5, q5, 0.7;
+    const Eigen::Isometry3d target = ik.flangePose(source);
+    const auto solutions = ik.solveFlange(target, rng);
+    ASSERT_FALSE(solutions.empty()) << q5;
+    for (const Eigen::VectorXd& arm : solutions)
+      EXPECT_LT(poseError(ik.flangePose(arm), target), 1e-6);
+  }
+}
+
 TEST(ArmIk, ArmsOfFewerThanSixDofAreRefused) {
   std::string config = test::readBytes(test::sourcePath("robots/kr5_sdh/kr5_sdh.json"));
   const auto at = config.find(", \"a6\"]");

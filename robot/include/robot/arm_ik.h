@@ -20,11 +20,13 @@ struct IkOptions {
 };
 
 /// All arm configurations that put the flange at a pose, within the joint
-/// limits. Uses the closed form when the arm has 6 DoF with a spherical
+/// limits. Uses a closed form when the arm has 6 DoF and either a spherical
 /// wrist on a planar shoulder-elbow chain (such as the KR5: axis 1
-/// vertical, axes 2 and 3 parallel, axes 4-6 meeting in one point);
-/// otherwise damped least squares from random seeds (IkOptions::restarts
-/// of them). A redundant arm (more than 6 DoF, e.g. the Panda's 7) has a
+/// vertical, axes 2 and 3 parallel, axes 4-6 meeting in one point; up to 8
+/// solutions) or three parallel middle axes (the UR type: axes 2-4
+/// parallel, axes 1 and 5 perpendicular to them, axes 5 and 6 meeting in
+/// one point; up to 8 solutions); otherwise damped least squares from random seeds
+/// (IkOptions::restarts of them). A redundant arm (more than 6 DoF, e.g. the Panda's 7) has a
 /// continuum of solutions: the numerical solver returns those its seeds
 /// reach, at least 0.1 rad apart in some joint. Every returned solution is
 /// verified by forward kinematics.
@@ -37,7 +39,10 @@ class ArmIk {
   ~ArmIk();
   ArmIk(ArmIk&&) noexcept;
 
-  /// True when the closed form applies (selected from the geometry).
+  /// How poses are solved, selected from the geometry at construction.
+  enum class Form { kNumerical, kSphericalWrist, kThreeParallel };
+  Form form() const;
+  /// True when a closed form applies.
   bool isAnalytic() const;
 
   /// All arm solutions (numArmDofs() values each; extra turns of joints whose range
