@@ -63,6 +63,42 @@ void BM_ClosedFormIkAllSolutions(benchmark::State& state) {
 }
 BENCHMARK(BM_ClosedFormIkAllSolutions);
 
+/// Every IK solution of 256 random reachable flange poses of a bundled
+/// robot's arm, closed form (arg 0) against damped least squares from 30
+/// seeds (arg 1) on the same poses: the UR5e (UR-type closed form) and the
+/// Panda (numerical only; its 7th joint makes the continuum).
+void runArmIk(benchmark::State& state, const char* config) {
+  const robot::RobotModel model = robot::RobotModel::load(kSource / config);
+  const robot::ArmIk ik(model);
+  std::mt19937_64 rng(2);
+  std::vector<Eigen::Isometry3d> targets;
+  for (int i = 0; i < 256; ++i) {
+    Eigen::VectorXd arm(model.numArmDofs());
+    for (int d = 0; d < model.numArmDofs(); ++d)
+      arm(d) = std::uniform_real_distribution<double>(model.lowerLimits()(d),
+                                                      model.upperLimits()(d))(rng);
+    targets.push_back(ik.flangePose(arm));
+  }
+  const bool numerical = state.range(0) == 1;
+  std::size_t i = 0, solutions = 0;
+  for (auto _ : state) {
+    const Eigen::Isometry3d& target = targets[i++ % targets.size()];
+    const auto found = numerical ? ik.solveNumerically(target, rng) : ik.solveFlange(target, rng);
+    solutions += found.size();
+    benchmark::DoNotOptimize(found.data());
+  }
+  state.counters["solutions_per_pose"] =
+      static_cast<double>(solutions) / static_cast<double>(state.iterations());
+}
+void BM_Ur5eArmIk(benchmark::State& state) {
+  runArmIk(state, "robots/ur5e_allegro/ur5e_allegro.json");
+}
+BENCHMARK(BM_Ur5eArmIk)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+void BM_PandaArmIk(benchmark::State& state) {
+  runArmIk(state, "robots/panda_gripper/panda_gripper.json");
+}
+BENCHMARK(BM_PandaArmIk)->Arg(1)->Unit(benchmark::kMicrosecond);
+
 /// 256 random 3-contact grasps on a 5 cm sphere (K = 8, mu = 0.5).
 std::vector<grasp::GraspQualityRequest> randomGrasps() {
   std::mt19937_64 rng(4);
