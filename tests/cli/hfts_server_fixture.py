@@ -1,9 +1,9 @@
 """Runs a real hfts-server for the service's integration tests (standard library only).
 
 run_tests() parses --server, --preprocess, --source-dir and --client,
-builds the mug and blob databases and the hand maps of the KR5 + SDH and
-the Panda + gripper into a temporary directory once (CONFIG.db_dir, about
-half a second) and runs the module's tests. RunningServer starts hfts-server on an ephemeral port and reads the
+builds the mug and blob databases and the hand maps of the bundled robots
+(KR5 + SDH, Panda + gripper, UR5e + Allegro-like hand) into a temporary
+directory once (CONFIG.db_dir, about a second) and runs the module's tests. RunningServer starts hfts-server on an ephemeral port and reads the
 port from its first line; ServerTest gives a test class one server.
 """
 
@@ -50,7 +50,7 @@ def run_tests(with_client=False):
     CONFIG.db_dir = tempfile.mkdtemp(prefix="hfts-service-db-")
     try:
         build_databases(CONFIG.preprocess, CONFIG.source_dir, CONFIG.db_dir, ["mug", "blob"],
-                        robots=("kr5_sdh", "panda_gripper"))
+                        robots=("kr5_sdh", "panda_gripper", "ur5e_allegro"))
         program = unittest.main(argv=[sys.argv[0], *rest], verbosity=2, exit=False)
     finally:
         shutil.rmtree(CONFIG.db_dir, ignore_errors=True)

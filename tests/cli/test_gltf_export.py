@@ -71,6 +71,29 @@ class GltfExport(ServerTest):
         lines = self.validate(*files)
         self.assertRegex(lines[0], r", 1 animations, ")
 
+    def test_every_bundled_robot_is_exported_with_its_links(self):
+        links = {"kr5_sdh": ["link_6", "thumb_distal"],
+                 "panda_gripper": ["panda_hand", "panda_leftfinger", "panda_rightfinger"],
+                 "ur5e_allegro": ["wrist_3_link", "palm_link", "thumb_distal", "ring_distal"]}
+        files = []
+        for robot, names in links.items():
+            glb = os.path.join(self.tmp, robot + "_table.glb")
+            subprocess.run([CONFIG.preprocess, "--export-scene",
+                            os.path.join(CONFIG.source_dir, "objects", "scenes", "table.json"),
+                            glb, "--db", CONFIG.db_dir, "--robot",
+                            os.path.join(CONFIG.source_dir, "robots", robot, robot + ".json")],
+                           check=True, capture_output=True, timeout=120)
+            doc, _ = read_glb(glb)
+            # One node per collision shape: "<link>_<i>".
+            shapes = {n.get("name", "").rsplit("_", 1)[0] for n in doc["nodes"]}
+            for name in names:
+                self.assertIn(name, shapes, robot)
+            contacts = [n for n in doc["nodes"] if n.get("name", "").startswith("contact_")]
+            self.assertEqual(len(contacts), {"kr5_sdh": 3, "panda_gripper": 2,
+                                             "ur5e_allegro": 4}[robot])
+            files.append(glb)
+        self.validate(*files)
+
     def test_a_plan_animates_every_link_along_its_trajectory(self):
         glb = self.plan_glb("table")
         doc, data = read_glb(glb)

@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
-"""One hfts-server, two robots (docs/protocol.md "Several robots"):
+"""One hfts-server, three robots (docs/protocol.md "Several robots"):
 `--robot A --robot B`, the `robot` field of plan, objects.list and
 scenes.list, server.info's robot list, and both clients.
 Run by ctest with Debian's /usr/bin/python3; standard library only."""
 
+import base64
 import json
 import os
 import subprocess
@@ -14,29 +15,34 @@ from hfts_server_fixture import CONFIG, ServerTest, run_tests
 BIN_MUG = {"scene": "bin", "object": "mug", "seed": 1, "time_limit": 20}
 
 
-def panda_config():
-    return os.path.join(CONFIG.source_dir, "robots", "panda_gripper", "panda_gripper.json")
+def config(robot):
+    return os.path.join(CONFIG.source_dir, "robots", robot, robot + ".json")
 
 
-class TwoRobots(ServerTest):
-    """The fixture's KR5 + SDH first (the default), the Panda second."""
+class ThreeRobots(ServerTest):
+    """The fixture's KR5 + SDH first (the default), then the Panda and the UR5e."""
 
     @classmethod
     def setUpClass(cls):
-        cls.OPTIONS = ("--workers", "2", "--robot", panda_config())
+        cls.OPTIONS = ("--workers", "2", "--robot", config("panda_gripper"),
+                       "--robot", config("ur5e_allegro"))
         super().setUpClass()
 
     def test_server_info_lists_both_robots_with_their_own_parameter_defaults(self):
         info = self.server.call("server.info")["result"]
         self.assertEqual(info["robot"]["name"], "kr5_sdh", "the first --robot is the default")
         robots = {r["name"]: r for r in info["robots"]}
-        self.assertEqual([r["name"] for r in info["robots"]], ["kr5_sdh", "panda_gripper"])
+        self.assertEqual([r["name"] for r in info["robots"]],
+                         ["kr5_sdh", "panda_gripper", "ur5e_allegro"])
         self.assertEqual(len(robots["panda_gripper"]["joint_names"]), 8)
         self.assertEqual(len(robots["panda_gripper"]["fingertips"]), 2)
+        self.assertEqual(len(robots["ur5e_allegro"]["joint_names"]), 22)
+        self.assertEqual(len(robots["ur5e_allegro"]["fingertips"]), 4)
         defaults = {name: {p["name"]: p["default"] for p in r["planner_parameters"]}
                     for name, r in robots.items()}
         self.assertEqual(defaults["kr5_sdh"]["unstable_by_reach"], "0")
         self.assertEqual(defaults["panda_gripper"]["unstable_by_reach"], "1")
+        self.assertEqual(defaults["ur5e_allegro"]["unstable_by_reach"], "0")
 
     def test_listings_are_per_robot(self):
         default = self.server.call("scenes.list")["result"]
@@ -62,11 +68,19 @@ class TwoRobots(ServerTest):
         self.assertEqual(kr5["robot"], "kr5_sdh")
         self.assertEqual(len(kr5["grasp"]["contacts_world"]), 3)
         self.assertTrue(all(len(q) == 13 for q in kr5["path"]))
+        ur = self.server.call("plan", dict(BIN_MUG, scene="table", robot="ur5e_allegro",
+                                           gltf=True))["result"]
+        self.assertTrue(ur["success"], ur["message"])
+        self.assertEqual(ur["robot"], "ur5e_allegro")
+        self.assertEqual(len(ur["grasp"]["contacts_world"]), 4)
+        self.assertEqual(len(ur["grasp"]["hand_configuration"]), 16)
+        self.assertTrue(all(len(q) == 22 for q in ur["path"]))
+        self.assertEqual(base64.b64decode(ur["gltf"])[:4], b"glTF")
 
     def test_unknown_robots_and_wrong_starts_name_the_field(self):
         self.assertError(self.server.call("plan", dict(BIN_MUG, robot="ur5e")), -32602,
                          field="robot", request_id=1,
-                         contains="(this server plans for: kr5_sdh, panda_gripper)")
+                         contains="(this server plans for: kr5_sdh, panda_gripper, ur5e_allegro)")
         self.assertError(self.server.call("scenes.list", {"robot": "ur5e"}), -32602,
                          field="robot", request_id=1)
         kr5_start = [0, -1.5, 1.5, 0, 1.5, 0, 0, -0.2, 0.2, -0.2, 0.2, -0.2, 0.2]
