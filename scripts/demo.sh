@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The README's first command: installs what is missing, builds, builds the
-# HFTS databases of every bundled object and the hand reachability map,
-# starts the planning service (hfts-server), plans a grasp and a path to it
-# in a bundled scene with hfts-client, stops the server, and finally plans
-# in each bundled scene with hfts-bench.
+# HFTS databases of every bundled object and the hand reachability maps,
+# starts the planning service (hfts-server) for the three bundled robots,
+# plans a grasp and a path to it in a bundled scene with hfts-client (the
+# KR5 + SDH, then the UR5e), stops the server, and finally plans in each
+# bundled scene with hfts-bench.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -15,16 +16,20 @@ echo
 echo "== One of them: build/bin/hfts-preprocess --inspect build/databases/mug.h5"
 build/bin/hfts-preprocess --inspect build/databases/mug.h5
 echo
-echo "== The hand reachability map of the KR5 + SDH"
-build/bin/hfts-preprocess --hand robots/kr5_sdh/kr5_sdh.json -o build/databases
+echo "== The hand reachability maps of the bundled robots (KR5 + SDH, Panda, UR5e + Allegro-like hand)"
+for robot in kr5_sdh panda_gripper ur5e_allegro; do
+  build/bin/hfts-preprocess --hand "robots/$robot/$robot.json" -o build/databases
+done
 echo
 echo "== The bundled scenes as glTF (open them in any glTF viewer, or scripts/render_glb.py)"
 for scene in objects/scenes/*.json; do
   build/bin/hfts-preprocess --export-scene "$scene" "build/$(basename "$scene" .json).glb"
 done
 echo
-echo "== The planning service: hfts-server on a free port (docs/protocol.md)"
-build/bin/hfts-server --db build/databases --port 0 >build/demo_server.out 2>build/demo_server.log &
+echo "== The planning service: hfts-server on a free port for the three robots (docs/protocol.md)"
+build/bin/hfts-server --db build/databases --port 0 --robot robots/kr5_sdh/kr5_sdh.json \
+  --robot robots/panda_gripper/panda_gripper.json --robot robots/ur5e_allegro/ur5e_allegro.json \
+  >build/demo_server.out 2>build/demo_server.log &
 server=$!
 # Stop the server however this script ends (SIGTERM: it shuts down gracefully).
 trap 'kill "$server" 2>/dev/null || true; wait "$server" 2>/dev/null || true' EXIT
@@ -54,6 +59,10 @@ if [[ -f build/demo_plan.glb ]]; then
   echo " the animation alone, build/demo_plan.glb, plays in any glTF viewer, e.g. Blender;"
   echo " the trajectory as CSV: build/demo_trajectory.csv; docs/viewer.md, docs/trajectories.md)"
 fi
+echo
+echo "== The same scene with the UR5e and its four-fingered hand: ... plan --robot ur5e_allegro"
+build/bin/hfts-client --port "$port" plan --robot ur5e_allegro --scene table --seed 1 \
+  --time-limit 30 || [[ $? -eq 3 ]]
 build/bin/hfts-client --port "$port" shutdown
 wait "$server"
 trap - EXIT
