@@ -33,7 +33,7 @@ build/bin/hfts-server --db build/databases --port 0 --robot robots/kr5_sdh/kr5_s
 server=$!
 # Stop the server however this script ends (SIGTERM: it shuts down gracefully).
 trap 'kill "$server" 2>/dev/null || true; wait "$server" 2>/dev/null || true' EXIT
-for _ in $(seq 1 300); do
+for _ in $(seq 1 600); do  # up to a minute: three robots rate every object at start
   grep -q "listening on" build/demo_server.out 2>/dev/null && break
   kill -0 "$server" 2>/dev/null || break
   sleep 0.1

@@ -66,8 +66,10 @@ void quietOmpl() {
 /// own (its smoothing's included) and goal sampling's (the samplers' and
 /// the objective's), merged. The RRTConnect baseline reads the same names.
 struct PlanParameters {
-  /// The defaults for `robot`: its fingertips' contact model, and for
-  /// two fingertips unstable pairs ranked by reach (grasp_objective.h).
+  /// The defaults for `robot`: its fingertips' contact model, for two
+  /// fingertips unstable pairs ranked by reach (grasp_objective.h), then
+  /// its config's `planner_defaults` (robot::ModelError naming the one
+  /// that is unknown or out of range).
   PlanParameters(const ob::SpaceInformationPtr& si, const robot::RobotModel& robot)
       : planner(std::make_shared<MultiTreeCBiRRT>(si)) {
     all.include(planner->params());
@@ -76,6 +78,14 @@ struct PlanParameters {
     declareParameter(all, "threads", kThreadsRange, threads);  // planGrasp reads it
     goals.objective.torsional_friction = robot.torsionalFriction();
     goals.objective.unstable_by_reach = robot.fingertips().size() == 2 ? 1 : 0;
+    for (const auto& [name, value] : robot.plannerDefaults()) {
+      try {
+        setParameter(all, name, value);
+      } catch (const InvalidArgument& e) {
+        throw robot::ModelError("robot config '" + robot.name() + "': planner_defaults." + name +
+                                ": " + e.problem());
+      }
+    }
   }
   /// The request's parameters over the robot's defaults.
   PlanParameters(const ob::SpaceInformationPtr& si, const PlanRequest& request,

@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "planner/grasp_motion_planner.h"
 #include "robot/collision_checker.h"
 #include "robot/fingertip_geometry.h"
 
@@ -110,16 +111,20 @@ std::shared_ptr<const PlanningWorld> PlanningWorld::load(const fs::path& robotCo
                                                          const fs::path& dbDir,
                                                          std::vector<std::string>* skipped) {
   auto [robot, map] = robotAndHandMap(robotConfig, dbDir);
-  return std::make_shared<const PlanningWorld>(std::move(robot), std::move(map),
-                                               ObjectLibrary::load(dbDir, skipped));
+  auto world = std::make_shared<const PlanningWorld>(std::move(robot), std::move(map),
+                                                     ObjectLibrary::load(dbDir, skipped));
+  plannerParameters(*world);  // the config's planner_defaults, checked now
+  return world;
 }
 
 std::shared_ptr<const PlanningWorld> PlanningWorld::load(
     const fs::path& robotConfig, const fs::path& dbDir,
     std::shared_ptr<const ObjectLibrary> objects) {
   auto [robot, map] = robotAndHandMap(robotConfig, dbDir);
-  return std::make_shared<const PlanningWorld>(std::move(robot), std::move(map),
-                                               std::move(objects));
+  auto world =
+      std::make_shared<const PlanningWorld>(std::move(robot), std::move(map), std::move(objects));
+  plannerParameters(*world);
+  return world;
 }
 
 }  // namespace hfts::planner

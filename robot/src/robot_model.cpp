@@ -138,6 +138,7 @@ class RobotModelBuilder {
     addFingertips();
     addContactModel();
     addHandMapSettings();
+    addPlannerDefaults();
     addDisabledCollisions();
     markHandLinks();
     model_.spheres_ = std::make_shared<RobotModel::LazySpheres>();
@@ -313,6 +314,24 @@ class RobotModelBuilder {
     model_.torsional_friction_ = config_.number("torsional_friction");
     if (!(model_.torsional_friction_ > 0.0))
       config_.failAt("torsional_friction", "must be > 0 (m of torque per unit normal force)");
+  }
+
+  void addPlannerDefaults() {
+    if (!config_.has("planner_defaults")) return;
+    const json& defaults = config_.at("planner_defaults");
+    if (!defaults.is_object())
+      config_.failAt("planner_defaults", "must be an object of planner parameter values by name");
+    for (const auto& item : defaults.items()) {
+      const json& v = item.value();
+      if (v.is_number_integer())
+        model_.planner_defaults_[item.key()] = v.dump();
+      else if (v.is_number() && std::isfinite(v.get<double>()))
+        model_.planner_defaults_[item.key()] = v.dump();
+      else if (v.is_string())
+        model_.planner_defaults_[item.key()] = v.get<std::string>();
+      else
+        config_.failAt("planner_defaults." + item.key(), "must be a finite number or a string");
+    }
   }
 
   void addHandMapSettings() {

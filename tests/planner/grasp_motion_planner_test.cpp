@@ -10,7 +10,9 @@
 #include "hfts_db/invalid_argument.h"
 #include "planner/parameters.h"
 
+#include "grasp/hand_reachability.h"
 #include "plan_checks.h"
+#include "robot_fixture.h"
 #include "test_meshes.h"
 
 namespace hfts::planner {
@@ -443,6 +445,36 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
   EXPECT_EQ(plannerParameters(world()).size(), 29u) << "a parameter was added or removed";
+}
+
+/// The bundled KR5 + SDH with `planner_defaults` added to its config.
+robot::RobotModel kr5WithDefaults(const std::string& defaults) {
+  std::string config = test::readBytes(test::sourcePath("robots/kr5_sdh/kr5_sdh.json"));
+  const std::string key = "\"pregrasp_offset\"";
+  config.replace(config.find(key), key.size(), "\"planner_defaults\": " + defaults + ", " + key);
+  return robot::RobotModel::fromStrings(
+      test::readBytes(test::sourcePath("robots/kr5_sdh/kr5_sdh.urdf")), config, "kr5 defaults");
+}
+
+TEST(GraspMotionPlanner, ARobotConfigsPlannerDefaultsReplaceThePlannersAndAreChecked) {
+  const robot::RobotModel model = kr5WithDefaults(R"({"stable_nodes": 1, "p_max": 0.75})");
+  const PlanningWorld changed(model, grasp::buildHandMap(model),
+                              std::map<std::string, db::ObjectDatabase>{});
+  std::map<std::string, std::string> defaults;
+  for (const PlannerParameterInfo& p : plannerParameters(changed))
+    defaults[p.name] = p.default_value;
+  EXPECT_EQ(defaults.at("stable_nodes"), "1");
+  EXPECT_EQ(std::stod(defaults.at("p_max")), 0.75);
+  EXPECT_EQ(defaults.at("other_postures"), "0") << "the others stay the planner's";
+  for (const auto& [bad, words] : std::vector<std::pair<std::string, std::string>>{
+           {R"({"warp": 1})", "robot config 'kr5_sdh': planner_defaults.warp:"},
+           {R"({"p_max": 2})",
+            "robot config 'kr5_sdh': planner_defaults.p_max: must be in [0, 1]"}}) {
+    const robot::RobotModel broken = kr5WithDefaults(bad);
+    const PlanningWorld world(broken, grasp::buildHandMap(broken),
+                              std::map<std::string, db::ObjectDatabase>{});
+    test::expectErrorMentioning<robot::ModelError>([&] { plannerParameters(world); }, {words});
+  }
 }
 
 }  // namespace

@@ -153,6 +153,25 @@ TEST(RobotModel, HandMapNormalWeightIsOptionalAndPositive) {
   expectModelError(s.urdf, config, "robot 'x': hand_map_normal_weight: must be > 0");
 }
 
+TEST(RobotModel, PlannerDefaultsAreTextByNameAndNeedNumbersOrStrings) {
+  Sources s;
+  EXPECT_TRUE(RobotModel::fromStrings(s.urdf, s.config, "kr5").plannerDefaults().empty());
+  std::string config = s.config;
+  replaceOnce(config, "\"pregrasp_offset\"",
+              "\"planner_defaults\": {\"stable_nodes\": 1, \"p_max\": 0.75, \"kappa\": \"3\"}, "
+              "\"pregrasp_offset\"");
+  const RobotModel m = RobotModel::fromStrings(s.urdf, config, "d");
+  EXPECT_EQ(m.plannerDefaults(), (std::map<std::string, std::string>{
+                                     {"kappa", "3"}, {"p_max", "0.75"}, {"stable_nodes", "1"}}));
+  config = s.config;
+  replaceOnce(config, "\"pregrasp_offset\"",
+              "\"planner_defaults\": {\"p_max\": [1]}, \"pregrasp_offset\"");
+  expectModelError(s.urdf, config, "robot 'x': planner_defaults.p_max: must be a finite number");
+  config = s.config;
+  replaceOnce(config, "\"pregrasp_offset\"", "\"planner_defaults\": 1, \"pregrasp_offset\"");
+  expectModelError(s.urdf, config, "robot 'x': planner_defaults: must be an object");
+}
+
 TEST(RobotModel, MissingFilesAreNamed) {
   test::expectErrorMentioning<ModelError>([] { RobotModel::load("/nonexistent/robot.json"); },
                                           {"/nonexistent/robot.json"});

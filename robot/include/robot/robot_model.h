@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -100,6 +101,12 @@ class RobotModel {
   /// map and R(h) (HandMapParameters::normal_weight); 0 when the config
   /// does not set it (the map's default, 0.03 m).
   double handMapNormalWeight() const { return hand_map_normal_weight_; }
+  /// The config's optional `planner_defaults`: planner parameter values
+  /// (docs/planning.md#parameters) by name, as text, that replace the
+  /// planner's defaults for this robot; a plan request's own values still
+  /// win. Names and values are checked by the planner when it loads the
+  /// robot (planner::PlanningWorld::load), not here.
+  const std::map<std::string, std::string>& plannerDefaults() const { return planner_defaults_; }
 
   /// Links in topological order (a parent before its children); link 0 is
   /// the root (the base link).
@@ -140,6 +147,7 @@ class RobotModel {
   double pregrasp_offset_ = 0.0;
   double torsional_friction_ = 0.0;
   double hand_map_normal_weight_ = 0.0;
+  std::map<std::string, std::string> planner_defaults_;
   std::vector<Link> links_;
   std::vector<Joint> joints_;
   int flange_link_ = -1;
