@@ -168,7 +168,8 @@ std::vector<SphereTier::Item> sphereTierItems(const Scene& scene,
   std::vector<SphereTier::Item> items;
   auto add = [&](int type, const Eigen::Vector3d& size, const Eigen::Isometry3d& pose,
                  bool isTarget) {
-    items.push_back({static_cast<CollisionShape::Type>(type), size, pose.inverse(), isTarget});
+    items.push_back(
+        {static_cast<CollisionShape::Type>(type), size, pose.inverse(), isTarget, std::nullopt});
   };
   auto addMesh = [&](const Vertices& vertices, const Eigen::Isometry3d& pose, bool isTarget) {
     const Eigen::Vector3d low = vertices.colwise().minCoeff(), high = vertices.colwise().maxCoeff();
@@ -200,6 +201,11 @@ struct CollisionChecker::Impl {
   std::vector<std::vector<std::size_t>> linkObjects;  // per link: its robotObjects
   std::uint64_t checks = 0, settledBySpheres = 0;
   std::shared_ptr<ConfigurationMetric> metric;  // Eq. (3)
+  std::vector<LinkPoses> lanePoses;             // scratch: the poses of a batch's configurations
+  // Scratch of isMotionValid: the states in check order.
+  std::vector<int> motionOrder;
+  std::vector<Eigen::VectorXd> motionStates;
+  std::vector<const Eigen::VectorXd*> motionPointers;
 
   Impl(const RobotModel& m, const Scene& scene)
       : model(m),
@@ -301,35 +307,76 @@ struct CollisionChecker::Impl {
   }
 
   bool collide(const Eigen::VectorXd& q, bool allowFingertips, CollisionPair* pair) {
-    ++checks;
-    forwardKinematics(model, q, poses);
+    const Eigen::VectorXd* state = &q;
+    return firstCollision(&state, 1, allowFingertips, pair) == 0;
+  }
+
+  /// The index of the first of `states` (in their order) that collides, or
+  /// -1. Counts the states up to that one (all of them when none collides),
+  /// as checking them one by one would: the sphere tier tests a batch at a
+  /// time, FCL then takes the batch's configurations in order.
+  long firstCollision(const Eigen::VectorXd* const* states, std::size_t count, bool allowFingertips,
+                      CollisionPair* pair) {
     QueryData data;
     data.model = &model;
     data.allowFingertipContact = allowFingertips;
-    if (useTier) {
-      bool touched = false;
-      tier->forEachTouchingPair(poses, allowFingertips, [&](const SphereTier::Pair& p) {
-        touched = true;
-        return pairCollides(p, data);
-      });
-      if (!touched) ++settledBySpheres;
-    } else {
-      placeObjects();
-      robot.collide(&environment, &data, collideCallback);
-      if (!data.collision) robot.collide(&data, collideCallback);  // self-collision
+    if (!useTier) {
+      for (std::size_t i = 0; i < count; ++i) {
+        ++checks;
+        forwardKinematics(model, *states[i], poses);
+        placeObjects();
+        robot.collide(&environment, &data, collideCallback);
+        if (!data.collision) robot.collide(&data, collideCallback);  // self-collision
+        if (data.collision) return found(static_cast<long>(i), data, pair);
+      }
+      return -1;
     }
-    if (data.collision && pair != nullptr) *pair = data.pair;
-    return data.collision;
+    const std::size_t batch = tier->batchSize();
+    lanePoses.resize(batch);
+    for (std::size_t begin = 0; begin < count; begin += batch) {
+      const std::size_t n = std::min(batch, count - begin);
+      // FCL takes each touching pair's configurations in order; after a
+      // collision at lane L only the lanes before it still matter.
+      std::uint32_t placed = 0, touched = 0;
+      std::size_t first = n;
+      tier->forEachTouchingPair(
+          states + begin, n, allowFingertips,
+          [&](const SphereTier::Pair& p, std::uint32_t lanes) -> std::uint32_t {
+            touched |= lanes;
+            for (std::size_t lane = 0; lane < first; ++lane) {
+              const std::uint32_t bit = 1u << lane;
+              if ((lanes & bit) == 0) continue;
+              if ((placed & bit) == 0) {
+                forwardKinematics(model, *states[begin + lane], lanePoses[lane]);
+                placed |= bit;
+              }
+              if (pairCollides(p, lanePoses[lane], data)) first = lane;
+            }
+            return (1u << first) - 1u;
+          });
+      const std::size_t checked = std::min(first + 1, n);
+      checks += checked;
+      for (std::size_t lane = 0; lane < checked; ++lane)
+        if (((touched >> lane) & 1u) == 0) ++settledBySpheres;
+      if (first < n) return found(static_cast<long>(begin + first), data, pair);
+    }
+    return -1;
   }
 
-  /// FCL on the shapes of one pair the sphere tier found touching.
-  bool pairCollides(const SphereTier::Pair& p, QueryData& data) {
-    for (const std::size_t i : placedLink(p.link)) {
+  static long found(long index, const QueryData& data, CollisionPair* pair) {
+    if (pair != nullptr) *pair = data.pair;
+    return index;
+  }
+
+  /// FCL on the shapes of one pair the sphere tier found touching, the
+  /// robot at `at`.
+  bool pairCollides(const SphereTier::Pair& p, const LinkPoses& at, QueryData& data) {
+    for (const std::size_t i : placedLink(p.link, at)) {
       if (p.other_link < 0) {
         if (shapesCollide(*robotObjects[i], *environmentObjects[p.item], data)) return true;
         continue;
       }
-      for (const std::size_t j : placedLink(p.other_link))
+      for (const std::size_t j : placedLink(p.other_link, at))
         if (shapesCollide(*robotObjects[i], *robotObjects[j], data)) return true;
     }
     return false;
@@ -341,11 +388,11 @@ struct CollisionChecker::Impl {
     return a.getAABB().overlap(b.getAABB()) && collideCallback(&a, &b, &data);
   }
 
-  /// The link's objects, moved to its pose of this query.
-  const std::vector<std::size_t>& placedLink(int link) {
+  /// The link's objects, moved to its pose in `at`.
+  const std::vector<std::size_t>& placedLink(int link, const LinkPoses& at) {
     const auto l = static_cast<std::size_t>(link);
     for (const std::size_t i : linkObjects[l]) {
-      const Eigen::Isometry3d pose = base * poses[l] * robotShapes[i].second;
+      const Eigen::Isometry3d pose = base * at[l] * robotShapes[i].second;
       robotObjects[i]->setTransform(pose.linear(), pose.translation());
       robotObjects[i]->computeAABB();
     }
@@ -483,13 +530,11 @@ bool CollisionChecker::isMotionValid(const Eigen::VectorXd& a, const Eigen::Vect
   if (!(resolution > 0.0)) throw InvalidArgument("resolution", "must be > 0");
   const int steps =
       std::max(1, static_cast<int>(std::ceil(impl_->metric->distance(a, b) / resolution)));
-  auto collidesAt = [&](int s) {
-    return impl_->collide(a + (b - a) * (static_cast<double>(s) / steps), allowFingertipContact,
-                          pair);
-  };
-  if (collidesAt(steps)) return false;
-  // The same states in bisection order (as OMPL's DiscreteMotionValidator):
-  // a colliding segment is usually found after a few checks, not halfway.
+  // b first, then the states between in bisection order (as OMPL's
+  // DiscreteMotionValidator): a colliding segment is usually found after a
+  // few checks, not halfway; the sphere tier takes them a batch at a time.
+  std::vector<int>& order = impl_->motionOrder;
+  order.assign(1, steps);
   std::queue<std::pair<int, int>> open;  // exclusive ranges (low, high) still unchecked
   open.emplace(0, steps);
   while (!open.empty()) {
@@ -497,11 +542,19 @@ bool CollisionChecker::isMotionValid(const Eigen::VectorXd& a, const Eigen::Vect
     open.pop();
     if (high - low < 2) continue;
     const int mid = (low + high) / 2;
-    if (collidesAt(mid)) return false;
+    order.push_back(mid);
     open.emplace(low, mid);
     open.emplace(mid, high);
   }
-  return true;
+  std::vector<Eigen::VectorXd>& states = impl_->motionStates;
+  std::vector<const Eigen::VectorXd*>& pointers = impl_->motionPointers;
+  if (states.size() < order.size()) states.resize(order.size());
+  pointers.clear();
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    states[i] = a + (b - a) * (static_cast<double>(order[i]) / steps);
+    pointers.push_back(&states[i]);
+  }
+  return impl_->firstCollision(pointers.data(), pointers.size(), allowFingertipContact, pair) < 0;
 }
 
 }  // namespace hfts::robot
