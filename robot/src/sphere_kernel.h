@@ -43,6 +43,18 @@ struct Node {
   int right = -1;
 };
 
+/// Up to 16 spheres of a link (link frame; radii padded), each a leaf or
+/// the bound of the spheres of wide node `below`; unused slots far away.
+struct WideNode {
+  static constexpr std::size_t kSlots = 16;
+  alignas(64) float x[kSlots];
+  alignas(64) float y[kSlots];
+  alignas(64) float z[kSlots];
+  alignas(64) float r[kSlots];
+  int below[kSlots];
+  std::size_t count = 0;
+};
+
 enum class ItemType : std::uint8_t { kBox, kCylinder, kSphere, kGrid };
 
 /// An environment item in its own frame: p_item = rotation * p_world + translation.
@@ -83,6 +95,18 @@ struct Program {
   std::vector<int> root;                ///< [link]: its root node, -1 for a link without spheres
   std::vector<std::uint8_t> fingertip;  ///< [link]
   std::vector<Node> nodes;
+  /// The same trees with up to 16 children a node, for the
+  /// one-configuration kernel; wide_root[link]: the wide node holding the
+  /// children of the link's root sphere (-1: the root is a leaf or absent).
+  std::vector<WideNode> wide;
+  std::vector<int> wide_root;
+  /// Lookups of the one-configuration kernel: env_index[link * items +
+  /// item] and self_index[a * links + b] (a < b) are indices into env and
+  /// self (-1: not tested); self_mask[a * words + w]: bit b % 64 of word
+  /// b / 64 is set when (a, b) is a self pair; words = link_words = links / 64 + 1.
+  std::vector<int> env_index, self_index;
+  std::vector<std::uint64_t> self_mask;
+  std::size_t link_words = 1;
   std::vector<Item> items;
   std::vector<EnvPair> env;    ///< link-item pairs to test, ordered by link, then item
   std::vector<SelfPair> self;  ///< link pairs to test
@@ -97,6 +121,16 @@ using Visit = std::uint32_t (*)(void* context, std::uint32_t pair, std::uint32_t
 
 /// Lanes of a batch on this CPU (4, 8 or 16).
 std::size_t batchSize();
+
+/// Fills Program::wide and wide_root from Program::nodes, and the lookups
+/// env_index, self_index and self_mask from env and self.
+void buildWideTrees(Program& program);
+
+/// Tests one configuration q[0 .. num_dofs) like findTouching (lane 0),
+/// with the SIMD lanes spread over link pairs and sphere pairs instead of
+/// configurations.
+void findTouchingOne(const Program& program, const float* q, bool allowFingertipContact,
+                     Visit visit, void* context);
 
 /// Tests the configurations of a batch: q[d * batchSize() + lane] is DoF d
 /// of lane `lane`; lanes >= `count` are ignored. Calls `visit` for every

@@ -160,6 +160,7 @@ void SphereTier::listPairs() {
     for (std::size_t b = a + 1; b < links; ++b)
       if (may_collide_[a][b])
         program_.self.push_back({static_cast<std::uint16_t>(a), static_cast<std::uint16_t>(b)});
+  kernel::buildWideTrees(program_);
 }
 
 void SphereTier::skipStatic(int link, std::size_t item) {
@@ -174,6 +175,11 @@ void SphereTier::skipStaticPair(int a, int b) {
 }
 
 void SphereTier::load(const Eigen::VectorXd* const* q, std::size_t count) {
+  if (count == 1) {
+    for (int d = 0; d < program_.num_dofs; ++d)
+      q_[static_cast<std::size_t>(d)] = static_cast<float>((*q[0])(d));
+    return;
+  }
   for (std::size_t lane = 0; lane < count; ++lane)
     for (int d = 0; d < program_.num_dofs; ++d)
       q_[static_cast<std::size_t>(d) * batch_ + lane] = static_cast<float>((*q[lane])(d));

@@ -80,13 +80,16 @@ class SphereTier {
       const SphereTier* tier;
       Visit* visit;
     } context{this, &visit};
-    kernel::findTouching(
-        program_, q_.data(), count, allowFingertipContact,
-        [](void* raw, std::uint32_t index, std::uint32_t lanes) -> std::uint32_t {
-          auto* c = static_cast<Context*>(raw);
-          return (*c->visit)(c->tier->pair(index), lanes);
-        },
-        &context);
+    const kernel::Visit forward = [](void* raw, std::uint32_t index,
+                                     std::uint32_t lanes) -> std::uint32_t {
+      auto* c = static_cast<Context*>(raw);
+      return (*c->visit)(c->tier->pair(index), lanes);
+    };
+    // One configuration: lanes over pairs; several: a configuration per lane.
+    if (count == 1)
+      kernel::findTouchingOne(program_, q_.data(), allowFingertipContact, forward, &context);
+    else
+      kernel::findTouching(program_, q_.data(), count, allowFingertipContact, forward, &context);
   }
 
   /// The pair of a kernel pair index.
@@ -102,7 +105,8 @@ class SphereTier {
   void compileItems(const std::vector<Item>& items);
   /// Program::env and Program::self from the pairs not skipped.
   void listPairs();
-  /// Writes the batch into q_ (single precision, DoF-major).
+  /// Writes the batch into q_ (single precision, DoF-major; one
+  /// configuration: its DoF in order).
   void load(const Eigen::VectorXd* const* q, std::size_t count);
 
   const SphereModel& spheres_;
