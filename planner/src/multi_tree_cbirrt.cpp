@@ -255,25 +255,58 @@ MultiTreeCBiRRT::GrowState MultiTreeCBiRRT::constrainedExtend(
   last = current;
   const bool backward = tree.kind != TreeKind::kForward;
   GrowState state = GrowState::kTrapped;
+  std::vector<Eigen::VectorXd>& line = lineScratch_;
   while (!ptc()) {
-    const Eigen::VectorXd from = current->q;
-    const double d = distance(from, target);
-    if (d < 1e-9) return GrowState::kReached;
-    Eigen::VectorXd next = d <= range_ ? target : from + (target - from) * (range_ / d);
-    if (backward && projection_ && projection_->nearTarget(from) && !validator_->isValid(next)) {
-      next = projection_->project(from, next);
-      // The projected step may leave the joint limits: clamp it back.
-      next = next.cwiseMax(lower_).cwiseMin(upper_);
-      ++stats_.projections;
-      // CBiRRT: stop when the projected step no longer approaches the target.
-      if (distance(next, target) >= d) return state;
+    // Up to kLookahead straight steps towards the target, checked in one
+    // stream (the collision checker tests their states a batch at a time);
+    // the same steps, nodes and answers as one step after another.
+    line.assign(1, current->q);
+    bool reached = false, nearTarget = false;
+    while (line.size() <= kLookahead) {
+      const Eigen::VectorXd& from = line.back();
+      const double d = distance(from, target);
+      if (d < 1e-9) {
+        reached = true;
+        break;
+      }
+      if (backward && projection_ && projection_->nearTarget(from)) {
+        nearTarget = true;
+        break;
+      }
+      line.push_back(d <= range_ ? target : from + (target - from) * (range_ / d));
     }
-    if (!validator_->checkMotion(from, next, validator_->resolution())) return state;
-    current = addMotion(current->tree, next, current);
-    last = current;
-    state = GrowState::kAdvanced;
+    const std::size_t steps = line.size() - 1;
+    const std::size_t valid = steps > 0 ? validator_->validSteps(line) : 0;
+    for (std::size_t k = 1; k <= valid; ++k) {
+      current = addMotion(current->tree, line[k], current);
+      last = current;
+      state = GrowState::kAdvanced;
+    }
+    if (valid < steps) return state;
+    if (reached) return GrowState::kReached;
+    if (nearTarget && !projectedStep(target, current, last, state)) return state;
   }
   return state;
+}
+
+bool MultiTreeCBiRRT::projectedStep(const Eigen::VectorXd& target, Motion*& current, Motion*& last,
+                                    GrowState& state) {
+  const Eigen::VectorXd from = current->q;
+  const double d = distance(from, target);
+  Eigen::VectorXd next = d <= range_ ? target : from + (target - from) * (range_ / d);
+  if (!validator_->isValid(next)) {
+    next = projection_->project(from, next);
+    // The projected step may leave the joint limits: clamp it back.
+    next = next.cwiseMax(lower_).cwiseMin(upper_);
+    ++stats_.projections;
+    // CBiRRT: stop when the projected step no longer approaches the target.
+    if (distance(next, target) >= d) return false;
+  }
+  if (!validator_->checkMotion(from, next, validator_->resolution())) return false;
+  current = addMotion(current->tree, next, current);
+  last = current;
+  state = GrowState::kAdvanced;
+  return true;
 }
 
 int MultiTreeCBiRRT::extendTrees(const ob::PlannerTerminationCondition& ptc, Motion*& forwardEnd,

@@ -9,6 +9,7 @@
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -202,8 +203,10 @@ struct CollisionChecker::Impl {
   std::uint64_t checks = 0, settledBySpheres = 0;
   std::shared_ptr<ConfigurationMetric> metric;  // Eq. (3)
   std::vector<LinkPoses> lanePoses;             // scratch: the poses of a batch's configurations
-  // Scratch of isMotionValid: the states in check order.
-  std::vector<int> motionOrder;
+  // Scratch of validSegments: the states in check order, as step s of
+  // motionSteps[i] along their segment (which ends at state segmentEnds[k] - 1).
+  std::vector<int> motionOrder, motionSteps;
+  std::vector<std::size_t> segmentEnds;
   std::vector<Eigen::VectorXd> motionStates;
   std::vector<const Eigen::VectorXd*> motionPointers;
 
@@ -361,6 +364,62 @@ struct CollisionChecker::Impl {
       if (first < n) return found(static_cast<long>(begin + first), data, pair);
     }
     return -1;
+  }
+
+  /// The number of leading segments of the polyline points[0] -> ... ->
+  /// points[count - 1] whose states (every state at `resolution` and the
+  /// end, points[0] assumed valid) are free; all states in one stream.
+  std::size_t validSegments(const Eigen::VectorXd* const* points, std::size_t count,
+                            double resolution, bool allowFingertips, CollisionPair* pair) {
+    if (!(resolution > 0.0)) throw InvalidArgument("resolution", "must be > 0");
+    if (count < 2) return 0;
+    // Each segment's end first, then the states between in bisection order
+    // (as OMPL's DiscreteMotionValidator): a colliding segment is usually
+    // found after a few checks, not halfway.
+    motionOrder.clear();
+    motionSteps.clear();
+    segmentEnds.clear();
+    for (std::size_t s = 1; s < count; ++s) {
+      const Eigen::VectorXd& a = *points[s - 1];
+      const Eigen::VectorXd& b = *points[s];
+      const int steps =
+          std::max(1, static_cast<int>(std::ceil(metric->distance(a, b) / resolution)));
+      motionOrder.push_back(steps);
+      bisect(0, steps);
+      motionSteps.resize(motionOrder.size(), steps);
+      segmentEnds.push_back(motionOrder.size());
+    }
+    if (motionStates.size() < motionOrder.size()) motionStates.resize(motionOrder.size());
+    motionPointers.clear();
+    std::size_t segment = 0;
+    for (std::size_t i = 0; i < motionOrder.size(); ++i) {
+      while (i >= segmentEnds[segment]) ++segment;
+      const Eigen::VectorXd& a = *points[segment];
+      const Eigen::VectorXd& b = *points[segment + 1];
+      motionStates[i] = a + (b - a) * (static_cast<double>(motionOrder[i]) / motionSteps[i]);
+      motionPointers.push_back(&motionStates[i]);
+    }
+    const long first =
+        firstCollision(motionPointers.data(), motionPointers.size(), allowFingertips, pair);
+    if (first < 0) return count - 1;
+    return static_cast<std::size_t>(
+        std::upper_bound(segmentEnds.begin(), segmentEnds.end(), static_cast<std::size_t>(first)) -
+        segmentEnds.begin());
+  }
+
+  /// Appends the midpoints of (low, high) in breadth-first bisection order.
+  void bisect(int low, int high) {
+    std::queue<std::pair<int, int>> open;  // exclusive ranges still unchecked
+    open.emplace(low, high);
+    while (!open.empty()) {
+      const auto [from, to] = open.front();
+      open.pop();
+      if (to - from < 2) continue;
+      const int mid = (from + to) / 2;
+      motionOrder.push_back(mid);
+      open.emplace(from, mid);
+      open.emplace(mid, to);
+    }
   }
 
   static long found(long index, const QueryData& data, CollisionPair* pair) {
@@ -527,34 +586,17 @@ std::shared_ptr<ConfigurationMetric> CollisionChecker::sharedMetric() const {
 bool CollisionChecker::isMotionValid(const Eigen::VectorXd& a, const Eigen::VectorXd& b,
                                      double resolution, bool allowFingertipContact,
                                      CollisionPair* pair) {
-  if (!(resolution > 0.0)) throw InvalidArgument("resolution", "must be > 0");
-  const int steps =
-      std::max(1, static_cast<int>(std::ceil(impl_->metric->distance(a, b) / resolution)));
-  // b first, then the states between in bisection order (as OMPL's
-  // DiscreteMotionValidator): a colliding segment is usually found after a
-  // few checks, not halfway; the sphere tier takes them a batch at a time.
-  std::vector<int>& order = impl_->motionOrder;
-  order.assign(1, steps);
-  std::queue<std::pair<int, int>> open;  // exclusive ranges (low, high) still unchecked
-  open.emplace(0, steps);
-  while (!open.empty()) {
-    const auto [low, high] = open.front();
-    open.pop();
-    if (high - low < 2) continue;
-    const int mid = (low + high) / 2;
-    order.push_back(mid);
-    open.emplace(low, mid);
-    open.emplace(mid, high);
-  }
-  std::vector<Eigen::VectorXd>& states = impl_->motionStates;
-  std::vector<const Eigen::VectorXd*>& pointers = impl_->motionPointers;
-  if (states.size() < order.size()) states.resize(order.size());
-  pointers.clear();
-  for (std::size_t i = 0; i < order.size(); ++i) {
-    states[i] = a + (b - a) * (static_cast<double>(order[i]) / steps);
-    pointers.push_back(&states[i]);
-  }
-  return impl_->firstCollision(pointers.data(), pointers.size(), allowFingertipContact, pair) < 0;
+  const Eigen::VectorXd* ends[2] = {&a, &b};
+  return impl_->validSegments(ends, 2, resolution, allowFingertipContact, pair) == 1;
+}
+
+std::size_t CollisionChecker::validSegments(const std::vector<Eigen::VectorXd>& waypoints,
+                                            double resolution, bool allowFingertipContact,
+                                            CollisionPair* pair) {
+  std::vector<const Eigen::VectorXd*> points;
+  for (const Eigen::VectorXd& w : waypoints) points.push_back(&w);
+  return impl_->validSegments(points.data(), points.size(), resolution, allowFingertipContact,
+                              pair);
 }
 
 }  // namespace hfts::robot

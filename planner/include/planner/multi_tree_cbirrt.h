@@ -98,6 +98,11 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   /// node towards `target` until reached or trapped.
   GrowState constrainedExtend(Tree& tree, const Eigen::VectorXd& target,
                               const ompl::base::PlannerTerminationCondition& ptc, Motion*& last);
+  /// One step of constrainedExtend from `current` near the target of a
+  /// backward tree: projected (Sec. III-A.2) when the straight step
+  /// collides. False when the extension stops there.
+  bool projectedStep(const Eigen::VectorXd& target, Motion*& current, Motion*& last,
+                     GrowState& state);
   int pickBackwardTree();
   void mergeIntoForward(int tree, Motion* forwardEnd, Motion* backwardEnd);
   void dropTree(int tree);
@@ -144,6 +149,9 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   std::uint64_t generation_ = 0;
   Direction direction_ = Direction::kForward;
   std::vector<Eigen::VectorXd> solution_;
+  /// Steps constrainedExtend checks in one stream, and its scratch line.
+  static constexpr std::size_t kLookahead = 8;
+  std::vector<Eigen::VectorXd> lineScratch_;
   GoalSample reached_;
   TreeStatistics stats_;
 };
