@@ -274,8 +274,10 @@ HFTS_COLLISION_BENCHMARKS(bin);
 /// Straight motions of 0.5 (Eq. (3) metric) from collision-free starts
 /// whose every state at the tree resolution (0.02: 25 states) is free,
 /// validated with isMotionValid; the median and 90th percentile of single
-/// validations as counters (microseconds).
-void BM_MotionValidation(benchmark::State& state, const std::string& scene, bool spheres) {
+/// validations as counters (microseconds). `clearOnly`: only motions whose
+/// every state the sphere tier settles alone (no FCL call).
+void BM_MotionValidation(benchmark::State& state, const std::string& scene, bool spheres,
+                         bool clearOnly) {
   constexpr double kLength = 0.5, kResolution = 0.02;
   SceneChecker s(scene);
   robot::CollisionChecker& checker = *s.checker;
@@ -286,8 +288,10 @@ void BM_MotionValidation(benchmark::State& state, const std::string& scene, bool
     Eigen::VectorXd direction = randomConfiguration(rng) - a;
     const Eigen::VectorXd b =
         a + direction * (kLength / checker.metric().distance(a, a + direction));
-    if (!robot().withinLimits(b) || checker.inCollision(a) ||
-        !checker.isMotionValid(a, b, kResolution))
+    if (!robot().withinLimits(b) || checker.inCollision(a)) continue;
+    const std::uint64_t checks = checker.checkCount(), settled = checker.sphereSettledCount();
+    if (!checker.isMotionValid(a, b, kResolution)) continue;
+    if (clearOnly && checker.sphereSettledCount() - settled < checker.checkCount() - checks)
       continue;
     motions.emplace_back(a, b);
   }
@@ -307,18 +311,18 @@ void BM_MotionValidation(benchmark::State& state, const std::string& scene, bool
   state.counters["p90_us"] = micros[micros.size() * 9 / 10];
   state.counters["valid"] = static_cast<double>(valid) / static_cast<double>(micros.size());
 }
-BENCHMARK_CAPTURE(BM_MotionValidation, table_fcl, std::string("table"), false)
-    ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_MotionValidation, table_spheres, std::string("table"), true)
-    ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_MotionValidation, shelf_fcl, std::string("shelf"), false)
-    ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_MotionValidation, shelf_spheres, std::string("shelf"), true)
-    ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_MotionValidation, bin_fcl, std::string("bin"), false)
-    ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_MotionValidation, bin_spheres, std::string("bin"), true)
-    ->Unit(benchmark::kMicrosecond);
+#define HFTS_MOTION_BENCHMARKS(scene)                                                            \
+  BENCHMARK_CAPTURE(BM_MotionValidation, scene##_fcl, std::string(#scene), false, false)         \
+      ->Unit(benchmark::kMicrosecond);                                                           \
+  BENCHMARK_CAPTURE(BM_MotionValidation, scene##_spheres, std::string(#scene), true, false)      \
+      ->Unit(benchmark::kMicrosecond);                                                           \
+  BENCHMARK_CAPTURE(BM_MotionValidation, scene##_clear_fcl, std::string(#scene), false, true)    \
+      ->Unit(benchmark::kMicrosecond);                                                           \
+  BENCHMARK_CAPTURE(BM_MotionValidation, scene##_clear_spheres, std::string(#scene), true, true) \
+      ->Unit(benchmark::kMicrosecond)
+HFTS_MOTION_BENCHMARKS(table);
+HFTS_MOTION_BENCHMARKS(shelf);
+HFTS_MOTION_BENCHMARKS(bin);
 
 /// A time-optimal trajectory (planner/time_parameterization.h) through
 /// `waypoints` random configurations a random walk apart (each joint

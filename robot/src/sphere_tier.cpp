@@ -34,12 +34,6 @@ double boundingRadius(const SphereTier::Item& item) {
   return 0.0;
 }
 
-Eigen::Matrix3d crossMatrix(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
 }  // namespace
 
 SphereTier::SphereTier(const RobotModel& model, const Eigen::Isometry3d& base,
@@ -72,20 +66,12 @@ void SphereTier::compileRobot(const RobotModel& model, const Eigen::Isometry3d& 
     step.dof = joint.type == Joint::Type::kFixed ? -1 : joint.dof;
     step.multiplier = static_cast<float>(joint.multiplier);
     step.offset = static_cast<float>(joint.offset);
-    const Eigen::Matrix3d origin = joint.origin.linear();
     copyVector(joint.origin.translation(), step.t);
-    if (joint.type == Joint::Type::kRevolute) {
-      // R(v) = a a^T + cos(v) (I - a a^T) + sin(v) [a]x (Rodrigues).
-      const Eigen::Vector3d axis = joint.axis.normalized();
-      const Eigen::Matrix3d outer = axis * axis.transpose();
-      step.revolute = true;
-      copyRotation(origin * outer, step.a);
-      copyRotation(origin * (Eigen::Matrix3d::Identity() - outer), step.b);
-      copyRotation(origin * crossMatrix(axis), step.c);
-    } else {
-      copyRotation(origin, step.a);
-      if (joint.type == Joint::Type::kPrismatic) copyVector(origin * joint.axis, step.dt);
-    }
+    copyRotation(joint.rotation_fixed, step.a);
+    copyRotation(joint.rotation_cos, step.b);
+    copyRotation(joint.rotation_sin, step.c);
+    copyVector(joint.slide, step.dt);
+    step.revolute = joint.type == Joint::Type::kRevolute;
     p.steps.push_back(step);
     const auto child = static_cast<std::size_t>(joint.child_link);
     static_[child] = step.dof < 0 && static_[static_cast<std::size_t>(joint.parent_link)];
