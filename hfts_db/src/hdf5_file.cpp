@@ -51,16 +51,19 @@ void writeRaw(hid_t parent, const std::string& name, hid_t type, const void* dat
 }
 
 template <typename T>
-Array<T> readRaw(hid_t parent, const std::string& name, hid_t memType, H5T_class_t expected) {
+Array<T> readRaw(hid_t parent, const std::string& name, hid_t memType, H5T_class_t expected,
+                 std::size_t storedSize = 0) {
   if (!exists(parent, name)) fail("missing dataset '" + name + "'");
   Handle set(H5Dopen2(parent, name.c_str(), H5P_DEFAULT), H5Dclose,
              "opening dataset '" + name + "'");
   Handle type(H5Dget_type(set.id()), H5Tclose, "type of dataset '" + name + "'");
   if (H5Tget_class(type.id()) != expected)
     fail("dataset '" + name + "' has the wrong element type");
+  if (storedSize != 0 && H5Tget_size(type.id()) != storedSize)
+    fail("dataset '" + name + "' must hold " + std::to_string(8 * storedSize) + "-bit elements");
   Handle space(H5Dget_space(set.id()), H5Sclose, "dataspace of '" + name + "'");
   const int rank = H5Sget_simple_extent_ndims(space.id());
-  if (rank < 1 || rank > 2) fail("dataset '" + name + "' has rank " + std::to_string(rank));
+  if (rank < 1 || rank > 3) fail("dataset '" + name + "' has rank " + std::to_string(rank));
   Array<T> out;
   out.shape.resize(static_cast<std::size_t>(rank));
   H5Sget_simple_extent_dims(space.id(), out.shape.data(), nullptr);
@@ -233,6 +236,11 @@ void writeDataset(hid_t parent, const std::string& name, const double* data,
   writeRaw(parent, name, H5T_IEEE_F64LE, data, shape);
 }
 
+void writeDataset(hid_t parent, const std::string& name, const float* data,
+                  const std::vector<hsize_t>& shape) {
+  writeRaw(parent, name, H5T_IEEE_F32LE, data, shape);
+}
+
 void writeDataset(hid_t parent, const std::string& name, const std::uint32_t* data,
                   const std::vector<hsize_t>& shape) {
   writeRaw(parent, name, H5T_STD_U32LE, data, shape);
@@ -240,6 +248,12 @@ void writeDataset(hid_t parent, const std::string& name, const std::uint32_t* da
 
 Array<double> readDoubles(hid_t parent, const std::string& name) {
   return readRaw<double>(parent, name, H5T_NATIVE_DOUBLE, H5T_FLOAT);
+}
+
+Array<float> readFloats(hid_t parent, const std::string& name) {
+  // Exactly f32: converting f64 would round to nearest, and a distance
+  // grid's values must stay rounded down.
+  return readRaw<float>(parent, name, H5T_NATIVE_FLOAT, H5T_FLOAT, sizeof(float));
 }
 
 Array<std::uint32_t> readUInt32s(hid_t parent, const std::string& name) {
