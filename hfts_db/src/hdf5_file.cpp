@@ -27,22 +27,32 @@ void silenceErrorStack() {
   std::call_once(once, [] { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); });
 }
 
-Handle datasetCreationList(const std::vector<hsize_t>& shape) {
+/// How a dataset is stored: chunked and checksummed, and for large
+/// smooth data (distance grids) byte-shuffled and deflated first.
+enum class Storage { kPlain, kCompressed };
+
+Handle datasetCreationList(const std::vector<hsize_t>& shape, Storage storage) {
   Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "dataset property list");
   check(H5Pset_obj_track_times(dcpl.id(), false), "disabling timestamps");
   std::vector<hsize_t> chunk = shape;
   chunk[0] = std::clamp<hsize_t>(shape[0], 1, kChunkRows);
   for (std::size_t i = 1; i < chunk.size(); ++i) chunk[i] = std::max<hsize_t>(chunk[i], 1);
   check(H5Pset_chunk(dcpl.id(), static_cast<int>(chunk.size()), chunk.data()), "chunking");
+  if (storage == Storage::kCompressed) {
+    if (H5Zfilter_avail(H5Z_FILTER_DEFLATE) <= 0) fail("this HDF5 library has no deflate filter");
+    check(H5Pset_shuffle(dcpl.id()), "byte shuffle");
+    check(H5Pset_deflate(dcpl.id(), 6), "deflate");
+  }
+  // Last in the pipeline: the checksum covers the stored (compressed) bytes.
   check(H5Pset_fletcher32(dcpl.id()), "Fletcher32 checksum");
   return dcpl;
 }
 
 void writeRaw(hid_t parent, const std::string& name, hid_t type, const void* data,
-              const std::vector<hsize_t>& shape) {
+              const std::vector<hsize_t>& shape, Storage storage = Storage::kPlain) {
   Handle space(H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr), H5Sclose,
                "dataspace of " + name);
-  Handle dcpl = datasetCreationList(shape);
+  Handle dcpl = datasetCreationList(shape, storage);
   Handle set(
       H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, dcpl.id(), H5P_DEFAULT),
       H5Dclose, "creating dataset '" + name + "'");
@@ -238,7 +248,7 @@ void writeDataset(hid_t parent, const std::string& name, const double* data,
 
 void writeDataset(hid_t parent, const std::string& name, const float* data,
                   const std::vector<hsize_t>& shape) {
-  writeRaw(parent, name, H5T_IEEE_F32LE, data, shape);
+  writeRaw(parent, name, H5T_IEEE_F32LE, data, shape, Storage::kCompressed);
 }
 
 void writeDataset(hid_t parent, const std::string& name, const std::uint32_t* data,

@@ -1,8 +1,8 @@
 #pragma once
 // Thin RAII layer over the HDF5 C API, private to hfts_db. Every dataset is
-// chunked and Fletcher32-checksummed, no object carries a timestamp (so the
-// same content gives the same bytes), and every failure becomes a
-// DatabaseError naming the object that failed.
+// chunked and Fletcher32-checksummed (f32 ones also compressed), no object
+// carries a timestamp (so the same content gives the same bytes), and every
+// failure becomes a DatabaseError naming the object that failed.
 
 #include <hdf5.h>
 
@@ -84,7 +84,8 @@ void writeDataset(hid_t parent, const std::string& name, const double* data,
                   const std::vector<hsize_t>& shape);
 void writeDataset(hid_t parent, const std::string& name, const std::uint32_t* data,
                   const std::vector<hsize_t>& shape);
-/// Single-precision reals (distance grids), stored as IEEE f32.
+/// Single-precision reals (distance grids), stored as IEEE f32, byte-shuffled
+/// and deflated (level 6) before the checksum.
 void writeDataset(hid_t parent, const std::string& name, const float* data,
                   const std::vector<hsize_t>& shape);
 Array<double> readDoubles(hid_t parent, const std::string& name);
