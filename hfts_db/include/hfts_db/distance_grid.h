@@ -99,7 +99,7 @@ inline constexpr std::uint64_t kMaxGridNodes = std::uint64_t{1} << 24;
 /// where the winding number is not 0, found by counting crossings along
 /// grid lines parallel to each axis, majority of the three), unsigned
 /// otherwise. The grid is centred on the mesh's bounding box. One thread;
-/// about 1 to 2 us per node.
+/// 0.3 to 4 us per node (docs/preprocess.md).
 /// Throws hfts::InvalidArgument ("DistanceGridOptions::spacing",
 /// "DistanceGridOptions::margin") for a negative or non-finite option or
 /// more than kMaxGridNodes nodes, and ("mesh") for a mesh without triangles

@@ -117,7 +117,7 @@ Eigen::Isometry3d restingPose(const Eigen::Isometry3d& pose, const Vertices& ver
 Eigen::Isometry3d targetPose(const Scene& scene, const Vertices& vertices);
 
 /// Reads a scene file; mesh obstacles are loaded relative to its folder,
-/// and each gets its distance grid (about 0.1 to 0.5 s per mesh on one
+/// and each gets its distance grid (about 0.1 to 1 s per mesh on one
 /// core, up to 1 MiB). Throws SceneError.
 Scene loadScene(const std::filesystem::path& path);
 
