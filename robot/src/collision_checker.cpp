@@ -163,27 +163,37 @@ bool obstacleCallback(Object* o1, Object* o2, void* raw) {
 }
 
 /// The environment as the sphere tier sees it, in the checker's order:
-/// obstacles, then the target. A mesh becomes its bounding box.
-std::vector<SphereTier::Item> sphereTierItems(const Scene& scene,
-                                              const db::ObjectGeometry* target) {
+/// obstacles, then the target. A mesh becomes its bounding box, refined by
+/// its distance grid when it has one.
+std::vector<SphereTier::Item> sphereTierItems(const Scene& scene, const db::ObjectGeometry* target,
+                                              const db::DistanceGrid* targetGrid) {
   std::vector<SphereTier::Item> items;
   auto add = [&](int type, const Eigen::Vector3d& size, const Eigen::Isometry3d& pose,
                  bool isTarget) {
     items.push_back(
         {static_cast<CollisionShape::Type>(type), size, pose.inverse(), isTarget, std::nullopt});
   };
-  auto addMesh = [&](const Vertices& vertices, const Eigen::Isometry3d& pose, bool isTarget) {
+  auto addMesh = [&](const Vertices& vertices, const db::DistanceGrid* grid,
+                     const Eigen::Isometry3d& pose, bool isTarget) {
     const Eigen::Vector3d low = vertices.colwise().minCoeff(), high = vertices.colwise().maxCoeff();
+    const Eigen::Vector3d center = (low + high) / 2;
     add(static_cast<int>(CollisionShape::Type::kBox), high - low,
-        pose * Eigen::Translation3d((low + high) / 2), isTarget);
+        pose * Eigen::Translation3d(center), isTarget);
+    if (grid == nullptr || grid->empty()) return;
+    items.back().grid =
+        SphereTier::Grid{grid->values.data(),
+                         grid->origin - center,
+                         grid->spacing,
+                         {static_cast<int>(grid->dims[0]), static_cast<int>(grid->dims[1]),
+                          static_cast<int>(grid->dims[2])}};
   };
   for (const Obstacle& o : scene.obstacles) {
     if (o.type == Obstacle::Type::kMesh)
-      addMesh(o.mesh.vertices, o.pose, false);
+      addMesh(o.mesh.vertices, o.distance_grid.get(), o.pose, false);
     else
       add(static_cast<int>(o.type), o.size, o.pose, false);
   }
-  if (target != nullptr) addMesh(target->mesh_vertices, scene.target_pose, true);
+  if (target != nullptr) addMesh(target->mesh_vertices, targetGrid, scene.target_pose, true);
   return items;
 }
 
@@ -209,6 +219,10 @@ struct CollisionChecker::Impl {
   std::vector<std::size_t> segmentEnds;
   std::vector<Eigen::VectorXd> motionStates;
   std::vector<const Eigen::VectorXd*> motionPointers;
+  // The distance grids the sphere tier reads: the target's copied, the
+  // mesh obstacles' shared with the scene.
+  db::DistanceGrid targetGrid;
+  std::vector<std::shared_ptr<const db::DistanceGrid>> obstacleGrids;
 
   Impl(const RobotModel& m, const Scene& scene)
       : model(m),
@@ -481,7 +495,10 @@ CollisionChecker::CollisionChecker(const RobotModel& model, const Scene& scene,
   }
   impl_->environment.setup();
   impl_->addRobot();
-  impl_->addSphereTier(sphereTierItems(scene, target));
+  for (const Obstacle& o : scene.obstacles)
+    if (o.distance_grid) impl_->obstacleGrids.push_back(o.distance_grid);
+  if (target != nullptr) impl_->targetGrid = target->distance_grid;
+  impl_->addSphereTier(sphereTierItems(scene, target, &impl_->targetGrid));
 }
 
 CollisionChecker::~CollisionChecker() = default;
