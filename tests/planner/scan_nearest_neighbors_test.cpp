@@ -154,5 +154,27 @@ TEST(ScanNearestNeighbors, ChangedWeightsApplyToTheNextQuery) {
   EXPECT_EQ(nn.nearest(&origin), &b);
 }
 
+TEST(ScanNearestNeighbors, LargeSetsReadChangedWeightsAndSurviveRemovals) {
+  // Thousands of points in many blocks, as a grown tree has.
+  Fixture f(3000, 7);
+  auto agreesWithBruteForce = [&](std::size_t first) {
+    for (int i = 0; i < 100; ++i) {
+      const Point probe{i % 2 == 0 ? f.randomPoint()
+                                   : f.points[static_cast<std::size_t>(37 * i) % 3000].q +
+                                         0.01 * f.randomPoint()};
+      const Point* expected = f.bruteForce(probe.q, first);
+      ASSERT_NE(expected, nullptr);
+      EXPECT_NEAR(f.metric.distance(f.nn.nearest(&probe)->q, probe.q),
+                  f.metric.distance(expected->q, probe.q), 1e-12)
+          << "query " << i;
+    }
+  };
+  agreesWithBruteForce(0);
+  f.metric.setWeights(f.randomWeights());
+  agreesWithBruteForce(0);
+  ASSERT_TRUE(f.nn.remove(&f.points[0]));
+  agreesWithBruteForce(1);
+}
+
 }  // namespace
 }  // namespace hfts::planner
