@@ -180,23 +180,27 @@ M nodeTouchesItem(D d, const Program& program, const Pose& pose, int node, const
 
 /// Lanes (of `active`) where a leaf below node a (link at pa) touches a
 /// leaf below node b (link at pb).
-M nodesTouch(D d, const Program& program, const Pose& pa, int a, const Pose& pb, int b, M active) {
+M nodesTouch(D d, const Program& program, const Pose& pa, int a, const Vec3& ca, const Pose& pb,
+             int b, const Vec3& cb, M active) {
   const Node& na = program.nodes[static_cast<std::size_t>(a)];
   const Node& nb = program.nodes[static_cast<std::size_t>(b)];
-  const Vec3 ca = transform(d, pa, na.x, na.y, na.z), cb = transform(d, pb, nb.x, nb.y, nb.z);
   const Vec3 gap{hn::Sub(ca.x, cb.x), hn::Sub(ca.y, cb.y), hn::Sub(ca.z, cb.z)};
   const V reach = hn::Set(d, na.r + nb.r);
   const M touching = hn::And(active, hn::Le(squaredNorm(gap), hn::Mul(reach, reach)));
   if (hn::AllFalse(d, touching) || (na.left < 0 && nb.left < 0)) return touching;
-  // Descend the larger node (or the one that can).
+  // Descend the larger node (or the one that can); the other keeps its centre.
   const bool splitA = nb.left < 0 || (na.left >= 0 && na.r >= nb.r);
-  const int first = splitA ? na.left : nb.left, second = splitA ? na.right : nb.right;
-  const M left = splitA ? nodesTouch(d, program, pa, first, pb, b, touching)
-                        : nodesTouch(d, program, pa, a, pb, first, touching);
+  const Pose& split = splitA ? pa : pb;
+  auto child = [&](int node, M lanes) {
+    const Node& n = program.nodes[static_cast<std::size_t>(node)];
+    const Vec3 c = transform(d, split, n.x, n.y, n.z);
+    return splitA ? nodesTouch(d, program, pa, node, c, pb, b, cb, lanes)
+                  : nodesTouch(d, program, pa, a, ca, pb, node, c, lanes);
+  };
+  const M left = child(splitA ? na.left : nb.left, touching);
   const M rest = hn::AndNot(left, touching);
   if (hn::AllFalse(d, rest)) return left;
-  return hn::Or(left, splitA ? nodesTouch(d, program, pa, second, pb, b, rest)
-                             : nodesTouch(d, program, pa, a, pb, second, rest));
+  return hn::Or(left, child(splitA ? na.right : nb.right, rest));
 }
 
 std::uint32_t laneBits(D d, M mask) {
@@ -405,7 +409,7 @@ void FindTouchingImpl(const Program& program, const float* q, std::size_t count,
     const M near = hn::And(active, hn::Le(squaredNorm(gap), hn::Mul(reach, reach)));
     if (hn::AllFalse(d, near)) continue;
     if (!report(program.env.size() + static_cast<std::size_t>(index),
-                nodesTouch(d, program, pose(pair.a), ra, pose(pair.b), rb, near)))
+                nodesTouch(d, program, pose(pair.a), ra, a, pose(pair.b), rb, b, near)))
       return;
   }
 }
