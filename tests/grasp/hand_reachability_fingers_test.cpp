@@ -168,10 +168,14 @@ Contacts reachable(const Posture& p, const Eigen::Isometry3d& pose, std::mt19937
 }
 
 /// The answer, checked by the model's forward kinematics: a permutation of
-/// the fingers, a grasp posture within the limits, and the fingertips
-/// where the reported residual says they are.
+/// the fingers, a grasp posture within the limits, a palm pose that is a
+/// rigid motion, and the fingertips where the reported residual says they
+/// are.
 void expectConsistent(const Hand& h, const HandQuery& answer, const Contacts& c) {
   const auto m = static_cast<std::size_t>(c.positions.cols());
+  const Eigen::Matrix3d r = answer.palm_pose.linear();
+  EXPECT_LT((r.transpose() * r - Eigen::Matrix3d::Identity()).norm(), 1e-9);
+  EXPECT_NEAR(r.determinant(), 1.0, 1e-9);
   ASSERT_EQ(answer.finger_of_contact.size(), m);
   std::vector<int> fingers = answer.finger_of_contact;
   std::sort(fingers.begin(), fingers.end());
