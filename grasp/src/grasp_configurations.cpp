@@ -1,7 +1,10 @@
 #include "grasp/grasp_configurations.h"
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 
+#include "hfts_db/invalid_argument.h"
 #include "robot/kinematics.h"
 
 namespace hfts::grasp {
@@ -25,7 +28,8 @@ GraspConfigurator::GraspConfigurator(const robot::RobotModel& model, const robot
       ik_(ik),
       hand_(hand),
       checker_(checker),
-      objectInBase_(robotBase.inverse() * objectPose) {
+      objectInBase_(robotBase.inverse() * objectPose),
+      objectInWorld_(objectPose) {
   std::vector<int> joints(static_cast<std::size_t>(model.numDofs()), 0);
   for (const robot::Joint& j : model.joints())
     if (j.dof >= 0) ++joints[static_cast<std::size_t>(j.dof)];
@@ -92,27 +96,65 @@ std::vector<GraspConfigurations> GraspConfigurator::configureOtherHands(const Gr
   return out;
 }
 
+void GraspConfigurator::setTurns(int turns) {
+  if (turns < 1) throw InvalidArgument("turns", "must be >= 1, got " + std::to_string(turns));
+  turns_ = turns;
+}
+
 GraspConfigurations GraspConfigurator::configure(const GraspContacts& grasp, HandQuery hand,
                                                  std::mt19937_64& rng) {
   GraspConfigurations out;
   out.hand = std::move(hand);
-  const Eigen::Isometry3d palm = objectInBase_ * out.hand.palm_pose;
-  const std::vector<Eigen::VectorXd> arms = ik_.solvePalm(palm, rng);
-  if (arms.empty()) {
-    out.configurations.emplace_back();
-    return out;
+  if (out.hand.free_turn && turns_ > 1)
+    configureTurns(grasp, out, rng);
+  else
+    appendArmConfigurations(grasp, out.hand, out.hand.palm_pose, rng, out.configurations);
+  if (out.configurations.empty()) out.configurations.emplace_back();
+  return out;
+}
+
+void GraspConfigurator::configureTurns(const GraspContacts& grasp, GraspConfigurations& out,
+                                       std::mt19937_64& rng) {
+  const double step = 2.0 * M_PI / turns_;
+  const double start = std::uniform_real_distribution<double>(0.0, step)(rng);
+  const auto isFree = [](const GraspConfiguration& c) {
+    return c.label == ConfigurationLabel::kCollisionFree;
+  };
+  out.turns_tried = 0;
+  for (int k = 0; k < turns_; ++k) {
+    ++out.turns_tried;
+    const Eigen::Isometry3d palm = turnedPalm(out.hand, start + k * step);
+    if (checker_.handTouchesObstacles(objectInWorld_ * palm, out.hand.hand_configuration)) {
+      ++out.turns_blocked;
+      continue;
+    }
+    const std::size_t before = out.configurations.size();
+    appendArmConfigurations(grasp, out.hand, palm, rng, out.configurations);
+    if (std::any_of(out.configurations.begin() + static_cast<std::ptrdiff_t>(before),
+                    out.configurations.end(), isFree))
+      return;
   }
+  // Every turn's hand meets an obstacle: a colliding configuration still
+  // tells the rating how close the grasp is to C_free (Sec. III-B.3).
+  if (out.configurations.empty())
+    appendArmConfigurations(grasp, out.hand, turnedPalm(out.hand, start), rng, out.configurations);
+}
+
+void GraspConfigurator::appendArmConfigurations(const GraspContacts& grasp, const HandQuery& hand,
+                                                const Eigen::Isometry3d& palm, std::mt19937_64& rng,
+                                                std::vector<GraspConfiguration>& out) {
+  const std::vector<Eigen::VectorXd> arms = ik_.solvePalm(objectInBase_ * palm, rng);
   const Eigen::Matrix3Xd contacts = objectInBase_ * grasp.positions;
   for (const Eigen::VectorXd& arm : arms) {
     GraspConfiguration c;
     c.grasp.resize(model_.numDofs());
-    c.grasp << arm, out.hand.hand_configuration;
+    c.grasp << arm, hand.hand_configuration;
     c.pregrasp = c.grasp;
-    c.pregrasp.tail(model_.numHandDofs()) = openedHand(out.hand.hand_configuration);
+    c.pregrasp.tail(model_.numHandDofs()) = openedHand(hand.hand_configuration);
     const robot::FingertipFrames tips =
         robot::fingertipFrames(model_, robot::forwardKinematics(model_, c.grasp));
     for (Eigen::Index i = 0; i < contacts.cols(); ++i) {
-      const int finger = out.hand.finger_of_contact[static_cast<std::size_t>(i)];
+      const int finger = hand.finger_of_contact[static_cast<std::size_t>(i)];
       c.fingertip_error =
           std::max(c.fingertip_error, (tips.positions.col(finger) - contacts.col(i)).norm());
     }
@@ -120,9 +162,8 @@ GraspConfigurations GraspConfigurator::configure(const GraspContacts& grasp, Han
                       !checker_.inCollisionAllowingFingertipContact(c.grasp, &c.collision);
     c.label = free ? ConfigurationLabel::kCollisionFree : ConfigurationLabel::kColliding;
     if (free) c.collision = {};
-    out.configurations.push_back(std::move(c));
+    out.push_back(std::move(c));
   }
-  return out;
 }
 
 GraspConfigurations GraspConfigurator::configure(const HftsSpace& space, const HftsNode& node,

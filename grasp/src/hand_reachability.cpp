@@ -155,6 +155,19 @@ void checkInput(const Eigen::Matrix3Xd& m, Eigen::Index fingers, const char* nam
                                       std::to_string(m.col(c).norm()) + ")");
 }
 
+/// Pads within this angle (rad) of the line through two fingertips face
+/// along it: turning about the line moves neither tips nor pads.
+constexpr double kPadAlongLine = 1e-9;
+
+/// The line through two placed fingertips when both pads face along it.
+std::optional<Eigen::ParametrizedLine<double, 3>> freeTurn(const robot::hand::Tips& tips,
+                                                           const robot::hand::Tips& pads) {
+  const Eigen::Vector3d u = (tips.col(1) - tips.col(0)).normalized();
+  for (Eigen::Index f = 0; f < 2; ++f)
+    if (!(pads.col(f).cross(u).norm() <= kPadAlongLine)) return std::nullopt;
+  return Eigen::ParametrizedLine<double, 3>(tips.col(0), u);
+}
+
 robot::hand::Tips tipsOf(const db::RowMatrixXd& rows, std::uint32_t sample) {
   return Eigen::Map<const Eigen::Matrix3Xd>(rows.row(sample).data(), 3, rows.cols() / 3);
 }
@@ -366,9 +379,19 @@ struct HandReachability::Impl {
       out.finger_of_contact[static_cast<std::size_t>(
           orders[from.order][static_cast<std::size_t>(f)])] = f;
     out.map_sample = from.sample;
+    if (fingers == 2) out.free_turn = freeTurn(placed, rot * tips.normals);
     return out;
   }
 };
+
+Eigen::Isometry3d turnedPalm(const HandQuery& answer, double angle) {
+  if (!answer.free_turn) return answer.palm_pose;
+  const Eigen::Vector3d& at = answer.free_turn->origin();
+  const Eigen::Isometry3d turn = Eigen::Translation3d(at) *
+                                 Eigen::AngleAxisd(angle, answer.free_turn->direction()) *
+                                 Eigen::Translation3d(-at);
+  return turn * answer.palm_pose;
+}
 
 bool samePosture(const HandQuery& a, const HandQuery& b, double minHandDifference) {
   return a.finger_of_contact == b.finger_of_contact &&

@@ -308,6 +308,7 @@ void declareParameters(ompl::base::ParamSet& params, GoalSamplingSettings& setti
   declareParameter(params, "mask_contacts", {0, 1, 1}, settings.mask_contacts);
   declareParameter(params, "other_postures", {0, 1, 1}, settings.other_postures);
   declareParameter(params, "hand_clearance", {0, 1, 1}, settings.hand_clearance);
+  declareParameter(params, "palm_turns", {1, 1, 64}, settings.palm_turns);
   declareParameters(params, settings.objective);
 }
 

@@ -10,6 +10,7 @@ SamplingTools::SamplingTools(const PlanningWorld& world, const robot::Scene& sce
       objective(hfts, world.handMap(), settings.objective),
       configurator(world.robot(), world.ik(), world.thoroughHandMap(), robotChecker,
                    scene.target_pose, scene.robot_base) {
+  configurator.setTurns(settings.palm_turns);
   if (settings.hand_clearance == 0) return;
   objective.setHandCheck([&robotChecker, object = scene.target_pose](const grasp::HandQuery& hand) {
     return robotChecker.handTouchesObstacles(object * hand.palm_pose, hand.hand_configuration);

@@ -39,6 +39,11 @@ struct GraspConfigurations {
   HandQuery hand;  ///< hand posture, palm pose (object frame) and R(h)
   std::vector<GraspConfiguration>
       configurations;  ///< one per IK solution, or one kNoKinematicSolution
+  /// Palm turns about the line through the contacts that were tried (a
+  /// hand with HandQuery::free_turn; 1 otherwise) and how many of them the
+  /// hand alone could not take for an obstacle.
+  int turns_tried = 1;
+  int turns_blocked = 0;
 };
 
 /// Computes Phi(h): hand posture and palm pose from the hand reachability
@@ -71,16 +76,34 @@ class GraspConfigurator {
   /// The pre-grasp opening of a hand posture (hand DoF only).
   Eigen::VectorXd openedHand(const Eigen::VectorXd& hand) const;
 
+  /// How many palm turns about the line through the contacts Phi(h) tries
+  /// for a hand that may turn about it (HandQuery::free_turn: a parallel
+  /// jaw gripper), evenly spaced from a random start, in that order, until
+  /// one gives a collision-free configuration. A turn whose hand alone
+  /// meets an obstacle gets no arm IK. 1 (the default): only the palm pose
+  /// of R(h)'s answer. Throws InvalidArgument naming "turns" below 1.
+  void setTurns(int turns);
+  int turns() const { return turns_; }
+
  private:
   /// Every arm IK solution for a hand answer, labelled.
   GraspConfigurations configure(const GraspContacts& grasp, HandQuery hand, std::mt19937_64& rng);
+  /// Appends every arm IK solution for the palm at `palm` (object frame),
+  /// labelled.
+  void appendArmConfigurations(const GraspContacts& grasp, const HandQuery& hand,
+                               const Eigen::Isometry3d& palm, std::mt19937_64& rng,
+                               std::vector<GraspConfiguration>& out);
+  /// configure() for a hand with a free turn and turns_ > 1.
+  void configureTurns(const GraspContacts& grasp, GraspConfigurations& out, std::mt19937_64& rng);
 
   const robot::RobotModel& model_;
   const robot::ArmIk& ik_;
   const HandReachability& hand_;
   robot::CollisionChecker& checker_;
   Eigen::Isometry3d objectInBase_;
+  Eigen::Isometry3d objectInWorld_;
   std::vector<bool> singleFinger_;  // per hand DoF: drives one joint only
+  int turns_ = 1;
 };
 
 }  // namespace hfts::grasp
