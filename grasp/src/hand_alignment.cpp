@@ -164,19 +164,13 @@ Eigen::Matrix3d rotationOf(const Eigen::Vector3d& w) {
          ((1.0 - std::cos(angle)) / angle2) * (k * k);
 }
 
-/// At most this ratio of the middle to the largest singular value, H has
-/// rank one (exact SVD).
-constexpr double kRankOne = 1e-12;
-
 /// The proper rotation maximising tr(R H) from the SVD H = U S V^T:
-/// V diag(1, 1, det(V U^T)) U^T. For rank one only R u1 = v1 is fixed and
-/// every turn about v1 is as good (a gripper whose pads face along the line
-/// through its fingertips): the smallest rotation taking u1 to v1.
+/// V diag(1, 1, det(V U^T)) U^T. When H has rank one (a gripper whose pads
+/// face along the line through its fingertips) only R u1 = v1 is fixed and
+/// the SVD's choice of the other columns picks one of the equally good
+/// turns about v1.
 Eigen::Matrix3d rotationBySvd(const Eigen::Matrix3d& h) {
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  if (!(svd.singularValues()(1) > kRankOne * svd.singularValues()(0)))
-    return Eigen::Quaterniond::FromTwoVectors(svd.matrixU().col(0), svd.matrixV().col(0))
-        .toRotationMatrix();
   Eigen::Matrix3d v = svd.matrixV();
   if ((v * svd.matrixU().transpose()).determinant() < 0) v.col(2) = -v.col(2);
   return v * svd.matrixU().transpose();
@@ -202,7 +196,7 @@ Eigen::Matrix3d bestRotation(const Eigen::Matrix3d& h) {
   // The closed form resolves a double eigenvalue 0 of H^T H only to about
   // machine epsilon^(1/4) of the largest: a rank-one H can pass the test
   // above, and then ub is rounding noise, or 0 and r no rotation at all.
-  if ((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-9)
+  if ((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6)
     return rotationBySvd(h);
   return r;
 }
