@@ -11,7 +11,21 @@ namespace hfts::grasp {
 ObjectiveOptions objectiveOptions(const robot::RobotModel& robot) {
   ObjectiveOptions options;
   options.torsional_friction = robot.torsionalFriction();
+  options.fit_check = robot.fingertips().size() == 2 ? 1 : 0;
   return options;
+}
+
+bool handFits(const GraspContacts& contacts, double span) {
+  const Eigen::Matrix3Xd& p = contacts.positions;
+  const Eigen::Index m = p.cols();
+  const Eigen::Vector3d sum = p.rowwise().sum();
+  for (Eigen::Index i = 0; i < m; ++i) {
+    for (Eigen::Index j = i + 1; j < m; ++j)
+      if ((p.col(i) - p.col(j)).norm() > span) return false;
+    const Eigen::Vector3d others = (sum - p.col(i)) / static_cast<double>(m - 1);
+    if (!(-contacts.outward_normals.col(i).dot(others - p.col(i)) > 0.0)) return false;
+  }
+  return true;
 }
 
 GraspQualityRequest qualityRequest(const HftsSpace& space, const GraspContacts& contacts,
@@ -60,7 +74,8 @@ GraspEvaluation GraspObjective::evaluate(const HftsNode& node) {
   if (slot.used) return slot.evaluation;
   const GraspContacts grasp = space_.representative(node);
   GraspEvaluation e;
-  e.quality = graspQuality(qualityRequest(space_, grasp, options_)).epsilon;
+  if (options_.fit_check == 0 || handFits(grasp, reachability_.maxFingertipDistance()))
+    e.quality = graspQuality(qualityRequest(space_, grasp, options_)).epsilon;
   const HandQuery hand = reachability_.query(grasp.positions, grasp.outward_normals);
   e.reachability = hand.residual;
   e.hand_blocked = handCheck_ && handCheck_(hand);

@@ -186,6 +186,7 @@ struct HandReachability::Impl {
   /// to fingers.
   DescriptorRows ordered;
   std::unique_ptr<DescriptorIndex> index;
+  double span = 0.0;  ///< largest fingertip distance over the samples
 
   Impl(const robot::RobotModel& model, db::HandMap m, HandQueryOptions o)
       : chains(model),
@@ -199,6 +200,18 @@ struct HandReachability::Impl {
     checkReproducedByKinematics(model.name());
     ordered = orderedDescriptors();
     index = makeIndex(ordered);
+    span = largestFingertipDistance();
+  }
+
+  double largestFingertipDistance() const {
+    double out = 0.0;
+    for (std::uint32_t s = 0; s < map.numSamples(); ++s) {
+      const robot::hand::Tips tips = tipsOf(map.positions, s);
+      for (int i = 0; i < fingers; ++i)
+        for (int j = i + 1; j < fingers; ++j)
+          out = std::max(out, (tips.col(i) - tips.col(j)).norm());
+    }
+    return out;
   }
 
   void checkMatchesRobot(const std::string& robot) const {
@@ -412,6 +425,10 @@ const db::HandMap& HandReachability::map() const {
 
 const HandQueryOptions& HandReachability::options() const {
   return impl_->options;
+}
+
+double HandReachability::maxFingertipDistance() const {
+  return impl_->span;
 }
 
 HandQuery HandReachability::query(const Eigen::Matrix3Xd& contactPositions,

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "bundled_objects.h"
+#include "grasp/hand_map_builder.h"
 #include "hand_fixture.h"
 
 namespace hfts::grasp {
@@ -53,6 +54,71 @@ TEST(GraspObjective, UnstableByReachRanksUnstableGraspsByReachBelowStableOnes) {
   ASSERT_GT(unstable, 0);
   EXPECT_LT(highestUnstable, 0.0);
   EXPECT_GT(lowestStable, highestUnstable);
+}
+
+/// Two contacts (object frame) with outward normals.
+GraspContacts pair(const Eigen::Vector3d& a, const Eigen::Vector3d& outA, const Eigen::Vector3d& b,
+                   const Eigen::Vector3d& outB) {
+  GraspContacts g{Eigen::Matrix3Xd(3, 2), Eigen::Matrix3Xd(3, 2)};
+  g.positions << a, b;
+  g.outward_normals << outA.normalized(), outB.normalized();
+  return g;
+}
+
+TEST(HandFits, NeedsContactsWithinTheSpanWhosePadsFaceEachOther) {
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  // Squeezing a 6 cm wide box.
+  EXPECT_TRUE(handFits(pair(-0.03 * x, -x, 0.03 * x, x), 0.08));
+  EXPECT_FALSE(handFits(pair(-0.03 * x, -x, 0.03 * x, x), 0.05)) << "wider than the span";
+  // Inside a cup: the outward normals point at each other, the fingers would have to push apart.
+  EXPECT_FALSE(handFits(pair(-0.03 * x, x, 0.03 * x, -x), 0.08));
+  // One contact on the far side of the other's surface.
+  EXPECT_FALSE(handFits(pair(-0.03 * x, -x, 0.03 * x, -x), 0.08));
+  // Three contacts around a centre, normals out: each pad pushes towards the others.
+  GraspContacts three{Eigen::Matrix3Xd(3, 3), Eigen::Matrix3Xd(3, 3)};
+  for (int i = 0; i < 3; ++i) {
+    const double a = 2 * M_PI * i / 3;
+    three.outward_normals.col(i) = Eigen::Vector3d(std::cos(a), std::sin(a), 0);
+    three.positions.col(i) = 0.03 * three.outward_normals.col(i);
+  }
+  EXPECT_TRUE(handFits(three, 0.06));
+  EXPECT_FALSE(handFits(three, 0.05));
+}
+
+TEST(GraspObjective, FitCheckGivesQualityZeroToPairsTheJawsCannotHold) {
+  const robot::RobotModel panda =
+      robot::RobotModel::load(test::sourcePath("robots/panda_gripper/panda_gripper.json"));
+  const HandReachability jaws(panda, buildHandMap(panda, handMapOptions(panda)));
+  EXPECT_NEAR(jaws.maxFingertipDistance(), 0.08, 1e-4) << "the Franka Hand's 80 mm stroke";
+  ObjectiveOptions checked = objectiveOptions(panda);
+  ASSERT_EQ(checked.fit_check, 1) << "on for two fingertips";
+  checked.unstable_by_reach = 1;  // as the planner sets it for two fingertips
+  ASSERT_EQ(objectiveOptions(test::kr5Sdh()).fit_check, 0);
+  ObjectiveOptions unchecked = checked;
+  unchecked.fit_check = 0;
+  // The mug (outer diameter 8 cm, 5 mm wall): pairs across its body, its
+  // rim and its inside.
+  const HftsSpace space(test::bundledObjects().at("mug"), 2);
+  GraspObjective fit(space, jaws, checked), plain(space, jaws, unchecked);
+  int unfit = 0, kept = 0;
+  for (std::uint64_t i = 0; i < 3000; ++i) {
+    HftsNode node = space.child(space.root(), (i * 7919) % space.numChildren(space.root()));
+    while (!space.isLeaf(node)) node = space.child(node, (i * 31) % space.numChildren(node));
+    const GraspEvaluation a = fit.evaluate(node), b = plain.evaluate(node);
+    EXPECT_EQ(a.reachability, b.reachability);
+    if (!(b.quality > 0.0)) continue;
+    if (handFits(space.representative(node), jaws.maxFingertipDistance())) {
+      ++kept;
+      EXPECT_EQ(a.quality, b.quality);
+      EXPECT_EQ(a.value, b.value);
+    } else {
+      ++unfit;
+      EXPECT_EQ(a.quality, 0.0) << "force closure the jaws cannot apply";
+      EXPECT_DOUBLE_EQ(a.value, -(a.reachability + checked.alpha));
+    }
+  }
+  EXPECT_GT(kept, 10);
+  EXPECT_GT(unfit, 10);
 }
 
 TEST(GraspObjective, CachesEveryNodeOnceAcrossGrowth) {

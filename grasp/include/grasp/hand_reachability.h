@@ -112,6 +112,10 @@ class HandReachability {
 
   const db::HandMap& map() const;
   const HandQueryOptions& options() const;
+  /// The largest distance between two fingertips over the map's grasp
+  /// postures (m): contacts farther apart than this are beyond the hand's
+  /// span (a parallel-jaw gripper's stroke).
+  double maxFingertipDistance() const;
 
  private:
   struct Impl;
