@@ -46,6 +46,8 @@ GraspObjective::GraspObjective(const HftsSpace& space, const HandReachability& r
                                ObjectiveOptions options)
     : space_(space), reachability_(reachability), options_(options) {
   if (!(options_.alpha > 0.0)) throw InvalidArgument("ObjectiveOptions::alpha", "must be > 0");
+  if (!(options_.fit_clearance >= 0.0))
+    throw InvalidArgument("ObjectiveOptions::fit_clearance", "must be >= 0");
 }
 
 GraspObjective::Slot& GraspObjective::slotOf(const HftsNode& node) {
@@ -74,7 +76,8 @@ GraspEvaluation GraspObjective::evaluate(const HftsNode& node) {
   if (slot.used) return slot.evaluation;
   const GraspContacts grasp = space_.representative(node);
   GraspEvaluation e;
-  if (options_.fit_check == 0 || handFits(grasp, reachability_.maxFingertipDistance()))
+  if (options_.fit_check == 0 ||
+      handFits(grasp, reachability_.maxFingertipDistance() - 2.0 * options_.fit_clearance))
     e.quality = graspQuality(qualityRequest(space_, grasp, options_)).epsilon;
   const HandQuery hand = reachability_.query(grasp.positions, grasp.outward_normals);
   e.reachability = hand.residual;

@@ -121,6 +121,39 @@ TEST(GraspObjective, FitCheckGivesQualityZeroToPairsTheJawsCannotHold) {
   EXPECT_GT(unfit, 10);
 }
 
+TEST(GraspObjective, FitClearanceLeavesTheJawsRoomToComeIn) {
+  const robot::RobotModel panda =
+      robot::RobotModel::load(test::sourcePath("robots/panda_gripper/panda_gripper.json"));
+  const HandReachability jaws(panda, buildHandMap(panda, handMapOptions(panda)));
+  const double span = jaws.maxFingertipDistance();
+  ObjectiveOptions tight = objectiveOptions(panda), roomy = tight;
+  roomy.fit_clearance = 0.0025;
+  // Across the mug's 8 cm body: at the stroke, and 2.5 mm inside it per side.
+  const HftsSpace space(test::bundledObjects().at("mug"), 2);
+  GraspObjective atStroke(space, jaws, tight), withRoom(space, jaws, roomy);
+  int wide = 0, narrow = 0;
+  for (std::uint64_t i = 0; i < 3000; ++i) {
+    HftsNode node = space.child(space.root(), (i * 7919) % space.numChildren(space.root()));
+    while (!space.isLeaf(node)) node = space.child(node, (i * 31) % space.numChildren(node));
+    const GraspContacts c = space.representative(node);
+    const double d = (c.positions.col(1) - c.positions.col(0)).norm();
+    const GraspEvaluation a = atStroke.evaluate(node), b = withRoom.evaluate(node);
+    if (!(a.quality > 0.0)) continue;
+    if (d > span - 0.005) {
+      ++wide;
+      EXPECT_EQ(b.quality, 0.0) << d;
+    } else {
+      ++narrow;
+      EXPECT_EQ(b.quality, a.quality) << d;
+    }
+  }
+  EXPECT_GT(wide, 5);
+  EXPECT_GT(narrow, 5);
+  roomy.fit_clearance = -0.001;
+  test::expectErrorMentioning<std::invalid_argument>([&] { GraspObjective(space, jaws, roomy); },
+                                                     {"ObjectiveOptions::fit_clearance", ">= 0"});
+}
+
 TEST(GraspObjective, CachesEveryNodeOnceAcrossGrowth) {
   const HftsSpace space(test::bundledObjects().at("box"), 3);
   GraspObjective objective(space, reachability());

@@ -438,7 +438,8 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
                                             // Eq. (1) as in the paper for the SDH's three
                                             // fingers (1 only for two-fingered hands).
                                             {"unstable_by_reach", 0},
-                                            {"fit_check", 0}};
+                                            {"fit_check", 0},
+                                            {"fit_clearance", 0.0}};
   for (const PlannerParameterInfo& p : plannerParameters(world())) {
     const auto it = expected.find(p.name);
     if (it == expected.end()) continue;
@@ -446,7 +447,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
     expected.erase(it);
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
-  EXPECT_EQ(plannerParameters(world()).size(), 31u) << "a parameter was added or removed";
+  EXPECT_EQ(plannerParameters(world()).size(), 32u) << "a parameter was added or removed";
 }
 
 /// The bundled KR5 + SDH with `planner_defaults` added to its config.

@@ -39,6 +39,12 @@ struct ObjectiveOptions {
   /// the stroke is only millimetres and of a reversed pair 2 lambda, so such
   /// pairs of high quality outranked the ones the jaws can hold.
   int fit_check = 0;
+  /// With fit_check: the room (m) each fingertip needs beyond its contact
+  /// to come in, so contacts farther apart than the hand's span less twice
+  /// this do not fit either. A pair at the very stroke leaves the pre-grasp
+  /// no opening: its pads sit on the surface and every approach grazes it
+  /// ("fit_clearance"; the Panda's config sets 2.5 mm).
+  double fit_clearance = 0.0;
 };
 
 /// The default options with the contact model of the robot's fingertips,
