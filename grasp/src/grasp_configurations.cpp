@@ -78,8 +78,9 @@ Eigen::VectorXd GraspConfigurator::openedHand(const Eigen::VectorXd& hand) const
   return open;
 }
 
-GraspConfigurations GraspConfigurator::configure(const GraspContacts& grasp, std::mt19937_64& rng) {
-  return configure(grasp, hand_.query(grasp.positions, grasp.outward_normals), rng);
+GraspConfigurations GraspConfigurator::configure(const GraspContacts& grasp, std::mt19937_64& rng,
+                                                 bool turn) {
+  return configure(grasp, hand_.query(grasp.positions, grasp.outward_normals), rng, turn);
 }
 
 std::vector<GraspConfigurations> GraspConfigurator::configureOtherHands(const GraspContacts& grasp,
@@ -92,7 +93,7 @@ std::vector<GraspConfigurations> GraspConfigurator::configureOtherHands(const Gr
   for (HandQuery& other : hand_.queryAlternatives(grasp.positions, grasp.outward_normals,
                                                   maxPositionError, kSamePosture))
     if (!samePosture(other, used, kSamePosture))
-      out.push_back(configure(grasp, std::move(other), rng));
+      out.push_back(configure(grasp, std::move(other), rng, true));
   return out;
 }
 
@@ -102,10 +103,10 @@ void GraspConfigurator::setTurns(int turns) {
 }
 
 GraspConfigurations GraspConfigurator::configure(const GraspContacts& grasp, HandQuery hand,
-                                                 std::mt19937_64& rng) {
+                                                 std::mt19937_64& rng, bool turn) {
   GraspConfigurations out;
   out.hand = std::move(hand);
-  if (out.hand.free_turn && turns_ > 1)
+  if (turn && out.hand.free_turn && turns_ > 1)
     configureTurns(grasp, out, rng);
   else
     appendArmConfigurations(grasp, out.hand, out.hand.palm_pose, rng, out.configurations);
@@ -167,8 +168,8 @@ void GraspConfigurator::appendArmConfigurations(const GraspContacts& grasp, cons
 }
 
 GraspConfigurations GraspConfigurator::configure(const HftsSpace& space, const HftsNode& node,
-                                                 std::mt19937_64& rng) {
-  return configure(space.representative(node), rng);
+                                                 std::mt19937_64& rng, bool turn) {
+  return configure(space.representative(node), rng, turn);
 }
 
 }  // namespace hfts::grasp

@@ -56,12 +56,17 @@ GraspGoalSampler::GraspGoalSampler(GoalSamplingContext context) : context_(conte
 std::vector<CachedConfiguration> GraspGoalSampler::configurationsOf(const grasp::HftsNode& node,
                                                                     double epsilon,
                                                                     bool* otherHandsSampled) {
+  const bool leaf = context_.space->isLeaf(node);
+  // A leaf without force closure is never a goal: one palm pose gives its
+  // configuration for the rating and A; the palm turns are for the grasps
+  // that may be goals and the inner nodes above them.
+  const bool turn = !leaf || epsilon > 0.0;
   std::vector<grasp::GraspConfigurations> postures{
-      context_.configurator->configure(*context_.space, node, *context_.rng)};
+      context_.configurator->configure(*context_.space, node, *context_.rng, turn)};
   ++stats_.configured_nodes;
+  if (turn && postures.front().hand.free_turn) ++stats_.turned_nodes;
   std::vector<CachedConfiguration> free, colliding;
   label(node, epsilon, postures.front(), free, colliding);
-  const bool leaf = context_.space->isLeaf(node);
   const auto isGoal = [](const CachedConfiguration& c) { return c.goal; };
   if (context_.other_postures && leaf && epsilon > 0.0 &&
       std::none_of(free.begin(), free.end(), isGoal)) {

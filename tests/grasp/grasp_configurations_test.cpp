@@ -218,6 +218,26 @@ TEST(GraspConfigurations, AGrippersPalmTurnsAboutTheContactLineUntilTheHandFits)
   EXPECT_GT(free, 0);
 }
 
+TEST(GraspConfigurations, WithoutTurningAGripperTakesOnlyRhsOwnPalmPose) {
+  const robot::ArmIk ik(panda());
+  const robot::Scene scene = freeSpace("box", {0.5, 0.0, 0.25});
+  robot::CollisionChecker checker(panda(), scene, nullptr);
+  GraspConfigurator configurator(panda(), ik, pandaHand(), checker, scene.target_pose,
+                                 scene.robot_base);
+  std::mt19937_64 a(6), b(6);
+  configurator.setTurns(1);
+  const GraspConfigurations one = configurator.configure(pinch(), a);
+  configurator.setTurns(8);
+  const GraspConfigurations unturned = configurator.configure(pinch(), b, /*turn=*/false);
+  EXPECT_EQ(unturned.turns_tried, 1);
+  EXPECT_EQ(unturned.turns_blocked, 0);
+  ASSERT_EQ(unturned.configurations.size(), one.configurations.size());
+  ASSERT_GT(one.configurations.size(), 1u);
+  for (std::size_t c = 0; c < one.configurations.size(); ++c)
+    EXPECT_EQ(unturned.configurations[c].grasp, one.configurations[c].grasp);
+  EXPECT_EQ(a(), b()) << "no draw for a turn";
+}
+
 TEST(GraspConfigurations, AGripperBlockedAtEveryTurnStillGetsItsCollidingConfigurations) {
   const robot::ArmIk ik(panda());
   robot::Scene scene = freeSpace("box", {0.5, 0.0, 0.25});

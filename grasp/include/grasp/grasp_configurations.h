@@ -59,12 +59,14 @@ class GraspConfigurator {
                     const Eigen::Isometry3d& objectPose, const Eigen::Isometry3d& robotBase);
 
   /// For the contacts of a grasp (object frame, outward normals, one column
-  /// per finger).
-  GraspConfigurations configure(const GraspContacts& grasp, std::mt19937_64& rng);
+  /// per finger). `turn` false: R(h)'s own palm pose only, also for a hand
+  /// that may turn (setTurns), e.g. for a grasp that cannot be a goal.
+  GraspConfigurations configure(const GraspContacts& grasp, std::mt19937_64& rng, bool turn = true);
 
   /// For an HFTS node: its representative grasp (inner nodes too: the goal
   /// sampler asks for configurations of approximate grasps).
-  GraspConfigurations configure(const HftsSpace& space, const HftsNode& node, std::mt19937_64& rng);
+  GraspConfigurations configure(const HftsSpace& space, const HftsNode& node, std::mt19937_64& rng,
+                                bool turn = true);
 
   /// The grasp's configurations with other hand postures than configure()
   /// uses (HandReachability::queryAlternatives with fingertips within
@@ -87,7 +89,8 @@ class GraspConfigurator {
 
  private:
   /// Every arm IK solution for a hand answer, labelled.
-  GraspConfigurations configure(const GraspContacts& grasp, HandQuery hand, std::mt19937_64& rng);
+  GraspConfigurations configure(const GraspContacts& grasp, HandQuery hand, std::mt19937_64& rng,
+                                bool turn);
   /// Appends every arm IK solution for the palm at `palm` (object frame),
   /// labelled.
   void appendArmConfigurations(const GraspContacts& grasp, const HandQuery& hand,
