@@ -83,6 +83,9 @@ TEST(HandFits, NeedsContactsWithinTheSpanWhosePadsFaceEachOther) {
   }
   EXPECT_TRUE(handFits(three, 0.06));
   EXPECT_FALSE(handFits(three, 0.05));
+  // The excess over the span is that of the widest pair: sqrt(3) * 3 cm.
+  EXPECT_NEAR(spanExcess(three, 0.05), std::sqrt(3.0) * 0.03 - 0.05, 1e-12);
+  EXPECT_EQ(spanExcess(three, 0.06), 0.0);
 }
 
 TEST(GraspObjective, FitCheckGivesQualityZeroToPairsTheJawsCannotHold) {
@@ -114,7 +117,9 @@ TEST(GraspObjective, FitCheckGivesQualityZeroToPairsTheJawsCannotHold) {
     } else {
       ++unfit;
       EXPECT_EQ(a.quality, 0.0) << "force closure the jaws cannot apply";
-      EXPECT_DOUBLE_EQ(a.value, -(a.reachability + checked.alpha));
+      // Ranked by reach, each fingertip at least half the excess off.
+      const double excess = spanExcess(space.representative(node), jaws.maxFingertipDistance());
+      EXPECT_DOUBLE_EQ(a.value, -(std::max(a.reachability, excess / 2) + checked.alpha));
     }
   }
   EXPECT_GT(kept, 10);

@@ -34,6 +34,10 @@ struct ObjectiveOptions {
   /// gripper's stroke), or a contact whose inward normal points away from
   /// the other contacts (the pads of a grasp posture face each other,
   /// isGraspPosture; an expanding grasp inside a mug pushes them apart).
+  /// A pair wider than that span is also valued as if R(h) were at least
+  /// half the excess (each fingertip that far off its contact), so that
+  /// among the grasps without force closure (unstable_by_reach) those the
+  /// jaws can close on come first.
   /// 0: Q(h) of the contacts alone, as in the paper. On for two fingertips
   /// (objectiveOptions, the planner's "fit_check"): R(h) of a pair beyond
   /// the stroke is only millimetres and of a reversed pair 2 lambda, so such
@@ -56,6 +60,10 @@ ObjectiveOptions objectiveOptions(const robot::RobotModel& robot);
 /// no two of them farther apart than `span`, and every inward normal with a
 /// positive component towards the centroid of the other contacts.
 bool handFits(const GraspContacts& contacts, double span);
+
+/// How much farther apart (m) the two most distant contacts are than
+/// `span`; 0 when they are within it.
+double spanExcess(const GraspContacts& contacts, double span);
 
 /// Q(h)'s request for `contacts` of the space's object: outward normals,
 /// the object's centre of mass and rho, the options' friction, cone
