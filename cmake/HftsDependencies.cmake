@@ -12,6 +12,7 @@ find_package(assimp 5.2 REQUIRED)
 find_package(HDF5 1.10 REQUIRED COMPONENTS C)
 find_package(Qhull 8 REQUIRED)
 find_package(fcl 0.7 REQUIRED)
+find_package(hwy 1.0 REQUIRED)  # Highway: the sphere tier's SIMD kernel
 find_package(ompl 1.5 REQUIRED)
 find_package(nlohmann_json 3.11 REQUIRED)
 find_package(CLI11 2.1 REQUIRED)

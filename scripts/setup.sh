@@ -13,7 +13,7 @@ PACKAGES=(
   libeigen3-dev libpcl-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libembree-dev libfcl-dev libompl-dev liburdfdom-dev liburdfdom-tools
   libassimp-dev libhdf5-dev hdf5-tools libqhull-dev nlohmann-json3-dev
-  libasio-dev libcli11-dev libssl-dev libnanoflann-dev
+  libasio-dev libcli11-dev libssl-dev libnanoflann-dev libhwy-dev
   # tests and benchmarks; clang + libFuzzer and the sanitizer runtimes
   # (scripts/fuzz.sh, scripts/sanitize.sh); HAProxy (scripts/scale_out.sh)
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -27,22 +27,32 @@ void silenceErrorStack() {
   std::call_once(once, [] { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); });
 }
 
-Handle datasetCreationList(const std::vector<hsize_t>& shape) {
+/// How a dataset is stored: chunked and checksummed, and for large
+/// smooth data (distance grids) byte-shuffled and deflated first.
+enum class Storage { kPlain, kCompressed };
+
+Handle datasetCreationList(const std::vector<hsize_t>& shape, Storage storage) {
   Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "dataset property list");
   check(H5Pset_obj_track_times(dcpl.id(), false), "disabling timestamps");
   std::vector<hsize_t> chunk = shape;
   chunk[0] = std::clamp<hsize_t>(shape[0], 1, kChunkRows);
   for (std::size_t i = 1; i < chunk.size(); ++i) chunk[i] = std::max<hsize_t>(chunk[i], 1);
   check(H5Pset_chunk(dcpl.id(), static_cast<int>(chunk.size()), chunk.data()), "chunking");
+  if (storage == Storage::kCompressed) {
+    if (H5Zfilter_avail(H5Z_FILTER_DEFLATE) <= 0) fail("this HDF5 library has no deflate filter");
+    check(H5Pset_shuffle(dcpl.id()), "byte shuffle");
+    check(H5Pset_deflate(dcpl.id(), 6), "deflate");
+  }
+  // Last in the pipeline: the checksum covers the stored (compressed) bytes.
   check(H5Pset_fletcher32(dcpl.id()), "Fletcher32 checksum");
   return dcpl;
 }
 
 void writeRaw(hid_t parent, const std::string& name, hid_t type, const void* data,
-              const std::vector<hsize_t>& shape) {
+              const std::vector<hsize_t>& shape, Storage storage = Storage::kPlain) {
   Handle space(H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr), H5Sclose,
                "dataspace of " + name);
-  Handle dcpl = datasetCreationList(shape);
+  Handle dcpl = datasetCreationList(shape, storage);
   Handle set(
       H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, dcpl.id(), H5P_DEFAULT),
       H5Dclose, "creating dataset '" + name + "'");
@@ -51,16 +61,19 @@ void writeRaw(hid_t parent, const std::string& name, hid_t type, const void* dat
 }
 
 template <typename T>
-Array<T> readRaw(hid_t parent, const std::string& name, hid_t memType, H5T_class_t expected) {
+Array<T> readRaw(hid_t parent, const std::string& name, hid_t memType, H5T_class_t expected,
+                 std::size_t storedSize = 0) {
   if (!exists(parent, name)) fail("missing dataset '" + name + "'");
   Handle set(H5Dopen2(parent, name.c_str(), H5P_DEFAULT), H5Dclose,
              "opening dataset '" + name + "'");
   Handle type(H5Dget_type(set.id()), H5Tclose, "type of dataset '" + name + "'");
   if (H5Tget_class(type.id()) != expected)
     fail("dataset '" + name + "' has the wrong element type");
+  if (storedSize != 0 && H5Tget_size(type.id()) != storedSize)
+    fail("dataset '" + name + "' must hold " + std::to_string(8 * storedSize) + "-bit elements");
   Handle space(H5Dget_space(set.id()), H5Sclose, "dataspace of '" + name + "'");
   const int rank = H5Sget_simple_extent_ndims(space.id());
-  if (rank < 1 || rank > 2) fail("dataset '" + name + "' has rank " + std::to_string(rank));
+  if (rank < 1 || rank > 3) fail("dataset '" + name + "' has rank " + std::to_string(rank));
   Array<T> out;
   out.shape.resize(static_cast<std::size_t>(rank));
   H5Sget_simple_extent_dims(space.id(), out.shape.data(), nullptr);
@@ -233,6 +246,11 @@ void writeDataset(hid_t parent, const std::string& name, const double* data,
   writeRaw(parent, name, H5T_IEEE_F64LE, data, shape);
 }
 
+void writeDataset(hid_t parent, const std::string& name, const float* data,
+                  const std::vector<hsize_t>& shape) {
+  writeRaw(parent, name, H5T_IEEE_F32LE, data, shape, Storage::kCompressed);
+}
+
 void writeDataset(hid_t parent, const std::string& name, const std::uint32_t* data,
                   const std::vector<hsize_t>& shape) {
   writeRaw(parent, name, H5T_STD_U32LE, data, shape);
@@ -240,6 +258,12 @@ void writeDataset(hid_t parent, const std::string& name, const std::uint32_t* da
 
 Array<double> readDoubles(hid_t parent, const std::string& name) {
   return readRaw<double>(parent, name, H5T_NATIVE_DOUBLE, H5T_FLOAT);
+}
+
+Array<float> readFloats(hid_t parent, const std::string& name) {
+  // Exactly f32: converting f64 would round to nearest, and a distance
+  // grid's values must stay rounded down.
+  return readRaw<float>(parent, name, H5T_NATIVE_FLOAT, H5T_FLOAT, sizeof(float));
 }
 
 Array<std::uint32_t> readUInt32s(hid_t parent, const std::string& name) {

@@ -1,8 +1,8 @@
 #pragma once
 // Thin RAII layer over the HDF5 C API, private to hfts_db. Every dataset is
-// chunked and Fletcher32-checksummed, no object carries a timestamp (so the
-// same content gives the same bytes), and every failure becomes a
-// DatabaseError naming the object that failed.
+// chunked and Fletcher32-checksummed (f32 ones also compressed), no object
+// carries a timestamp (so the same content gives the same bytes), and every
+// failure becomes a DatabaseError naming the object that failed.
 
 #include <hdf5.h>
 
@@ -73,7 +73,7 @@ Handle createGroup(hid_t parent, const std::string& name);
 Handle openGroup(hid_t parent, const std::string& name);
 bool exists(hid_t parent, const std::string& name);
 
-/// A dataset's content with its shape; rank 1 or 2.
+/// A dataset's content with its shape; rank 1 to 3.
 template <typename T>
 struct Array {
   std::vector<T> data;
@@ -84,7 +84,12 @@ void writeDataset(hid_t parent, const std::string& name, const double* data,
                   const std::vector<hsize_t>& shape);
 void writeDataset(hid_t parent, const std::string& name, const std::uint32_t* data,
                   const std::vector<hsize_t>& shape);
+/// Single-precision reals (distance grids), stored as IEEE f32, byte-shuffled
+/// and deflated (level 6) before the checksum.
+void writeDataset(hid_t parent, const std::string& name, const float* data,
+                  const std::vector<hsize_t>& shape);
 Array<double> readDoubles(hid_t parent, const std::string& name);
+Array<float> readFloats(hid_t parent, const std::string& name);
 Array<std::uint32_t> readUInt32s(hid_t parent, const std::string& name);
 
 /// Strings are scalar fixed-length attributes (NUL-terminated, UTF-8) of at

@@ -39,6 +39,8 @@ void writeParameters(hid_t file, const BuildParameters& p) {
   h5::writeAttribute(g, "normal_weight", p.normal_weight);
   h5::writeAttribute(g, "kmeans_iterations", std::uint64_t{p.kmeans_iterations});
   h5::writeAttribute(g, "seed", p.seed);
+  h5::writeAttribute(g, "distance_grid_spacing", p.distance_grid_spacing);
+  h5::writeAttribute(g, "distance_grid_margin", p.distance_grid_margin);
 }
 
 BuildParameters readParameters(hid_t file) {
@@ -61,6 +63,8 @@ BuildParameters readParameters(hid_t file) {
   p.normal_weight = h5::readDouble(g, "normal_weight");
   p.kmeans_iterations = narrowed(h5::readUInt64(g, "kmeans_iterations"), "kmeans_iterations");
   p.seed = h5::readUInt64(g, "seed");
+  p.distance_grid_spacing = h5::readDouble(g, "distance_grid_spacing");
+  p.distance_grid_margin = h5::readDouble(g, "distance_grid_margin");
   return p;
 }
 
@@ -118,6 +122,36 @@ ObjectGeometry readGeometry(hid_t file) {
   geometry.mesh_triangles =
       toMatrix<Faces3>(h5::readUInt32s(g, "mesh_triangles"), "mesh_triangles");
   return geometry;
+}
+
+void writeDistanceGrid(hid_t file, const DistanceGrid& grid) {
+  Handle group = h5::createGroup(file, "distance_grid");
+  const hid_t g = group.id();
+  h5::writeAttribute(g, "origin", asVector(grid.origin));
+  h5::writeAttribute(g, "spacing", grid.spacing);
+  h5::writeAttribute(g, "dims",
+                     widened(std::vector<std::uint32_t>(grid.dims.begin(), grid.dims.end())));
+  h5::writeAttribute(g, "signed", std::uint64_t{grid.is_signed ? 1u : 0u});
+  // (nz, ny, nx): x varies fastest, as in DistanceGrid::index.
+  h5::writeDataset(g, "values", grid.values.data(), {grid.dims[2], grid.dims[1], grid.dims[0]});
+}
+
+DistanceGrid readDistanceGrid(hid_t file) {
+  Handle group = h5::openGroup(file, "distance_grid");
+  const hid_t g = group.id();
+  DistanceGrid grid;
+  grid.origin = asVector3(h5::readDoubleAttribute(g, "origin"), "origin");
+  grid.spacing = h5::readDouble(g, "spacing");
+  const std::vector<std::uint64_t> dims = h5::readUInt64Attribute(g, "dims");
+  if (dims.size() != 3) throw DatabaseError("attribute 'dims' must hold 3 values");
+  for (std::size_t c = 0; c < 3; ++c) grid.dims[c] = narrowed(dims[c], "dims");
+  grid.is_signed = h5::readUInt64(g, "signed") != 0;
+  h5::Array<float> values = h5::readFloats(g, "values");
+  const std::vector<hsize_t> shape = {grid.dims[2], grid.dims[1], grid.dims[0]};
+  if (values.shape != shape)
+    throw DatabaseError("dataset 'values' must have shape (dims[2], dims[1], dims[0])");
+  grid.values = std::move(values.data);
+  return grid;
 }
 
 void writeContacts(hid_t file, const ObjectDatabase& db) {
@@ -209,6 +243,7 @@ void writeAll(hid_t file, const ObjectDatabase& db) {
     h5::writeAttribute(group.id(), "removed", removed);
   }
   writeGeometry(file, db.geometry);
+  writeDistanceGrid(file, db.geometry.distance_grid);
   writeContacts(file, db);
   Handle hierarchy = h5::createGroup(file, "hierarchy");
   h5::writeAttribute(hierarchy.id(), "branching", widened(db.parameters.branching));
@@ -240,6 +275,7 @@ ObjectDatabase readAll(hid_t file) {
       db.filter_reports.push_back({names[i], removed[i]});
   }
   db.geometry = readGeometry(file);
+  db.geometry.distance_grid = readDistanceGrid(file);
   readContacts(file, db);
   Handle hierarchy = h5::openGroup(file, "hierarchy");
   const std::size_t numLevels = db.parameters.branching.size();
@@ -261,6 +297,8 @@ ObjectDatabase loadObjectDatabase(const std::filesystem::path& path) {
   ObjectDatabase db;
   h5::readFile(path, what, [&](hid_t file) { db = readAll(file); });
   validateObjectDatabase(db, what);
+  DistanceGrid& grid = db.geometry.distance_grid;
+  grid.boundary_min = boundaryMinimum(grid);  // derived, not stored
   return db;
 }
 

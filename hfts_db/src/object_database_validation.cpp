@@ -1,4 +1,5 @@
 // The schema's invariants, checked before every save and after every load.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -50,6 +51,30 @@ void checkGeometry(const Checker& c, const ObjectGeometry& g) {
   c.requireFinite(g.mesh_vertices, "mesh_vertices");
   c.require(g.mesh_triangles.maxCoeff() < static_cast<std::uint32_t>(g.mesh_vertices.rows()),
             "mesh_triangles index a vertex that does not exist");
+}
+
+void checkDistanceGrid(const Checker& c, const ObjectGeometry& g) {
+  const DistanceGrid& grid = g.distance_grid;
+  c.require(grid.dims[0] >= 2 && grid.dims[1] >= 2 && grid.dims[2] >= 2,
+            "distance_grid.dims must be at least 2 along each axis");
+  c.require(std::isfinite(grid.spacing) && grid.spacing > 0.0,
+            "distance_grid.spacing must be positive and finite");
+  c.requireFinite(grid.origin, "distance_grid.origin");
+  const std::uint64_t nodes = std::uint64_t{grid.dims[0]} * grid.dims[1] * grid.dims[2];
+  c.require(nodes <= kMaxGridNodes,
+            "distance_grid.dims give more than " + std::to_string(kMaxGridNodes) + " nodes");
+  c.require(grid.values.size() == nodes, "distance_grid.values holds " +
+                                             std::to_string(grid.values.size()) +
+                                             " values, dims need " + std::to_string(nodes));
+  c.require(
+      std::all_of(grid.values.begin(), grid.values.end(), [](float v) { return std::isfinite(v); }),
+      "distance_grid.values holds non-finite values");
+  c.require(grid.boundary_min <= boundaryMinimum(grid),
+            "distance_grid.boundary_min exceeds the smallest value on the grid's faces");
+  c.require((grid.origin.array() <= g.bbox_min.array()).all() &&
+                (grid.boxMax().array() >= g.bbox_max.array()).all(),
+            "distance_grid does not cover the bounding box");
+  c.require(grid.is_signed == g.closed, "distance_grid.signed must equal closed");
 }
 
 void checkContacts(const Checker& c, const ObjectDatabase& db) {
@@ -147,6 +172,7 @@ void checkHierarchy(const Checker& c, const ObjectDatabase& db) {
 void validateObjectDatabase(const ObjectDatabase& db, const std::string& what) {
   const Checker c(what);
   checkGeometry(c, db.geometry);
+  checkDistanceGrid(c, db.geometry);
   checkContacts(c, db);
   checkHierarchy(c, db);
 }

@@ -1,7 +1,6 @@
 #include "planner/multi_tree_cbirrt.h"
 
 #include <ompl/base/PlannerData.h>
-#include <ompl/datastructures/NearestNeighborsGNATNoThreadSafety.h>
 #include <ompl/geometric/PathGeometric.h>
 
 #include <algorithm>
@@ -12,6 +11,7 @@
 #include <stdexcept>
 
 #include "planner/path_smoothing.h"
+#include "scan_nearest_neighbors.h"
 
 namespace hfts::planner {
 
@@ -44,7 +44,7 @@ struct MultiTreeCBiRRT::Motion {
 struct MultiTreeCBiRRT::Tree {
   TreeKind kind = TreeKind::kForward;
   std::vector<Motion*> motions;
-  std::unique_ptr<ompl::NearestNeighbors<Motion*>> nn;
+  std::unique_ptr<ScanNearestNeighbors<Motion*>> nn;
   GoalSample root;  // what the goal sampler returned (backward trees)
 };
 
@@ -53,44 +53,37 @@ class MultiTreeCBiRRT::Knowledge : public FreeSpaceDistances {
  public:
   explicit Knowledge(const MultiTreeCBiRRT& planner) : planner_(planner) {}
   double toNonConnected(const Eigen::VectorXd& q) const override {
-    return nearest(*planner_.nonConnected_, q);
+    return planner_.nonConnected_->nearestDistance(q.data());
   }
   double toConnected(const Eigen::VectorXd& q) const override {
-    return nearest(*planner_.trees_.front()->nn, q);
+    return planner_.trees_.front()->nn->nearestDistance(q.data());
   }
   /// Between removals both sets only grow, so the nearest distance is the
   /// remembered one or that of a node added since: the same value as a
   /// full search. The goal sampler asks for hundreds of configurations per
-  /// call; GNAT searches of the whole sets took a fifth of the planning
-  /// time in the shelf, scanning the new nodes takes a few percent.
+  /// call; searches of the whole sets took a fifth of the planning time in
+  /// the shelf, scanning the new nodes takes a few percent.
   FreeSpaceDistance distances(const Eigen::VectorXd& q, FreeSpaceMemo& memo) const override {
     const MultiTreeCBiRRT& p = planner_;
+    const ScanNearestNeighbors<Motion*>& connected = *p.trees_.front()->nn;
     if (memo.generation != p.generation_) {
       memo.known = {toNonConnected(q), toConnected(q)};
       memo.generation = p.generation_;
-      memo.non_connected_seen = p.nonConnectedLog_.size();
-      memo.connected_seen = p.connectedLog_.size();
+      memo.non_connected_seen = p.nonConnected_->size();
+      memo.connected_seen = connected.size();
       return memo.known;
     }
     memo.known.to_non_connected =
-        catchUp(p.nonConnectedLog_, q, memo.non_connected_seen, memo.known.to_non_connected);
+        std::min(memo.known.to_non_connected,
+                 p.nonConnected_->nearestDistance(q.data(), memo.non_connected_seen));
     memo.known.to_connected =
-        catchUp(p.connectedLog_, q, memo.connected_seen, memo.known.to_connected);
+        std::min(memo.known.to_connected, connected.nearestDistance(q.data(), memo.connected_seen));
+    memo.non_connected_seen = p.nonConnected_->size();
+    memo.connected_seen = connected.size();
     return memo.known;
   }
 
  private:
-  double nearest(const ompl::NearestNeighbors<Motion*>& nn, const Eigen::VectorXd& q) const {
-    if (nn.size() == 0) return std::numeric_limits<double>::infinity();
-    Motion probe(q);
-    return planner_.distance(nn.nearest(&probe)->q, q);
-  }
-  double catchUp(const std::vector<const Motion*>& log, const Eigen::VectorXd& q,
-                 std::uint64_t& seen, double known) const {
-    for (; seen < log.size(); ++seen) known = std::min(known, planner_.distance(log[seen]->q, q));
-    return known;
-  }
-
   const MultiTreeCBiRRT& planner_;
 };
 
@@ -165,8 +158,6 @@ void MultiTreeCBiRRT::clear() {
   configurations_.clear();
   trees_.clear();
   nonConnected_.reset();
-  connectedLog_.clear();
-  nonConnectedLog_.clear();
   ++generation_;
   solution_.clear();
   reached_ = {};
@@ -205,21 +196,13 @@ MultiTreeCBiRRT::Motion* MultiTreeCBiRRT::addMotion(int treeIndex, const Eigen::
   m.tree = treeIndex;
   tree.motions.push_back(&m);
   tree.nn->add(&m);
-  if (tree.kind == TreeKind::kForward) {
-    connectedLog_.push_back(&m);
-  } else {
-    nonConnected_->add(&m);
-    nonConnectedLog_.push_back(&m);
-  }
+  if (tree.kind != TreeKind::kForward) nonConnected_->add(&m);
   return &m;
 }
 
-std::unique_ptr<ompl::NearestNeighbors<MultiTreeCBiRRT::Motion*>>
+std::unique_ptr<ScanNearestNeighbors<MultiTreeCBiRRT::Motion*>>
 MultiTreeCBiRRT::makeNearestNeighbors() const {
-  auto nn = std::make_unique<ompl::NearestNeighborsGNATNoThreadSafety<Motion*>>();
-  nn->setDistanceFunction(
-      [this](const Motion* a, const Motion* b) { return distance(a->q, b->q); });
-  return nn;
+  return std::make_unique<ScanNearestNeighbors<Motion*>>(space_.metric());
 }
 
 int MultiTreeCBiRRT::addTree(TreeKind kind, const Eigen::VectorXd& root) {
@@ -272,25 +255,58 @@ MultiTreeCBiRRT::GrowState MultiTreeCBiRRT::constrainedExtend(
   last = current;
   const bool backward = tree.kind != TreeKind::kForward;
   GrowState state = GrowState::kTrapped;
+  std::vector<Eigen::VectorXd>& line = lineScratch_;
   while (!ptc()) {
-    const Eigen::VectorXd from = current->q;
-    const double d = distance(from, target);
-    if (d < 1e-9) return GrowState::kReached;
-    Eigen::VectorXd next = d <= range_ ? target : from + (target - from) * (range_ / d);
-    if (backward && projection_ && projection_->nearTarget(from) && !validator_->isValid(next)) {
-      next = projection_->project(from, next);
-      // The projected step may leave the joint limits: clamp it back.
-      next = next.cwiseMax(lower_).cwiseMin(upper_);
-      ++stats_.projections;
-      // CBiRRT: stop when the projected step no longer approaches the target.
-      if (distance(next, target) >= d) return state;
+    // Up to kLookahead straight steps towards the target, checked in one
+    // stream (the collision checker tests their states a batch at a time);
+    // the same steps, nodes and answers as one step after another.
+    line.assign(1, current->q);
+    bool reached = false, nearTarget = false;
+    while (line.size() <= kLookahead) {
+      const Eigen::VectorXd& from = line.back();
+      const double d = distance(from, target);
+      if (d < 1e-9) {
+        reached = true;
+        break;
+      }
+      if (backward && projection_ && projection_->nearTarget(from)) {
+        nearTarget = true;
+        break;
+      }
+      line.push_back(d <= range_ ? target : from + (target - from) * (range_ / d));
     }
-    if (!validator_->checkMotion(from, next, validator_->resolution())) return state;
-    current = addMotion(current->tree, next, current);
-    last = current;
-    state = GrowState::kAdvanced;
+    const std::size_t steps = line.size() - 1;
+    const std::size_t valid = steps > 0 ? validator_->validSteps(line) : 0;
+    for (std::size_t k = 1; k <= valid; ++k) {
+      current = addMotion(current->tree, line[k], current);
+      last = current;
+      state = GrowState::kAdvanced;
+    }
+    if (valid < steps) return state;
+    if (reached) return GrowState::kReached;
+    if (nearTarget && !projectedStep(target, current, last, state)) return state;
   }
   return state;
+}
+
+bool MultiTreeCBiRRT::projectedStep(const Eigen::VectorXd& target, Motion*& current, Motion*& last,
+                                    GrowState& state) {
+  const Eigen::VectorXd from = current->q;
+  const double d = distance(from, target);
+  Eigen::VectorXd next = d <= range_ ? target : from + (target - from) * (range_ / d);
+  if (!validator_->isValid(next)) {
+    next = projection_->project(from, next);
+    // The projected step may leave the joint limits: clamp it back.
+    next = next.cwiseMax(lower_).cwiseMin(upper_);
+    ++stats_.projections;
+    // CBiRRT: stop when the projected step no longer approaches the target.
+    if (distance(next, target) >= d) return false;
+  }
+  if (!validator_->checkMotion(from, next, validator_->resolution())) return false;
+  current = addMotion(current->tree, next, current);
+  last = current;
+  state = GrowState::kAdvanced;
+  return true;
 }
 
 int MultiTreeCBiRRT::extendTrees(const ob::PlannerTerminationCondition& ptc, Motion*& forwardEnd,
@@ -354,7 +370,6 @@ void MultiTreeCBiRRT::mergeIntoForward(int index, Motion* forwardEnd, Motion* ba
     m->tree = 0;
     forward.motions.push_back(m);
     forward.nn->add(m);
-    connectedLog_.push_back(m);
   }
   ++stats_.merged_trees;
 }

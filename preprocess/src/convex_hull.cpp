@@ -218,7 +218,7 @@ ConvexHull::ConvexHull(const Vertices& points, const std::string& what) {
                                   .normalized();
     planes_.row(row) << n.transpose(), -n.dot(a);
   }
-  bvh_ = std::make_unique<TriangleBvh>(TriangleMesh{vertices_, faces_});
+  bvh_ = std::make_unique<db::TriangleBvh>(TriangleMesh{vertices_, faces_});
 }
 
 ConvexHull::ConvexHull(ConvexHull&&) noexcept = default;

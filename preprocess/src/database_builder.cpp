@@ -8,6 +8,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "hfts_db/distance_grid.h"
 #include "hfts_db/invalid_argument.h"
 #include "preprocess/contact_filters.h"
 #include "preprocess/contact_set.h"
@@ -40,6 +41,19 @@ void requirePositive(double value, const char* name) {
     throw InvalidArgument(name, "must be a positive number");
 }
 
+/// The object's distance grid; a spacing too fine for the mesh is named by
+/// its build parameter.
+db::DistanceGrid distanceGrid(const TriangleMesh& mesh, bool closed,
+                              const db::BuildParameters& params) {
+  try {
+    return db::buildDistanceGrid(mesh, closed,
+                                 {params.distance_grid_spacing, params.distance_grid_margin});
+  } catch (const InvalidArgument& e) {
+    if (e.field() != "DistanceGridOptions::spacing") throw;
+    throw InvalidArgument("distance_grid_spacing", e.problem());
+  }
+}
+
 db::Points3 reordered(const Vertices& m, const std::vector<std::uint32_t>& order) {
   db::Points3 out(m.rows(), 3);
   for (std::size_t i = 0; i < order.size(); ++i)
@@ -69,6 +83,12 @@ void checkBuildParameters(const db::BuildParameters& p) {
     throw InvalidArgument("branching", "needs 1 to 16 levels");
   for (std::uint32_t b : p.branching)
     if (b == 0) throw InvalidArgument("branching", "factors must be >= 1");
+  if (!(p.distance_grid_spacing >= 0.0) || !std::isfinite(p.distance_grid_spacing))
+    throw InvalidArgument("distance_grid_spacing", "must be >= 0 (0 = automatic), got " +
+                                                       std::to_string(p.distance_grid_spacing));
+  if (!(p.distance_grid_margin >= 0.0) || !std::isfinite(p.distance_grid_margin))
+    throw InvalidArgument("distance_grid_margin",
+                          "must be >= 0, got " + std::to_string(p.distance_grid_margin));
   checkFilterNames(p.filters);
 }
 
@@ -115,8 +135,10 @@ BuildResult buildObjectDatabase(const TriangleMesh& mesh, bool closed,
     db.curvature(static_cast<Eigen::Index>(i)) = contacts.curvature(hierarchy.order[i]);
   db.levels = hierarchy.levels;
   result.times.hierarchy = watch.lap();
-  result.times.total =
-      result.times.sample + result.times.normals + result.times.filter + result.times.hierarchy;
+  db.geometry.distance_grid = distanceGrid(mesh, closed, params);
+  result.times.distance_grid = watch.lap();
+  result.times.total = result.times.sample + result.times.normals + result.times.filter +
+                       result.times.hierarchy + result.times.distance_grid;
   db::validateObjectDatabase(db, what);
   return result;
 }

@@ -1,7 +1,7 @@
 // Visibility-tested surface sampling with Embree.
 #include "preprocess/surface_sampler.h"
 
-#include "preprocess/triangle_bvh.h"
+#include "hfts_db/triangle_bvh.h"
 
 #include <Eigen/Geometry>
 
@@ -56,8 +56,8 @@ void drawCandidates(const TriangleMesh& mesh, std::size_t count, std::mt19937_64
   }
 }
 
-bool visibleAlong(const TriangleBvh& scene, const Vertices& directions, const Eigen::Vector3d& p,
-                  const Eigen::Vector3d& side, double offset) {
+bool visibleAlong(const db::TriangleBvh& scene, const Vertices& directions,
+                  const Eigen::Vector3d& p, const Eigen::Vector3d& side, double offset) {
   const Eigen::Vector3d origin = p + offset * side;
   if (scene.escapes(origin, side)) return true;
   for (Eigen::Index d = 0; d < directions.rows(); ++d) {
@@ -95,7 +95,7 @@ SurfaceSamples sampleVisibleSurface(const TriangleMesh& mesh, const SamplingOpti
   Vertices candidates;
   drawCandidates(mesh, count, rng, faces, candidates);
 
-  const TriangleBvh scene(mesh);
+  const db::TriangleBvh scene(mesh);
   const Vertices directions = fibonacciSphere(options.viewpoints);
   const double extent =
       (mesh.vertices.colwise().maxCoeff() - mesh.vertices.colwise().minCoeff()).norm();

@@ -23,7 +23,16 @@ nlohmann::json parametersJson(const db::BuildParameters& p) {
           {"length_scale", p.length_scale},
           {"normal_weight", p.normal_weight},
           {"kmeans_iterations", p.kmeans_iterations},
-          {"seed", p.seed}};
+          {"seed", p.seed},
+          {"distance_grid_spacing", p.distance_grid_spacing},
+          {"distance_grid_margin", p.distance_grid_margin}};
+}
+
+nlohmann::json distanceGridJson(const db::DistanceGrid& grid) {
+  return {{"origin", vec3(grid.origin)},
+          {"spacing", grid.spacing},
+          {"dims", grid.dims},
+          {"signed", grid.is_signed}};
 }
 
 nlohmann::json graspabilityJson(const GraspabilityReport& r) {
@@ -62,6 +71,7 @@ nlohmann::json databaseSummaryJson(const db::ObjectDatabase& db,
           {"bbox_max", vec3(g.bbox_max)},
           {"hull_vertices", g.hull_vertices.rows()},
           {"hull_faces", g.hull_faces.rows()},
+          {"distance_grid", distanceGridJson(g.distance_grid)},
           {"parameters", parametersJson(db.parameters)},
           {"graspability", graspabilityJson(graspability)}};
 }
@@ -89,7 +99,10 @@ std::string databaseSummaryText(const db::ObjectDatabase& db,
       << "bounding box    [" << g.bbox_min.transpose() << "] .. [" << g.bbox_max.transpose()
       << "] m\n"
       << "convex hull     " << g.hull_vertices.rows() << " vertices, " << g.hull_faces.rows()
-      << " triangles\n";
+      << " triangles\n"
+      << "distance grid   " << g.distance_grid.dims[0] << " x " << g.distance_grid.dims[1] << " x "
+      << g.distance_grid.dims[2] << " nodes, " << 1000.0 * g.distance_grid.spacing << " mm apart, "
+      << (g.distance_grid.is_signed ? "signed" : "unsigned (open mesh)") << "\n";
   out << "graspability    ";
   if (const auto& v = graspability.value) {
     out.precision(3);

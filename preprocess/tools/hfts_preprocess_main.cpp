@@ -66,6 +66,14 @@ void addBuildOptions(CLI::App& app, BuildParameters& p) {
       ->check(CLI::Range(0u, 100000u))
       ->capture_default_str();
   app.add_option("--seed", p.seed, "Seed of sampling and clustering")->capture_default_str();
+  app.add_option("--distance-grid-spacing", p.distance_grid_spacing,
+                 "Distance grid node spacing (m); 0 = automatic")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--distance-grid-margin", p.distance_grid_margin,
+                 "Distance grid extent beyond the bounding box on every side (m)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
 }
 
 int inspect(const std::string& file, bool json, const std::string& robotConfig) {

@@ -9,6 +9,7 @@
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -162,26 +163,37 @@ bool obstacleCallback(Object* o1, Object* o2, void* raw) {
 }
 
 /// The environment as the sphere tier sees it, in the checker's order:
-/// obstacles, then the target. A mesh becomes its bounding box.
-std::vector<SphereTier::Item> sphereTierItems(const Scene& scene,
-                                              const db::ObjectGeometry* target) {
+/// obstacles, then the target. A mesh becomes its bounding box, refined by
+/// its distance grid when it has one.
+std::vector<SphereTier::Item> sphereTierItems(const Scene& scene, const db::ObjectGeometry* target,
+                                              const db::DistanceGrid* targetGrid) {
   std::vector<SphereTier::Item> items;
   auto add = [&](int type, const Eigen::Vector3d& size, const Eigen::Isometry3d& pose,
                  bool isTarget) {
-    items.push_back({static_cast<CollisionShape::Type>(type), size, pose.inverse(), isTarget});
+    items.push_back(
+        {static_cast<CollisionShape::Type>(type), size, pose.inverse(), isTarget, std::nullopt});
   };
-  auto addMesh = [&](const Vertices& vertices, const Eigen::Isometry3d& pose, bool isTarget) {
+  auto addMesh = [&](const Vertices& vertices, const db::DistanceGrid* grid,
+                     const Eigen::Isometry3d& pose, bool isTarget) {
     const Eigen::Vector3d low = vertices.colwise().minCoeff(), high = vertices.colwise().maxCoeff();
+    const Eigen::Vector3d center = (low + high) / 2;
     add(static_cast<int>(CollisionShape::Type::kBox), high - low,
-        pose * Eigen::Translation3d((low + high) / 2), isTarget);
+        pose * Eigen::Translation3d(center), isTarget);
+    if (grid == nullptr || grid->empty()) return;
+    items.back().grid =
+        SphereTier::Grid{grid->values.data(),
+                         grid->origin - center,
+                         grid->spacing,
+                         {static_cast<int>(grid->dims[0]), static_cast<int>(grid->dims[1]),
+                          static_cast<int>(grid->dims[2])}};
   };
   for (const Obstacle& o : scene.obstacles) {
     if (o.type == Obstacle::Type::kMesh)
-      addMesh(o.mesh.vertices, o.pose, false);
+      addMesh(o.mesh.vertices, o.distance_grid.get(), o.pose, false);
     else
       add(static_cast<int>(o.type), o.size, o.pose, false);
   }
-  if (target != nullptr) addMesh(target->mesh_vertices, scene.target_pose, true);
+  if (target != nullptr) addMesh(target->mesh_vertices, targetGrid, scene.target_pose, true);
   return items;
 }
 
@@ -200,6 +212,17 @@ struct CollisionChecker::Impl {
   std::vector<std::vector<std::size_t>> linkObjects;  // per link: its robotObjects
   std::uint64_t checks = 0, settledBySpheres = 0;
   std::shared_ptr<ConfigurationMetric> metric;  // Eq. (3)
+  std::vector<LinkPoses> lanePoses;             // scratch: the poses of a batch's configurations
+  // Scratch of validSegments: the states in check order, as step s of
+  // motionSteps[i] along their segment (which ends at state segmentEnds[k] - 1).
+  std::vector<int> motionOrder, motionSteps;
+  std::vector<std::size_t> segmentEnds;
+  std::vector<Eigen::VectorXd> motionStates;
+  std::vector<const Eigen::VectorXd*> motionPointers;
+  // The distance grids the sphere tier reads: the target's copied, the
+  // mesh obstacles' shared with the scene.
+  db::DistanceGrid targetGrid;
+  std::vector<std::shared_ptr<const db::DistanceGrid>> obstacleGrids;
 
   Impl(const RobotModel& m, const Scene& scene)
       : model(m),
@@ -301,35 +324,132 @@ struct CollisionChecker::Impl {
   }
 
   bool collide(const Eigen::VectorXd& q, bool allowFingertips, CollisionPair* pair) {
-    ++checks;
-    forwardKinematics(model, q, poses);
+    const Eigen::VectorXd* state = &q;
+    return firstCollision(&state, 1, allowFingertips, pair) == 0;
+  }
+
+  /// The index of the first of `states` (in their order) that collides, or
+  /// -1. Counts the states up to that one (all of them when none collides),
+  /// as checking them one by one would: the sphere tier tests a batch at a
+  /// time, FCL then takes the batch's configurations in order.
+  long firstCollision(const Eigen::VectorXd* const* states, std::size_t count, bool allowFingertips,
+                      CollisionPair* pair) {
     QueryData data;
     data.model = &model;
     data.allowFingertipContact = allowFingertips;
-    if (useTier) {
-      bool touched = false;
-      tier->forEachTouchingPair(poses, allowFingertips, [&](const SphereTier::Pair& p) {
-        touched = true;
-        return pairCollides(p, data);
-      });
-      if (!touched) ++settledBySpheres;
-    } else {
-      placeObjects();
-      robot.collide(&environment, &data, collideCallback);
-      if (!data.collision) robot.collide(&data, collideCallback);  // self-collision
+    if (!useTier) {
+      for (std::size_t i = 0; i < count; ++i) {
+        ++checks;
+        forwardKinematics(model, *states[i], poses);
+        placeObjects();
+        robot.collide(&environment, &data, collideCallback);
+        if (!data.collision) robot.collide(&data, collideCallback);  // self-collision
+        if (data.collision) return found(static_cast<long>(i), data, pair);
+      }
+      return -1;
     }
-    if (data.collision && pair != nullptr) *pair = data.pair;
-    return data.collision;
+    const std::size_t batch = tier->batchSize();
+    lanePoses.resize(batch);
+    for (std::size_t begin = 0; begin < count; begin += batch) {
+      const std::size_t n = std::min(batch, count - begin);
+      // FCL takes each touching pair's configurations in order; after a
+      // collision at lane L only the lanes before it still matter.
+      std::uint32_t placed = 0, touched = 0;
+      std::size_t first = n;
+      tier->forEachTouchingPair(
+          states + begin, n, allowFingertips,
+          [&](const SphereTier::Pair& p, std::uint32_t lanes) -> std::uint32_t {
+            touched |= lanes;
+            for (std::size_t lane = 0; lane < first; ++lane) {
+              const std::uint32_t bit = 1u << lane;
+              if ((lanes & bit) == 0) continue;
+              if ((placed & bit) == 0) {
+                forwardKinematics(model, *states[begin + lane], lanePoses[lane]);
+                placed |= bit;
+              }
+              if (pairCollides(p, lanePoses[lane], data)) first = lane;
+            }
+            return (1u << first) - 1u;
+          });
+      const std::size_t checked = std::min(first + 1, n);
+      checks += checked;
+      for (std::size_t lane = 0; lane < checked; ++lane)
+        if (((touched >> lane) & 1u) == 0) ++settledBySpheres;
+      if (first < n) return found(static_cast<long>(begin + first), data, pair);
+    }
+    return -1;
   }
 
-  /// FCL on the shapes of one pair the sphere tier found touching.
-  bool pairCollides(const SphereTier::Pair& p, QueryData& data) {
-    for (const std::size_t i : placedLink(p.link)) {
+  /// The number of leading segments of the polyline points[0] -> ... ->
+  /// points[count - 1] whose states (every state at `resolution` and the
+  /// end, points[0] assumed valid) are free; all states in one stream.
+  std::size_t validSegments(const Eigen::VectorXd* const* points, std::size_t count,
+                            double resolution, bool allowFingertips, CollisionPair* pair) {
+    if (!(resolution > 0.0)) throw InvalidArgument("resolution", "must be > 0");
+    if (count < 2) return 0;
+    // Each segment's end first, then the states between in bisection order
+    // (as OMPL's DiscreteMotionValidator): a colliding segment is usually
+    // found after a few checks, not halfway.
+    motionOrder.clear();
+    motionSteps.clear();
+    segmentEnds.clear();
+    for (std::size_t s = 1; s < count; ++s) {
+      const Eigen::VectorXd& a = *points[s - 1];
+      const Eigen::VectorXd& b = *points[s];
+      const int steps =
+          std::max(1, static_cast<int>(std::ceil(metric->distance(a, b) / resolution)));
+      motionOrder.push_back(steps);
+      bisect(0, steps);
+      motionSteps.resize(motionOrder.size(), steps);
+      segmentEnds.push_back(motionOrder.size());
+    }
+    if (motionStates.size() < motionOrder.size()) motionStates.resize(motionOrder.size());
+    motionPointers.clear();
+    std::size_t segment = 0;
+    for (std::size_t i = 0; i < motionOrder.size(); ++i) {
+      while (i >= segmentEnds[segment]) ++segment;
+      const Eigen::VectorXd& a = *points[segment];
+      const Eigen::VectorXd& b = *points[segment + 1];
+      motionStates[i] = a + (b - a) * (static_cast<double>(motionOrder[i]) / motionSteps[i]);
+      motionPointers.push_back(&motionStates[i]);
+    }
+    const long first =
+        firstCollision(motionPointers.data(), motionPointers.size(), allowFingertips, pair);
+    if (first < 0) return count - 1;
+    return static_cast<std::size_t>(
+        std::upper_bound(segmentEnds.begin(), segmentEnds.end(), static_cast<std::size_t>(first)) -
+        segmentEnds.begin());
+  }
+
+  /// Appends the midpoints of (low, high) in breadth-first bisection order.
+  void bisect(int low, int high) {
+    std::queue<std::pair<int, int>> open;  // exclusive ranges still unchecked
+    open.emplace(low, high);
+    while (!open.empty()) {
+      const auto [from, to] = open.front();
+      open.pop();
+      if (to - from < 2) continue;
+      const int mid = (from + to) / 2;
+      motionOrder.push_back(mid);
+      open.emplace(from, mid);
+      open.emplace(mid, to);
+    }
+  }
+
+  static long found(long index, const QueryData& data, CollisionPair* pair) {
+    if (pair != nullptr) *pair = data.pair;
+    return index;
+  }
+
+  /// FCL on the shapes of one pair the sphere tier found touching, the
+  /// robot at `at`.
+  bool pairCollides(const SphereTier::Pair& p, const LinkPoses& at, QueryData& data) {
+    for (const std::size_t i : placedLink(p.link, at)) {
       if (p.other_link < 0) {
         if (shapesCollide(*robotObjects[i], *environmentObjects[p.item], data)) return true;
         continue;
       }
-      for (const std::size_t j : placedLink(p.other_link))
+      for (const std::size_t j : placedLink(p.other_link, at))
         if (shapesCollide(*robotObjects[i], *robotObjects[j], data)) return true;
     }
     return false;
@@ -341,11 +461,11 @@ struct CollisionChecker::Impl {
     return a.getAABB().overlap(b.getAABB()) && collideCallback(&a, &b, &data);
   }
 
-  /// The link's objects, moved to its pose of this query.
-  const std::vector<std::size_t>& placedLink(int link) {
+  /// The link's objects, moved to its pose in `at`.
+  const std::vector<std::size_t>& placedLink(int link, const LinkPoses& at) {
     const auto l = static_cast<std::size_t>(link);
     for (const std::size_t i : linkObjects[l]) {
-      const Eigen::Isometry3d pose = base * poses[l] * robotShapes[i].second;
+      const Eigen::Isometry3d pose = base * at[l] * robotShapes[i].second;
       robotObjects[i]->setTransform(pose.linear(), pose.translation());
       robotObjects[i]->computeAABB();
     }
@@ -375,7 +495,10 @@ CollisionChecker::CollisionChecker(const RobotModel& model, const Scene& scene,
   }
   impl_->environment.setup();
   impl_->addRobot();
-  impl_->addSphereTier(sphereTierItems(scene, target));
+  for (const Obstacle& o : scene.obstacles)
+    if (o.distance_grid) impl_->obstacleGrids.push_back(o.distance_grid);
+  if (target != nullptr) impl_->targetGrid = target->distance_grid;
+  impl_->addSphereTier(sphereTierItems(scene, target, &impl_->targetGrid));
 }
 
 CollisionChecker::~CollisionChecker() = default;
@@ -480,28 +603,17 @@ std::shared_ptr<ConfigurationMetric> CollisionChecker::sharedMetric() const {
 bool CollisionChecker::isMotionValid(const Eigen::VectorXd& a, const Eigen::VectorXd& b,
                                      double resolution, bool allowFingertipContact,
                                      CollisionPair* pair) {
-  if (!(resolution > 0.0)) throw InvalidArgument("resolution", "must be > 0");
-  const int steps =
-      std::max(1, static_cast<int>(std::ceil(impl_->metric->distance(a, b) / resolution)));
-  auto collidesAt = [&](int s) {
-    return impl_->collide(a + (b - a) * (static_cast<double>(s) / steps), allowFingertipContact,
-                          pair);
-  };
-  if (collidesAt(steps)) return false;
-  // The same states in bisection order (as OMPL's DiscreteMotionValidator):
-  // a colliding segment is usually found after a few checks, not halfway.
-  std::queue<std::pair<int, int>> open;  // exclusive ranges (low, high) still unchecked
-  open.emplace(0, steps);
-  while (!open.empty()) {
-    const auto [low, high] = open.front();
-    open.pop();
-    if (high - low < 2) continue;
-    const int mid = (low + high) / 2;
-    if (collidesAt(mid)) return false;
-    open.emplace(low, mid);
-    open.emplace(mid, high);
-  }
-  return true;
+  const Eigen::VectorXd* ends[2] = {&a, &b};
+  return impl_->validSegments(ends, 2, resolution, allowFingertipContact, pair) == 1;
+}
+
+std::size_t CollisionChecker::validSegments(const std::vector<Eigen::VectorXd>& waypoints,
+                                            double resolution, bool allowFingertipContact,
+                                            CollisionPair* pair) {
+  std::vector<const Eigen::VectorXd*> points;
+  for (const Eigen::VectorXd& w : waypoints) points.push_back(&w);
+  return impl_->validSegments(points.data(), points.size(), resolution, allowFingertipContact,
+                              pair);
 }
 
 }  // namespace hfts::robot

@@ -1,31 +1,34 @@
 #include "robot/kinematics.h"
 
+#include "sin_cos.h"
+
 namespace hfts::robot {
-namespace {
-
-/// The joint's frame in its parent link: origin times the motion about (or
-/// along) the axis, composed directly (a fixed joint is its origin).
-Eigen::Isometry3d jointTransform(const Joint& joint, const Eigen::VectorXd& q) {
-  if (joint.type == Joint::Type::kFixed) return joint.origin;
-  const double value = joint.multiplier * q(joint.dof) + joint.offset;
-  Eigen::Isometry3d frame = joint.origin;
-  if (joint.type == Joint::Type::kRevolute)
-    frame.linear() =
-        joint.origin.linear() * Eigen::AngleAxisd(value, joint.axis).toRotationMatrix();
-  else
-    frame.translation() += joint.origin.linear() * (value * joint.axis);
-  return frame;
-}
-
-}  // namespace
-
 void forwardKinematics(const RobotModel& model, const Eigen::VectorXd& q, LinkPoses& poses) {
   const std::vector<Joint>& joints = model.joints();
   poses.resize(model.links().size());
   poses[0].setIdentity();
-  for (const Joint& joint : joints) {
-    poses[static_cast<std::size_t>(joint.child_link)] =
-        poses[static_cast<std::size_t>(joint.parent_link)] * jointTransform(joint, q);
+  // Every joint's value, and the sines and cosines of all at once.
+  thread_local std::vector<double> values, sines, cosines;
+  values.resize(joints.size());
+  sines.resize(joints.size());
+  cosines.resize(joints.size());
+  for (std::size_t j = 0; j < joints.size(); ++j)
+    values[j] =
+        joints[j].dof < 0 ? 0.0 : joints[j].multiplier * q(joints[j].dof) + joints[j].offset;
+  sinCos(values.data(), values.size(), sines.data(), cosines.data());
+  for (std::size_t j = 0; j < joints.size(); ++j) {
+    const Joint& joint = joints[j];
+    const Eigen::Isometry3d& parent = poses[static_cast<std::size_t>(joint.parent_link)];
+    Eigen::Isometry3d& child = poses[static_cast<std::size_t>(joint.child_link)];
+    Eigen::Matrix3d rotation = joint.rotation_fixed;
+    Eigen::Vector3d translation = joint.origin.translation();
+    if (joint.type == Joint::Type::kRevolute)
+      rotation += cosines[j] * joint.rotation_cos + sines[j] * joint.rotation_sin;
+    else if (joint.type == Joint::Type::kPrismatic)
+      translation += values[j] * joint.slide;
+    child.linear().noalias() = parent.linear() * rotation;
+    child.translation().noalias() = parent.translation() + parent.linear() * translation;
+    child.makeAffine();
   }
 }
 

@@ -172,6 +172,7 @@ class RobotModelBuilder {
           if (joint.axis.norm() < 1e-9) config_.fail("joint '" + child->name + "' has no axis");
           joint.axis.normalize();
         }
+        precomputeMotion(joint);
         model_.joints_.push_back(joint);
         queue.emplace_back(urdf_.getLink(child->child_link_name),
                            static_cast<int>(model_.joints_.size()) - 1);
@@ -354,6 +355,23 @@ class RobotModelBuilder {
     std::sort(model_.disabled_.begin(), model_.disabled_.end());
     model_.disabled_.erase(std::unique(model_.disabled_.begin(), model_.disabled_.end()),
                            model_.disabled_.end());
+  }
+
+  /// Joint::rotation_* and slide (Rodrigues: R(v) = a a^T + cos(v) (I - a a^T) + sin(v) [a]x).
+  static void precomputeMotion(Joint& joint) {
+    const Eigen::Matrix3d origin = joint.origin.linear();
+    joint.rotation_fixed = origin;
+    if (joint.type == Joint::Type::kRevolute) {
+      const Eigen::Vector3d& a = joint.axis;
+      const Eigen::Matrix3d outer = a * a.transpose();
+      Eigen::Matrix3d cross;
+      cross << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+      joint.rotation_fixed = origin * outer;
+      joint.rotation_cos = origin * (Eigen::Matrix3d::Identity() - outer);
+      joint.rotation_sin = origin * cross;
+    } else if (joint.type == Joint::Type::kPrismatic) {
+      joint.slide = origin * joint.axis;
+    }
   }
 
   void markHandLinks() {

@@ -99,7 +99,10 @@ Obstacle parseObstacle(const json& item, std::size_t index, const std::filesyste
     o.type = Obstacle::Type::kMesh;
     const double scale = f.has("scale") ? f.positive("scale") : 1.0;
     try {
-      o.mesh = loadMesh(baseDir / f.string("mesh"), scale).mesh;
+      LoadedMesh loaded = loadMesh(baseDir / f.string("mesh"), scale);
+      o.mesh = std::move(loaded.mesh);
+      o.distance_grid = std::make_shared<const db::DistanceGrid>(
+          db::buildDistanceGrid(o.mesh, loaded.topology.closed()));
     } catch (const MeshError& e) {
       f.failAt("mesh", e.what());
     }

@@ -1,134 +1,183 @@
 #include "sphere_tier.h"
 
-#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hfts::robot {
 namespace {
 
-bool touches(const SphereTier::Item& item, const Eigen::Vector3d& center, double radius) {
-  return primitiveSignedDistance(item.type, item.size, item.to_local * center) <= radius;
+/// The float nearest to x that is not below it.
+float roundedUp(double x) {
+  const auto f = static_cast<float>(x);
+  return static_cast<double>(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
 }
 
-/// A sphere (world frame) holding the whole item.
-LinkSphere boundingSphere(const SphereTier::Item& item) {
-  double radius = 0.0;
+void copyRotation(const Eigen::Matrix3d& r, float* out) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) out[3 * i + j] = static_cast<float>(r(i, j));
+}
+
+void copyVector(const Eigen::Vector3d& v, float* out) {
+  for (int i = 0; i < 3; ++i) out[i] = static_cast<float>(v(i));
+}
+
+/// Radius of a sphere around the item's centre holding the whole item.
+double boundingRadius(const SphereTier::Item& item) {
   switch (item.type) {
     case CollisionShape::Type::kBox:
-      radius = 0.5 * item.size.norm();
-      break;
+      return 0.5 * item.size.norm();
     case CollisionShape::Type::kCylinder:
-      radius = std::hypot(item.size.x(), 0.5 * item.size.y());
-      break;
+      return std::hypot(item.size.x(), 0.5 * item.size.y());
     case CollisionShape::Type::kSphere:
-      radius = item.size.x();
-      break;
+      return item.size.x();
   }
-  return {item.to_local.inverse().translation(), radius};
+  return 0.0;
 }
 
 }  // namespace
 
 SphereTier::SphereTier(const RobotModel& model, const Eigen::Isometry3d& base,
                        std::vector<Item> items)
-    : base_(base), items_(std::move(items)), spheres_(model.spheres()) {
+    : spheres_(model.spheres()), batch_(kernel::batchSize()) {
+  compileRobot(model, base);
+  compileItems(items);
   const std::size_t links = model.links().size();
-  static_.assign(links, true);
-  for (std::size_t l = 1; l < links; ++l) {
-    const Joint& joint = model.joints()[static_cast<std::size_t>(model.links()[l].parent_joint)];
-    static_[l] = joint.dof < 0 && static_[static_cast<std::size_t>(joint.parent_link)];
-  }
-  fingertip_.assign(links, false);
-  for (const Fingertip& f : model.fingertips()) fingertip_[static_cast<std::size_t>(f.link)] = true;
-  skip_item_.assign(links, std::vector<bool>(items_.size(), false));
-  for (const Item& item : items_) bounds_.push_back(boundingSphere(item));
-  root_.assign(links, 0);
-  for (std::size_t l = 0; l < links; ++l)
-    if (spheres_.links[l].root >= 0) root_[l] = static_cast<std::size_t>(spheres_.links[l].root);
+  skip_item_.assign(links, std::vector<bool>(items.size(), false));
+  may_collide_.assign(links, std::vector<bool>(links, false));
   for (std::size_t a = 0; a < links; ++a)
     for (std::size_t b = a + 1; b < links; ++b)
-      if (spheres_.links[a].root >= 0 && spheres_.links[b].root >= 0 &&
-          !model.isCollisionDisabled(static_cast<int>(a), static_cast<int>(b))) {
-        const double reach = spheres_.links[a].tree[root_[a]].sphere.radius +
-                             spheres_.links[b].tree[root_[b]].sphere.radius;
-        self_pairs_.push_back({a, b, reach * reach});
-      }
-  world_.resize(links);
-  first_node_.resize(links);
-  std::size_t nodes = 0;
-  for (std::size_t l = 0; l < links; ++l) {
-    first_node_[l] = nodes;
-    nodes += spheres_.links[l].tree.size();
-  }
-  centers_.resize(nodes);
-  stamp_.assign(nodes, 0);
+      may_collide_[a][b] = program_.root[a] >= 0 && program_.root[b] >= 0 &&
+                           !model.isCollisionDisabled(static_cast<int>(a), static_cast<int>(b));
+  listPairs();
+  q_.assign(static_cast<std::size_t>(program_.num_dofs) * batch_, 0.0f);
 }
 
-void SphereTier::startQuery(const LinkPoses& poses) {
-  if (++query_ == 0) {  // wrapped around: no stamp may look current
-    std::fill(stamp_.begin(), stamp_.end(), 0);
-    query_ = 1;
+void SphereTier::compileRobot(const RobotModel& model, const Eigen::Isometry3d& base) {
+  kernel::Program& p = program_;
+  p.num_dofs = model.numDofs();
+  p.num_links = static_cast<int>(model.links().size());
+  copyRotation(base.linear(), p.base);
+  copyVector(base.translation(), p.base + 9);
+  static_.assign(model.links().size(), true);
+  for (const Joint& joint : model.joints()) {
+    kernel::FkStep step;
+    step.parent = joint.parent_link;
+    step.child = joint.child_link;
+    step.dof = joint.type == Joint::Type::kFixed ? -1 : joint.dof;
+    step.multiplier = static_cast<float>(joint.multiplier);
+    step.offset = static_cast<float>(joint.offset);
+    copyVector(joint.origin.translation(), step.t);
+    copyRotation(joint.rotation_fixed, step.a);
+    copyRotation(joint.rotation_cos, step.b);
+    copyRotation(joint.rotation_sin, step.c);
+    copyVector(joint.slide, step.dt);
+    step.revolute = joint.type == Joint::Type::kRevolute;
+    p.steps.push_back(step);
+    const auto child = static_cast<std::size_t>(joint.child_link);
+    static_[child] = step.dof < 0 && static_[static_cast<std::size_t>(joint.parent_link)];
   }
+  p.fingertip.assign(model.links().size(), 0);
+  for (const Fingertip& f : model.fingertips()) p.fingertip[static_cast<std::size_t>(f.link)] = 1;
+  p.root.assign(model.links().size(), -1);
   for (std::size_t l = 0; l < spheres_.links.size(); ++l) {
-    if (spheres_.links[l].root < 0) continue;
-    world_[l] = base_ * poses[l];
-    center(l, spheres_.links[l].root);
+    const LinkSpheres& link = spheres_.links[l];
+    if (link.root < 0) continue;
+    const int first = static_cast<int>(p.nodes.size());
+    for (const SphereNode& node : link.tree) {
+      kernel::Node n;
+      n.x = static_cast<float>(node.sphere.center.x());
+      n.y = static_cast<float>(node.sphere.center.y());
+      n.z = static_cast<float>(node.sphere.center.z());
+      n.r = roundedUp(node.sphere.radius) + kernel::kPadding;
+      n.left = node.left < 0 ? -1 : first + node.left;
+      n.right = node.right < 0 ? -1 : first + node.right;
+      p.nodes.push_back(n);
+    }
+    p.root[l] = first + link.root;
   }
 }
 
-const Eigen::Vector3d& SphereTier::center(std::size_t link, int node) const {
-  const std::size_t i = first_node_[link] + static_cast<std::size_t>(node);
-  if (stamp_[i] != query_) {
-    centers_[i] =
-        world_[link] * spheres_.links[link].tree[static_cast<std::size_t>(node)].sphere.center;
-    stamp_[i] = query_;
+void SphereTier::compileItems(const std::vector<Item>& items) {
+  for (const Item& item : items) {
+    kernel::Item k;
+    k.target = item.target;
+    copyRotation(item.to_local.linear(), k.rotation);
+    copyVector(item.to_local.translation(), k.translation);
+    const Eigen::Vector3d center = item.to_local.inverse().translation();
+    copyVector(center, k.bound);
+    k.bound[3] = roundedUp(boundingRadius(item));
+    switch (item.type) {
+      case CollisionShape::Type::kBox:
+        k.type = kernel::ItemType::kBox;
+        copyVector(item.size / 2, k.half);
+        break;
+      case CollisionShape::Type::kCylinder:
+        k.type = kernel::ItemType::kCylinder;
+        k.half[0] = static_cast<float>(item.size.x());
+        k.half[1] = static_cast<float>(item.size.y() / 2);
+        break;
+      case CollisionShape::Type::kSphere:
+        k.type = kernel::ItemType::kSphere;
+        k.half[0] = static_cast<float>(item.size.x());
+        break;
+    }
+    if (item.grid && item.type == CollisionShape::Type::kBox) {
+      k.type = kernel::ItemType::kGrid;
+      k.values = item.grid->values;
+      copyVector(item.grid->origin, k.origin);
+      k.spacing = static_cast<float>(item.grid->spacing);
+      for (int i = 0; i < 3; ++i) k.dims[i] = item.grid->dims[static_cast<std::size_t>(i)];
+    }
+    program_.items.push_back(k);
   }
-  return centers_[i];
+}
+
+void SphereTier::listPairs() {
+  program_.env.clear();
+  program_.self.clear();
+  const std::size_t links = program_.root.size();
+  for (std::size_t l = 0; l < links; ++l) {
+    if (program_.root[l] < 0) continue;
+    for (std::size_t i = 0; i < program_.items.size(); ++i)
+      if (!skip_item_[l][i])
+        program_.env.push_back({static_cast<std::uint16_t>(l), static_cast<std::uint16_t>(i)});
+  }
+  for (std::size_t a = 0; a < links; ++a)
+    for (std::size_t b = a + 1; b < links; ++b)
+      if (may_collide_[a][b])
+        program_.self.push_back({static_cast<std::uint16_t>(a), static_cast<std::uint16_t>(b)});
+  kernel::buildWideTrees(program_);
 }
 
 void SphereTier::skipStatic(int link, std::size_t item) {
   skip_item_[static_cast<std::size_t>(link)][item] = true;
+  listPairs();
 }
 
 void SphereTier::skipStaticPair(int a, int b) {
-  // (Not std::minmax of the casts: its pair would refer to the dead temporaries.)
-  const std::size_t low = static_cast<std::size_t>(std::min(a, b));
-  const std::size_t high = static_cast<std::size_t>(std::max(a, b));
-  self_pairs_.erase(std::remove_if(self_pairs_.begin(), self_pairs_.end(),
-                                   [&](const SelfPair& p) { return p.a == low && p.b == high; }),
-                    self_pairs_.end());
+  may_collide_[static_cast<std::size_t>(std::min(a, b))][static_cast<std::size_t>(std::max(a, b))] =
+      false;
+  listPairs();
 }
 
-bool SphereTier::nodeTouchesItem(std::size_t link, int node, const Item& item) const {
-  const SphereNode& n = spheres_.links[link].tree[static_cast<std::size_t>(node)];
-  if (!touches(item, center(link, node), n.sphere.radius)) return false;
-  return n.leaf() || nodeTouchesItem(link, n.left, item) || nodeTouchesItem(link, n.right, item);
+void SphereTier::load(const Eigen::VectorXd* const* q, std::size_t count) {
+  if (count == 1) {
+    for (int d = 0; d < program_.num_dofs; ++d)
+      q_[static_cast<std::size_t>(d)] = static_cast<float>((*q[0])(d));
+    return;
+  }
+  for (std::size_t lane = 0; lane < count; ++lane)
+    for (int d = 0; d < program_.num_dofs; ++d)
+      q_[static_cast<std::size_t>(d) * batch_ + lane] = static_cast<float>((*q[lane])(d));
 }
 
-bool SphereTier::itemTouches(std::size_t link, std::size_t item, bool allowFingertipContact) const {
-  if (skip_item_[link][item] || (allowFingertipContact && items_[item].target && fingertip_[link]))
-    return false;
-  // The item's bounding sphere first: one distance, no frame change.
-  const int root = static_cast<int>(root_[link]);
-  const double reach = spheres_.links[link].tree[root_[link]].sphere.radius + bounds_[item].radius;
-  if ((center(link, root) - bounds_[item].center).squaredNorm() > reach * reach) return false;
-  return nodeTouchesItem(link, root, items_[item]);
-}
-
-bool SphereTier::linksTouch(std::size_t a, std::size_t b) const {
-  return nodesTouch(a, spheres_.links[a].root, b, spheres_.links[b].root);
-}
-
-bool SphereTier::nodesTouch(std::size_t a, int nodeA, std::size_t b, int nodeB) const {
-  const SphereNode& na = spheres_.links[a].tree[static_cast<std::size_t>(nodeA)];
-  const SphereNode& nb = spheres_.links[b].tree[static_cast<std::size_t>(nodeB)];
-  const double reach = na.sphere.radius + nb.sphere.radius;
-  if ((center(a, nodeA) - center(b, nodeB)).squaredNorm() > reach * reach) return false;
-  if (na.leaf() && nb.leaf()) return true;
-  // Descend the larger node (or the one that can).
-  if (nb.leaf() || (!na.leaf() && na.sphere.radius >= nb.sphere.radius))
-    return nodesTouch(a, na.left, b, nodeB) || nodesTouch(a, na.right, b, nodeB);
-  return nodesTouch(a, nodeA, b, nb.left) || nodesTouch(a, nodeA, b, nb.right);
+SphereTier::Pair SphereTier::pair(std::uint32_t index) const {
+  if (index < program_.env.size()) {
+    const kernel::EnvPair& p = program_.env[index];
+    return {p.link, -1, p.item};
+  }
+  const kernel::SelfPair& p = program_.self[index - program_.env.size()];
+  return {p.a, p.b, 0};
 }
 
 }  // namespace hfts::robot

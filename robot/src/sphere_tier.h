@@ -1,31 +1,46 @@
 #pragma once
 // The first tier of collision checking: the robot's sphere model
-// (link_spheres.h) against the scene's primitives and bounding boxes and
-// against itself. It names the pairs (link and item, or two links) whose
+// (link_spheres.h) against the scene's primitives, the meshes' distance
+// grids and itself. It names the pairs (link and item, or two links) whose
 // spheres touch; only those go on to FCL, and a configuration without such
 // a pair is certainly free, so the checker's answer is exactly FCL's
-// (docs/collision.md). Internal to the robot library.
+// (docs/collision.md). A batch of configurations is tested at once, one per
+// SIMD lane (sphere_kernel.h). Internal to the robot library.
 
 #include <Eigen/Geometry>
 
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
-#include "robot/kinematics.h"
 #include "robot/link_spheres.h"
 #include "robot/robot_model.h"
+#include "sphere_kernel.h"
 
 namespace hfts::robot {
 
 class SphereTier {
  public:
-  /// Something of the environment as tier 1 sees it: a primitive, or the
-  /// bounding box of a mesh (which holds the mesh, so it is conservative).
+  /// Lower bounds of the signed distance to a mesh at grid nodes (the
+  /// mesh's frame), e.g. a db::DistanceGrid's; the values must outlive the tier.
+  struct Grid {
+    const float* values = nullptr;  ///< x fastest
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+    double spacing = 0.0;
+    std::array<int, 3> dims{0, 0, 0};
+  };
+
+  /// Something of the environment as tier 1 sees it: a primitive, or a
+  /// mesh as its bounding box (which holds it), refined by its distance
+  /// grid when it has one.
   struct Item {
     CollisionShape::Type type = CollisionShape::Type::kBox;
     Eigen::Vector3d size = Eigen::Vector3d::Zero();
     Eigen::Isometry3d to_local = Eigen::Isometry3d::Identity();  ///< world -> item frame
     bool target = false;
+    /// For a mesh (a kBox around it): its grid, origin given in the box's frame.
+    std::optional<Grid> grid;
   };
 
   /// Uses the model's sphere model (RobotModel::spheres()).
@@ -46,30 +61,39 @@ class SphereTier {
     std::size_t item = 0;
   };
 
-  /// Calls visit(pair) for each pair of the robot at `poses` (base frame)
-  /// whose spheres touch: a link and an item, or two links that may
-  /// collide; stops and returns true as soon as visit returns true. No call:
-  /// certainly free. With `allowFingertipContact`, fingertip links are not
-  /// paired with the target (the grasp-aware rule, as in the exact check).
+  /// Configurations tested at once (the SIMD width: 4, 8 or 16).
+  std::size_t batchSize() const { return batch_; }
+
+  /// Tests configurations q[0] .. q[count - 1] (count <= batchSize()) and
+  /// calls visit(pair, lanes) for each pair whose spheres touch, with bit i
+  /// of `lanes` set where they touch in q[i], in the order of the exact
+  /// check (link-item pairs by link, then item; then link pairs); `visit`
+  /// returns the configurations still to be tested (as bits) and the tier
+  /// stops when none is left. A configuration without a call is certainly
+  /// free. With `allowFingertipContact`, fingertip links are not paired
+  /// with the target (the grasp-aware rule, as in the exact check).
   template <typename Visit>
-  bool forEachTouchingPair(const LinkPoses& poses, bool allowFingertipContact, Visit&& visit) {
-    startQuery(poses);
-    for (std::size_t l = 0; l < spheres_.links.size(); ++l) {
-      if (spheres_.links[l].root < 0) continue;
-      for (std::size_t i = 0; i < items_.size(); ++i)
-        if (itemTouches(l, i, allowFingertipContact) && visit(Pair{static_cast<int>(l), -1, i}))
-          return true;
-    }
-    for (const SelfPair& p : self_pairs_) {
-      // Most pairs end at their root spheres: tested here, without a call.
-      const Eigen::Vector3d& a = centers_[first_node_[p.a] + root_[p.a]];
-      const Eigen::Vector3d& b = centers_[first_node_[p.b] + root_[p.b]];
-      if ((a - b).squaredNorm() > p.reach_squared) continue;
-      if (linksTouch(p.a, p.b) && visit(Pair{static_cast<int>(p.a), static_cast<int>(p.b), 0}))
-        return true;
-    }
-    return false;
+  void forEachTouchingPair(const Eigen::VectorXd* const* q, std::size_t count,
+                           bool allowFingertipContact, Visit&& visit) {
+    load(q, count);
+    struct Context {
+      const SphereTier* tier;
+      Visit* visit;
+    } context{this, &visit};
+    const kernel::Visit forward = [](void* raw, std::uint32_t index,
+                                     std::uint32_t lanes) -> std::uint32_t {
+      auto* c = static_cast<Context*>(raw);
+      return (*c->visit)(c->tier->pair(index), lanes);
+    };
+    // One configuration: lanes over pairs; several: a configuration per lane.
+    if (count == 1)
+      kernel::findTouchingOne(program_, q_.data(), allowFingertipContact, forward, &context);
+    else
+      kernel::findTouching(program_, q_.data(), count, allowFingertipContact, forward, &context);
   }
+
+  /// The pair of a kernel pair index.
+  Pair pair(std::uint32_t index) const;
 
   /// Links whose pose does not depend on any DoF (the base and what is
   /// fixed to it).
@@ -77,36 +101,21 @@ class SphereTier {
   const SphereModel& spheres() const { return spheres_; }
 
  private:
-  /// Forgets the world centres of the previous query, places the links at
-  /// `poses` and transforms every link's root sphere.
-  void startQuery(const LinkPoses& poses);
-  /// A node's centre in the world frame this query (transformed once, on
-  /// first use: most nodes are never reached).
-  const Eigen::Vector3d& center(std::size_t link, int node) const;
-  bool itemTouches(std::size_t link, std::size_t item, bool allowFingertipContact) const;
-  bool linksTouch(std::size_t a, std::size_t b) const;
-  /// Descends the link's sphere tree from `node`: does a leaf touch the item?
-  bool nodeTouchesItem(std::size_t link, int node, const Item& item) const;
-  /// Descends two links' sphere trees: do two leaves touch?
-  bool nodesTouch(std::size_t a, int nodeA, std::size_t b, int nodeB) const;
+  void compileRobot(const RobotModel& model, const Eigen::Isometry3d& base);
+  void compileItems(const std::vector<Item>& items);
+  /// Program::env and Program::self from the pairs not skipped.
+  void listPairs();
+  /// Writes the batch into q_ (single precision, DoF-major; one
+  /// configuration: its DoF in order).
+  void load(const Eigen::VectorXd* const* q, std::size_t count);
 
-  Eigen::Isometry3d base_;
-  std::vector<Item> items_;
-  std::vector<LinkSphere> bounds_;  ///< [item]: a sphere holding it (world frame)
   const SphereModel& spheres_;
-  std::vector<bool> static_, fingertip_;
-  std::vector<std::vector<bool>> skip_item_;  ///< [link][item]
-  struct SelfPair {
-    std::size_t a, b;
-    double reach_squared;  ///< (root radius of a + root radius of b)^2
-  };
-  std::vector<SelfPair> self_pairs_;
-  std::vector<std::size_t> root_;        ///< [link]: its root node (0 for a link without one)
-  LinkPoses world_;                      ///< scratch: each link's world pose in the current query
-  std::vector<std::size_t> first_node_;  ///< [link]: its nodes' offset in centers_
-  mutable std::vector<Eigen::Vector3d> centers_;  ///< scratch: node centres this query
-  mutable std::vector<std::uint32_t> stamp_;      ///< query_ when centers_[i] was set
-  std::uint32_t query_ = 0;
+  std::size_t batch_;
+  kernel::Program program_;
+  std::vector<bool> static_;
+  std::vector<std::vector<bool>> skip_item_;    ///< [link][item]
+  std::vector<std::vector<bool>> may_collide_;  ///< [link][link]: a self pair to test
+  std::vector<float> q_;                        ///< scratch: the batch, DoF-major
 };
 
 }  // namespace hfts::robot

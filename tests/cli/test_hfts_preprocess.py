@@ -49,7 +49,12 @@ class PreprocessCli(unittest.TestCase):
         result = run("--inspect", os.path.join(self.out, "mug.h5"), "--json", check=0)
         summary = json.loads(result.stdout)
         self.assertEqual(summary["branching"], [20, 4, 4])
-        self.assertEqual(summary["format_version"], 2)
+        self.assertEqual(summary["format_version"], 3)
+        grid = summary["distance_grid"]
+        self.assertTrue(grid["signed"])
+        self.assertEqual(len(grid["dims"]), 3)
+        self.assertLessEqual(grid["dims"][0] * grid["dims"][1] * grid["dims"][2], 1 << 18)
+        self.assertEqual(summary["parameters"]["distance_grid_margin"], 0.03)
         self.assertEqual(summary["nodes_per_level"][:2], [20, 80])
         self.assertGreater(summary["num_contacts"], 1000)
         self.assertEqual(len(summary["center_of_mass"]), 3)
@@ -101,6 +106,28 @@ class PreprocessCli(unittest.TestCase):
         self.assertEqual(run(self.meshes, "-o", self.tmp, "--no-such-option").returncode, 2)
         self.assertEqual(run(self.meshes, "-o", self.tmp, "--min-neighbours", "-1").returncode, 2)
         self.assertEqual(run("--help").returncode, 0)
+
+    def test_distance_grid_options_are_stored_and_checked(self):
+        out = os.path.join(self.tmp, "grid")
+        box = os.path.join(self.meshes, "box.stl")
+        run(box, "-o", out, "--distance-grid-spacing", "0.004", "--distance-grid-margin", "0.01",
+            check=0)
+        summary = json.loads(run("--inspect", os.path.join(out, "box.h5"), "--json", check=0).stdout)
+        self.assertEqual(summary["distance_grid"]["spacing"], 0.004)
+        self.assertEqual(summary["parameters"]["distance_grid_margin"], 0.01)
+        self.assertIn("distance grid", run("--inspect", os.path.join(out, "box.h5"), check=0).stdout)
+        for option, value in (("--distance-grid-spacing", "-1"), ("--distance-grid-margin", "-0.1"),
+                              ("--distance-grid-margin", "x")):
+            result = run(box, "-o", out, option, value)
+            self.assertEqual(result.returncode, 2, (option, value))
+            self.assertIn(option, result.stderr)
+        result = run(box, "-o", out, "--distance-grid-margin", "nan")
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("distance_grid_margin: must be >= 0", result.stderr)
+        result = run(box, "-o", out, "--distance-grid-spacing", "0.00001")
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("distance_grid_spacing", result.stderr)
+        self.assertIn("choose a coarser spacing", result.stderr)
 
     def test_filters_can_be_switched_off(self):
         out = os.path.join(self.tmp, "unfiltered")

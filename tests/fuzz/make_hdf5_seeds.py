@@ -2,7 +2,7 @@
 """Writes the HDF5 seeds of the fuzz corpora (run with Debian's python3).
 
 corpus/object_database/: tiny databases of three bundled meshes, built by
-hfts-preprocess with few samples and a 4-2 hierarchy. corpus/hand_map/: the
+hfts-preprocess with few samples, a 4-2 hierarchy and a coarse distance grid. corpus/hand_map/: the
 first rows of a built hand map, rewritten the way hfts_db writes files
 (HDF5 1.10 format, chunked, Fletcher32, no timestamps), so that it still
 loads. Usage: make_hdf5_seeds.py BUILD_DIR (with bin/hfts-preprocess and
@@ -26,7 +26,9 @@ def object_databases(build: pathlib.Path) -> None:
     for mesh in MESHES:
         subprocess.run([build / "bin" / "hfts-preprocess", SOURCE / "objects" / "meshes" / mesh,
                         "-o", out, "--max-samples", "300", "--density", "2000000",
-                        "--min-neighbours", "2", "--branching", "4", "2", "-q"], check=True)
+                        "--min-neighbours", "2", "--branching", "4", "2",
+                        "--distance-grid-spacing", "0.01", "--distance-grid-margin", "0.005",
+                        "-q"], check=True)
 
 
 def copy_attributes(source, target) -> None:

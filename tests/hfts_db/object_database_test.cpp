@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <cmath>
 #include <fstream>
+#include <limits>
+#include <vector>
 
 #include "file_corruption.h"
 #include "hfts_db/atomic_file.h"
@@ -19,6 +22,7 @@ const ObjectDatabase& sample() {
   static const ObjectDatabase db = [] {
     BuildParameters params;
     params.sample_density = 60000;
+    params.distance_grid_spacing = 0.006;  // 17 000 nodes: a small file, quick bit flips
     return preprocess::buildObjectDatabaseFromFile(test::bundledMeshDir() / "torus.stl", params)
         .database;
   }();
@@ -51,6 +55,15 @@ void expectSame(const ObjectDatabase& a, const ObjectDatabase& b) {
   EXPECT_EQ(a.geometry.hull_faces, b.geometry.hull_faces);
   EXPECT_EQ(a.geometry.mesh_vertices, b.geometry.mesh_vertices);
   EXPECT_EQ(a.geometry.mesh_triangles, b.geometry.mesh_triangles);
+  EXPECT_EQ(a.parameters.distance_grid_spacing, b.parameters.distance_grid_spacing);
+  EXPECT_EQ(a.parameters.distance_grid_margin, b.parameters.distance_grid_margin);
+  const DistanceGrid &ga = a.geometry.distance_grid, &gb = b.geometry.distance_grid;
+  EXPECT_EQ(ga.origin, gb.origin);
+  EXPECT_EQ(ga.spacing, gb.spacing);
+  EXPECT_EQ(ga.dims, gb.dims);
+  EXPECT_EQ(ga.is_signed, gb.is_signed);
+  EXPECT_EQ(ga.boundary_min, gb.boundary_min);
+  EXPECT_TRUE(ga.values == gb.values);  // not EXPECT_EQ: it would print 1 MB
   ASSERT_EQ(a.levels.size(), b.levels.size());
   for (std::size_t l = 0; l < a.levels.size(); ++l) {
     ASSERT_EQ(a.levels[l].size(), b.levels[l].size());
@@ -115,6 +128,54 @@ TEST(ObjectDatabase, ValidationNamesTheViolation) {
   EXPECT_THROW(validateObjectDatabase(db, "x"), DatabaseError);
 }
 
+void expectInvalid(const ObjectDatabase& db, const std::string& problem) {
+  test::expectErrorMentioning<DatabaseError>([&] { validateObjectDatabase(db, "x"); },
+                                             {"x: ", problem});
+}
+
+TEST(ObjectDatabase, DistanceGridViolationsNameTheField) {
+  ObjectDatabase db = sample();
+  db.geometry.distance_grid.dims[1] = 1;
+  expectInvalid(db, "distance_grid.dims must be at least 2");
+  db = sample();
+  db.geometry.distance_grid.spacing = 0.0;
+  expectInvalid(db, "distance_grid.spacing must be positive and finite");
+  db = sample();
+  db.geometry.distance_grid.origin.y() = std::nan("");
+  expectInvalid(db, "distance_grid.origin holds non-finite values");
+  db = sample();
+  db.geometry.distance_grid.values.pop_back();
+  expectInvalid(db, "distance_grid.values holds");
+  db = sample();
+  db.geometry.distance_grid.values[7] = std::numeric_limits<float>::infinity();
+  expectInvalid(db, "distance_grid.values holds non-finite values");
+  db = sample();
+  db.geometry.distance_grid.origin.z() = db.geometry.bbox_min.z() + 1e-4;
+  expectInvalid(db, "distance_grid does not cover the bounding box");
+  db = sample();
+  db.geometry.distance_grid.is_signed = !db.geometry.closed;
+  expectInvalid(db, "distance_grid.signed must equal closed");
+  db = sample();
+  db.geometry.distance_grid.boundary_min += 1e-3f;
+  expectInvalid(db, "distance_grid.boundary_min exceeds the smallest value on the grid's faces");
+  db = sample();
+  db.geometry.distance_grid = {};
+  expectInvalid(db, "distance_grid.dims");
+}
+
+TEST(ObjectDatabase, EveryDatabaseHasASignedGridOfItsClosedMesh) {
+  const ObjectDatabase& db = sample();
+  const DistanceGrid& grid = db.geometry.distance_grid;
+  ASSERT_TRUE(db.geometry.closed);  // the torus: tube radius 1.5 cm, hole radius 3.5 cm
+  EXPECT_TRUE(grid.is_signed);
+  EXPECT_EQ(grid.spacing, 0.006);
+  const double slack = std::sqrt(3.0) * grid.spacing;
+  EXPECT_GT(grid.lowerBound(db.geometry.center_of_mass), 0.035 - slack);
+  const Eigen::Vector3d inTube =
+      db.positions.row(0).transpose() - 0.012 * db.normals.row(0).transpose();
+  EXPECT_LT(grid.lowerBound(inTube), -0.012 + slack);
+}
+
 TEST(ObjectDatabase, MissingEmptyAndForeignFilesAreRejected) {
   TempDir dir;
   expectLoadError(dir / "missing.h5", "no such file");
@@ -140,7 +201,48 @@ TEST(ObjectDatabase, VersionOneIsRejectedBeforeItsStringsAreRead) {
   test::setVariableLengthString(dir / "v1.h5", "/", "format", "hfts-object-database");
   test::expectErrorMentioning<DatabaseError>(
       [&] { loadObjectDatabase(dir / "v1.h5"); },
-      {"format version 1 is not supported", "reads version 2", "hfts-preprocess MESH -o DIR"});
+      {"format version 1 is not supported", "reads version 3", "hfts-preprocess MESH -o DIR"});
+}
+
+TEST(ObjectDatabase, VersionTwoIsRejectedNamingTheCommandThatRebuildsIt) {
+  // A version-2 file: no distance grid, no grid parameters.
+  TempDir dir;
+  saveObjectDatabase(sample(), dir / "v2.h5");
+  {
+    const hid_t file = H5Fopen((dir / "v2.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    H5Ldelete(file, "distance_grid", H5P_DEFAULT);
+    const hid_t parameters = H5Gopen2(file, "parameters", H5P_DEFAULT);
+    H5Adelete(parameters, "distance_grid_spacing");
+    H5Adelete(parameters, "distance_grid_margin");
+    H5Gclose(parameters);
+    H5Fclose(file);
+  }
+  test::setFormatVersion(dir / "v2.h5", 2);
+  test::expectErrorMentioning<DatabaseError>(
+      [&] { loadObjectDatabase(dir / "v2.h5"); },
+      {(dir / "v2.h5").string(), "format version 2 is not supported", "reads version 3",
+       "rebuild it with hfts-preprocess MESH -o DIR"});
+}
+
+TEST(ObjectDatabase, DistanceGridValuesStoredAsDoublesAreRejected) {
+  // Converting f64 to f32 rounds to nearest, which could round a distance up.
+  TempDir dir;
+  saveObjectDatabase(sample(), dir / "f64.h5");
+  {
+    const DistanceGrid& grid = sample().geometry.distance_grid;
+    const std::vector<double> widened(grid.values.begin(), grid.values.end());
+    const hsize_t shape[3] = {grid.dims[2], grid.dims[1], grid.dims[0]};
+    const hid_t file = H5Fopen((dir / "f64.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    H5Ldelete(file, "distance_grid/values", H5P_DEFAULT);
+    const hid_t space = H5Screate_simple(3, shape, nullptr);
+    const hid_t set = H5Dcreate2(file, "distance_grid/values", H5T_IEEE_F64LE, space, H5P_DEFAULT,
+                                 H5P_DEFAULT, H5P_DEFAULT);
+    H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, widened.data());
+    H5Dclose(set);
+    H5Sclose(space);
+    H5Fclose(file);
+  }
+  expectLoadError(dir / "f64.h5", "dataset 'values' must hold 32-bit elements");
 }
 
 TEST(ObjectDatabase, VariableLengthStringsAreNotRead) {

@@ -127,5 +127,21 @@ TEST(SolidProperties, InvertedWindingGivesThePositiveVolume) {
   EXPECT_LT(s.centroid.norm(), 1e-12);
 }
 
+TEST(ConvexHull, IsShallowAgreesWithDepthInside) {
+  const TriangleMesh mesh = test::merged(test::cube(0.1), test::cube(0.1, {0.1, 0.05, 0.02}));
+  const ConvexHull hull(mesh.vertices, "two cubes");
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-0.05, 0.15);
+  int inside = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const Eigen::Vector3d p(u(rng), u(rng), u(rng) / 2);
+    const double depth = hull.depth(p);
+    if (depth < 0.0 || std::abs(depth - 0.01) < 1e-5) continue;
+    EXPECT_EQ(hull.isShallow(p, 0.01), depth <= 0.01) << p.transpose();
+    ++inside;
+  }
+  EXPECT_GT(inside, 300);
+}
+
 }  // namespace
 }  // namespace hfts::preprocess

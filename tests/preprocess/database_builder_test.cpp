@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <string>
 #include <thread>
 
+#include "hfts_db/invalid_argument.h"
 #include "preprocess/database_builder.h"
 #include "test_meshes.h"
 
@@ -139,6 +142,47 @@ TEST(DatabaseBuilder, RejectsBadParametersByName) {
   params = {};
   params.filters = {"magic"};
   EXPECT_THROW(checkBuildParameters(params), std::invalid_argument);
+}
+
+TEST(DatabaseBuilder, RejectsBadDistanceGridParametersByName) {
+  auto expectField = [](const db::BuildParameters& params, const std::string& field) {
+    try {
+      checkBuildParameters(params);
+      ADD_FAILURE() << "no error for " << field;
+    } catch (const InvalidArgument& e) {
+      EXPECT_EQ(e.field(), field) << e.what();
+    }
+  };
+  db::BuildParameters params;
+  params.distance_grid_spacing = -0.001;
+  expectField(params, "distance_grid_spacing");
+  params = {};
+  params.distance_grid_margin = std::nan("");
+  expectField(params, "distance_grid_margin");
+  // Too fine for the mesh: known only once the mesh is, still named by its parameter.
+  params = {};
+  params.distance_grid_spacing = 1e-5;
+  try {
+    buildObjectDatabase(test::cube(0.1), true, params, "cube");
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidArgument& e) {
+    EXPECT_EQ(e.field(), "distance_grid_spacing") << e.what();
+  }
+}
+
+TEST(DatabaseBuilder, TheDistanceGridFollowsItsParameters) {
+  db::BuildParameters params;
+  params.distance_grid_spacing = 0.004;
+  params.distance_grid_margin = 0.01;
+  const BuildResult r = buildObjectDatabase(test::cube(0.1), true, params, "cube");
+  const db::DistanceGrid& grid = r.database.geometry.distance_grid;
+  EXPECT_EQ(grid.spacing, 0.004);
+  EXPECT_TRUE(grid.is_signed);
+  EXPECT_TRUE((grid.origin.array() <= -0.06).all()) << grid.origin.transpose();
+  EXPECT_TRUE((grid.boxMax().array() >= 0.06).all()) << grid.boxMax().transpose();
+  EXPECT_GT(grid.origin.x(), -0.06 - 0.004);  // the margin, not a node more
+  EXPECT_GT(r.times.distance_grid, 0.0);
+  EXPECT_LT(grid.lowerBound(Eigen::Vector3d::Zero()), -0.05 + 0.004 * std::sqrt(3.0));
 }
 
 TEST(Sha256, MatchesAKnownDigest) {

@@ -319,6 +319,44 @@ Eigen::VectorXd randomConfiguration(std::mt19937_64& rng) {
   return q;
 }
 
+TEST(CollisionChecker, ValidSegmentsIsIsMotionValidSegmentBySegment) {
+  // Random walks of 0.3-rad steps (many end in a collision somewhere), in
+  // one stream and one segment at a time: the same count of valid leading
+  // segments and the same number of checked states, with the sphere tier
+  // and without.
+  Scene scene = bundledScene("shelf");
+  const db::ObjectDatabase& db = objects().at(scene.target_object);
+  for (const bool spheres : {true, false}) {
+    CollisionChecker stream(m(), scene, &db.geometry), oneByOne(m(), scene, &db.geometry);
+    stream.setSphereTier(spheres);
+    oneByOne.setSphereTier(spheres);
+    std::mt19937_64 rng(9);
+    std::size_t partial = 0;
+    for (int walk = 0; walk < 60; ++walk) {
+      std::vector<Eigen::VectorXd> line{randomConfiguration(rng)};
+      while (oneByOne.inCollision(line.front())) line.front() = randomConfiguration(rng);
+      const std::uint64_t streamBefore = stream.checkCount(), oneBefore = oneByOne.checkCount();
+      for (int step = 0; step < 8; ++step) {
+        const Eigen::VectorXd toward = randomConfiguration(rng) - line.back();
+        const double length =
+            oneByOne.metric().distance(toward, Eigen::VectorXd::Zero(toward.size()));
+        line.push_back(line.back() + toward * (0.3 / length));
+      }
+      std::size_t expected = 0;
+      while (expected + 1 < line.size() &&
+             oneByOne.isMotionValid(line[expected], line[expected + 1], 0.02))
+        ++expected;
+      EXPECT_EQ(stream.validSegments(line, 0.02), expected) << walk;
+      EXPECT_EQ(stream.checkCount() - streamBefore, oneByOne.checkCount() - oneBefore) << walk;
+      partial += expected > 0 && expected < line.size() - 1;
+    }
+    EXPECT_GT(partial, 5u);  // walks that end in a collision after some free steps
+  }
+  CollisionChecker checker(m(), scene, nullptr);
+  EXPECT_EQ(checker.validSegments({m().home()}, 0.02), 0u);
+  EXPECT_THROW(checker.validSegments({m().home(), m().home()}, 0.0), std::invalid_argument);
+}
+
 /// Both rules with the sphere tier and without; returns whether q collides
 /// (without the grasp rule). Counts the answers the tier settled alone.
 bool expectSameAnswerWithAndWithoutSpheres(CollisionChecker& checker, const Eigen::VectorXd& q) {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "robot_fixture.h"
 #include "test_meshes.h"
 
@@ -76,6 +78,35 @@ TEST(Scene, MeshObstaclesLoadRelativeToTheSceneFile) {
       R"({"name": "m", "type": "mesh", "mesh": "block.stl", "scale": 2, "pose": {"position": [0,0,0], "orientation": [0,0,0,1]}})");
   const Scene s = parseScene(text, dir.path(), "x");
   EXPECT_NEAR(s.obstacles[0].mesh.vertices.maxCoeff(), 0.1, 1e-7);
+}
+
+TEST(Scene, MeshObstaclesGetTheDistanceGridOfTheirMesh) {
+  test::TempDir dir;
+  test::writeBinaryStl(dir / "block.stl", test::cube(0.1));
+  TriangleMesh openBox = test::cube(0.1);  // without its top (rows 2 and 3): open
+  openBox.triangles.middleRows(2, 2) = openBox.triangles.bottomRows(2);
+  openBox.triangles.conservativeResize(10, 3);
+  test::writeBinaryStl(dir / "open.stl", openBox);
+  const std::string text = withObstacle(
+      R"({"name": "m", "type": "mesh", "mesh": "block.stl", "scale": 2, "pose": {"position": [1,0,0], "orientation": [0,0,0,1]}},
+         {"name": "s", "type": "mesh", "mesh": "open.stl", "pose": {"position": [0,0,0], "orientation": [0,0,0,1]}},
+         {"name": "b", "type": "box", "size": [1,1,1], "pose": {"position": [0,0,2], "orientation": [0,0,0,1]}})");
+  const Scene s = parseScene(text, dir.path(), "x");
+  ASSERT_EQ(s.obstacles.size(), 3u);
+  // The closed block (scaled to 20 cm) gets a signed grid in its mesh frame.
+  ASSERT_NE(s.obstacles[0].distance_grid, nullptr);
+  const db::DistanceGrid& block = *s.obstacles[0].distance_grid;
+  EXPECT_TRUE(block.is_signed);
+  EXPECT_TRUE((block.origin.array() <= -0.13).all());  // 10 cm + the 3 cm margin
+  EXPECT_NEAR(block.lowerBound(Eigen::Vector3d(0.15, 0, 0)), 0.05, std::sqrt(3.0) * block.spacing);
+  EXPECT_LT(block.lowerBound(Eigen::Vector3d::Zero()), -0.05);
+  // The open box gets an unsigned one; primitives get none.
+  ASSERT_NE(s.obstacles[1].distance_grid, nullptr);
+  EXPECT_FALSE(s.obstacles[1].distance_grid->is_signed);
+  EXPECT_EQ(s.obstacles[2].distance_grid, nullptr);
+  // Copies of the scene share the grid.
+  const Scene copy = s;
+  EXPECT_EQ(copy.obstacles[0].distance_grid, s.obstacles[0].distance_grid);
 }
 
 TEST(Scene, MalformedScenesGiveClearErrors) {

@@ -5,6 +5,7 @@
 
 #include <memory>
 
+#include "bundled_objects.h"
 #include "grasp/hand_reachability.h"
 #include "preprocess/database_builder.h"
 #include "robot_fixture.h"
@@ -18,7 +19,9 @@ inline const std::map<std::string, db::ObjectDatabase>& sceneTargetObjects() {
   static const std::map<std::string, db::ObjectDatabase> all = [] {
     std::map<std::string, db::ObjectDatabase> out;
     for (const char* mesh : {"blob.stl", "bottle.stl", "mug.ply"}) {
-      auto database = preprocess::buildObjectDatabaseFromFile(bundledMeshDir() / mesh, {}).database;
+      auto database =
+          preprocess::buildObjectDatabaseFromFile(bundledMeshDir() / mesh, fixtureParameters())
+              .database;
       out.emplace(database.name, std::move(database));
     }
     return out;

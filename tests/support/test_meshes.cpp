@@ -2,11 +2,16 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <sstream>
+
+#include "hfts_db/triangle_bvh.h"
 
 namespace hfts::test {
 
@@ -165,6 +170,30 @@ void writeCollada(const std::filesystem::path& path, const TriangleMesh& mesh) {
   <scene><instance_visual_scene url="#scene"/></scene>
 </COLLADA>
 )";
+}
+
+double bruteForceDistance(const TriangleMesh& mesh, const Eigen::Vector3d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+    const Eigen::Vector3d q =
+        db::closestPointOnTriangle(p, corner(mesh, t, 0), corner(mesh, t, 1), corner(mesh, t, 2));
+    best = std::min(best, (q - p).norm());
+  }
+  return best;
+}
+
+double windingNumber(const TriangleMesh& mesh, const Eigen::Vector3d& p) {
+  double sum = 0.0;
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+    // Van Oosterom and Strackee's solid angle of a triangle.
+    const Eigen::Vector3d a = corner(mesh, t, 0) - p, b = corner(mesh, t, 1) - p,
+                          c = corner(mesh, t, 2) - p;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    const double numerator = a.dot(b.cross(c));
+    const double denominator = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+    sum += 2.0 * std::atan2(numerator, denominator);
+  }
+  return sum / (4.0 * M_PI);
 }
 
 std::filesystem::path bundledMeshDir() {

@@ -23,6 +23,14 @@ TriangleMesh flipped(TriangleMesh mesh);
 /// A horizontal square of edge `size` at height z (two triangles).
 TriangleMesh square(double size, double z);
 
+/// Distance from p to the nearest point of any triangle, by trying them all.
+double bruteForceDistance(const TriangleMesh& mesh, const Eigen::Vector3d& p);
+
+/// Generalised winding number of the mesh around p: the sum of the
+/// triangles' signed solid angles over 4 pi (1 inside an outward-wound
+/// closed surface, 0 outside, 2 where two closed parts overlap).
+double windingNumber(const TriangleMesh& mesh, const Eigen::Vector3d& p);
+
 /// A fresh empty directory under the system temp dir, removed on destruction.
 class TempDir {
  public:

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "hfts_db/distance_grid.h"
+
 namespace hfts::db {
 
 /// Thrown when a database file cannot be read or written, or when its
@@ -22,7 +24,7 @@ class DatabaseError : public std::runtime_error {
 
 /// Name and version of the file format written by this library.
 inline constexpr const char* kObjectFormatName = "hfts-object-database";
-inline constexpr std::uint32_t kObjectFormatVersion = 2;
+inline constexpr std::uint32_t kObjectFormatVersion = 3;
 
 using Points3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 using Faces3 = Eigen::Matrix<std::uint32_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
@@ -45,6 +47,8 @@ struct BuildParameters {
   double normal_weight = 0.5;            ///< k-means weight of the unit normal
   std::uint32_t kmeans_iterations = 50;  ///< Lloyd iterations per partition
   std::uint64_t seed = 1;                ///< seeds sampling and k-means
+  double distance_grid_spacing = 0.0;    ///< m; 0 = automatic (DistanceGridOptions::spacing)
+  double distance_grid_margin = 0.03;    ///< m beyond the bounding box on every side
 };
 
 /// What the contact filters did: how many samples each removed, in order.
@@ -65,6 +69,9 @@ struct ObjectGeometry {
   Faces3 hull_faces;      ///< convex hull triangles, outward winding
   Points3 mesh_vertices;  ///< the object's surface mesh (metres), for collision checking
   Faces3 mesh_triangles;
+  /// Distances from the mesh's surface (buildDistanceGrid): signed exactly
+  /// when `closed`; covers the bounding box plus the build's margin.
+  DistanceGrid distance_grid;
 };
 
 /// One node of the Hierarchical Fingertip Space partition. Contacts are
@@ -101,7 +108,8 @@ struct ObjectDatabase {
 
 /// Checks every invariant of the schema (shapes, finite values, unit
 /// normals, exact partition at every level, representatives inside their
-/// node). Throws DatabaseError naming `what` and the first violation.
+/// node, a distance grid covering the mesh). Throws DatabaseError naming `what` and the first
+/// violation.
 void validateObjectDatabase(const ObjectDatabase& db, const std::string& what);
 
 /// Writes `db` to `path` atomically (temporary file in the same directory,

@@ -24,6 +24,9 @@
 
 namespace hfts::planner {
 
+template <typename T>
+class ScanNearestNeighbors;  // scan_nearest_neighbors.h
+
 /// The goal of a grasp planning problem: goal configurations are not known
 /// up front but produced by a GoalSampler while the planner runs.
 class GraspGoal : public ompl::base::Goal {
@@ -81,7 +84,7 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   enum class Direction { kForward, kBackward };
 
   void declareParameters();
-  std::unique_ptr<ompl::NearestNeighbors<Motion*>> makeNearestNeighbors() const;
+  std::unique_ptr<ScanNearestNeighbors<Motion*>> makeNearestNeighbors() const;
   Motion* addMotion(int tree, const Eigen::VectorXd& q, Motion* parent);
   int addTree(TreeKind kind, const Eigen::VectorXd& root);
   void sampleGoal(GoalSampler& sampler, const ompl::base::PlannerTerminationCondition& ptc);
@@ -95,6 +98,11 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   /// node towards `target` until reached or trapped.
   GrowState constrainedExtend(Tree& tree, const Eigen::VectorXd& target,
                               const ompl::base::PlannerTerminationCondition& ptc, Motion*& last);
+  /// One step of constrainedExtend from `current` near the target of a
+  /// backward tree: projected (Sec. III-A.2) when the straight step
+  /// collides. False when the extension stops there.
+  bool projectedStep(const Eigen::VectorXd& target, Motion*& current, Motion*& last,
+                     GrowState& state);
   int pickBackwardTree();
   void mergeIntoForward(int tree, Motion* forwardEnd, Motion* backwardEnd);
   void dropTree(int tree);
@@ -134,14 +142,16 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   std::deque<Motion> motions_;                // every node of every tree (stable addresses)
   ConfigurationArena configurations_;         // their configurations
   std::vector<std::unique_ptr<Tree>> trees_;  // 0: T_f; others: backward (null once gone)
-  std::unique_ptr<ompl::NearestNeighbors<Motion*>> nonConnected_;  // all backward tree nodes
-  // Every node that joined T_f or the non-connected set, in order, so that
-  // the goal sampler's distances only look at what is new (Knowledge). The
-  // generation changes whenever a node leaves a set (merge, dropped tree).
-  std::vector<const Motion*> connectedLog_, nonConnectedLog_;
+  std::unique_ptr<ScanNearestNeighbors<Motion*>> nonConnected_;  // all backward tree nodes
+  // Changes whenever a node leaves T_f or the non-connected set (merge,
+  // dropped tree); in between both only grow, in insertion order, so the
+  // goal sampler's distances only look at what is new (Knowledge).
   std::uint64_t generation_ = 0;
   Direction direction_ = Direction::kForward;
   std::vector<Eigen::VectorXd> solution_;
+  /// Steps constrainedExtend checks in one stream, and its scratch line.
+  static constexpr std::size_t kLookahead = 8;
+  std::vector<Eigen::VectorXd> lineScratch_;
   GoalSample reached_;
   TreeStatistics stats_;
 };

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "hfts_db/object_database.h"
+#include "hfts_db/triangle_bvh.h"
 #include "hfts_db/triangle_mesh.h"
-#include "preprocess/triangle_bvh.h"
 
 namespace hfts::preprocess {
 
@@ -38,7 +38,7 @@ class ConvexHull {
   db::Points3 vertices_;
   db::Faces3 faces_;
   Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> planes_;  // n.x, n.y, n.z, d
-  std::unique_ptr<TriangleBvh> bvh_;
+  std::unique_ptr<db::TriangleBvh> bvh_;
 };
 
 /// Volume and centroid of the solid bounded by a closed mesh (divergence

@@ -16,7 +16,7 @@ std::string producerName();
 
 /// Wall time of each stage (seconds).
 struct StageTimes {
-  double load = 0, sample = 0, normals = 0, filter = 0, hierarchy = 0, total = 0;
+  double load = 0, sample = 0, normals = 0, filter = 0, hierarchy = 0, distance_grid = 0, total = 0;
 };
 
 struct BuildResult {
@@ -26,7 +26,7 @@ struct BuildResult {
 };
 
 /// Checks parameters that do not depend on the mesh; throws
-/// std::invalid_argument naming the offending parameter.
+/// hfts::InvalidArgument naming the offending parameter.
 void checkBuildParameters(const db::BuildParameters& params);
 
 /// Builds the database of an in-memory mesh (already scaled to metres).

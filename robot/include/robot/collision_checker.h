@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "hfts_db/object_database.h"
 #include "robot/configuration_metric.h"
@@ -97,6 +98,15 @@ class CollisionChecker {
   /// selects the grasp rule.
   bool isMotionValid(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution,
                      bool allowFingertipContact = false, CollisionPair* pair = nullptr);
+
+  /// Checks the polyline waypoints[0] -> waypoints[1] -> ... segment by
+  /// segment as isMotionValid does (waypoints[0] is assumed valid), with all
+  /// their states in one stream, so that the sphere tier tests them a batch
+  /// at a time. Returns the number of leading segments that are valid:
+  /// waypoints.size() - 1 when all are (0 for fewer than two waypoints).
+  /// Counts states as checking the segments one after another would.
+  std::size_t validSegments(const std::vector<Eigen::VectorXd>& waypoints, double resolution,
+                            bool allowFingertipContact = false, CollisionPair* pair = nullptr);
 
   /// The Eq. (3) metric of isMotionValid's resolution: the robot's DoF
   /// weights unless changed. Shared with the OMPL state space made on this

@@ -51,6 +51,16 @@ struct Joint {
   int dof = -1;
   double multiplier = 1.0;  ///< joint value = multiplier * q[dof] + offset
   double offset = 0.0;
+  /// The joint's frame in its parent at value v, from origin and axis (set
+  /// by RobotModel::load, for fast forward kinematics): rotation
+  /// rotation_fixed + cos(v) rotation_cos + sin(v) rotation_sin (= origin
+  /// rotation times the turn about the axis; the last two are zero unless
+  /// revolute), translation origin.translation() + v slide (slide = 0
+  /// unless prismatic).
+  Eigen::Matrix3d rotation_fixed = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d rotation_cos = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d rotation_sin = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d slide = Eigen::Vector3d::Zero();
 };
 
 struct SphereModel;  // link_spheres.h

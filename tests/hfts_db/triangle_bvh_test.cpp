@@ -1,25 +1,16 @@
-#include "preprocess/triangle_bvh.h"
+#include "hfts_db/triangle_bvh.h"
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
-#include "preprocess/convex_hull.h"
 #include "test_meshes.h"
 
-namespace hfts::preprocess {
+namespace hfts::db {
 namespace {
 
-double bruteForceDistance(const TriangleMesh& mesh, const Eigen::Vector3d& p) {
-  double best = std::numeric_limits<double>::infinity();
-  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-    const Eigen::Vector3d a = mesh.vertices.row(mesh.triangles(t, 0));
-    const Eigen::Vector3d b = mesh.vertices.row(mesh.triangles(t, 1));
-    const Eigen::Vector3d c = mesh.vertices.row(mesh.triangles(t, 2));
-    best = std::min(best, (closestPointOnTriangle(p, a, b, c) - p).norm());
-  }
-  return best;
-}
+using test::bruteForceDistance;
 
 TEST(ClosestPointOnTriangle, CoversFaceEdgeAndVertexRegions) {
   const Eigen::Vector3d a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
@@ -48,6 +39,32 @@ TEST(TriangleBvh, IsWithinAgreesWithBruteForce) {
   EXPECT_GT(checked, 1900);
 }
 
+TEST(TriangleBvh, ClosestPointIsTheBruteForceMinimumWithAnyHint) {
+  const TriangleMesh mesh = test::merged(test::cube(0.1), test::cube(0.04, {0.2, 0, 0}));
+  const TriangleBvh bvh(mesh);
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> u(-0.3, 0.5);
+  std::uniform_int_distribution<std::uint32_t> triangle(0, 23);
+  for (int i = 0; i < 2000; ++i) {
+    const Eigen::Vector3d p(u(rng), u(rng) / 2, u(rng) / 2);
+    const ClosestPoint nearest = bvh.closestPoint(p, triangle(rng));
+    // Equal, not near: the same double computation decides, Embree only culls.
+    EXPECT_EQ(nearest.distance, bruteForceDistance(mesh, p)) << p.transpose();
+    EXPECT_NEAR((nearest.point - p).norm(), nearest.distance, 1e-15);
+    const Eigen::Index t = nearest.triangle;
+    const Eigen::Vector3d onTriangle = closestPointOnTriangle(
+        p, mesh.vertices.row(mesh.triangles(t, 0)), mesh.vertices.row(mesh.triangles(t, 1)),
+        mesh.vertices.row(mesh.triangles(t, 2)));
+    EXPECT_EQ(onTriangle, nearest.point);
+  }
+}
+
+TEST(TriangleBvh, ClosestPointOfAnEmptyMeshIsInfinitelyFar) {
+  const TriangleBvh bvh(TriangleMesh{});
+  EXPECT_EQ(bvh.closestPoint(Eigen::Vector3d::Zero()).distance,
+            std::numeric_limits<double>::infinity());
+}
+
 TEST(TriangleBvh, RaysEscapeOnlyWhereNothingIsHit) {
   const TriangleBvh bvh(test::cube(0.1));
   EXPECT_FALSE(bvh.escapes({0, 0, 0}, {1, 0, 0}));     // from inside
@@ -56,21 +73,5 @@ TEST(TriangleBvh, RaysEscapeOnlyWhereNothingIsHit) {
   EXPECT_TRUE(bvh.escapes({0, 0, 0.051}, {0, 0, 1}));  // just outside a face
 }
 
-TEST(ConvexHull, IsShallowAgreesWithDepthInside) {
-  const TriangleMesh mesh = test::merged(test::cube(0.1), test::cube(0.1, {0.1, 0.05, 0.02}));
-  const ConvexHull hull(mesh.vertices, "two cubes");
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> u(-0.05, 0.15);
-  int inside = 0;
-  for (int i = 0; i < 3000; ++i) {
-    const Eigen::Vector3d p(u(rng), u(rng), u(rng) / 2);
-    const double depth = hull.depth(p);
-    if (depth < 0.0 || std::abs(depth - 0.01) < 1e-5) continue;
-    EXPECT_EQ(hull.isShallow(p, 0.01), depth <= 0.01) << p.transpose();
-    ++inside;
-  }
-  EXPECT_GT(inside, 300);
-}
-
 }  // namespace
-}  // namespace hfts::preprocess
+}  // namespace hfts::db

@@ -1,15 +1,17 @@
-#include "preprocess/triangle_bvh.h"
+#include "hfts_db/triangle_bvh.h"
 
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 
-namespace hfts::preprocess {
+namespace hfts::db {
 
 struct TriangleBvh::Impl {
   TriangleMesh mesh;
+  double extent = 0.0;  ///< largest absolute vertex coordinate
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
 
@@ -61,15 +63,47 @@ bool nearCallback(RTCPointQueryFunctionArguments* args) {
   return true;
 }
 
+Eigen::Vector3d closestOnTriangle(const TriangleMesh& mesh, std::uint32_t f,
+                                  const Eigen::Vector3d& p) {
+  auto corner = [&](int k) -> Eigen::Vector3d { return mesh.vertices.row(mesh.triangles(f, k)); };
+  return closestPointOnTriangle(p, corner(0), corner(1), corner(2));
+}
+
+struct NearestQuery {
+  const TriangleMesh* mesh;
+  Eigen::Vector3d point;
+  double slack;  ///< bound on Embree's single-precision error in culling
+  ClosestPoint best;
+};
+
+/// Embree culls in single precision (float vertices, float query point):
+/// the radius it is given exceeds the best double distance by `slack`, so
+/// the truly nearest triangle is never culled.
+float cullingRadius(double distance, double slack) {
+  const float radius = static_cast<float>(distance + slack);
+  return std::nextafter(radius, std::numeric_limits<float>::infinity());
+}
+
+bool nearestCallback(RTCPointQueryFunctionArguments* args) {
+  auto* query = static_cast<NearestQuery*>(args->userPtr);
+  const Eigen::Vector3d q = closestOnTriangle(*query->mesh, args->primID, query->point);
+  const double d = (q - query->point).norm();
+  if (!(d < query->best.distance)) return false;
+  query->best = {q, d, args->primID};
+  args->query->radius = cullingRadius(d, query->slack);
+  return true;
+}
+
 }  // namespace
 
 TriangleBvh::TriangleBvh(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>()) {
   impl_->mesh = mesh;
+  impl_->extent = mesh.vertices.size() > 0 ? mesh.vertices.cwiseAbs().maxCoeff() : 0.0;
   // One thread per BVH: the batch tool parallelises over objects.
   impl_->device = rtcNewDevice("threads=1");
   if (impl_->device == nullptr) throw std::runtime_error("Embree: cannot create a device");
   impl_->scene = rtcNewScene(impl_->device);
-  attachTriangles(impl_->device, impl_->scene, mesh);
+  if (mesh.triangles.rows() > 0) attachTriangles(impl_->device, impl_->scene, mesh);
   rtcCommitScene(impl_->scene);
   if (rtcGetDeviceError(impl_->device) != RTC_ERROR_NONE)
     throw std::runtime_error("Embree: building the BVH failed");
@@ -107,6 +141,29 @@ bool TriangleBvh::isWithin(const Eigen::Vector3d& point, double radius) const {
   return data.found;
 }
 
+ClosestPoint TriangleBvh::closestPoint(const Eigen::Vector3d& point, std::uint32_t hint) const {
+  const TriangleMesh& mesh = impl_->mesh;
+  // 1e-6 is 16 units in the last place of a float: the rounding of the
+  // vertices, of the query point and of Embree's box test together.
+  const double slack = 1e-6 * (impl_->extent + point.cwiseAbs().maxCoeff());
+  NearestQuery data{&mesh, point, slack, {}};
+  data.best.distance = std::numeric_limits<double>::infinity();
+  if (mesh.triangles.rows() == 0) return data.best;
+  if (static_cast<Eigen::Index>(hint) >= mesh.triangles.rows()) hint = 0;
+  data.best.point = closestOnTriangle(mesh, hint, point);
+  data.best.distance = (data.best.point - point).norm();
+  data.best.triangle = hint;
+  RTCPointQuery query{};
+  query.x = static_cast<float>(point.x());
+  query.y = static_cast<float>(point.y());
+  query.z = static_cast<float>(point.z());
+  query.radius = cullingRadius(data.best.distance, slack);
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  rtcPointQuery(impl_->scene, &query, &context, nearestCallback, &data);
+  return data.best;
+}
+
 Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                        const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
   // Voronoi-region walk (Ericson, Real-Time Collision Detection, 5.1.5).
@@ -130,4 +187,4 @@ Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Ve
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-}  // namespace hfts::preprocess
+}  // namespace hfts::db

@@ -4,11 +4,19 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <memory>
 
 #include "hfts_db/triangle_mesh.h"
 
-namespace hfts::preprocess {
+namespace hfts::db {
+
+/// The point of a mesh nearest to a query point.
+struct ClosestPoint {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  double distance = 0.0;       ///< |query - point|, computed in double
+  std::uint32_t triangle = 0;  ///< a triangle that contains `point`
+};
 
 class TriangleBvh {
  public:
@@ -25,6 +33,13 @@ class TriangleBvh {
   /// True when some triangle comes within `radius` of `point`.
   bool isWithin(const Eigen::Vector3d& point, double radius) const;
 
+  /// The exact nearest point of the mesh: the smallest double-precision
+  /// point-triangle distance over all triangles (Embree's single-precision
+  /// BVH only culls, with a margin for its rounding). `hint` is a triangle
+  /// tried first; the answer of a nearby query makes the search faster.
+  /// A mesh without triangles gives an infinite distance.
+  ClosestPoint closestPoint(const Eigen::Vector3d& point, std::uint32_t hint = 0) const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
@@ -34,4 +49,4 @@ class TriangleBvh {
 Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                        const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
-}  // namespace hfts::preprocess
+}  // namespace hfts::db
