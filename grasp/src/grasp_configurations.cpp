@@ -146,7 +146,23 @@ void GraspConfigurator::appendArmConfigurations(const GraspContacts& grasp, cons
                                                 std::vector<GraspConfiguration>& out) {
   const std::vector<Eigen::VectorXd> arms = ik_.solvePalm(objectInBase_ * palm, rng);
   const Eigen::Matrix3Xd contacts = objectInBase_ * grasp.positions;
-  for (const Eigen::VectorXd& arm : arms) {
+  const std::size_t first = out.size();
+  for (std::size_t k = 0; k < arms.size(); ++k) {
+    const Eigen::VectorXd& arm = arms[k];
+    // A closed form gives up to 2^5 whole-turn variants of a branch (the
+    // UR5e's +-360 degree joints): check one of them, copy the others.
+    const auto twin = std::find_if(
+        arms.begin(), arms.begin() + static_cast<std::ptrdiff_t>(k),
+        [&](const Eigen::VectorXd& other) { return robot::differByWholeTurns(arm, other); });
+    if (twin != arms.begin() + static_cast<std::ptrdiff_t>(k)) {
+      const std::size_t same = first + static_cast<std::size_t>(twin - arms.begin());
+      GraspConfiguration c = out[same];
+      c.grasp.head(arm.size()) = arm;
+      c.pregrasp.head(arm.size()) = arm;
+      c.same_poses_as = static_cast<int>(same);
+      out.push_back(std::move(c));
+      continue;
+    }
     GraspConfiguration c;
     c.grasp.resize(model_.numDofs());
     c.grasp << arm, hand.hand_configuration;

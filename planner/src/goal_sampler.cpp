@@ -107,17 +107,23 @@ void GraspGoalSampler::label(const grasp::HftsNode& node, double epsilon,
                              std::vector<CachedConfiguration>& free,
                              std::vector<CachedConfiguration>& colliding) {
   const bool stableLeaf = context_.space->isLeaf(node) && epsilon > 0.0;
-  for (const grasp::GraspConfiguration& c : all.configurations) {
+  std::vector<char> goals(all.configurations.size(), 0);
+  for (std::size_t k = 0; k < all.configurations.size(); ++k) {
+    const grasp::GraspConfiguration& c = all.configurations[k];
     if (c.label == grasp::ConfigurationLabel::kNoKinematicSolution) continue;
     CachedConfiguration out;
     out.pregrasp = c.pregrasp;
     out.grasp = c.grasp;
     out.fingertip_error = c.fingertip_error;
     out.collision_free = c.label == grasp::ConfigurationLabel::kCollisionFree;
-    out.goal = out.collision_free && stableLeaf &&
-               c.fingertip_error <= context_.max_fingertip_error &&
-               context_.checker->isMotionValid(c.pregrasp, c.grasp, context_.approach_resolution,
-                                               /*allowFingertipContact=*/true);
+    // A whole-turn variant closes the hand where its twin does.
+    out.goal = c.same_poses_as >= 0 ? goals[static_cast<std::size_t>(c.same_poses_as)] != 0
+                                    : out.collision_free && stableLeaf &&
+                                          c.fingertip_error <= context_.max_fingertip_error &&
+                                          context_.checker->isMotionValid(
+                                              c.pregrasp, c.grasp, context_.approach_resolution,
+                                              /*allowFingertipContact=*/true);
+    goals[k] = out.goal ? 1 : 0;
     (out.collision_free ? free : colliding).push_back(std::move(out));
   }
 }

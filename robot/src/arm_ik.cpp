@@ -496,6 +496,13 @@ std::vector<Eigen::VectorXd> ArmIk::solvePalm(const Eigen::Isometry3d& palm,
   return solveFlange(palm * impl_->palmInFlange.inverse(), rng);
 }
 
+bool differByWholeTurns(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double tolerance) {
+  if (a.size() != b.size()) return false;
+  for (Eigen::Index d = 0; d < a.size(); ++d)
+    if (std::abs(wrapToPi(a(d) - b(d))) > tolerance) return false;
+  return true;
+}
+
 std::vector<Eigen::VectorXd> ArmIk::solveNumerically(const Eigen::Isometry3d& flange,
                                                      std::mt19937_64& rng) const {
   const RobotModel& model = impl_->model;

@@ -146,6 +146,12 @@ const robot::RobotModel& panda() {
   return model;
 }
 
+const robot::RobotModel& ur5eAllegro() {
+  static const robot::RobotModel model =
+      robot::RobotModel::load(test::sourcePath("robots/ur5e_allegro/ur5e_allegro.json"));
+  return model;
+}
+
 const HandReachability& pandaHand() {
   static const HandReachability thorough(panda(), buildHandMap(panda(), handMapOptions(panda())),
                                          HandQueryOptions::thorough());
@@ -283,6 +289,60 @@ TEST(GraspConfigurations, TurnsAreIgnoredByAHandThatCannotTurnFreely) {
     solved += one.configurations[0].label != ConfigurationLabel::kNoKinematicSolution;
   }
   EXPECT_GT(solved, 5) << "grasps with arm IK solutions were compared";
+}
+
+TEST(GraspConfigurations, WholeTurnVariantsGetTheLabelsOfTheirBranch) {
+  // The UR5e's +-360 degree joints give every IK branch up to 32 variants;
+  // they are labelled once per branch. Each copied label must be the one a
+  // check of the variant itself gives.
+  const robot::RobotModel& ur5e = ur5eAllegro();
+  const HandReachability hand(ur5e, buildHandMap(ur5e, handMapOptions(ur5e)),
+                              HandQueryOptions::thorough());
+  const robot::ArmIk ik(ur5e);
+  robot::Scene scene;
+  // A wall behind the robot: the branches whose upper arm swings back meet it.
+  robot::Obstacle wall;
+  wall.name = "wall";
+  wall.type = robot::Obstacle::Type::kBox;
+  wall.size << 0.05, 2.0, 2.0;
+  wall.pose.translation() << -0.2, 0.0, 0.5;
+  scene.obstacles.push_back(wall);
+  robot::CollisionChecker checker(ur5e, scene, nullptr);
+  GraspConfigurator configurator(ur5e, ik, hand, checker, scene.target_pose, scene.robot_base);
+  // The fingertips of a grasp posture in front of the robot are the contacts.
+  Eigen::VectorXd q = ur5e.home();
+  q.tail(ur5e.numHandDofs()) = hand.map().configurations.row(17).transpose();
+  const robot::FingertipFrames tips =
+      robot::fingertipFrames(ur5e, robot::forwardKinematics(ur5e, q));
+  const GraspContacts grasp{tips.positions, -tips.normals};
+  std::mt19937_64 rng(3);
+  const GraspConfigurations all = configurator.configure(grasp, rng);
+  int copied = 0, free = 0, colliding = 0;
+  for (std::size_t k = 0; k < all.configurations.size(); ++k) {
+    const GraspConfiguration& c = all.configurations[k];
+    ASSERT_NE(c.label, ConfigurationLabel::kNoKinematicSolution);
+    const bool collides =
+        checker.inCollision(c.pregrasp) || checker.inCollisionAllowingFingertipContact(c.grasp);
+    EXPECT_EQ(c.label,
+              collides ? ConfigurationLabel::kColliding : ConfigurationLabel::kCollisionFree)
+        << k;
+    (collides ? colliding : free) += 1;
+    if (c.same_poses_as < 0) continue;
+    ++copied;
+    const auto twin = static_cast<std::size_t>(c.same_poses_as);
+    ASSERT_LT(twin, k);
+    EXPECT_LT(all.configurations[twin].same_poses_as, 0) << "a twin is a checked configuration";
+    const int arm = ur5e.numArmDofs();
+    EXPECT_TRUE(
+        robot::differByWholeTurns(c.grasp.head(arm), all.configurations[twin].grasp.head(arm)));
+    EXPECT_EQ(c.grasp.tail(ur5e.numHandDofs()),
+              all.configurations[twin].grasp.tail(ur5e.numHandDofs()));
+    EXPECT_EQ(c.fingertip_error, all.configurations[twin].fingertip_error);
+  }
+  EXPECT_LT(all.configurations.front().fingertip_error, 1e-3);
+  EXPECT_GT(copied, 0);
+  EXPECT_GT(free, 0);
+  EXPECT_GT(colliding, 0);
 }
 
 TEST(GraspConfigurations, TurnsBelowOneAreRejectedByName) {

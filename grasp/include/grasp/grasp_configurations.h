@@ -32,6 +32,12 @@ struct GraspConfiguration {
   robot::CollisionPair collision;  ///< what collides (kColliding only)
   /// Largest distance from a fingertip of `grasp` to its contact (m).
   double fingertip_error = 0.0;
+  /// Index, in the same list, of an earlier configuration with the same
+  /// hand whose arm differs from this one's by whole turns of its joints
+  /// only (robot::differByWholeTurns): every link is where that one's is,
+  /// so its label, collision and fingertip error are copied, not
+  /// recomputed. -1: none (this one was checked).
+  int same_poses_as = -1;
 };
 
 /// All configurations of a grasp in a scene.
