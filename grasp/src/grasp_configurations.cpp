@@ -102,6 +102,34 @@ void GraspConfigurator::setTurns(int turns) {
   turns_ = turns;
 }
 
+void GraspConfigurator::setArmReference(const Eigen::VectorXd& arm) {
+  if (arm.size() != model_.numArmDofs())
+    throw InvalidArgument("arm", std::to_string(model_.numArmDofs()) + " values expected, got " +
+                                     std::to_string(arm.size()));
+  if (!arm.allFinite()) throw InvalidArgument("arm", "values must be finite");
+  reference_ = arm;
+}
+
+void GraspConfigurator::keepNearestTurns(std::vector<Eigen::VectorXd>& arms) const {
+  constexpr double kLimitTolerance = 1e-9;
+  const auto isNearest = [&](const Eigen::VectorXd& arm) {
+    for (Eigen::Index d = 0; d < arm.size(); ++d) {
+      const double own = std::abs(arm(d) - reference_(d));
+      for (const double turn : {-4.0 * M_PI, -2.0 * M_PI, 2.0 * M_PI, 4.0 * M_PI}) {
+        const double other = arm(d) + turn;
+        if (other >= model_.lowerLimits()(d) - kLimitTolerance &&
+            other <= model_.upperLimits()(d) + kLimitTolerance &&
+            std::abs(other - reference_(d)) < own)
+          return false;
+      }
+    }
+    return true;
+  };
+  arms.erase(std::remove_if(arms.begin(), arms.end(),
+                            [&](const Eigen::VectorXd& arm) { return !isNearest(arm); }),
+             arms.end());
+}
+
 GraspConfigurations GraspConfigurator::configure(const GraspContacts& grasp, HandQuery hand,
                                                  std::mt19937_64& rng, bool turn) {
   GraspConfigurations out;
@@ -144,7 +172,8 @@ void GraspConfigurator::configureTurns(const GraspContacts& grasp, GraspConfigur
 void GraspConfigurator::appendArmConfigurations(const GraspContacts& grasp, const HandQuery& hand,
                                                 const Eigen::Isometry3d& palm, std::mt19937_64& rng,
                                                 std::vector<GraspConfiguration>& out) {
-  const std::vector<Eigen::VectorXd> arms = ik_.solvePalm(objectInBase_ * palm, rng);
+  std::vector<Eigen::VectorXd> arms = ik_.solvePalm(objectInBase_ * palm, rng);
+  if (reference_.size() > 0) keepNearestTurns(arms);
   const Eigen::Matrix3Xd contacts = objectInBase_ * grasp.positions;
   const std::size_t first = out.size();
   for (std::size_t k = 0; k < arms.size(); ++k) {

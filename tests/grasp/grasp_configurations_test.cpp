@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "bundled_objects.h"
 #include "grasp/grasp_optimizer.h"
 #include "robot/kinematics.h"
@@ -343,6 +345,58 @@ TEST(GraspConfigurations, WholeTurnVariantsGetTheLabelsOfTheirBranch) {
   EXPECT_GT(copied, 0);
   EXPECT_GT(free, 0);
   EXPECT_GT(colliding, 0);
+}
+
+TEST(GraspConfigurations, WithAnArmReferenceEachBranchKeepsItsVariantNearestToIt) {
+  const robot::RobotModel& ur5e = ur5eAllegro();
+  const HandReachability hand(ur5e, buildHandMap(ur5e, handMapOptions(ur5e)),
+                              HandQueryOptions::thorough());
+  const robot::ArmIk ik(ur5e);
+  robot::Scene scene;
+  robot::CollisionChecker checker(ur5e, scene, nullptr);
+  Eigen::VectorXd q = ur5e.home();
+  q.tail(ur5e.numHandDofs()) = hand.map().configurations.row(17).transpose();
+  const robot::FingertipFrames tips =
+      robot::fingertipFrames(ur5e, robot::forwardKinematics(ur5e, q));
+  const GraspContacts grasp{tips.positions, -tips.normals};
+  const int arm = ur5e.numArmDofs();
+  Eigen::VectorXd reference(arm);
+  reference << 1.0, -2.5, 0.5, 4.0, -5.0, 2.0;
+
+  GraspConfigurator every(ur5e, ik, hand, checker, scene.target_pose, scene.robot_base);
+  GraspConfigurator nearest(ur5e, ik, hand, checker, scene.target_pose, scene.robot_base);
+  nearest.setArmReference(reference);
+  std::mt19937_64 a(4), b(4);
+  const GraspConfigurations all = every.configure(grasp, a);
+  const GraspConfigurations kept = nearest.configure(grasp, b);
+  ASSERT_FALSE(kept.configurations.empty());
+  ASSERT_GT(all.configurations.size(), kept.configurations.size());
+  const auto armOf = [&](const GraspConfiguration& c) -> Eigen::VectorXd {
+    return c.grasp.head(arm);
+  };
+  // Kept: one per branch, no joint a whole turn nearer to the reference.
+  for (std::size_t i = 0; i < kept.configurations.size(); ++i) {
+    const Eigen::VectorXd k = armOf(kept.configurations[i]);
+    for (std::size_t j = 0; j < i; ++j)
+      EXPECT_FALSE(robot::differByWholeTurns(k, armOf(kept.configurations[j])));
+    for (int d = 0; d < arm; ++d)
+      for (const double turn : {-2 * M_PI, 2 * M_PI})
+        if (k(d) + turn >= ur5e.lowerLimits()(d) && k(d) + turn <= ur5e.upperLimits()(d)) {
+          EXPECT_LE(std::abs(k(d) - reference(d)), std::abs(k(d) + turn - reference(d))) << d;
+        }
+  }
+  // Every branch is still there, labelled as before.
+  for (const GraspConfiguration& c : all.configurations) {
+    const auto same = std::find_if(
+        kept.configurations.begin(), kept.configurations.end(),
+        [&](const GraspConfiguration& k) { return robot::differByWholeTurns(armOf(k), armOf(c)); });
+    ASSERT_NE(same, kept.configurations.end());
+    EXPECT_EQ(same->label, c.label);
+    EXPECT_NEAR(same->fingertip_error, c.fingertip_error, 1e-12);
+  }
+  test::expectErrorMentioning<std::invalid_argument>(
+      [&] { nearest.setArmReference(Eigen::VectorXd::Zero(5)); },
+      {"arm", "6 values expected, got 5"});
 }
 
 TEST(GraspConfigurations, TurnsBelowOneAreRejectedByName) {

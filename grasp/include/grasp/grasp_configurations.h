@@ -93,6 +93,17 @@ class GraspConfigurator {
   void setTurns(int turns);
   int turns() const { return turns_; }
 
+  /// Keeps, of the whole-turn variants of each arm IK branch
+  /// (robot::differByWholeTurns: every link in the same place), only the
+  /// one nearest `arm` (numArmDofs() values) joint by joint, which is also
+  /// the nearest in the planner's weighted joint metric. The planner passes
+  /// its start, where its trees grow from; a variant a full turn away from
+  /// it only lengthens the path to the same grasp. Without a reference (the
+  /// default) every variant is a configuration of its own, labelled once
+  /// per branch. Throws InvalidArgument naming "arm" for another size or
+  /// non-finite values.
+  void setArmReference(const Eigen::VectorXd& arm);
+
  private:
   /// Every arm IK solution for a hand answer, labelled.
   GraspConfigurations configure(const GraspContacts& grasp, HandQuery hand, std::mt19937_64& rng,
@@ -102,6 +113,9 @@ class GraspConfigurator {
   void appendArmConfigurations(const GraspContacts& grasp, const HandQuery& hand,
                                const Eigen::Isometry3d& palm, std::mt19937_64& rng,
                                std::vector<GraspConfiguration>& out);
+  /// With an arm reference: drops every solution that is not the variant
+  /// of its branch nearest the reference.
+  void keepNearestTurns(std::vector<Eigen::VectorXd>& arms) const;
   /// configure() for a hand with a free turn and turns_ > 1.
   void configureTurns(const GraspContacts& grasp, GraspConfigurations& out, std::mt19937_64& rng);
 
@@ -113,6 +127,7 @@ class GraspConfigurator {
   Eigen::Isometry3d objectInWorld_;
   std::vector<bool> singleFinger_;  // per hand DoF: drives one joint only
   int turns_ = 1;
+  Eigen::VectorXd reference_;  // empty: every whole-turn variant
 };
 
 }  // namespace hfts::grasp
