@@ -1,7 +1,10 @@
 #include "grasp/grasp_configurations.h"
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 
+#include "hfts_db/invalid_argument.h"
 #include "robot/kinematics.h"
 
 namespace hfts::grasp {
@@ -25,7 +28,8 @@ GraspConfigurator::GraspConfigurator(const robot::RobotModel& model, const robot
       ik_(ik),
       hand_(hand),
       checker_(checker),
-      objectInBase_(robotBase.inverse() * objectPose) {
+      objectInBase_(robotBase.inverse() * objectPose),
+      objectInWorld_(objectPose) {
   std::vector<int> joints(static_cast<std::size_t>(model.numDofs()), 0);
   for (const robot::Joint& j : model.joints())
     if (j.dof >= 0) ++joints[static_cast<std::size_t>(j.dof)];
@@ -74,8 +78,9 @@ Eigen::VectorXd GraspConfigurator::openedHand(const Eigen::VectorXd& hand) const
   return open;
 }
 
-GraspConfigurations GraspConfigurator::configure(const GraspContacts& grasp, std::mt19937_64& rng) {
-  return configure(grasp, hand_.query(grasp.positions, grasp.outward_normals), rng);
+GraspConfigurations GraspConfigurator::configure(const GraspContacts& grasp, std::mt19937_64& rng,
+                                                 bool turn) {
+  return configure(grasp, hand_.query(grasp.positions, grasp.outward_normals), rng, turn);
 }
 
 std::vector<GraspConfigurations> GraspConfigurator::configureOtherHands(const GraspContacts& grasp,
@@ -88,31 +93,114 @@ std::vector<GraspConfigurations> GraspConfigurator::configureOtherHands(const Gr
   for (HandQuery& other : hand_.queryAlternatives(grasp.positions, grasp.outward_normals,
                                                   maxPositionError, kSamePosture))
     if (!samePosture(other, used, kSamePosture))
-      out.push_back(configure(grasp, std::move(other), rng));
+      out.push_back(configure(grasp, std::move(other), rng, true));
   return out;
 }
 
+void GraspConfigurator::setTurns(int turns) {
+  if (turns < 1) throw InvalidArgument("turns", "must be >= 1, got " + std::to_string(turns));
+  turns_ = turns;
+}
+
+void GraspConfigurator::setArmReference(const Eigen::VectorXd& arm) {
+  if (arm.size() != model_.numArmDofs())
+    throw InvalidArgument("arm", std::to_string(model_.numArmDofs()) + " values expected, got " +
+                                     std::to_string(arm.size()));
+  if (!arm.allFinite()) throw InvalidArgument("arm", "values must be finite");
+  reference_ = arm;
+}
+
+void GraspConfigurator::keepNearestTurns(std::vector<Eigen::VectorXd>& arms) const {
+  constexpr double kLimitTolerance = 1e-9;
+  const auto isNearest = [&](const Eigen::VectorXd& arm) {
+    for (Eigen::Index d = 0; d < arm.size(); ++d) {
+      const double own = std::abs(arm(d) - reference_(d));
+      for (const double turn : {-4.0 * M_PI, -2.0 * M_PI, 2.0 * M_PI, 4.0 * M_PI}) {
+        const double other = arm(d) + turn;
+        if (other >= model_.lowerLimits()(d) - kLimitTolerance &&
+            other <= model_.upperLimits()(d) + kLimitTolerance &&
+            std::abs(other - reference_(d)) < own)
+          return false;
+      }
+    }
+    return true;
+  };
+  arms.erase(std::remove_if(arms.begin(), arms.end(),
+                            [&](const Eigen::VectorXd& arm) { return !isNearest(arm); }),
+             arms.end());
+}
+
 GraspConfigurations GraspConfigurator::configure(const GraspContacts& grasp, HandQuery hand,
-                                                 std::mt19937_64& rng) {
+                                                 std::mt19937_64& rng, bool turn) {
   GraspConfigurations out;
   out.hand = std::move(hand);
-  const Eigen::Isometry3d palm = objectInBase_ * out.hand.palm_pose;
-  const std::vector<Eigen::VectorXd> arms = ik_.solvePalm(palm, rng);
-  if (arms.empty()) {
-    out.configurations.emplace_back();
-    return out;
+  if (turn && out.hand.free_turn && turns_ > 1)
+    configureTurns(grasp, out, rng);
+  else
+    appendArmConfigurations(grasp, out.hand, out.hand.palm_pose, rng, out.configurations);
+  if (out.configurations.empty()) out.configurations.emplace_back();
+  return out;
+}
+
+void GraspConfigurator::configureTurns(const GraspContacts& grasp, GraspConfigurations& out,
+                                       std::mt19937_64& rng) {
+  const double step = 2.0 * M_PI / turns_;
+  const double start = std::uniform_real_distribution<double>(0.0, step)(rng);
+  const auto isFree = [](const GraspConfiguration& c) {
+    return c.label == ConfigurationLabel::kCollisionFree;
+  };
+  out.turns_tried = 0;
+  for (int k = 0; k < turns_; ++k) {
+    ++out.turns_tried;
+    const Eigen::Isometry3d palm = turnedPalm(out.hand, start + k * step);
+    if (checker_.handTouchesObstacles(objectInWorld_ * palm, out.hand.hand_configuration)) {
+      ++out.turns_blocked;
+      continue;
+    }
+    const std::size_t before = out.configurations.size();
+    appendArmConfigurations(grasp, out.hand, palm, rng, out.configurations);
+    if (std::any_of(out.configurations.begin() + static_cast<std::ptrdiff_t>(before),
+                    out.configurations.end(), isFree))
+      return;
   }
+  // Every turn's hand meets an obstacle: a colliding configuration still
+  // tells the rating how close the grasp is to C_free (Sec. III-B.3).
+  if (out.configurations.empty())
+    appendArmConfigurations(grasp, out.hand, turnedPalm(out.hand, start), rng, out.configurations);
+}
+
+void GraspConfigurator::appendArmConfigurations(const GraspContacts& grasp, const HandQuery& hand,
+                                                const Eigen::Isometry3d& palm, std::mt19937_64& rng,
+                                                std::vector<GraspConfiguration>& out) {
+  std::vector<Eigen::VectorXd> arms = ik_.solvePalm(objectInBase_ * palm, rng);
+  if (reference_.size() > 0) keepNearestTurns(arms);
   const Eigen::Matrix3Xd contacts = objectInBase_ * grasp.positions;
-  for (const Eigen::VectorXd& arm : arms) {
+  const std::size_t first = out.size();
+  for (std::size_t k = 0; k < arms.size(); ++k) {
+    const Eigen::VectorXd& arm = arms[k];
+    // A closed form gives up to 2^5 whole-turn variants of a branch (the
+    // UR5e's +-360 degree joints): check one of them, copy the others.
+    const auto twin = std::find_if(
+        arms.begin(), arms.begin() + static_cast<std::ptrdiff_t>(k),
+        [&](const Eigen::VectorXd& other) { return robot::differByWholeTurns(arm, other); });
+    if (twin != arms.begin() + static_cast<std::ptrdiff_t>(k)) {
+      const std::size_t same = first + static_cast<std::size_t>(twin - arms.begin());
+      GraspConfiguration c = out[same];
+      c.grasp.head(arm.size()) = arm;
+      c.pregrasp.head(arm.size()) = arm;
+      c.same_poses_as = static_cast<int>(same);
+      out.push_back(std::move(c));
+      continue;
+    }
     GraspConfiguration c;
     c.grasp.resize(model_.numDofs());
-    c.grasp << arm, out.hand.hand_configuration;
+    c.grasp << arm, hand.hand_configuration;
     c.pregrasp = c.grasp;
-    c.pregrasp.tail(model_.numHandDofs()) = openedHand(out.hand.hand_configuration);
+    c.pregrasp.tail(model_.numHandDofs()) = openedHand(hand.hand_configuration);
     const robot::FingertipFrames tips =
         robot::fingertipFrames(model_, robot::forwardKinematics(model_, c.grasp));
     for (Eigen::Index i = 0; i < contacts.cols(); ++i) {
-      const int finger = out.hand.finger_of_contact[static_cast<std::size_t>(i)];
+      const int finger = hand.finger_of_contact[static_cast<std::size_t>(i)];
       c.fingertip_error =
           std::max(c.fingertip_error, (tips.positions.col(finger) - contacts.col(i)).norm());
     }
@@ -120,14 +208,13 @@ GraspConfigurations GraspConfigurator::configure(const GraspContacts& grasp, Han
                       !checker_.inCollisionAllowingFingertipContact(c.grasp, &c.collision);
     c.label = free ? ConfigurationLabel::kCollisionFree : ConfigurationLabel::kColliding;
     if (free) c.collision = {};
-    out.configurations.push_back(std::move(c));
+    out.push_back(std::move(c));
   }
-  return out;
 }
 
 GraspConfigurations GraspConfigurator::configure(const HftsSpace& space, const HftsNode& node,
-                                                 std::mt19937_64& rng) {
-  return configure(space.representative(node), rng);
+                                                 std::mt19937_64& rng, bool turn) {
+  return configure(space.representative(node), rng, turn);
 }
 
 }  // namespace hfts::grasp

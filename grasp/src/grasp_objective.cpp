@@ -11,7 +11,28 @@ namespace hfts::grasp {
 ObjectiveOptions objectiveOptions(const robot::RobotModel& robot) {
   ObjectiveOptions options;
   options.torsional_friction = robot.torsionalFriction();
+  options.fit_check = robot.fingertips().size() == 2 ? 1 : 0;
   return options;
+}
+
+double spanExcess(const GraspContacts& contacts, double span) {
+  const Eigen::Matrix3Xd& p = contacts.positions;
+  double widest = 0.0;
+  for (Eigen::Index i = 0; i < p.cols(); ++i)
+    for (Eigen::Index j = i + 1; j < p.cols(); ++j)
+      widest = std::max(widest, (p.col(i) - p.col(j)).norm());
+  return std::max(0.0, widest - span);
+}
+
+bool handFits(const GraspContacts& contacts, double span) {
+  const Eigen::Matrix3Xd& p = contacts.positions;
+  const Eigen::Index m = p.cols();
+  const Eigen::Vector3d sum = p.rowwise().sum();
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const Eigen::Vector3d others = (sum - p.col(i)) / static_cast<double>(m - 1);
+    if (!(-contacts.outward_normals.col(i).dot(others - p.col(i)) > 0.0)) return false;
+  }
+  return spanExcess(contacts, span) == 0.0;
 }
 
 GraspQualityRequest qualityRequest(const HftsSpace& space, const GraspContacts& contacts,
@@ -32,6 +53,8 @@ GraspObjective::GraspObjective(const HftsSpace& space, const HandReachability& r
                                ObjectiveOptions options)
     : space_(space), reachability_(reachability), options_(options) {
   if (!(options_.alpha > 0.0)) throw InvalidArgument("ObjectiveOptions::alpha", "must be > 0");
+  if (!(options_.fit_clearance >= 0.0))
+    throw InvalidArgument("ObjectiveOptions::fit_clearance", "must be >= 0");
 }
 
 GraspObjective::Slot& GraspObjective::slotOf(const HftsNode& node) {
@@ -60,12 +83,20 @@ GraspEvaluation GraspObjective::evaluate(const HftsNode& node) {
   if (slot.used) return slot.evaluation;
   const GraspContacts grasp = space_.representative(node);
   GraspEvaluation e;
-  e.quality = graspQuality(qualityRequest(space_, grasp, options_)).epsilon;
+  const double span = reachability_.maxFingertipDistance() - 2.0 * options_.fit_clearance;
+  if (options_.fit_check == 0 || handFits(grasp, span))
+    e.quality = graspQuality(qualityRequest(space_, grasp, options_)).epsilon;
   const HandQuery hand = reachability_.query(grasp.positions, grasp.outward_normals);
   e.reachability = hand.residual;
   e.hand_blocked = handCheck_ && handCheck_(hand);
-  const double distance =
-      e.reachability + options_.alpha + (e.hand_blocked ? kBlockedHandPenalty : 0.0);
+  // A pair wider than the usable span is reached no better than with each
+  // fingertip half the excess off its contact, whatever R(h) (which knows the
+  // full stroke) says: among grasps without force closure the climb then
+  // prefers those the jaws can close on.
+  const double reach = options_.fit_check == 0
+                           ? e.reachability
+                           : std::max(e.reachability, spanExcess(grasp, span) / 2);
+  const double distance = reach + options_.alpha + (e.hand_blocked ? kBlockedHandPenalty : 0.0);
   e.value = e.quality / distance;  // Eq. (1)
   if (options_.unstable_by_reach != 0 && !(e.quality > 0.0)) e.value = -distance;
   slot = {node, e, true};

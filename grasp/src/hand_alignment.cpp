@@ -164,6 +164,18 @@ Eigen::Matrix3d rotationOf(const Eigen::Vector3d& w) {
          ((1.0 - std::cos(angle)) / angle2) * (k * k);
 }
 
+/// The proper rotation maximising tr(R H) from the SVD H = U S V^T:
+/// V diag(1, 1, det(V U^T)) U^T. When H has rank one (a gripper whose pads
+/// face along the line through its fingertips) only R u1 = v1 is fixed and
+/// the SVD's choice of the other columns picks one of the equally good
+/// turns about v1.
+Eigen::Matrix3d rotationBySvd(const Eigen::Matrix3d& h) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d v = svd.matrixV();
+  if ((v * svd.matrixU().transpose()).determinant() < 0) v.col(2) = -v.col(2);
+  return v * svd.matrixU().transpose();
+}
+
 /// The proper rotation maximising tr(R H) (Kabsch): R = V diag(1, 1, d) U^T
 /// for H = U S V^T. V and S come from the closed-form eigen decomposition of
 /// H^T H, which is several times faster than a 3 x 3 SVD; U's third column
@@ -172,19 +184,21 @@ Eigen::Matrix3d bestRotation(const Eigen::Matrix3d& h) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
   eigen.computeDirect(h.transpose() * h);
   const Eigen::Vector3d s = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt();  // ascending
-  if (!(s(1) > 1e-9 * s(2))) {  // rank < 2: the decomposition is not unique, let the SVD pick
-    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    Eigen::Matrix3d v = svd.matrixV();
-    if ((v * svd.matrixU().transpose()).determinant() < 0) v.col(2) = -v.col(2);
-    return v * svd.matrixU().transpose();
-  }
+  if (!(s(1) > 1e-9 * s(2))) return rotationBySvd(h);                       // rank < 2: not unique
   const Eigen::Matrix3d& vs = eigen.eigenvectors();
   const Eigen::Vector3d va = vs.col(2), vb = vs.col(1), vc = vs.col(0);
   const Eigen::Vector3d ua = (h * va).normalized();
   const Eigen::Vector3d hb = h * vb;
   const Eigen::Vector3d ub = (hb - ua.dot(hb) * ua).normalized();
   const double d = va.cross(vb).dot(vc) < 0 ? -1.0 : 1.0;
-  return va * ua.transpose() + vb * ub.transpose() + d * vc * ua.cross(ub).transpose();
+  const Eigen::Matrix3d r =
+      va * ua.transpose() + vb * ub.transpose() + d * vc * ua.cross(ub).transpose();
+  // The closed form resolves a double eigenvalue 0 of H^T H only to about
+  // machine epsilon^(1/4) of the largest: a rank-one H can pass the test
+  // above, and then ub is rounding noise, or 0 and r no rotation at all.
+  if ((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6)
+    return rotationBySvd(h);
+  return r;
 }
 
 }  // namespace

@@ -155,6 +155,19 @@ void checkInput(const Eigen::Matrix3Xd& m, Eigen::Index fingers, const char* nam
                                       std::to_string(m.col(c).norm()) + ")");
 }
 
+/// Pads within this angle (rad) of the line through two fingertips face
+/// along it: turning about the line moves neither tips nor pads.
+constexpr double kPadAlongLine = 1e-9;
+
+/// The line through two placed fingertips when both pads face along it.
+std::optional<Eigen::ParametrizedLine<double, 3>> freeTurn(const robot::hand::Tips& tips,
+                                                           const robot::hand::Tips& pads) {
+  const Eigen::Vector3d u = (tips.col(1) - tips.col(0)).normalized();
+  for (Eigen::Index f = 0; f < 2; ++f)
+    if (!(pads.col(f).cross(u).norm() <= kPadAlongLine)) return std::nullopt;
+  return Eigen::ParametrizedLine<double, 3>(tips.col(0), u);
+}
+
 robot::hand::Tips tipsOf(const db::RowMatrixXd& rows, std::uint32_t sample) {
   return Eigen::Map<const Eigen::Matrix3Xd>(rows.row(sample).data(), 3, rows.cols() / 3);
 }
@@ -173,6 +186,7 @@ struct HandReachability::Impl {
   /// to fingers.
   DescriptorRows ordered;
   std::unique_ptr<DescriptorIndex> index;
+  double span = 0.0;  ///< largest fingertip distance over the samples
 
   Impl(const robot::RobotModel& model, db::HandMap m, HandQueryOptions o)
       : chains(model),
@@ -186,6 +200,18 @@ struct HandReachability::Impl {
     checkReproducedByKinematics(model.name());
     ordered = orderedDescriptors();
     index = makeIndex(ordered);
+    span = largestFingertipDistance();
+  }
+
+  double largestFingertipDistance() const {
+    double out = 0.0;
+    for (std::uint32_t s = 0; s < map.numSamples(); ++s) {
+      const robot::hand::Tips tips = tipsOf(map.positions, s);
+      for (int i = 0; i < fingers; ++i)
+        for (int j = i + 1; j < fingers; ++j)
+          out = std::max(out, (tips.col(i) - tips.col(j)).norm());
+    }
+    return out;
   }
 
   void checkMatchesRobot(const std::string& robot) const {
@@ -366,9 +392,19 @@ struct HandReachability::Impl {
       out.finger_of_contact[static_cast<std::size_t>(
           orders[from.order][static_cast<std::size_t>(f)])] = f;
     out.map_sample = from.sample;
+    if (fingers == 2) out.free_turn = freeTurn(placed, rot * tips.normals);
     return out;
   }
 };
+
+Eigen::Isometry3d turnedPalm(const HandQuery& answer, double angle) {
+  if (!answer.free_turn) return answer.palm_pose;
+  const Eigen::Vector3d& at = answer.free_turn->origin();
+  const Eigen::Isometry3d turn = Eigen::Translation3d(at) *
+                                 Eigen::AngleAxisd(angle, answer.free_turn->direction()) *
+                                 Eigen::Translation3d(-at);
+  return turn * answer.palm_pose;
+}
 
 bool samePosture(const HandQuery& a, const HandQuery& b, double minHandDifference) {
   return a.finger_of_contact == b.finger_of_contact &&
@@ -389,6 +425,10 @@ const db::HandMap& HandReachability::map() const {
 
 const HandQueryOptions& HandReachability::options() const {
   return impl_->options;
+}
+
+double HandReachability::maxFingertipDistance() const {
+  return impl_->span;
 }
 
 HandQuery HandReachability::query(const Eigen::Matrix3Xd& contactPositions,

@@ -56,12 +56,17 @@ GraspGoalSampler::GraspGoalSampler(GoalSamplingContext context) : context_(conte
 std::vector<CachedConfiguration> GraspGoalSampler::configurationsOf(const grasp::HftsNode& node,
                                                                     double epsilon,
                                                                     bool* otherHandsSampled) {
+  const bool leaf = context_.space->isLeaf(node);
+  // A leaf without force closure is never a goal: one palm pose gives its
+  // configuration for the rating and A; the palm turns are for the grasps
+  // that may be goals and the inner nodes above them.
+  const bool turn = !leaf || epsilon > 0.0;
   std::vector<grasp::GraspConfigurations> postures{
-      context_.configurator->configure(*context_.space, node, *context_.rng)};
+      context_.configurator->configure(*context_.space, node, *context_.rng, turn)};
   ++stats_.configured_nodes;
+  if (turn && postures.front().hand.free_turn) ++stats_.turned_nodes;
   std::vector<CachedConfiguration> free, colliding;
   label(node, epsilon, postures.front(), free, colliding);
-  const bool leaf = context_.space->isLeaf(node);
   const auto isGoal = [](const CachedConfiguration& c) { return c.goal; };
   if (context_.other_postures && leaf && epsilon > 0.0 &&
       std::none_of(free.begin(), free.end(), isGoal)) {
@@ -102,17 +107,23 @@ void GraspGoalSampler::label(const grasp::HftsNode& node, double epsilon,
                              std::vector<CachedConfiguration>& free,
                              std::vector<CachedConfiguration>& colliding) {
   const bool stableLeaf = context_.space->isLeaf(node) && epsilon > 0.0;
-  for (const grasp::GraspConfiguration& c : all.configurations) {
+  std::vector<char> goals(all.configurations.size(), 0);
+  for (std::size_t k = 0; k < all.configurations.size(); ++k) {
+    const grasp::GraspConfiguration& c = all.configurations[k];
     if (c.label == grasp::ConfigurationLabel::kNoKinematicSolution) continue;
     CachedConfiguration out;
     out.pregrasp = c.pregrasp;
     out.grasp = c.grasp;
     out.fingertip_error = c.fingertip_error;
     out.collision_free = c.label == grasp::ConfigurationLabel::kCollisionFree;
-    out.goal = out.collision_free && stableLeaf &&
-               c.fingertip_error <= context_.max_fingertip_error &&
-               context_.checker->isMotionValid(c.pregrasp, c.grasp, context_.approach_resolution,
-                                               /*allowFingertipContact=*/true);
+    // A whole-turn variant closes the hand where its twin does.
+    out.goal = c.same_poses_as >= 0 ? goals[static_cast<std::size_t>(c.same_poses_as)] != 0
+                                    : out.collision_free && stableLeaf &&
+                                          c.fingertip_error <= context_.max_fingertip_error &&
+                                          context_.checker->isMotionValid(
+                                              c.pregrasp, c.grasp, context_.approach_resolution,
+                                              /*allowFingertipContact=*/true);
+    goals[k] = out.goal ? 1 : 0;
     (out.collision_free ? free : colliding).push_back(std::move(out));
   }
 }
@@ -308,6 +319,7 @@ void declareParameters(ompl::base::ParamSet& params, GoalSamplingSettings& setti
   declareParameter(params, "mask_contacts", {0, 1, 1}, settings.mask_contacts);
   declareParameter(params, "other_postures", {0, 1, 1}, settings.other_postures);
   declareParameter(params, "hand_clearance", {0, 1, 1}, settings.hand_clearance);
+  declareParameter(params, "palm_turns", {1, 1, 64}, settings.palm_turns);
   declareParameters(params, settings.objective);
 }
 

@@ -67,7 +67,8 @@ void quietOmpl() {
 /// the objective's), merged. The RRTConnect baseline reads the same names.
 struct PlanParameters {
   /// The defaults for `robot`: its fingertips' contact model, for two
-  /// fingertips unstable pairs ranked by reach (grasp_objective.h), then
+  /// fingertips unstable pairs ranked by reach and Q = 0 for pairs the jaws
+  /// cannot hold (grasp_objective.h), then
   /// its config's `planner_defaults` (robot::ModelError naming the one
   /// that is unknown or out of range).
   PlanParameters(const ob::SpaceInformationPtr& si, const robot::RobotModel& robot)
@@ -78,6 +79,7 @@ struct PlanParameters {
     declareParameter(all, "threads", kThreadsRange, threads);  // planGrasp reads it
     goals.objective.torsional_friction = robot.torsionalFriction();
     goals.objective.unstable_by_reach = robot.fingertips().size() == 2 ? 1 : 0;
+    goals.objective.fit_check = robot.fingertips().size() == 2 ? 1 : 0;
     for (const auto& [name, value] : robot.plannerDefaults()) {
       try {
         setParameter(all, name, value);
@@ -250,6 +252,7 @@ SearchOutcome searchMultiTree(Problem& p, bool coupled,
                               const ob::PlannerTerminationCondition& ptc) {
   MultiTreeCBiRRT& planner = *p.parameters.planner;
   SamplingTools tools(p.world, p.scene, p.space, p.checker, p.parameters.goals);
+  tools.configurator.setArmReference(p.start.head(p.world.robot().numArmDofs()));
   const std::unique_ptr<GraspGoalSampler> sampler = tools.makeSampler(
       coupled, planner.rng(), p.parameters.goals, planner.smoothing().final_resolution);
   planner.setProjection(std::make_shared<BackwardProjection>(

@@ -254,8 +254,10 @@ LazyGoalOutcome LazyGoalRrtConnect::solve(const Eigen::VectorXd& start,
   const auto* validator =
       dynamic_cast<const CollisionMotionValidator*>(si_->getMotionValidator().get());
   const double resolution = validator != nullptr ? validator->resolution() : 0.02;
-  auto goal = std::make_shared<LazyGraspGoal>(std::make_unique<SamplingThreadTools>(
-      world_, scene_, object_, space_, settings_, space, resolution));
+  auto sampling = std::make_unique<SamplingThreadTools>(world_, scene_, object_, space_, settings_,
+                                                        space, resolution);
+  sampling->tools.configurator.setArmReference(start.head(world_.robot().numArmDofs()));
+  auto goal = std::make_shared<LazyGraspGoal>(std::move(sampling));
   auto pdef = std::make_shared<ob::ProblemDefinition>(si_);
   ob::ScopedState<> startState(si_);
   space.fromVector(start, startState.get());

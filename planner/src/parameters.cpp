@@ -109,6 +109,8 @@ void declareParameters(ompl::base::ParamSet& params, grasp::ObjectiveOptions& ob
   declareParameter(params, "friction", {0.001, 0.05, 10.0}, objective.friction);
   declareParameter(params, "cone_edges", {3, 1, 64}, objective.cone_edges);
   declareParameter(params, "unstable_by_reach", {0, 1, 1}, objective.unstable_by_reach);
+  declareParameter(params, "fit_check", {0, 1, 1}, objective.fit_check);
+  declareParameter(params, "fit_clearance", {0.0, 0.0005, 0.05}, objective.fit_clearance);
 }
 
 }  // namespace hfts::planner

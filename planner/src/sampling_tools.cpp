@@ -1,5 +1,7 @@
 #include "planner/sampling_tools.h"
 
+#include <cmath>
+
 namespace hfts::planner {
 
 SamplingTools::SamplingTools(const PlanningWorld& world, const robot::Scene& scene,
@@ -10,9 +12,18 @@ SamplingTools::SamplingTools(const PlanningWorld& world, const robot::Scene& sce
       objective(hfts, world.handMap(), settings.objective),
       configurator(world.robot(), world.ik(), world.thoroughHandMap(), robotChecker,
                    scene.target_pose, scene.robot_base) {
+  configurator.setTurns(settings.palm_turns);
   if (settings.hand_clearance == 0) return;
-  objective.setHandCheck([&robotChecker, object = scene.target_pose](const grasp::HandQuery& hand) {
-    return robotChecker.handTouchesObstacles(object * hand.palm_pose, hand.hand_configuration);
+  objective.setHandCheck([&robotChecker, object = scene.target_pose,
+                          turns = settings.palm_turns](const grasp::HandQuery& hand) {
+    // A hand that may turn about the contacts' line is blocked only when it
+    // is at every one of palm_turns turns, evenly spaced from R(h)'s own.
+    const int n = hand.free_turn ? turns : 1;
+    for (int k = 0; k < n; ++k)
+      if (!robotChecker.handTouchesObstacles(object * grasp::turnedPalm(hand, 2.0 * M_PI * k / n),
+                                             hand.hand_configuration))
+        return false;
+    return true;
   });
 }
 

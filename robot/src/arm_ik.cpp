@@ -97,12 +97,6 @@ struct ArmIk::Impl {
 
   int dofs() const { return model.numArmDofs(); }
 
-  Eigen::VectorXd full(const Eigen::VectorXd& arm) const {
-    Eigen::VectorXd q = Eigen::VectorXd::Zero(model.numDofs());
-    q.head(dofs()) = arm;
-    return q;
-  }
-
   Eigen::Isometry3d jointFrame(const LinkPoses& poses, int d) const {
     const Joint& j =
         model.joints()[static_cast<std::size_t>(armJoints[static_cast<std::size_t>(d)])];
@@ -424,16 +418,29 @@ bool ArmIk::Impl::reaches(const Eigen::VectorXd& arm, const Eigen::Isometry3d& f
 std::optional<Eigen::VectorXd> ArmIk::Impl::descend(const Eigen::Isometry3d& flange,
                                                     Eigen::VectorXd arm) const {
   const double lambda2 = options.damping * options.damping;
+  const int n = dofs();
+  Eigen::Matrix<double, 6, Eigen::Dynamic> j(6, n);
+  Eigen::Matrix3Xd axes(3, n), points(3, n);
   for (int it = 0; it < options.iterations; ++it) {
-    const LinkPoses poses = forwardKinematics(model, full(arm));
-    const Eigen::Isometry3d& at = poses[static_cast<std::size_t>(model.flangeLink())];
+    // The flange pose and its Jacobian in one pass over the product of
+    // exponentials: each joint's axis and point as the joints before it
+    // carry them (no full forward kinematics of every link).
+    Eigen::Isometry3d prefix = Eigen::Isometry3d::Identity();
+    for (int d = 0; d < n; ++d) {
+      axes.col(d) = prefix.linear() * axis[static_cast<std::size_t>(d)];
+      points.col(d) = prefix * point[static_cast<std::size_t>(d)];
+      prefix = prefix * screw(d, arm(d));
+    }
+    const Eigen::Isometry3d at = prefix * flange0;
     Eigen::Matrix<double, 6, 1> error;
     error.head<3>() = flange.translation() - at.translation();
     const Eigen::AngleAxisd rot(flange.linear() * at.linear().transpose());
     error.tail<3>() = rot.angle() * rot.axis();
     if (error.norm() < 1e-12) break;
-    const Eigen::Matrix<double, 6, Eigen::Dynamic> j =
-        jacobian(model, poses, model.flangeLink(), Eigen::Vector3d::Zero()).leftCols(dofs());
+    for (int d = 0; d < n; ++d) {
+      j.col(d).head<3>() = axes.col(d).cross(at.translation() - points.col(d));
+      j.col(d).tail<3>() = axes.col(d);
+    }
     // Less damping near the goal gives quadratic convergence at the end.
     const double damping = error.norm() < 1e-3 ? 1e-9 : lambda2;
     const Eigen::VectorXd step =
@@ -487,6 +494,13 @@ std::vector<Eigen::VectorXd> ArmIk::solveFlange(const Eigen::Isometry3d& flange,
 std::vector<Eigen::VectorXd> ArmIk::solvePalm(const Eigen::Isometry3d& palm,
                                               std::mt19937_64& rng) const {
   return solveFlange(palm * impl_->palmInFlange.inverse(), rng);
+}
+
+bool differByWholeTurns(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double tolerance) {
+  if (a.size() != b.size()) return false;
+  for (Eigen::Index d = 0; d < a.size(); ++d)
+    if (std::abs(wrapToPi(a(d) - b(d))) > tolerance) return false;
+  return true;
 }
 
 std::vector<Eigen::VectorXd> ArmIk::solveNumerically(const Eigen::Isometry3d& flange,

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "bundled_objects.h"
+#include "grasp/hand_map_builder.h"
 #include "hand_fixture.h"
 
 namespace hfts::grasp {
@@ -53,6 +54,109 @@ TEST(GraspObjective, UnstableByReachRanksUnstableGraspsByReachBelowStableOnes) {
   ASSERT_GT(unstable, 0);
   EXPECT_LT(highestUnstable, 0.0);
   EXPECT_GT(lowestStable, highestUnstable);
+}
+
+/// Two contacts (object frame) with outward normals.
+GraspContacts pair(const Eigen::Vector3d& a, const Eigen::Vector3d& outA, const Eigen::Vector3d& b,
+                   const Eigen::Vector3d& outB) {
+  GraspContacts g{Eigen::Matrix3Xd(3, 2), Eigen::Matrix3Xd(3, 2)};
+  g.positions << a, b;
+  g.outward_normals << outA.normalized(), outB.normalized();
+  return g;
+}
+
+TEST(HandFits, NeedsContactsWithinTheSpanWhosePadsFaceEachOther) {
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  // Squeezing a 6 cm wide box.
+  EXPECT_TRUE(handFits(pair(-0.03 * x, -x, 0.03 * x, x), 0.08));
+  EXPECT_FALSE(handFits(pair(-0.03 * x, -x, 0.03 * x, x), 0.05)) << "wider than the span";
+  // Inside a cup: the outward normals point at each other, the fingers would have to push apart.
+  EXPECT_FALSE(handFits(pair(-0.03 * x, x, 0.03 * x, -x), 0.08));
+  // One contact on the far side of the other's surface.
+  EXPECT_FALSE(handFits(pair(-0.03 * x, -x, 0.03 * x, -x), 0.08));
+  // Three contacts around a centre, normals out: each pad pushes towards the others.
+  GraspContacts three{Eigen::Matrix3Xd(3, 3), Eigen::Matrix3Xd(3, 3)};
+  for (int i = 0; i < 3; ++i) {
+    const double a = 2 * M_PI * i / 3;
+    three.outward_normals.col(i) = Eigen::Vector3d(std::cos(a), std::sin(a), 0);
+    three.positions.col(i) = 0.03 * three.outward_normals.col(i);
+  }
+  EXPECT_TRUE(handFits(three, 0.06));
+  EXPECT_FALSE(handFits(three, 0.05));
+  // The excess over the span is that of the widest pair: sqrt(3) * 3 cm.
+  EXPECT_NEAR(spanExcess(three, 0.05), std::sqrt(3.0) * 0.03 - 0.05, 1e-12);
+  EXPECT_EQ(spanExcess(three, 0.06), 0.0);
+}
+
+TEST(GraspObjective, FitCheckGivesQualityZeroToPairsTheJawsCannotHold) {
+  const robot::RobotModel panda =
+      robot::RobotModel::load(test::sourcePath("robots/panda_gripper/panda_gripper.json"));
+  const HandReachability jaws(panda, buildHandMap(panda, handMapOptions(panda)));
+  EXPECT_NEAR(jaws.maxFingertipDistance(), 0.08, 1e-4) << "the Franka Hand's 80 mm stroke";
+  ObjectiveOptions checked = objectiveOptions(panda);
+  ASSERT_EQ(checked.fit_check, 1) << "on for two fingertips";
+  checked.unstable_by_reach = 1;  // as the planner sets it for two fingertips
+  ASSERT_EQ(objectiveOptions(test::kr5Sdh()).fit_check, 0);
+  ObjectiveOptions unchecked = checked;
+  unchecked.fit_check = 0;
+  // The mug (outer diameter 8 cm, 5 mm wall): pairs across its body, its
+  // rim and its inside.
+  const HftsSpace space(test::bundledObjects().at("mug"), 2);
+  GraspObjective fit(space, jaws, checked), plain(space, jaws, unchecked);
+  int unfit = 0, kept = 0;
+  for (std::uint64_t i = 0; i < 3000; ++i) {
+    HftsNode node = space.child(space.root(), (i * 7919) % space.numChildren(space.root()));
+    while (!space.isLeaf(node)) node = space.child(node, (i * 31) % space.numChildren(node));
+    const GraspEvaluation a = fit.evaluate(node), b = plain.evaluate(node);
+    EXPECT_EQ(a.reachability, b.reachability);
+    if (!(b.quality > 0.0)) continue;
+    if (handFits(space.representative(node), jaws.maxFingertipDistance())) {
+      ++kept;
+      EXPECT_EQ(a.quality, b.quality);
+      EXPECT_EQ(a.value, b.value);
+    } else {
+      ++unfit;
+      EXPECT_EQ(a.quality, 0.0) << "force closure the jaws cannot apply";
+      // Ranked by reach, each fingertip at least half the excess off.
+      const double excess = spanExcess(space.representative(node), jaws.maxFingertipDistance());
+      EXPECT_DOUBLE_EQ(a.value, -(std::max(a.reachability, excess / 2) + checked.alpha));
+    }
+  }
+  EXPECT_GT(kept, 10);
+  EXPECT_GT(unfit, 10);
+}
+
+TEST(GraspObjective, FitClearanceLeavesTheJawsRoomToComeIn) {
+  const robot::RobotModel panda =
+      robot::RobotModel::load(test::sourcePath("robots/panda_gripper/panda_gripper.json"));
+  const HandReachability jaws(panda, buildHandMap(panda, handMapOptions(panda)));
+  const double span = jaws.maxFingertipDistance();
+  ObjectiveOptions tight = objectiveOptions(panda), roomy = tight;
+  roomy.fit_clearance = 0.0025;
+  // Across the mug's 8 cm body: at the stroke, and 2.5 mm inside it per side.
+  const HftsSpace space(test::bundledObjects().at("mug"), 2);
+  GraspObjective atStroke(space, jaws, tight), withRoom(space, jaws, roomy);
+  int wide = 0, narrow = 0;
+  for (std::uint64_t i = 0; i < 3000; ++i) {
+    HftsNode node = space.child(space.root(), (i * 7919) % space.numChildren(space.root()));
+    while (!space.isLeaf(node)) node = space.child(node, (i * 31) % space.numChildren(node));
+    const GraspContacts c = space.representative(node);
+    const double d = (c.positions.col(1) - c.positions.col(0)).norm();
+    const GraspEvaluation a = atStroke.evaluate(node), b = withRoom.evaluate(node);
+    if (!(a.quality > 0.0)) continue;
+    if (d > span - 0.005) {
+      ++wide;
+      EXPECT_EQ(b.quality, 0.0) << d;
+    } else {
+      ++narrow;
+      EXPECT_EQ(b.quality, a.quality) << d;
+    }
+  }
+  EXPECT_GT(wide, 5);
+  EXPECT_GT(narrow, 5);
+  roomy.fit_clearance = -0.001;
+  test::expectErrorMentioning<std::invalid_argument>([&] { GraspObjective(space, jaws, roomy); },
+                                                     {"ObjectiveOptions::fit_clearance", ">= 0"});
 }
 
 TEST(GraspObjective, CachesEveryNodeOnceAcrossGrowth) {

@@ -168,10 +168,14 @@ Contacts reachable(const Posture& p, const Eigen::Isometry3d& pose, std::mt19937
 }
 
 /// The answer, checked by the model's forward kinematics: a permutation of
-/// the fingers, a grasp posture within the limits, and the fingertips
-/// where the reported residual says they are.
+/// the fingers, a grasp posture within the limits, a palm pose that is a
+/// rigid motion, and the fingertips where the reported residual says they
+/// are.
 void expectConsistent(const Hand& h, const HandQuery& answer, const Contacts& c) {
   const auto m = static_cast<std::size_t>(c.positions.cols());
+  const Eigen::Matrix3d r = answer.palm_pose.linear();
+  EXPECT_LT((r.transpose() * r - Eigen::Matrix3d::Identity()).norm(), 1e-9);
+  EXPECT_NEAR(r.determinant(), 1.0, 1e-9);
   ASSERT_EQ(answer.finger_of_contact.size(), m);
   std::vector<int> fingers = answer.finger_of_contact;
   std::sort(fingers.begin(), fingers.end());
@@ -293,6 +297,54 @@ TEST_P(FingerCount, LargeForContactsTheHandCannotSpan) {
   test::expectErrorMentioning<std::invalid_argument>(
       [&] { h.reachability.query(positions.leftCols(m - 1), outward.leftCols(m - 1)); },
       {"contactPositions", "3 x " + std::to_string(m)});
+}
+
+/// R(h) recomputed by forward kinematics for the answer's posture with the
+/// palm at `palm`.
+double residualAt(const Hand& h, const HandQuery& answer, const Contacts& c,
+                  const Eigen::Isometry3d& palm) {
+  const Posture p = postureOf(h.model, answer.hand_configuration);
+  const double lambda = h.map.parameters.normal_weight;
+  double sum = 0;
+  for (Eigen::Index i = 0; i < c.positions.cols(); ++i) {
+    const int f = answer.finger_of_contact[static_cast<std::size_t>(i)];
+    sum += (palm * Eigen::Vector3d(p.tips.col(f)) - c.positions.col(i)).squaredNorm() +
+           lambda * lambda * (palm.linear() * p.pads.col(f) + c.outward.col(i)).squaredNorm();
+  }
+  return std::sqrt(sum / static_cast<double>(c.positions.cols()));
+}
+
+TEST(FreeTurn, AGripperTurnsAboutItsJawLineWithoutChangingTheResidual) {
+  const Hand& h = hand(2);
+  std::mt19937_64 rng(11);
+  for (int i = 0; i < 20; ++i) {
+    const Contacts c = reachable(randomGraspPosture(h.model, rng), randomPose(rng), rng);
+    const HandQuery answer = h.reachability.query(c.positions, c.outward);
+    SCOPED_TRACE(i);
+    ASSERT_TRUE(answer.free_turn.has_value());
+    // The line runs through both contacts (within the residual).
+    const Eigen::Vector3d u = (c.positions.col(1) - c.positions.col(0)).normalized();
+    EXPECT_NEAR(std::abs(answer.free_turn->direction().dot(u)), 1.0, 1e-6);
+    EXPECT_LT(answer.free_turn->distance(c.positions.col(0)), 1e-4);
+    EXPECT_EQ(turnedPalm(answer, 0.0).matrix(), answer.palm_pose.matrix());
+    for (const double angle : {0.5, M_PI / 2, 2.0, M_PI, -1.0}) {
+      const Eigen::Isometry3d turned = turnedPalm(answer, angle);
+      EXPECT_NEAR(residualAt(h, answer, c, turned), answer.residual, 1e-9) << angle;
+      // A real turn: the palm's approach axis moves by the angle.
+      const double moved = std::acos(
+          std::clamp(turned.linear().col(2).dot(answer.palm_pose.linear().col(2)), -1.0, 1.0));
+      EXPECT_NEAR(moved, std::abs(std::remainder(angle, 2 * M_PI)), 1e-6) << angle;
+    }
+  }
+}
+
+TEST(FreeTurn, AFourFingeredHandHasNone) {
+  const Hand& h = hand(4);
+  std::mt19937_64 rng(12);
+  const Contacts c = reachable(randomGraspPosture(h.model, rng), randomPose(rng), rng);
+  const HandQuery answer = h.reachability.query(c.positions, c.outward);
+  EXPECT_FALSE(answer.free_turn.has_value());
+  EXPECT_EQ(turnedPalm(answer, 1.0).matrix(), answer.palm_pose.matrix());
 }
 
 TEST(IsGraspPosture, TwoOpposingPadsSqueezeWithinTheFrictionCone) {

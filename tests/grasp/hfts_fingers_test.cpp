@@ -70,10 +70,14 @@ TEST_P(HftsFingers, RatingsFollowEquationOneWithTheRobotsHandAndContactModel) {
     HftsNode node = space.child(space.root(), (i * 7919) % space.numChildren(space.root()));
     while (!space.isLeaf(node)) node = space.child(node, (i * 31) % space.numChildren(node));
     const GraspEvaluation e = objective.evaluate(node);
-    // Q is the hull of the contacts' wrenches under the robot's contact model.
-    const GraspQualityRequest request = qualityRequest(space, space.representative(node), options);
+    // Q is the hull of the contacts' wrenches under the robot's contact
+    // model, for contacts the hand can hold (fit_check: on for two fingertips).
+    const GraspContacts contacts = space.representative(node);
+    const GraspQualityRequest request = qualityRequest(space, contacts, options);
     EXPECT_EQ(request.torsional_friction, hand.model.torsionalFriction());
-    EXPECT_EQ(e.quality, graspQuality(request).epsilon);
+    const bool held =
+        options.fit_check == 0 || handFits(contacts, hand.fast.maxFingertipDistance());
+    EXPECT_EQ(e.quality, held ? graspQuality(request).epsilon : 0.0);
     EXPECT_GE(e.reachability, 0.0);
     if (options.unstable_by_reach == 0 || e.quality > 0.0) {
       EXPECT_DOUBLE_EQ(e.value, e.quality / (e.reachability + options.alpha));

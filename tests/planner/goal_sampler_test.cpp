@@ -77,6 +77,38 @@ TEST(HftsGoalSampler, NoNullSpaceWithoutAGoal) {
   }
 }
 
+TEST(HftsGoalSampler, AGrippersPhiTurnsThePalmForEveryNodeButTheUnstableLeaves) {
+  const robot::RobotModel panda =
+      robot::RobotModel::load(test::sourcePath("robots/panda_gripper/panda_gripper.json"));
+  const PlanningWorld world(panda, grasp::buildHandMap(panda, grasp::handMapOptions(panda)),
+                            test::bundledObjects());
+  const robot::Scene scene = test::TableMug::table();
+  const db::ObjectDatabase& mug = *world.object("mug");
+  robot::CollisionChecker checker(world.robot(), scene, &mug.geometry, world.collisionMesh("mug"));
+  const grasp::HftsSpace space(mug, 2);
+  grasp::GraspObjective objective(space, world.handMap(), grasp::objectiveOptions(panda));
+  grasp::GraspConfigurator configurator(world.robot(), world.ik(), world.thoroughHandMap(), checker,
+                                        scene.target_pose, scene.robot_base);
+  configurator.setTurns(8);
+  std::mt19937_64 rng(3);
+  HftsGoalSampler sampler({&space, &objective, &configurator, &checker, &rng}, {});
+  const test::StartOnly knowledge(checker.metric(), world.robot().home());
+  for (int call = 0; call < 30; ++call) sampler.sample(knowledge, [] { return false; });
+  const GoalSamplerStatistics& s = sampler.statistics();
+  ASSERT_GT(s.rejected.unstable, 0u);
+  ASSERT_GT(s.configured_nodes, s.rejected.unstable);
+  EXPECT_EQ(s.turned_nodes + s.rejected.unstable, s.configured_nodes);
+}
+
+TEST(HftsGoalSampler, AHandWithoutAFreeTurnTurnsNothing) {
+  test::TableMug setup;
+  setup.configurator.setTurns(8);
+  HftsGoalSampler sampler(setup.context, {});
+  for (int call = 0; call < 10; ++call) sampler.sample(setup.knowledge, [] { return false; });
+  EXPECT_GT(sampler.statistics().configured_nodes, 0u);
+  EXPECT_EQ(sampler.statistics().turned_nodes, 0u);
+}
+
 // Algorithm 2: what one call of SAMPLEGOAL may do.
 
 const std::function<bool()> kNever = [] { return false; };

@@ -434,9 +434,12 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
                                             {"final_resolution", 0.0025},
                                             {"collision_resolution", 0.02},
                                             {"max_fingertip_error", 0.005},
+                                            {"palm_turns", 8},
                                             // Eq. (1) as in the paper for the SDH's three
                                             // fingers (1 only for two-fingered hands).
-                                            {"unstable_by_reach", 0}};
+                                            {"unstable_by_reach", 0},
+                                            {"fit_check", 0},
+                                            {"fit_clearance", 0.0}};
   for (const PlannerParameterInfo& p : plannerParameters(world())) {
     const auto it = expected.find(p.name);
     if (it == expected.end()) continue;
@@ -444,7 +447,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
     expected.erase(it);
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
-  EXPECT_EQ(plannerParameters(world()).size(), 29u) << "a parameter was added or removed";
+  EXPECT_EQ(plannerParameters(world()).size(), 32u) << "a parameter was added or removed";
 }
 
 /// The bundled KR5 + SDH with `planner_defaults` added to its config.

@@ -279,6 +279,41 @@ TEST(ArmIk, AWristSingularityStillReachesThePose) {
   }
 }
 
+TEST(ArmIk, WholeTurnVariantsPutEveryLinkWhereTheirBranchPutsIt) {
+  EXPECT_TRUE(differByWholeTurns(Eigen::Vector2d(0.1, -3.0),
+                                 Eigen::Vector2d(0.1 + 2 * M_PI, -3.0 - 4 * M_PI)));
+  EXPECT_FALSE(differByWholeTurns(Eigen::Vector2d(0.1, -3.0), Eigen::Vector2d(0.1 + M_PI, -3.0)));
+  EXPECT_FALSE(differByWholeTurns(Eigen::Vector2d(0.1, -3.0), Eigen::Vector2d(0.1, -3.0 + 1e-6)));
+  EXPECT_FALSE(differByWholeTurns(Eigen::Vector2d(0.1, -3.0), Eigen::Vector3d(0.1, -3.0, 0.0)));
+  const RobotModel ur5e = RobotModel::load(std::filesystem::path(HFTS_SOURCE_DIR) /
+                                           "robots/ur5e_allegro/ur5e_allegro.json");
+  const ArmIk ik(ur5e);
+  std::mt19937_64 rng(31);
+  Eigen::VectorXd source(6);
+  source << 2.5, -1.5, 1.2, -1.0, -1.4, 0.3;
+  const std::vector<Eigen::VectorXd> solutions = ik.solveFlange(ik.flangePose(source), rng);
+  Eigen::VectorXd q = ur5e.home();
+  int twins = 0, others = 0;
+  for (std::size_t a = 0; a < solutions.size(); ++a)
+    for (std::size_t b = a + 1; b < solutions.size(); ++b) {
+      q.head(6) = solutions[a];
+      const LinkPoses pa = forwardKinematics(ur5e, q);
+      q.head(6) = solutions[b];
+      const LinkPoses pb = forwardKinematics(ur5e, q);
+      double apart = 0;
+      for (std::size_t l = 0; l < pa.size(); ++l) apart = std::max(apart, poseError(pa[l], pb[l]));
+      if (differByWholeTurns(solutions[a], solutions[b])) {
+        ++twins;
+        EXPECT_LT(apart, 1e-9);
+      } else {
+        ++others;
+        EXPECT_GT(apart, 1e-6);
+      }
+    }
+  EXPECT_GT(twins, 0);
+  EXPECT_GT(others, 0);
+}
+
 TEST(ArmIk, ArmsOfFewerThanSixDofAreRefused) {
   std::string config = test::readBytes(test::sourcePath("robots/kr5_sdh/kr5_sdh.json"));
   const auto at = config.find(", \"a6\"]");

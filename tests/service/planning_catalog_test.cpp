@@ -89,6 +89,10 @@ TEST(PlanningCatalog, ServesSeveralRobotsOverTheSameObjects) {
   };
   EXPECT_EQ(defaultOf(catalog->robots().front(), "unstable_by_reach"), "0");
   EXPECT_EQ(defaultOf(*second, "unstable_by_reach"), "1");
+  EXPECT_EQ(defaultOf(catalog->robots().front(), "fit_check"), "0");
+  EXPECT_EQ(defaultOf(*second, "fit_check"), "1");
+  EXPECT_EQ(std::stod(defaultOf(*second, "fit_clearance")), 0.0025) << "the Panda config's";
+  EXPECT_EQ(std::stod(defaultOf(catalog->robots().front(), "fit_clearance")), 0.0);
   EXPECT_EQ(second->graspability.at("mug").sampled, 1000);
   EXPECT_NE(second->graspability.at("mug").stable, catalog->graspability("mug").stable);
 }

@@ -32,6 +32,12 @@ struct GraspConfiguration {
   robot::CollisionPair collision;  ///< what collides (kColliding only)
   /// Largest distance from a fingertip of `grasp` to its contact (m).
   double fingertip_error = 0.0;
+  /// Index, in the same list, of an earlier configuration with the same
+  /// hand whose arm differs from this one's by whole turns of its joints
+  /// only (robot::differByWholeTurns): every link is where that one's is,
+  /// so its label, collision and fingertip error are copied, not
+  /// recomputed. -1: none (this one was checked).
+  int same_poses_as = -1;
 };
 
 /// All configurations of a grasp in a scene.
@@ -39,6 +45,11 @@ struct GraspConfigurations {
   HandQuery hand;  ///< hand posture, palm pose (object frame) and R(h)
   std::vector<GraspConfiguration>
       configurations;  ///< one per IK solution, or one kNoKinematicSolution
+  /// Palm turns about the line through the contacts that were tried (a
+  /// hand with HandQuery::free_turn; 1 otherwise) and how many of them the
+  /// hand alone could not take for an obstacle.
+  int turns_tried = 1;
+  int turns_blocked = 0;
 };
 
 /// Computes Phi(h): hand posture and palm pose from the hand reachability
@@ -54,12 +65,14 @@ class GraspConfigurator {
                     const Eigen::Isometry3d& objectPose, const Eigen::Isometry3d& robotBase);
 
   /// For the contacts of a grasp (object frame, outward normals, one column
-  /// per finger).
-  GraspConfigurations configure(const GraspContacts& grasp, std::mt19937_64& rng);
+  /// per finger). `turn` false: R(h)'s own palm pose only, also for a hand
+  /// that may turn (setTurns), e.g. for a grasp that cannot be a goal.
+  GraspConfigurations configure(const GraspContacts& grasp, std::mt19937_64& rng, bool turn = true);
 
   /// For an HFTS node: its representative grasp (inner nodes too: the goal
   /// sampler asks for configurations of approximate grasps).
-  GraspConfigurations configure(const HftsSpace& space, const HftsNode& node, std::mt19937_64& rng);
+  GraspConfigurations configure(const HftsSpace& space, const HftsNode& node, std::mt19937_64& rng,
+                                bool turn = true);
 
   /// The grasp's configurations with other hand postures than configure()
   /// uses (HandReachability::queryAlternatives with fingertips within
@@ -71,16 +84,50 @@ class GraspConfigurator {
   /// The pre-grasp opening of a hand posture (hand DoF only).
   Eigen::VectorXd openedHand(const Eigen::VectorXd& hand) const;
 
+  /// How many palm turns about the line through the contacts Phi(h) tries
+  /// for a hand that may turn about it (HandQuery::free_turn: a parallel
+  /// jaw gripper), evenly spaced from a random start, in that order, until
+  /// one gives a collision-free configuration. A turn whose hand alone
+  /// meets an obstacle gets no arm IK. 1 (the default): only the palm pose
+  /// of R(h)'s answer. Throws InvalidArgument naming "turns" below 1.
+  void setTurns(int turns);
+  int turns() const { return turns_; }
+
+  /// Keeps, of the whole-turn variants of each arm IK branch
+  /// (robot::differByWholeTurns: every link in the same place), only the
+  /// one nearest `arm` (numArmDofs() values) joint by joint, which is also
+  /// the nearest in the planner's weighted joint metric. The planner passes
+  /// its start, where its trees grow from; a variant a full turn away from
+  /// it only lengthens the path to the same grasp. Without a reference (the
+  /// default) every variant is a configuration of its own, labelled once
+  /// per branch. Throws InvalidArgument naming "arm" for another size or
+  /// non-finite values.
+  void setArmReference(const Eigen::VectorXd& arm);
+
  private:
   /// Every arm IK solution for a hand answer, labelled.
-  GraspConfigurations configure(const GraspContacts& grasp, HandQuery hand, std::mt19937_64& rng);
+  GraspConfigurations configure(const GraspContacts& grasp, HandQuery hand, std::mt19937_64& rng,
+                                bool turn);
+  /// Appends every arm IK solution for the palm at `palm` (object frame),
+  /// labelled.
+  void appendArmConfigurations(const GraspContacts& grasp, const HandQuery& hand,
+                               const Eigen::Isometry3d& palm, std::mt19937_64& rng,
+                               std::vector<GraspConfiguration>& out);
+  /// With an arm reference: drops every solution that is not the variant
+  /// of its branch nearest the reference.
+  void keepNearestTurns(std::vector<Eigen::VectorXd>& arms) const;
+  /// configure() for a hand with a free turn and turns_ > 1.
+  void configureTurns(const GraspContacts& grasp, GraspConfigurations& out, std::mt19937_64& rng);
 
   const robot::RobotModel& model_;
   const robot::ArmIk& ik_;
   const HandReachability& hand_;
   robot::CollisionChecker& checker_;
   Eigen::Isometry3d objectInBase_;
+  Eigen::Isometry3d objectInWorld_;
   std::vector<bool> singleFinger_;  // per hand DoF: drives one joint only
+  int turns_ = 1;
+  Eigen::VectorXd reference_;  // empty: every whole-turn variant
 };
 
 }  // namespace hfts::grasp

@@ -28,10 +28,42 @@ struct ObjectiveOptions {
   /// reachable ones are the nearly antipodal ones, so the planner turns it
   /// on for them (parameter "unstable_by_reach").
   int unstable_by_reach = 0;
+  /// 1: Q(h) is 0 for contacts the hand cannot hold, whatever their
+  /// friction cones say: two contacts farther apart than any two fingertips
+  /// of the hand ever are (HandReachability::maxFingertipDistance: a
+  /// gripper's stroke), or a contact whose inward normal points away from
+  /// the other contacts (the pads of a grasp posture face each other,
+  /// isGraspPosture; an expanding grasp inside a mug pushes them apart).
+  /// A pair wider than that span is also valued as if R(h) were at least
+  /// half the excess (each fingertip that far off its contact), so that
+  /// among the grasps without force closure (unstable_by_reach) those the
+  /// jaws can close on come first.
+  /// 0: Q(h) of the contacts alone, as in the paper. On for two fingertips
+  /// (objectiveOptions, the planner's "fit_check"): R(h) of a pair beyond
+  /// the stroke is only millimetres and of a reversed pair 2 lambda, so such
+  /// pairs of high quality outranked the ones the jaws can hold.
+  int fit_check = 0;
+  /// With fit_check: the room (m) each fingertip needs beyond its contact
+  /// to come in, so contacts farther apart than the hand's span less twice
+  /// this do not fit either. A pair at the very stroke leaves the pre-grasp
+  /// no opening: its pads sit on the surface and every approach grazes it
+  /// ("fit_clearance"; the Panda's config sets 2.5 mm).
+  double fit_clearance = 0.0;
 };
 
-/// The default options with the contact model of the robot's fingertips.
+/// The default options with the contact model of the robot's fingertips,
+/// and fit_check for a hand of two fingertips.
 ObjectiveOptions objectiveOptions(const robot::RobotModel& robot);
+
+/// True when a hand whose fingertips are at most `span` (m) apart can hold
+/// `contacts` (object frame, outward normals, one column per finger):
+/// no two of them farther apart than `span`, and every inward normal with a
+/// positive component towards the centroid of the other contacts.
+bool handFits(const GraspContacts& contacts, double span);
+
+/// How much farther apart (m) the two most distant contacts are than
+/// `span`; 0 when they are within it.
+double spanExcess(const GraspContacts& contacts, double span);
 
 /// Q(h)'s request for `contacts` of the space's object: outward normals,
 /// the object's centre of mass and rho, the options' friction, cone
@@ -41,7 +73,9 @@ GraspQualityRequest qualityRequest(const HftsSpace& space, const GraspContacts& 
 
 /// One evaluated node.
 struct GraspEvaluation {
-  double quality = 0.0;       ///< Q(h): Ferrari-Canny epsilon of the representative grasp
+  /// Q(h): Ferrari-Canny epsilon of the representative grasp (0 when
+  /// ObjectiveOptions::fit_check finds that the hand cannot hold it).
+  double quality = 0.0;
   double reachability = 0.0;  ///< R(h) (m) from the hand map
   /// Q / (R + alpha). With R = 0 the value is Q / alpha: an exactly
   /// reachable grasp outranks any inexact one of similar quality, and

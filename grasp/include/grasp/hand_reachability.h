@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "grasp/hand_map_builder.h"
@@ -54,7 +55,19 @@ struct HandQuery {
   /// finger_of_contact[c]: index into RobotModel::fingertips() of the finger on contact c.
   std::vector<int> finger_of_contact;
   std::size_t map_sample = 0;  ///< the map sample the answer was refined from
+  /// Set when the hand can turn about the line through its fingertips
+  /// without moving them or turning its pads: two fingertips whose pads
+  /// face along that line (a parallel-jaw gripper). The line (contact
+  /// frame, through the placed fingertips, unit direction); every palm pose
+  /// turned about it (turnedPalm) achieves the same residual, so the turn
+  /// is a free parameter of the grasp.
+  std::optional<Eigen::ParametrizedLine<double, 3>> free_turn;
 };
+
+/// The answer's palm pose turned by `angle` (rad, right-handed about the
+/// line's direction) about its free_turn line; the palm pose itself when
+/// the answer has none.
+Eigen::Isometry3d turnedPalm(const HandQuery& answer, double angle);
 
 /// True when two answers are the same way of taking the contacts: the same
 /// finger on each contact and every hand joint within `minHandDifference`
@@ -99,6 +112,10 @@ class HandReachability {
 
   const db::HandMap& map() const;
   const HandQueryOptions& options() const;
+  /// The largest distance between two fingertips over the map's grasp
+  /// postures (m): contacts farther apart than this are beyond the hand's
+  /// span (a parallel-jaw gripper's stroke).
+  double maxFingertipDistance() const;
 
  private:
   struct Impl;

@@ -196,6 +196,13 @@ struct GoalSamplingSettings {
   /// (grasp::GraspObjective::setHandCheck); 0: Eq. (1) alone, as in the
   /// paper ("hand_clearance").
   int hand_clearance = 0;
+  /// Palm turns about the line through the contacts that Phi(h) tries for a
+  /// hand that may turn about it (a parallel-jaw gripper,
+  /// grasp::HandQuery::free_turn): evenly spaced from a random start until
+  /// one gives a collision-free configuration, skipping those whose hand
+  /// alone meets an obstacle; 1: only R(h)'s palm pose. No effect on other
+  /// hands ("palm_turns").
+  int palm_turns = 8;
 };
 
 /// The range of the decoupled sampler's i ("iterations"), for programs

@@ -47,7 +47,10 @@ struct GoalSamplerStatistics {
   std::uint64_t nodes_explored = 0;
   std::uint64_t configured_nodes = 0;     ///< nodes whose grasp went through Phi(h)
   std::uint64_t kinematic_solutions = 0;  ///< of those, nodes with at least one IK solution
-  GraspRejections rejected;               ///< leaf grasps without a goal, by reason
+  /// Of those, nodes whose Phi(h) tried palm turns (a hand with a free turn:
+  /// every node but the unstable leaves).
+  std::uint64_t turned_nodes = 0;
+  GraspRejections rejected;  ///< leaf grasps without a goal, by reason
 };
 
 struct PlanStatistics {

@@ -69,4 +69,12 @@ class ArmIk {
   std::unique_ptr<Impl> impl_;
 };
 
+/// True when two arm configurations of the same size differ by whole turns
+/// of their joints only (each difference within `tolerance` rad of a
+/// multiple of 2 pi). ArmIk's arm joints are all revolute, so such
+/// solutions put every link in the same place: the same collisions, the
+/// same fingertips (solveFlange returns them as separate solutions).
+bool differByWholeTurns(const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                        double tolerance = 1e-9);
+
 }  // namespace hfts::robot
