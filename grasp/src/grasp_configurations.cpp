@@ -111,23 +111,8 @@ void GraspConfigurator::setArmReference(const Eigen::VectorXd& arm) {
 }
 
 void GraspConfigurator::keepNearestTurns(std::vector<Eigen::VectorXd>& arms) const {
-  constexpr double kLimitTolerance = 1e-9;
-  const auto isNearest = [&](const Eigen::VectorXd& arm) {
-    for (Eigen::Index d = 0; d < arm.size(); ++d) {
-      const double own = std::abs(arm(d) - reference_(d));
-      for (const double turn : {-4.0 * M_PI, -2.0 * M_PI, 2.0 * M_PI, 4.0 * M_PI}) {
-        const double other = arm(d) + turn;
-        if (other >= model_.lowerLimits()(d) - kLimitTolerance &&
-            other <= model_.upperLimits()(d) + kLimitTolerance &&
-            std::abs(other - reference_(d)) < own)
-          return false;
-      }
-    }
-    return true;
-  };
-  arms.erase(std::remove_if(arms.begin(), arms.end(),
-                            [&](const Eigen::VectorXd& arm) { return !isNearest(arm); }),
-             arms.end());
+  arms = robot::nearestWholeTurns(arms, reference_, model_.lowerLimits().head(reference_.size()),
+                                  model_.upperLimits().head(reference_.size()));
 }
 
 GraspConfigurations GraspConfigurator::configure(const GraspContacts& grasp, HandQuery hand,

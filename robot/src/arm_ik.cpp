@@ -5,6 +5,7 @@
 // (product of exponentials) with the Paden-Kahan subproblems.
 #include "robot/arm_ik.h"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -501,6 +502,48 @@ bool differByWholeTurns(const Eigen::VectorXd& a, const Eigen::VectorXd& b, doub
   for (Eigen::Index d = 0; d < a.size(); ++d)
     if (std::abs(wrapToPi(a(d) - b(d))) > tolerance) return false;
   return true;
+}
+
+std::vector<Eigen::VectorXd> nearestWholeTurns(const std::vector<Eigen::VectorXd>& solutions,
+                                               const Eigen::VectorXd& reference,
+                                               const Eigen::VectorXd& lower,
+                                               const Eigen::VectorXd& upper) {
+  constexpr double kLimitTolerance = 1e-9;
+  // Each solution moved, joint by joint, to its in-limit whole-turn value
+  // nearest the reference (a strictly nearer one only, so ties stay).
+  std::vector<Eigen::VectorXd> nearest = solutions;
+  std::vector<bool> moved(solutions.size(), false);
+  for (std::size_t k = 0; k < nearest.size(); ++k) {
+    Eigen::VectorXd& arm = nearest[k];
+    for (Eigen::Index d = 0; d < arm.size(); ++d) {
+      const double low = lower(d) - kLimitTolerance;
+      const double high = upper(d) + kLimitTolerance;
+      if (!std::isfinite(low) || !std::isfinite(high) || !std::isfinite(arm(d))) continue;
+      double best = arm(d);
+      // Every in-limit value arm(d) + 2 pi n, from the lowest up.
+      for (double v = arm(d) - 2.0 * M_PI * std::floor((arm(d) - low) / (2.0 * M_PI)); v <= high;
+           v += 2.0 * M_PI)
+        if (v >= low && std::abs(v - reference(d)) < std::abs(best - reference(d))) best = v;
+      if (best != arm(d)) moved[k] = true;
+      arm(d) = best;
+    }
+  }
+  // A solution that already was its nearest variant keeps its place; a
+  // moved one is kept only when no solution of its class was already
+  // there, and once.
+  const auto same = [](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    return (a - b).cwiseAbs().maxCoeff() <= 1e-9;
+  };
+  std::vector<Eigen::VectorXd> kept;
+  for (std::size_t k = 0; k < nearest.size(); ++k) {
+    bool present = false;
+    for (std::size_t j = 0; j < nearest.size() && moved[k] && !present; ++j)
+      present = !moved[j] && same(nearest[j], nearest[k]);
+    if (!present && std::none_of(kept.begin(), kept.end(),
+                                 [&](const Eigen::VectorXd& a) { return same(a, nearest[k]); }))
+      kept.push_back(nearest[k]);
+  }
+  return kept;
 }
 
 std::vector<Eigen::VectorXd> ArmIk::solveNumerically(const Eigen::Isometry3d& flange,

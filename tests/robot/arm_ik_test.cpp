@@ -279,6 +279,31 @@ TEST(ArmIk, AWristSingularityStillReachesThePose) {
   }
 }
 
+TEST(ArmIk, NearestWholeTurnsMovesEachSolutionToItsNearestInLimitVariantOnce) {
+  // Joint 0 turns +-3 pi, joint 1 less than a turn.
+  const Eigen::Vector2d lower(-3 * M_PI, -M_PI), upper(3 * M_PI, M_PI);
+  const Eigen::Vector2d reference(5.0, 0.0);
+  const Eigen::Vector2d a(0.5, 0.2), b(-1.0, 0.3), aNearest(0.5 + 2 * M_PI, 0.2);
+  // a's nearest variant is in the list (as a closed form lists it): a goes.
+  // b's is not (as a numerical solver may miss it): b is moved there.
+  const std::vector<Eigen::VectorXd> kept =
+      nearestWholeTurns({a, b, aNearest}, reference, lower, upper);
+  ASSERT_EQ(kept.size(), 2u);
+  EXPECT_TRUE(kept[0].isApprox(Eigen::Vector2d(-1.0 + 2 * M_PI, 0.3), 1e-12)) << kept[0];
+  EXPECT_EQ(kept[1], aNearest);
+  // Two solutions of one class, neither nearest: one moved copy.
+  const std::vector<Eigen::VectorXd> once =
+      nearestWholeTurns({a - Eigen::Vector2d(2 * M_PI, 0), a}, reference, lower, upper);
+  ASSERT_EQ(once.size(), 1u);
+  EXPECT_TRUE(once[0].isApprox(aNearest, 1e-12));
+  // The nearest variant must lie within the limits: 20 rad is beyond 3 pi.
+  const std::vector<Eigen::VectorXd> capped =
+      nearestWholeTurns({Eigen::Vector2d(-2.0, 0.0)}, Eigen::Vector2d(20.0, 0.0), lower, upper);
+  ASSERT_EQ(capped.size(), 1u);
+  EXPECT_NEAR(capped[0](0), -2.0 + 2 * M_PI, 1e-12);  // -2 + 4 pi > 3 pi
+  EXPECT_LE(capped[0](0), upper(0));
+}
+
 TEST(ArmIk, WholeTurnVariantsPutEveryLinkWhereTheirBranchPutsIt) {
   EXPECT_TRUE(differByWholeTurns(Eigen::Vector2d(0.1, -3.0),
                                  Eigen::Vector2d(0.1 + 2 * M_PI, -3.0 - 4 * M_PI)));

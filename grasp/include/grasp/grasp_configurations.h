@@ -113,8 +113,10 @@ class GraspConfigurator {
   void appendArmConfigurations(const GraspContacts& grasp, const HandQuery& hand,
                                const Eigen::Isometry3d& palm, std::mt19937_64& rng,
                                std::vector<GraspConfiguration>& out);
-  /// With an arm reference: drops every solution that is not the variant
-  /// of its branch nearest the reference.
+  /// With an arm reference: moves every solution to the whole-turn variant
+  /// of its branch nearest the reference (in the joint limits) and drops
+  /// the duplicates; a solution that already was that variant keeps its
+  /// place in the list.
   void keepNearestTurns(std::vector<Eigen::VectorXd>& arms) const;
   /// configure() for a hand with a free turn and turns_ > 1.
   void configureTurns(const GraspContacts& grasp, GraspConfigurations& out, std::mt19937_64& rng);

@@ -77,4 +77,16 @@ class ArmIk {
 bool differByWholeTurns(const Eigen::VectorXd& a, const Eigen::VectorXd& b,
                         double tolerance = 1e-9);
 
+/// Of each class of `solutions` that differ by whole turns only, the one
+/// variant nearest `reference` joint by joint within [lower, upper] (so
+/// also in any weighted joint metric), once. Each solution is moved to
+/// that variant; one that already was it keeps its place in the order, a
+/// moved one is kept only when its class had no such solution (a
+/// numerical solver need not have found it; a closed form lists every
+/// variant). Ties keep the solution's own value. All vectors of one size.
+std::vector<Eigen::VectorXd> nearestWholeTurns(const std::vector<Eigen::VectorXd>& solutions,
+                                               const Eigen::VectorXd& reference,
+                                               const Eigen::VectorXd& lower,
+                                               const Eigen::VectorXd& upper);
+
 }  // namespace hfts::robot
