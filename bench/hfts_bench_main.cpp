@@ -34,13 +34,14 @@ using hfts::planner::PlanningWorld;
 using hfts::robot::Scene;
 
 struct Options {
-  std::string db, robot, sceneDir, out, experiment, outDir, python = "/usr/bin/python3";
+  std::string db, robot, sceneDir, out, experiment, outDir, holdability,
+      python = "/usr/bin/python3";
   std::vector<std::string> scenes, objects, placements{"target"},
       algorithms{"coupled", "decoupled20", "decoupled60", "decoupled100"};
   int runs = 10;
   int firstSeed = 1;
   double timeLimit = 60.0;
-  bool quick = false, noPlots = false;
+  bool quick = false, noPlots = false, holdableOnly = false;
   std::string commandLine;
   std::vector<hfts::bench::SceneObjects> designCases;  ///< --experiment's objects per scene
 };
@@ -68,6 +69,8 @@ struct Experiment {
   double timeLimit = 0.0;
   fs::path csv;
   fs::path outDir;  ///< experiment mode only: logs and plots go here
+  /// Cases left out by --holdable-only (the object cannot be held there).
+  std::vector<Case> unholdable;
 };
 
 Given addOptions(CLI::App& app, Options& o) {
@@ -117,6 +120,12 @@ Given addOptions(CLI::App& app, Options& o) {
       ->needs(experiment)
       ->capture_default_str();
   app.add_flag("--no-plots", o.noPlots, "With --experiment: skip the plots")->needs(experiment);
+  app.add_flag("--holdable-only", o.holdableOnly,
+               "Plan only for the objects the robot's hand alone can hold where they stand "
+               "(docs/robots.md#which-objects-a-hand-can-hold); the others are listed");
+  app.add_option("--holdability", o.holdability,
+                 "CSV file: whether the hand can hold each case's object, and why not")
+      ->type_name("FILE");
   return g;
 }
 
@@ -212,6 +221,34 @@ void checkParameterNames(const std::vector<Algorithm>& algorithms, const Plannin
                          "' (see docs/planning.md#parameters)");
 }
 
+/// FreeHandGrasp for every case (the robot's default parameters, seed 1);
+/// with --holdable-only, the cases whose object cannot be held move to
+/// e.unholdable. With --holdability, writes the answers.
+void sortOutHoldable(Experiment& e, const Options& o) {
+  std::vector<hfts::bench::HoldabilityRecord> records;
+  std::vector<Case> holdable;
+  for (const Case& c : e.cases) {
+    hfts::planner::PlanRequest request;
+    request.scene = c.scene;
+    request.object = c.object;
+    const auto began = std::chrono::steady_clock::now();
+    hfts::bench::HoldabilityRecord r{{c.scene.name, c.object, c.placement},
+                                     hfts::planner::freeHandGrasp(*e.world, request)};
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+    if (r.grasp.holdable || !o.holdableOnly) {
+      holdable.push_back(c);
+    } else {
+      e.unholdable.push_back(c);
+      std::cerr << "hfts-bench: left out " << c.scene.name << "/" << c.object
+                << (c.placement == "target" ? "" : " at " + c.placement) << ": " << r.grasp.reason
+                << "\n";
+    }
+    records.push_back(std::move(r));
+  }
+  if (!o.holdability.empty()) hfts::bench::writeHoldabilityCsv(o.holdability, records);
+  e.cases = std::move(holdable);
+}
+
 Experiment prepare(const Options& o) {
   Experiment e;
   e.algorithms = hfts::bench::parseAlgorithms(o.algorithms);
@@ -220,6 +257,7 @@ Experiment prepare(const Options& o) {
   e.world = loadWorld(o);
   checkParameterNames(e.algorithms, *e.world);
   e.cases = casesOf(scenes, *e.world, o);
+  if (o.holdableOnly || !o.holdability.empty()) sortOutHoldable(e, o);
   e.runs = o.runs;
   e.firstSeed = o.firstSeed;
   e.timeLimit = o.timeLimit;
@@ -324,6 +362,10 @@ int benchmark(const Options& o) {
               << std::setprecision(1) << static_cast<double>(runCount(e)) * e.timeLimit / 60.0
               << " minutes if every run hits the time limit\n";
   }
+  if (!e.unholdable.empty())
+    std::cerr << "hfts-bench: " << e.unholdable.size() << " of "
+              << e.unholdable.size() + e.cases.size()
+              << " cases left out: the hand alone cannot hold the object there\n";
   const std::vector<RunRecord> records = runAll(e, o.commandLine);
   hfts::bench::printSummary(std::cout, records, namesOf(e.algorithms));
   std::cout << records.size() << " runs written to " << e.csv.string() << "\n";

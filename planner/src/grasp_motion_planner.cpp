@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "grasp/contact_mask.h"
+#include "grasp/grasp_optimizer.h"
 #include "hfts_db/invalid_argument.h"
 #include "planner/lazy_goal_baseline.h"
 #include "planner/multi_tree_cbirrt.h"
@@ -484,6 +485,77 @@ PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
   result.stats.planning_time =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
   return result;
+}
+
+namespace {
+
+/// The hand alone at `palm` (world frame): pre-grasp, closing motion and
+/// grasp clear (FreeHandGrasp's criterion).
+bool handFits(robot::CollisionChecker& checker, const Eigen::Isometry3d& palm,
+              const Eigen::VectorXd& pregrasp, const Eigen::VectorXd& grasp) {
+  if (checker.handInCollision(palm, pregrasp, false)) return false;
+  constexpr int kClosingSteps = 8;
+  for (int k = 1; k <= kClosingSteps; ++k) {
+    const double t = static_cast<double>(k) / kClosingSteps;
+    if (checker.handInCollision(palm, pregrasp + t * (grasp - pregrasp), true)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+FreeHandGrasp freeHandGrasp(const PlanningWorld& world, const PlanRequest& request, int climbs) {
+  if (climbs < 1) throw InvalidArgument("climbs", "must be at least 1");
+  quietOmpl();
+  FreeHandGrasp out;
+  const std::string name = request.object.empty() ? request.scene.target_object : request.object;
+  const db::ObjectDatabase* object = world.object(name);
+  if (object == nullptr) {
+    out.reason = "unknown object '" + name + "'";
+    return out;
+  }
+  Problem p(world, *object, request, startOf(world.robot(), request));
+  robot::CollisionPair pair;
+  if (p.checker.targetTouchesObstacles(&pair)) {
+    out.reason = "the target object intersects " + pair.second + " in this scene";
+    return out;
+  }
+  if (auto why = checkGraspable(p); why.first != PlanFailure::kNone) {
+    out.reason = why.second;
+    return out;
+  }
+  const GoalSamplingSettings& settings = p.parameters.goals;
+  SamplingTools tools(world, p.scene, p.space, p.checker, settings);
+  std::mt19937_64 rng(request.seed);
+  while (out.climbs < climbs) {
+    ++out.climbs;
+    const grasp::ClimbResult leaf =
+        grasp::optimizeToLeaf(tools.objective, settings.decoupled_iterations, rng);
+    if (!(leaf.evaluation.quality > 0.0)) continue;
+    ++out.stable;
+    const grasp::GraspContacts contacts = p.space.representative(leaf.best);
+    const grasp::HandQuery hand =
+        world.thoroughHandMap().query(contacts.positions, contacts.outward_normals);
+    if (!(hand.position_error <= settings.max_fingertip_error)) continue;
+    ++out.reached;
+    const Eigen::VectorXd pregrasp = tools.configurator.openedHand(hand.hand_configuration);
+    const int turns = hand.free_turn ? settings.palm_turns : 1;
+    for (int k = 0; k < turns; ++k) {
+      const Eigen::Isometry3d palm =
+          p.scene.target_pose * grasp::turnedPalm(hand, 2.0 * M_PI * k / turns);
+      if (handFits(p.checker, palm, pregrasp, hand.hand_configuration)) {
+        out.holdable = true;
+        out.epsilon = leaf.evaluation.quality;
+        return out;
+      }
+    }
+  }
+  std::ostringstream why;
+  why << "no grasp for the hand alone in " << out.climbs << " climbs (" << out.stable
+      << " stable leaves, " << out.reached << " of them within reach of the fingertips, none with "
+      << "the hand clear of the scene)";
+  out.reason = why.str();
+  return out;
 }
 
 }  // namespace hfts::planner

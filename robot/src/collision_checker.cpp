@@ -531,8 +531,12 @@ bool CollisionChecker::sphereTouchesObstacles(const Eigen::Vector3d& center, dou
   return data.collision;
 }
 
-bool CollisionChecker::handTouchesObstacles(const Eigen::Isometry3d& palm,
-                                            const Eigen::VectorXd& hand, CollisionPair* pair) {
+/// Moves the hand's objects (the palm and every link that moves with a hand
+/// DoF) so that the palm is at `palm` (world frame), the hand joints at
+/// `hand`. This moves the robot's objects; every robot query places them
+/// (place()) before it reads them.
+std::vector<std::size_t> CollisionChecker::placeHand(const Eigen::Isometry3d& palm,
+                                                     const Eigen::VectorXd& hand) {
   const RobotModel& model = impl_->model;
   if (hand.size() != model.numHandDofs() || !hand.allFinite() || !palm.matrix().allFinite())
     throw InvalidArgument("hand", "needs a finite palm pose and " +
@@ -540,21 +544,45 @@ bool CollisionChecker::handTouchesObstacles(const Eigen::Isometry3d& palm,
   Eigen::VectorXd q = model.home();
   q.tail(model.numHandDofs()) = hand;
   forwardKinematics(model, q, impl_->poses);
-  // Hand links relative to the palm, then placed with the palm at `palm`;
-  // this moves the robot's objects, and every robot query places them
-  // (place()) before it reads them.
   const Eigen::Isometry3d toWorld =
       palm * impl_->poses[static_cast<std::size_t>(model.palmLink())].inverse();
-  QueryData data;
-  for (std::size_t i = 0; i < impl_->robotObjects.size() && !data.collision; ++i) {
+  std::vector<std::size_t> placed;
+  for (std::size_t i = 0; i < impl_->robotObjects.size(); ++i) {
     const auto& [link, origin] = impl_->robotShapes[i];
     if (!model.isHandLink(link)) continue;
     Object& object = *impl_->robotObjects[i];
     const Eigen::Isometry3d pose = toWorld * impl_->poses[static_cast<std::size_t>(link)] * origin;
     object.setTransform(pose.linear(), pose.translation());
     object.computeAABB();
+    placed.push_back(i);
+  }
+  return placed;
+}
+
+bool CollisionChecker::handTouchesObstacles(const Eigen::Isometry3d& palm,
+                                            const Eigen::VectorXd& hand, CollisionPair* pair) {
+  QueryData data;
+  for (const std::size_t i : placeHand(palm, hand)) {
+    Object& object = *impl_->robotObjects[i];
     data.query = object.getUserData();
     impl_->environment.collide(&object, &data, obstacleCallback);
+    if (data.collision) break;
+  }
+  if (data.collision && pair != nullptr) *pair = data.pair;
+  return data.collision;
+}
+
+bool CollisionChecker::handInCollision(const Eigen::Isometry3d& palm, const Eigen::VectorXd& hand,
+                                       bool allowFingertipContact, CollisionPair* pair) {
+  QueryData data;
+  data.model = &impl_->model;
+  data.allowFingertipContact = allowFingertipContact;
+  const std::vector<std::size_t> placed = placeHand(palm, hand);
+  for (std::size_t k = 0; k < placed.size() && !data.collision; ++k) {
+    Object& object = *impl_->robotObjects[placed[k]];
+    impl_->environment.collide(&object, &data, collideCallback);
+    for (std::size_t l = k + 1; l < placed.size() && !data.collision; ++l)
+      Impl::shapesCollide(object, *impl_->robotObjects[placed[l]], data);
   }
   if (data.collision && pair != nullptr) *pair = data.pair;
   return data.collision;

@@ -5,11 +5,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "hfts_db/invalid_argument.h"
 #include "planner/parameters.h"
 
+#include "grasp/hand_map_builder.h"
 #include "grasp/hand_reachability.h"
 #include "plan_checks.h"
 #include "robot_fixture.h"
@@ -269,6 +271,53 @@ TEST(GraspMotionPlanner, FailsAtOnceWhenNoStableGraspIsClearOfTheSupport) {
   EXPECT_FALSE(searched.success);
   EXPECT_NE(searched.failure, PlanFailure::kNoStableGraspClearOfSupport);
   EXPECT_GE(searched.stats.planning_time, 0.5);
+}
+
+TEST(FreeHandGrasp, TheSdhAloneHoldsTheMugOnTheTableButNothingInTheSlot) {
+  const PlanRequest mug = request("table", "mug", 1);
+  const FreeHandGrasp held = freeHandGrasp(world(), mug);
+  ASSERT_TRUE(held.holdable) << held.reason;
+  EXPECT_TRUE(held.reason.empty());
+  EXPECT_GT(held.epsilon, 0.0);
+  EXPECT_GE(held.reached, 1);
+  EXPECT_GE(held.stable, held.reached);
+  EXPECT_GE(held.climbs, held.stable);
+  const FreeHandGrasp again = freeHandGrasp(world(), mug);  // deterministic
+  EXPECT_EQ(again.climbs, held.climbs);
+  EXPECT_EQ(again.epsilon, held.epsilon);
+
+  // The slot leaves no stable grasp: decided before any climb, as a plan is.
+  const FreeHandGrasp slot = freeHandGrasp(world(), boxInASlot(1.0));
+  EXPECT_FALSE(slot.holdable);
+  EXPECT_EQ(slot.climbs, 0);
+  EXPECT_NE(slot.reason.find("no stable grasp is possible"), std::string::npos) << slot.reason;
+
+  PlanRequest unknown = mug;
+  unknown.object = "nothing";
+  EXPECT_EQ(freeHandGrasp(world(), unknown).reason, "unknown object 'nothing'");
+  test::expectErrorMentioning<InvalidArgument>([&] { freeHandGrasp(world(), mug, 0); },
+                                               {"climbs", "at least 1"});
+}
+
+TEST(FreeHandGrasp, AParallelGripperHoldsTheBoxButNotTheWideCarton) {
+  static const PlanningWorld panda = [] {
+    const robot::RobotModel model =
+        robot::RobotModel::load(test::sourcePath("robots/panda_gripper/panda_gripper.json"));
+    std::map<std::string, db::ObjectDatabase> objects;
+    for (const char* name : {"box", "carton"})
+      objects.emplace(name, test::bundledObjects().at(name));
+    return PlanningWorld(model, grasp::buildHandMap(model, grasp::handMapOptions(model)),
+                         std::move(objects));
+  }();
+  const FreeHandGrasp box = freeHandGrasp(panda, request("table", "box", 1));
+  EXPECT_TRUE(box.holdable) << box.reason;
+  // The carton is wider than the 8 cm jaws open everywhere a finger fits.
+  const FreeHandGrasp carton = freeHandGrasp(panda, request("table", "carton", 1), 20);
+  EXPECT_FALSE(carton.holdable);
+  EXPECT_EQ(carton.climbs, 20);
+  EXPECT_EQ(carton.reached, 0);
+  EXPECT_NE(carton.reason.find("no grasp for the hand alone in 20 climbs"), std::string::npos)
+      << carton.reason;
 }
 
 TEST(GraspMotionPlanner, MaskedGraspsNeverUseContactsAFingertipCannotTouch) {

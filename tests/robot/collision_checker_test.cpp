@@ -250,6 +250,71 @@ TEST(CollisionChecker, TheHandAloneCollidesWhereTheWholeRobotsHandDoes) {
                std::invalid_argument);
 }
 
+TEST(CollisionChecker, TheHandAloneMeetsTheTargetUnderEitherRule) {
+  // As OnlyFingertipsMayTouchTheTargetUnderTheGraspRule, with the hand
+  // alone at the home configuration's palm pose.
+  const Eigen::VectorXd q = m().home();
+  const LinkPoses poses = forwardKinematics(m(), q);
+  const FingertipFrames tips = fingertipFrames(m(), poses);
+  const Eigen::Isometry3d palm = poses[static_cast<std::size_t>(m().palmLink())];
+  const Eigen::VectorXd hand = q.tail(m().numHandDofs());
+  const db::ObjectGeometry cube = smallCube();
+  Scene scene;
+  scene.target_object = "cube";
+  scene.target_pose.translation() = tips.positions.col(0) + 0.004 * tips.normals.col(0);
+  CollisionChecker touching(m(), scene, &cube);
+  CollisionPair pair;
+  EXPECT_TRUE(touching.handInCollision(palm, hand, false, &pair));
+  EXPECT_EQ(pair.second, "target 'cube'");
+  EXPECT_EQ(pair.first, m().links()[static_cast<std::size_t>(m().fingertips()[0].link)].name);
+  EXPECT_FALSE(touching.handInCollision(palm, hand, true));
+  EXPECT_FALSE(touching.handTouchesObstacles(palm, hand));  // the target is no obstacle
+
+  scene.target_pose.translation() = palm * Eigen::Vector3d(0, 0, 0.04);
+  CollisionChecker inPalm(m(), scene, &cube);
+  EXPECT_TRUE(inPalm.handInCollision(palm, hand, true, &pair));
+  EXPECT_EQ(pair.second, "target 'cube'");
+  EXPECT_TRUE(m().isHandLink(m().linkIndex(pair.first))) << pair.first;
+  Eigen::Isometry3d away = palm;
+  away.translation().z() += 2.0;
+  EXPECT_FALSE(inPalm.handInCollision(away, hand, false));
+  EXPECT_THROW(inPalm.handInCollision(palm, Eigen::VectorXd::Zero(1), true), std::invalid_argument);
+}
+
+TEST(CollisionChecker, WhereTheWholeRobotIsFreeTheHandAloneIsFreeToo) {
+  // The hand's links and pairs are some of the robot's: on random
+  // configurations near a wall and a target, a free robot has a free hand
+  // under the same rule, and a colliding hand a colliding robot.
+  Scene scene = wallInFront();
+  scene.target_pose.translation() << 0.5, 0.2, 0.4;
+  const db::ObjectGeometry cube = smallCube();
+  CollisionChecker checker(m(), scene, &cube);
+  std::mt19937_64 rng(5);
+  int handCollides = 0;
+  for (int i = 0; i < 3000; ++i) {
+    Eigen::VectorXd q(m().numDofs());
+    for (int j = 0; j < q.size(); ++j)
+      q(j) =
+          std::uniform_real_distribution<double>(m().lowerLimits()(j), m().upperLimits()(j))(rng);
+    const Eigen::Isometry3d palm =
+        scene.robot_base * forwardKinematics(m(), q)[static_cast<std::size_t>(m().palmLink())];
+    const Eigen::VectorXd hand = q.tail(m().numHandDofs());
+    for (const bool grasp : {false, true}) {
+      const bool robot =
+          grasp ? checker.inCollisionAllowingFingertipContact(q) : checker.inCollision(q);
+      const bool alone = checker.handInCollision(palm, hand, grasp);
+      if (!robot) {
+        EXPECT_FALSE(alone) << i;
+      }
+      if (alone) {
+        EXPECT_TRUE(robot) << i;
+        ++handCollides;
+      }
+    }
+  }
+  EXPECT_GT(handCollides, 20);
+}
+
 TEST(CollisionChecker, ASharedCollisionMeshGivesTheSameAnswersFromAnyThread) {
   // Random configurations around a palm-down pose over the mug (alone in
   // the scene): some touch it.

@@ -88,6 +88,16 @@ class CollisionChecker {
   bool handTouchesObstacles(const Eigen::Isometry3d& palm, const Eigen::VectorXd& hand,
                             CollisionPair* pair = nullptr);
 
+  /// True when the hand alone, placed as handTouchesObstacles places it,
+  /// intersects anything of the scene including the target object, or one
+  /// of its own links another (pairs the robot config disables excepted).
+  /// `allowFingertipContact` selects the grasp rule (fingertip links may
+  /// touch the target). Asks whether a hand without an arm could take a
+  /// grasp (planner::freeHandGrasp); checkCount() does not change. Throws as
+  /// handTouchesObstacles does.
+  bool handInCollision(const Eigen::Isometry3d& palm, const Eigen::VectorXd& hand,
+                       bool allowFingertipContact, CollisionPair* pair = nullptr);
+
   /// Smallest distance between the robot and the environment including the
   /// target object (m); 0 when in collision.
   double clearance(const Eigen::VectorXd& q);
@@ -132,6 +142,10 @@ class CollisionChecker {
   std::uint64_t sphereSettledCount() const;
 
  private:
+  /// Places the hand's FCL objects for handTouchesObstacles and
+  /// handInCollision; returns their indices. Throws for a bad hand.
+  std::vector<std::size_t> placeHand(const Eigen::Isometry3d& palm, const Eigen::VectorXd& hand);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
