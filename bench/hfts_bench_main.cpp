@@ -121,10 +121,11 @@ Given addOptions(CLI::App& app, Options& o) {
       ->capture_default_str();
   app.add_flag("--no-plots", o.noPlots, "With --experiment: skip the plots")->needs(experiment);
   app.add_flag("--holdable-only", o.holdableOnly,
-               "Plan only for the objects the robot's hand alone can hold where they stand "
-               "(docs/robots.md#which-objects-a-hand-can-hold); the others are listed");
+               "Plan only where the robot can hold the object (a collision-free grasp "
+               "configuration exists, docs/robots.md#which-objects-a-robot-can-hold); the "
+               "others are listed");
   app.add_option("--holdability", o.holdability,
-                 "CSV file: whether the hand can hold each case's object, and why not")
+                 "CSV file: whether the robot can hold each case's object, and why not")
       ->type_name("FILE");
   return g;
 }
@@ -221,7 +222,7 @@ void checkParameterNames(const std::vector<Algorithm>& algorithms, const Plannin
                          "' (see docs/planning.md#parameters)");
 }
 
-/// FreeHandGrasp for every case (the robot's default parameters, seed 1);
+/// holdability() for every case (the robot's default parameters, seed 1);
 /// with --holdable-only, the cases whose object cannot be held move to
 /// e.unholdable. With --holdability, writes the answers.
 void sortOutHoldable(Experiment& e, const Options& o) {
@@ -233,14 +234,14 @@ void sortOutHoldable(Experiment& e, const Options& o) {
     request.object = c.object;
     const auto began = std::chrono::steady_clock::now();
     hfts::bench::HoldabilityRecord r{{c.scene.name, c.object, c.placement},
-                                     hfts::planner::freeHandGrasp(*e.world, request)};
+                                     hfts::planner::holdability(*e.world, request)};
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
-    if (r.grasp.holdable || !o.holdableOnly) {
+    if (r.answer.holdable || !o.holdableOnly) {
       holdable.push_back(c);
     } else {
       e.unholdable.push_back(c);
       std::cerr << "hfts-bench: left out " << c.scene.name << "/" << c.object
-                << (c.placement == "target" ? "" : " at " + c.placement) << ": " << r.grasp.reason
+                << (c.placement == "target" ? "" : " at " + c.placement) << ": " << r.answer.reason
                 << "\n";
     }
     records.push_back(std::move(r));
@@ -365,7 +366,7 @@ int benchmark(const Options& o) {
   if (!e.unholdable.empty())
     std::cerr << "hfts-bench: " << e.unholdable.size() << " of "
               << e.unholdable.size() + e.cases.size()
-              << " cases left out: the hand alone cannot hold the object there\n";
+              << " cases left out: no grasp the robot can hold the object by was found\n";
   const std::vector<RunRecord> records = runAll(e, o.commandLine);
   hfts::bench::printSummary(std::cout, records, namesOf(e.algorithms));
   std::cout << records.size() << " runs written to " << e.csv.string() << "\n";

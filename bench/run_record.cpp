@@ -71,13 +71,15 @@ void writeCsvAtomically(const std::filesystem::path& out, const std::vector<RunR
 void writeHoldabilityCsv(const std::filesystem::path& out,
                          const std::vector<HoldabilityRecord>& records) {
   std::ostringstream text;
-  text << "scene,object,placement,holdable,climbs,stable,reached,epsilon,seconds,reason\n";
+  text << "scene,object,placement,holdable,climbs,leaves,stable,reached,hand_clear,epsilon,seconds,"
+          "reason\n";
   for (const HoldabilityRecord& r : records) {
-    const planner::FreeHandGrasp& g = r.grasp;
+    const planner::Holdability& g = r.answer;
     text << csvField(r.name.scene) << ',' << csvField(r.name.object) << ','
          << csvField(r.name.placement) << ',' << (g.holdable ? 1 : 0) << ',' << g.climbs << ','
-         << g.stable << ',' << g.reached << ',' << std::fixed << std::setprecision(8) << g.epsilon
-         << ',' << std::setprecision(4) << r.seconds << ',' << csvField(g.reason) << '\n';
+         << g.leaves << ',' << g.stable << ',' << g.reached << ',' << g.hand_clear << ','
+         << std::fixed << std::setprecision(8) << g.epsilon << ',' << std::setprecision(4)
+         << r.seconds << ',' << csvField(g.reason) << '\n';
   }
   db::writeFileAtomically(out, text.str());
 }

@@ -43,16 +43,16 @@ RunRecord makeRunRecord(const CaseName& c, const std::string& algorithm, std::ui
 /// std::runtime_error naming the file when it cannot be written.
 void writeCsvAtomically(const std::filesystem::path& out, const std::vector<RunRecord>& records);
 
-/// Whether the robot's hand alone can hold an object where a case puts it
-/// (planner::freeHandGrasp), and how long that took to decide.
+/// Whether the robot can hold an object where a case puts it
+/// (planner::holdability), and how long that took to decide.
 struct HoldabilityRecord {
   CaseName name;
-  planner::FreeHandGrasp grasp;
+  planner::Holdability answer;
   double seconds = 0.0;
 };
 
-/// Writes one row per case (scene, object, placement, holdable, climbs,
-/// stable, reached, epsilon, seconds, reason) to `out` atomically. Throws
+/// Writes one row per case (scene, object, placement, holdable, climbs, leaves,
+/// stable, reached, hand_clear, epsilon, seconds, reason) to `out` atomically. Throws
 /// std::runtime_error naming the file when it cannot be written.
 void writeHoldabilityCsv(const std::filesystem::path& out,
                          const std::vector<HoldabilityRecord>& records);

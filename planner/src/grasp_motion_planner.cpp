@@ -490,10 +490,20 @@ PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
 namespace {
 
 /// The hand alone at `palm` (world frame): pre-grasp, closing motion and
-/// grasp clear (FreeHandGrasp's criterion).
+/// grasp clear (holdability's criterion).
 bool handFits(robot::CollisionChecker& checker, const Eigen::Isometry3d& palm,
               const Eigen::VectorXd& pregrasp, const Eigen::VectorXd& grasp) {
-  if (checker.handInCollision(palm, pregrasp, false)) return false;
+  robot::CollisionPair dbg;
+  if (checker.handInCollision(palm, pregrasp, false, &dbg)) {
+    if (std::getenv("HFTS_DBG"))
+      fprintf(stderr, "pre %s %s\n", dbg.first.c_str(), dbg.second.c_str());
+    return false;
+  }
+  if (checker.handInCollision(palm, grasp, true, &dbg)) {
+    if (std::getenv("HFTS_DBG"))
+      fprintf(stderr, "grasp %s %s\n", dbg.first.c_str(), dbg.second.c_str());
+    return false;
+  }
   constexpr int kClosingSteps = 8;
   for (int k = 1; k <= kClosingSteps; ++k) {
     const double t = static_cast<double>(k) / kClosingSteps;
@@ -504,10 +514,10 @@ bool handFits(robot::CollisionChecker& checker, const Eigen::Isometry3d& palm,
 
 }  // namespace
 
-FreeHandGrasp freeHandGrasp(const PlanningWorld& world, const PlanRequest& request, int climbs) {
+Holdability holdability(const PlanningWorld& world, const PlanRequest& request, int climbs) {
   if (climbs < 1) throw InvalidArgument("climbs", "must be at least 1");
   quietOmpl();
-  FreeHandGrasp out;
+  Holdability out;
   const std::string name = request.object.empty() ? request.scene.target_object : request.object;
   const db::ObjectDatabase* object = world.object(name);
   if (object == nullptr) {
@@ -524,36 +534,110 @@ FreeHandGrasp freeHandGrasp(const PlanningWorld& world, const PlanRequest& reque
     out.reason = why.second;
     return out;
   }
-  const GoalSamplingSettings& settings = p.parameters.goals;
+  // The question is whether any grasp exists: the objective ranks grasps
+  // whose hand meets an obstacle last (hand_clearance), and no leaf is
+  // climbed to twice.
+  GoalSamplingSettings settings = p.parameters.goals;
+  settings.hand_clearance = 1;
   SamplingTools tools(world, p.scene, p.space, p.checker, settings);
+  tools.configurator.setArmReference(p.start.head(world.robot().numArmDofs()));
   std::mt19937_64 rng(request.seed);
-  while (out.climbs < climbs) {
-    ++out.climbs;
-    const grasp::ClimbResult leaf =
-        grasp::optimizeToLeaf(tools.objective, settings.decoupled_iterations, rng);
-    if (!(leaf.evaluation.quality > 0.0)) continue;
-    ++out.stable;
-    const grasp::GraspContacts contacts = p.space.representative(leaf.best);
-    const grasp::HandQuery hand =
-        world.thoroughHandMap().query(contacts.positions, contacts.outward_normals);
-    if (!(hand.position_error <= settings.max_fingertip_error)) continue;
-    ++out.reached;
+  const auto fits = [&](const grasp::HandQuery& hand) {
     const Eigen::VectorXd pregrasp = tools.configurator.openedHand(hand.hand_configuration);
     const int turns = hand.free_turn ? settings.palm_turns : 1;
-    for (int k = 0; k < turns; ++k) {
-      const Eigen::Isometry3d palm =
-          p.scene.target_pose * grasp::turnedPalm(hand, 2.0 * M_PI * k / turns);
-      if (handFits(p.checker, palm, pregrasp, hand.hand_configuration)) {
+    for (int k = 0; k < turns; ++k)
+      if (handFits(p.checker, p.scene.target_pose * grasp::turnedPalm(hand, 2.0 * M_PI * k / turns),
+                   pregrasp, hand.hand_configuration))
+        return true;
+    return false;
+  };
+  // A collision-free robot configuration with the fingertips on the
+  // contacts, for a hand posture whose hand alone fits (Phi(h)).
+  const auto robotHolds = [&](const grasp::GraspContacts& contacts, const grasp::HandQuery& hand) {
+    const grasp::GraspConfigurations all = tools.configurator.configure(contacts, hand, rng);
+    return std::any_of(all.configurations.begin(), all.configurations.end(),
+                       [&](const grasp::GraspConfiguration& c) {
+                         return c.label == grasp::ConfigurationLabel::kCollisionFree &&
+                                c.fingertip_error <= settings.max_fingertip_error;
+                       });
+  };
+  // Whether the robot takes the leaf's contacts: R(h)'s posture, then the
+  // hand's other ways of taking them (the planner's other_postures).
+  const auto held = [&](const grasp::HftsNode& leaf, bool& reached, bool& handClear) {
+    const grasp::GraspContacts contacts = p.space.representative(leaf);
+    const grasp::HandQuery first =
+        world.thoroughHandMap().query(contacts.positions, contacts.outward_normals);
+    reached = first.position_error <= settings.max_fingertip_error;
+    if (reached && fits(first)) {
+      handClear = true;
+      if (robotHolds(contacts, first)) return true;
+    }
+    for (const grasp::HandQuery& hand : world.thoroughHandMap().queryAlternatives(
+             contacts.positions, contacts.outward_normals, settings.max_fingertip_error)) {
+      reached = true;
+      if (!fits(hand)) continue;
+      handClear = true;
+      if (robotHolds(contacts, hand)) return true;
+    }
+    return false;
+  };
+  // Each climb ends one level above the leaves, at a node not climbed to
+  // before; all of its leaves are then tried.
+  const int last = p.space.numLevels() - 1;
+  std::vector<std::unordered_set<grasp::HftsNode, grasp::HftsNodeHash>> excluded(
+      static_cast<std::size_t>(last) + 1);
+  while (out.climbs < climbs) {
+    // Every other descent is a random walk: Eq. (1) prefers the best
+    // grasps, and a hand may hold an object only by weaker ones.
+    const bool climbing = out.climbs % 2 == 0;
+    grasp::HftsNode node = p.space.root();
+    while (node.level < last) {
+      const auto& skip = excluded[static_cast<std::size_t>(node.level) + 1];
+      if (climbing) {
+        const grasp::ClimbResult climb =
+            grasp::hillClimb(tools.objective, node, settings.decoupled_iterations, rng, &skip);
+        if (!climb.found) break;
+        node = climb.best;
+      } else {
+        const std::uint64_t n = p.space.numChildren(node);
+        const std::uint64_t start = std::uniform_int_distribution<std::uint64_t>(0, n - 1)(rng);
+        std::uint64_t k = 0;
+        while (k < n && skip.count(p.space.child(node, (start + k) % n)) > 0) ++k;
+        if (k == n) break;
+        node = p.space.child(node, (start + k) % n);
+      }
+      // Spread out: no two descents pass through the same node.
+      excluded[static_cast<std::size_t>(node.level)].insert(node);
+    }
+    if (node.level < last) {  // all below it tried
+      if (node.level == 0) break;
+      excluded[static_cast<std::size_t>(node.level)].insert(node);
+      continue;
+    }
+    excluded[static_cast<std::size_t>(last)].insert(node);
+    ++out.climbs;
+    for (std::uint64_t c = 0; c < p.space.numChildren(node); ++c) {
+      const grasp::HftsNode leaf = p.space.child(node, c);
+      ++out.leaves;
+      const double quality = tools.objective.evaluate(leaf).quality;
+      if (!(quality > 0.0)) continue;
+      ++out.stable;
+      bool reached = false, handClear = false;
+      const bool holds = held(leaf, reached, handClear);
+      if (reached) ++out.reached;
+      if (handClear) ++out.hand_clear;
+      if (holds) {
         out.holdable = true;
-        out.epsilon = leaf.evaluation.quality;
+        out.epsilon = quality;
         return out;
       }
     }
   }
   std::ostringstream why;
-  why << "no grasp for the hand alone in " << out.climbs << " climbs (" << out.stable
-      << " stable leaves, " << out.reached << " of them within reach of the fingertips, none with "
-      << "the hand clear of the scene)";
+  why << "no grasp in " << out.leaves << " leaves of " << out.climbs << " climbs: " << out.stable
+      << " stable, " << out.reached << " of them within the fingertips' reach, " << out.hand_clear
+      << " of those with the hand alone clear of the scene, none with a "
+      << "collision-free arm configuration";
   out.reason = why.str();
   return out;
 }

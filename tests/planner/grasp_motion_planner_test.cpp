@@ -273,33 +273,44 @@ TEST(GraspMotionPlanner, FailsAtOnceWhenNoStableGraspIsClearOfTheSupport) {
   EXPECT_GE(searched.stats.planning_time, 0.5);
 }
 
-TEST(FreeHandGrasp, TheSdhAloneHoldsTheMugOnTheTableButNothingInTheSlot) {
+TEST(Holdability, TheKr5HoldsTheMugOnTheTableButNothingInTheSlot) {
   const PlanRequest mug = request("table", "mug", 1);
-  const FreeHandGrasp held = freeHandGrasp(world(), mug);
+  const Holdability held = holdability(world(), mug);
   ASSERT_TRUE(held.holdable) << held.reason;
   EXPECT_TRUE(held.reason.empty());
   EXPECT_GT(held.epsilon, 0.0);
-  EXPECT_GE(held.reached, 1);
+  EXPECT_GE(held.hand_clear, 1);
+  EXPECT_GE(held.reached, held.hand_clear);
   EXPECT_GE(held.stable, held.reached);
-  EXPECT_GE(held.climbs, held.stable);
-  const FreeHandGrasp again = freeHandGrasp(world(), mug);  // deterministic
-  EXPECT_EQ(again.climbs, held.climbs);
+  EXPECT_GE(held.leaves, held.stable);
+  EXPECT_GE(held.climbs, 1);
+  const Holdability again = holdability(world(), mug);  // deterministic
+  EXPECT_EQ(again.leaves, held.leaves);
   EXPECT_EQ(again.epsilon, held.epsilon);
 
   // The slot leaves no stable grasp: decided before any climb, as a plan is.
-  const FreeHandGrasp slot = freeHandGrasp(world(), boxInASlot(1.0));
+  const Holdability slot = holdability(world(), boxInASlot(1.0));
   EXPECT_FALSE(slot.holdable);
   EXPECT_EQ(slot.climbs, 0);
   EXPECT_NE(slot.reason.find("no stable grasp is possible"), std::string::npos) << slot.reason;
 
+  // 3 m away the hand alone takes the mug, the arm does not reach it.
+  const Holdability far =
+      holdability(world(), test::outOfReachRequest(PlanAlgorithm::kCoupled), 20);
+  EXPECT_FALSE(far.holdable);
+  EXPECT_GT(far.hand_clear, 0);
+  EXPECT_EQ(far.climbs, 20);
+  EXPECT_NE(far.reason.find("none with a collision-free arm configuration"), std::string::npos)
+      << far.reason;
+
   PlanRequest unknown = mug;
   unknown.object = "nothing";
-  EXPECT_EQ(freeHandGrasp(world(), unknown).reason, "unknown object 'nothing'");
-  test::expectErrorMentioning<InvalidArgument>([&] { freeHandGrasp(world(), mug, 0); },
+  EXPECT_EQ(holdability(world(), unknown).reason, "unknown object 'nothing'");
+  test::expectErrorMentioning<InvalidArgument>([&] { holdability(world(), mug, 0); },
                                                {"climbs", "at least 1"});
 }
 
-TEST(FreeHandGrasp, AParallelGripperHoldsTheBoxButNotTheWideCarton) {
+TEST(Holdability, AParallelGripperHoldsTheBoxButNotTheWideCarton) {
   static const PlanningWorld panda = [] {
     const robot::RobotModel model =
         robot::RobotModel::load(test::sourcePath("robots/panda_gripper/panda_gripper.json"));
@@ -309,14 +320,15 @@ TEST(FreeHandGrasp, AParallelGripperHoldsTheBoxButNotTheWideCarton) {
     return PlanningWorld(model, grasp::buildHandMap(model, grasp::handMapOptions(model)),
                          std::move(objects));
   }();
-  const FreeHandGrasp box = freeHandGrasp(panda, request("table", "box", 1));
+  const Holdability box = holdability(panda, request("table", "box", 1));
   EXPECT_TRUE(box.holdable) << box.reason;
   // The carton is wider than the 8 cm jaws open everywhere a finger fits.
-  const FreeHandGrasp carton = freeHandGrasp(panda, request("table", "carton", 1), 20);
+  const Holdability carton = holdability(panda, request("table", "carton", 1), 20);
   EXPECT_FALSE(carton.holdable);
   EXPECT_EQ(carton.climbs, 20);
   EXPECT_EQ(carton.reached, 0);
-  EXPECT_NE(carton.reason.find("no grasp for the hand alone in 20 climbs"), std::string::npos)
+  EXPECT_GT(carton.leaves, 20);
+  EXPECT_NE(carton.reason.find(" leaves of 20 climbs: 0 stable"), std::string::npos)
       << carton.reason;
 }
 

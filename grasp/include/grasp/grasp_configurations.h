@@ -74,6 +74,13 @@ class GraspConfigurator {
   GraspConfigurations configure(const HftsSpace& space, const HftsNode& node, std::mt19937_64& rng,
                                 bool turn = true);
 
+  /// For the contacts of a grasp with a given hand answer for them (e.g.
+  /// one of HandReachability::queryAlternatives): every arm IK solution,
+  /// labelled, at the answer's palm pose (a hand with a free turn and
+  /// `turn`: at the turns of setTurns).
+  GraspConfigurations configure(const GraspContacts& grasp, HandQuery hand, std::mt19937_64& rng,
+                                bool turn = true);
+
   /// The grasp's configurations with other hand postures than configure()
   /// uses (HandReachability::queryAlternatives with fingertips within
   /// `maxPositionError` m RMS of the contacts), one entry per posture.
@@ -105,9 +112,6 @@ class GraspConfigurator {
   void setArmReference(const Eigen::VectorXd& arm);
 
  private:
-  /// Every arm IK solution for a hand answer, labelled.
-  GraspConfigurations configure(const GraspContacts& grasp, HandQuery hand, std::mt19937_64& rng,
-                                bool turn);
   /// Appends every arm IK solution for the palm at `palm` (object frame),
   /// labelled.
   void appendArmConfigurations(const GraspContacts& grasp, const HandQuery& hand,

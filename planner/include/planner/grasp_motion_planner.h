@@ -136,36 +136,44 @@ std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world);
 /// seeds derived from it (SplitMix64).
 std::uint64_t racingSeed(std::uint64_t seed, int copy);
 
-/// Whether the robot's hand, without its arm, can hold the request's
-/// object where the request puts it: the criterion of "an object the robot
-/// can hold" (docs/robots.md#which-objects-a-hand-can-hold). A grasp counts
-/// when its leaf is stable (Q(h) > 0), the thorough hand map puts the
-/// fingertips within the plan's max_fingertip_error of its contacts (RMS,
-/// so no stricter than the planner's largest distance), and the hand
-/// alone, with its palm where R(h) puts it (a gripper: at any of its
-/// palm_turns turns), is clear of the scene and the object at the
+/// Whether the robot can hold the request's object where the request puts
+/// it: the criterion of "an object the robot can hold"
+/// (docs/robots.md#which-objects-a-robot-can-hold). It can when some leaf
+/// grasp h is stable (Q(h) > 0), the thorough hand map puts the fingertips
+/// within the plan's max_fingertip_error of its contacts (RMS), the hand
+/// alone, with its palm where that posture puts it (a gripper: at any of
+/// its palm_turns turns), is clear of the scene and the object at the
 /// pre-grasp (full rule), along the closing motion and at the grasp
-/// (fingertips may touch the object). Grasps come from root-to-leaf climbs
-/// of Eq. (1) (the decoupled optimiser, `iterations` per level, the plan's
-/// objective and contact mask, hand_clearance ranking when the robot's
-/// defaults set it), one after another until one counts.
-struct FreeHandGrasp {
+/// (fingertips may touch the object), and Phi(h) gives a collision-free
+/// robot configuration for it with the fingertips within
+/// max_fingertip_error: a goal the planner could return, only not
+/// connected to the start. R(h)'s posture and then the hand's other
+/// postures for the contacts are tried.
+/// The leaves come from descents from the root to one level above the
+/// leaves, alternately climbs of Eq. (1) (`iterations` per level, the
+/// plan's objective and contact mask, hand_clearance ranking) and random
+/// walks (a hand may hold an object only by weaker grasps), each through
+/// nodes no earlier descent passed; all leaves below the node reached are
+/// tried, until one holds. A search: "not holdable" means none was found.
+struct Holdability {
   bool holdable = false;
   /// Why not, in words (empty when holdable).
   std::string reason;
-  int climbs = 0;        ///< climbs run
-  int stable = 0;        ///< leaves with Q(h) > 0
+  int climbs = 0;        ///< descents run (nodes whose leaves were all tried)
+  int leaves = 0;        ///< leaves tried
+  int stable = 0;        ///< of those, with Q(h) > 0
   int reached = 0;       ///< of those, with the fingertips on the contacts
-  double epsilon = 0.0;  ///< of the grasp that counts (0 when none)
+  int hand_clear = 0;    ///< of those, with the hand alone clear of the scene
+  double epsilon = 0.0;  ///< of the grasp that holds (0 when none)
 };
 
-/// Up to `climbs` climbs (>= 1) for FreeHandGrasp's criterion, with the
-/// request's scene, object, placement, parameters (the robot's defaults
-/// under them) and seed; the start, algorithm and time limit are unused.
+/// Up to `climbs` descents (>= 1) for Holdability's criterion, with the
+/// request's scene, object, placement, start (the whole-turn variants
+/// kept are the ones nearest it, as in a plan), parameters (the robot's
+/// defaults under them) and seed; the algorithm and time limit are unused.
 /// The same request gives the same answer. Throws like planGrasp for a
 /// malformed request and InvalidArgument ("climbs") for climbs < 1.
-FreeHandGrasp freeHandGrasp(const PlanningWorld& world, const PlanRequest& request,
-                            int climbs = 100);
+Holdability holdability(const PlanningWorld& world, const PlanRequest& request, int climbs = 100);
 
 /// A successful plan as an animated binary glTF (robot/plan_export.h):
 /// the request's scene, the object where it was planned, the robot moving
