@@ -165,8 +165,8 @@ bool obstacleCallback(Object* o1, Object* o2, void* raw) {
 /// The environment as the sphere tier sees it, in the checker's order:
 /// obstacles, then the target. A mesh becomes its bounding box, refined by
 /// its distance grid when it has one.
-std::vector<SphereTier::Item> sphereTierItems(const Scene& scene, const db::ObjectGeometry* target,
-                                              const db::DistanceGrid* targetGrid) {
+std::vector<SphereTier::Item> sphereTierItems(const Scene& scene,
+                                              const db::ObjectGeometry* target) {
   std::vector<SphereTier::Item> items;
   auto add = [&](int type, const Eigen::Vector3d& size, const Eigen::Isometry3d& pose,
                  bool isTarget) {
@@ -193,7 +193,10 @@ std::vector<SphereTier::Item> sphereTierItems(const Scene& scene, const db::Obje
     else
       add(static_cast<int>(o.type), o.size, o.pose, false);
   }
-  if (target != nullptr) addMesh(target->mesh_vertices, targetGrid, scene.target_pose, true);
+  // The target outlives the checker (the constructor's contract), so the
+  // tier reads its grid in place.
+  if (target != nullptr)
+    addMesh(target->mesh_vertices, &target->distance_grid, scene.target_pose, true);
   return items;
 }
 
@@ -219,9 +222,8 @@ struct CollisionChecker::Impl {
   std::vector<std::size_t> segmentEnds;
   std::vector<Eigen::VectorXd> motionStates;
   std::vector<const Eigen::VectorXd*> motionPointers;
-  // The distance grids the sphere tier reads: the target's copied, the
-  // mesh obstacles' shared with the scene.
-  db::DistanceGrid targetGrid;
+  // The mesh obstacles' distance grids, shared with the scene, which the
+  // sphere tier reads (the target's it reads in the target's geometry).
   std::vector<std::shared_ptr<const db::DistanceGrid>> obstacleGrids;
 
   Impl(const RobotModel& m, const Scene& scene)
@@ -497,8 +499,7 @@ CollisionChecker::CollisionChecker(const RobotModel& model, const Scene& scene,
   impl_->addRobot();
   for (const Obstacle& o : scene.obstacles)
     if (o.distance_grid) impl_->obstacleGrids.push_back(o.distance_grid);
-  if (target != nullptr) impl_->targetGrid = target->distance_grid;
-  impl_->addSphereTier(sphereTierItems(scene, target, &impl_->targetGrid));
+  impl_->addSphereTier(sphereTierItems(scene, target));
 }
 
 CollisionChecker::~CollisionChecker() = default;
