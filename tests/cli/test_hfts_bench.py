@@ -177,6 +177,39 @@ class BenchCli(unittest.TestCase):
         self.assertEqual(result.returncode, 1)
         self.assertIn(f"scene 'bin' targets '{target}', which has no database", result.stderr)
 
+    def test_holdable_only_leaves_out_what_the_robot_cannot_hold(self):
+        # The table scene, and a copy with the mug 3 m away (no obstacles):
+        # the hand alone could take it there, the arm cannot reach it.
+        scenes = os.path.join(self.tmp, "scenes")
+        os.makedirs(scenes, exist_ok=True)
+        with open(os.path.join(SOURCE_DIR, "objects", "scenes", "table.json")) as f:
+            table = json.load(f)
+        far = dict(table, name="far", obstacles=[], placements=[])
+        far["target"] = {"object": "mug",
+                         "pose": {"position": [3.0, 0, 0.5], "orientation": [0, 0, 0, 1]}}
+        for name, scene in (("table", table), ("far", far)):
+            with open(os.path.join(scenes, name + ".json"), "w") as f:
+                json.dump(scene, f)
+        out = os.path.join(self.tmp, "held.csv")
+        holdability = os.path.join(self.tmp, "holdability.csv")
+        result = self.run_bench("--scene-dir", scenes, "--scenes", "far,table", "--algorithms",
+                                "coupled", "--runs", "1", "--time-limit", TIME_LIMIT,
+                                "--holdable-only", "--holdability", holdability, "--out", out)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(holdability, newline="") as f:
+            decided = {r["scene"]: r for r in csv.DictReader(f)}
+        self.assertEqual(decided["table"]["holdable"], "1")
+        self.assertGreater(float(decided["table"]["epsilon"]), 0)
+        self.assertEqual(decided["table"]["reason"], "")
+        self.assertEqual(decided["far"]["holdable"], "0")
+        self.assertGreater(int(decided["far"]["hand_clear"]), 0)
+        self.assertIn("none with a collision-free arm configuration", decided["far"]["reason"])
+        self.assertIn("left out far/mug: no grasp in", result.stderr)
+        self.assertIn("1 of 2 cases left out", result.stderr)
+        with open(out, newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual([(r["scene"], r["object"]) for r in rows], [("table", "mug")])
+
     def test_unwritable_output_fails_before_planning(self):
         out = os.path.join(self.tmp, "no-such-dir", "results.csv")
         result = self.run_bench("--scenes", "table", "--out", out)
