@@ -207,25 +207,42 @@ Scene wallInFront() {
   return scene;
 }
 
+/// wallInFront() with a target at (0.5, 0.2, 0.4) (a smallCube()).
+Scene wallAndTarget() {
+  Scene scene = wallInFront();
+  scene.target_pose.translation() << 0.5, 0.2, 0.4;
+  return scene;
+}
+
+/// A random configuration within the limits, its palm pose (world frame)
+/// and its hand joints.
+struct PlacedHand {
+  Eigen::VectorXd q;
+  Eigen::Isometry3d palm;
+  Eigen::VectorXd hand;
+};
+
+PlacedHand randomPlacedHand(const Scene& scene, std::mt19937_64& rng) {
+  Eigen::VectorXd q(m().numDofs());
+  for (int j = 0; j < q.size(); ++j)
+    q(j) = std::uniform_real_distribution<double>(m().lowerLimits()(j), m().upperLimits()(j))(rng);
+  const Eigen::Isometry3d palm =
+      scene.robot_base * forwardKinematics(m(), q)[static_cast<std::size_t>(m().palmLink())];
+  return {q, palm, q.tail(m().numHandDofs())};
+}
+
 TEST(CollisionChecker, TheHandAloneCollidesWhereTheWholeRobotsHandDoes) {
   // A wall in front of the robot and a cube target: random configurations
   // near them. Where the whole robot is free, the hand alone at the same
   // palm pose is too; where the robot's first contact is a hand link with
   // the wall, the hand alone meets the wall.
-  Scene scene = wallInFront();
-  scene.target_pose.translation() << 0.5, 0.2, 0.4;
+  const Scene scene = wallAndTarget();
   const db::ObjectGeometry cube = smallCube();
   CollisionChecker checker(m(), scene, &cube);
   std::mt19937_64 rng(4);
   int free = 0, handOnWall = 0;
   for (int i = 0; i < 4000; ++i) {
-    Eigen::VectorXd q(m().numDofs());
-    for (int j = 0; j < q.size(); ++j)
-      q(j) =
-          std::uniform_real_distribution<double>(m().lowerLimits()(j), m().upperLimits()(j))(rng);
-    const Eigen::Isometry3d palm =
-        scene.robot_base * forwardKinematics(m(), q)[static_cast<std::size_t>(m().palmLink())];
-    const Eigen::VectorXd hand = q.tail(m().numHandDofs());
+    const auto [q, palm, hand] = randomPlacedHand(scene, rng);
     CollisionPair pair;
     if (!checker.inCollision(q, &pair)) {
       ++free;
@@ -285,20 +302,13 @@ TEST(CollisionChecker, WhereTheWholeRobotIsFreeTheHandAloneIsFreeToo) {
   // The hand's links and pairs are some of the robot's: on random
   // configurations near a wall and a target, a free robot has a free hand
   // under the same rule, and a colliding hand a colliding robot.
-  Scene scene = wallInFront();
-  scene.target_pose.translation() << 0.5, 0.2, 0.4;
+  const Scene scene = wallAndTarget();
   const db::ObjectGeometry cube = smallCube();
   CollisionChecker checker(m(), scene, &cube);
   std::mt19937_64 rng(5);
   int handCollides = 0;
   for (int i = 0; i < 3000; ++i) {
-    Eigen::VectorXd q(m().numDofs());
-    for (int j = 0; j < q.size(); ++j)
-      q(j) =
-          std::uniform_real_distribution<double>(m().lowerLimits()(j), m().upperLimits()(j))(rng);
-    const Eigen::Isometry3d palm =
-        scene.robot_base * forwardKinematics(m(), q)[static_cast<std::size_t>(m().palmLink())];
-    const Eigen::VectorXd hand = q.tail(m().numHandDofs());
+    const auto [q, palm, hand] = randomPlacedHand(scene, rng);
     for (const bool grasp : {false, true}) {
       const bool robot =
           grasp ? checker.inCollisionAllowingFingertipContact(q) : checker.inCollision(q);
