@@ -535,8 +535,7 @@ Holdability holdability(const PlanningWorld& world, const PlanRequest& request, 
     return out;
   }
   // The question is whether any grasp exists: the objective ranks grasps
-  // whose hand meets an obstacle last (hand_clearance), and no leaf is
-  // climbed to twice.
+  // whose hand meets an obstacle last (hand_clearance).
   GoalSamplingSettings settings = p.parameters.goals;
   settings.hand_clearance = 1;
   SamplingTools tools(world, p.scene, p.space, p.checker, settings);
@@ -600,6 +599,7 @@ Holdability holdability(const PlanningWorld& world, const PlanRequest& request, 
         node = climb.best;
       } else {
         const std::uint64_t n = p.space.numChildren(node);
+        if (n == 0) break;
         const std::uint64_t start = std::uniform_int_distribution<std::uint64_t>(0, n - 1)(rng);
         std::uint64_t k = 0;
         while (k < n && skip.count(p.space.child(node, (start + k) % n)) > 0) ++k;
@@ -614,6 +614,7 @@ Holdability holdability(const PlanningWorld& world, const PlanRequest& request, 
       excluded[static_cast<std::size_t>(node.level)].insert(node);
       continue;
     }
+    if (last == 0 && out.climbs > 0) break;  // one level: the root's leaves were all tried
     excluded[static_cast<std::size_t>(last)].insert(node);
     ++out.climbs;
     for (std::uint64_t c = 0; c < p.space.numChildren(node); ++c) {
