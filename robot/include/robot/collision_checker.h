@@ -93,7 +93,7 @@ class CollisionChecker {
   /// of its own links another (pairs the robot config disables excepted).
   /// `allowFingertipContact` selects the grasp rule (fingertip links may
   /// touch the target). Asks whether a hand without an arm could take a
-  /// grasp (planner::freeHandGrasp); checkCount() does not change. Throws as
+  /// grasp (planner::holdability); checkCount() does not change. Throws as
   /// handTouchesObstacles does.
   bool handInCollision(const Eigen::Isometry3d& palm, const Eigen::VectorXd& hand,
                        bool allowFingertipContact, CollisionPair* pair = nullptr);
