@@ -132,6 +132,11 @@ Eigen::VectorXd startOf(const robot::RobotModel& robot, const PlanRequest& reque
   return start;
 }
 
+/// The request's object: `object`, else the scene's target.
+std::string objectNameOf(const PlanRequest& request) {
+  return request.object.empty() ? request.scene.target_object : request.object;
+}
+
 /// One plan's problem, set up in order: the scene as requested, its
 /// collision checker and OMPL space information, the parameters, the
 /// object's HFTS.
@@ -183,12 +188,20 @@ struct Problem {
   const grasp::HftsSpace space;
 };
 
-/// Why planning cannot start in this scene (kNone: it can).
-std::pair<PlanFailure, std::string> checkScene(Problem& p) {
+/// Whether the target intersects an obstacle where it stands (kNone: not).
+std::pair<PlanFailure, std::string> checkTarget(Problem& p) {
   robot::CollisionPair pair;
   if (p.checker.targetTouchesObstacles(&pair))
     return {PlanFailure::kObjectInCollision,
             "the target object intersects " + pair.second + " in this scene"};
+  return {PlanFailure::kNone, ""};
+}
+
+/// Why planning cannot start in this scene (kNone: it can): checkTarget,
+/// then the start configuration.
+std::pair<PlanFailure, std::string> checkScene(Problem& p) {
+  if (auto why = checkTarget(p); why.first != PlanFailure::kNone) return why;
+  robot::CollisionPair pair;
   if (p.checker.inCollision(p.start, &pair))
     return {PlanFailure::kStartInCollision,
             "the start configuration is in collision: " + pair.first + " touches " + pair.second};
@@ -362,7 +375,7 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
     throw InvalidArgument("time_limit", "must be a finite number >= 0");
   if (!(request.trajectory_rate >= 0.0 && request.trajectory_rate <= kMaxTrajectoryRate))
     throw InvalidArgument("trajectory_rate", "must be in [0, 1000] (samples per second)");
-  const std::string name = request.object.empty() ? request.scene.target_object : request.object;
+  const std::string name = objectNameOf(request);
   const db::ObjectDatabase* object = world.object(name);
   if (object == nullptr)
     return failed(std::move(result),
@@ -493,17 +506,8 @@ namespace {
 /// grasp clear (holdability's criterion).
 bool handFits(robot::CollisionChecker& checker, const Eigen::Isometry3d& palm,
               const Eigen::VectorXd& pregrasp, const Eigen::VectorXd& grasp) {
-  robot::CollisionPair dbg;
-  if (checker.handInCollision(palm, pregrasp, false, &dbg)) {
-    if (std::getenv("HFTS_DBG"))
-      fprintf(stderr, "pre %s %s\n", dbg.first.c_str(), dbg.second.c_str());
-    return false;
-  }
-  if (checker.handInCollision(palm, grasp, true, &dbg)) {
-    if (std::getenv("HFTS_DBG"))
-      fprintf(stderr, "grasp %s %s\n", dbg.first.c_str(), dbg.second.c_str());
-    return false;
-  }
+  if (checker.handInCollision(palm, pregrasp, false)) return false;
+  // The closing motion, its last state the grasp.
   constexpr int kClosingSteps = 8;
   for (int k = 1; k <= kClosingSteps; ++k) {
     const double t = static_cast<double>(k) / kClosingSteps;
@@ -518,20 +522,17 @@ Holdability holdability(const PlanningWorld& world, const PlanRequest& request, 
   if (climbs < 1) throw InvalidArgument("climbs", "must be at least 1");
   quietOmpl();
   Holdability out;
-  const std::string name = request.object.empty() ? request.scene.target_object : request.object;
+  const std::string name = objectNameOf(request);
   const db::ObjectDatabase* object = world.object(name);
   if (object == nullptr) {
     out.reason = "unknown object '" + name + "'";
     return out;
   }
   Problem p(world, *object, request, startOf(world.robot(), request));
-  robot::CollisionPair pair;
-  if (p.checker.targetTouchesObstacles(&pair)) {
-    out.reason = "the target object intersects " + pair.second + " in this scene";
-    return out;
-  }
-  if (auto why = checkGraspable(p); why.first != PlanFailure::kNone) {
-    out.reason = why.second;
+  auto cannot = checkTarget(p);
+  if (cannot.first == PlanFailure::kNone) cannot = checkGraspable(p);
+  if (cannot.first != PlanFailure::kNone) {
+    out.reason = cannot.second;
     return out;
   }
   // The question is whether any grasp exists: the objective ranks grasps
