@@ -534,11 +534,16 @@ std::vector<Eigen::VectorXd> nearestWholeTurns(const std::vector<Eigen::VectorXd
   const auto same = [](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
     return (a - b).cwiseAbs().maxCoeff() <= 1e-9;
   };
+  // (The unmoved are few: a UR-type arm's 200-odd solutions are the turns
+  // of a handful of classes; comparing every pair cost a millisecond.)
+  std::vector<const Eigen::VectorXd*> unmoved;
+  for (std::size_t k = 0; k < nearest.size(); ++k)
+    if (!moved[k]) unmoved.push_back(&nearest[k]);
   std::vector<Eigen::VectorXd> kept;
   for (std::size_t k = 0; k < nearest.size(); ++k) {
-    bool present = false;
-    for (std::size_t j = 0; j < nearest.size() && moved[k] && !present; ++j)
-      present = !moved[j] && same(nearest[j], nearest[k]);
+    const bool present =
+        moved[k] && std::any_of(unmoved.begin(), unmoved.end(),
+                                [&](const Eigen::VectorXd* u) { return same(*u, nearest[k]); });
     if (!present && std::none_of(kept.begin(), kept.end(),
                                  [&](const Eigen::VectorXd& a) { return same(a, nearest[k]); }))
       kept.push_back(nearest[k]);
