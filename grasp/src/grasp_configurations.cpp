@@ -87,7 +87,14 @@ std::vector<GraspConfigurations> GraspConfigurator::configureOtherHands(const Gr
                                                                         double maxPositionError,
                                                                         std::mt19937_64& rng) {
   // The posture configure() uses (the same query, so the same answer).
-  const HandQuery used = hand_.query(grasp.positions, grasp.outward_normals);
+  return configureOtherHands(grasp, hand_.query(grasp.positions, grasp.outward_normals),
+                             maxPositionError, rng);
+}
+
+std::vector<GraspConfigurations> GraspConfigurator::configureOtherHands(const GraspContacts& grasp,
+                                                                        const HandQuery& used,
+                                                                        double maxPositionError,
+                                                                        std::mt19937_64& rng) {
   constexpr double kSamePosture = 0.05;  // rad
   std::vector<GraspConfigurations> out;
   for (HandQuery& other : hand_.queryAlternatives(grasp.positions, grasp.outward_normals,

@@ -87,6 +87,12 @@ class GraspConfigurator {
   std::vector<GraspConfigurations> configureOtherHands(const GraspContacts& grasp,
                                                        double maxPositionError,
                                                        std::mt19937_64& rng);
+  /// The same, given the answer configure() used (`used`, the hand of its
+  /// result): saves the repeated HandReachability::query.
+  std::vector<GraspConfigurations> configureOtherHands(const GraspContacts& grasp,
+                                                       const HandQuery& used,
+                                                       double maxPositionError,
+                                                       std::mt19937_64& rng);
 
   /// The pre-grasp opening of a hand posture (hand DoF only).
   Eigen::VectorXd openedHand(const Eigen::VectorXd& hand) const;
