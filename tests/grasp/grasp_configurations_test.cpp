@@ -410,5 +410,37 @@ TEST(GraspConfigurations, TurnsBelowOneAreRejectedByName) {
   EXPECT_EQ(configurator.turns(), 1);
 }
 
+TEST(GraspConfigurations, OtherHandsGivenTheUsedPostureAreTheSameAsAfterItsQuery) {
+  const HandReachability thorough(m(), handMap(), HandQueryOptions::thorough());
+  const robot::ArmIk ik(m());
+  // The box alone: the bundled objects would take seconds to build.
+  const db::ObjectDatabase box = preprocess::buildObjectDatabaseFromFile(
+                                     test::bundledMeshDir() / "box.stl", test::fixtureParameters())
+                                     .database;
+  const robot::Scene scene = freeSpace("box", {0.6, 0.0, 0.15});
+  robot::CollisionChecker checker(m(), scene, &box.geometry);
+  GraspConfigurator configurator(m(), ik, thorough, checker, scene.target_pose, scene.robot_base);
+  const HftsSpace space(box, 3);
+  int compared = 0;
+  for (int child = 0; child < 60 && compared < 1; ++child) {
+    const GraspContacts grasp = space.representative(
+        space.child(space.child(space.child(space.root(), child % 20), child / 20), 0));
+    std::mt19937_64 first(4), second(4);
+    const auto queried = configurator.configureOtherHands(grasp, 0.02, first);
+    const HandQuery used = configurator.configure(grasp, second, false).hand;
+    std::mt19937_64 third(4);
+    const auto given = configurator.configureOtherHands(grasp, used, 0.02, third);
+    ASSERT_EQ(queried.size(), given.size());
+    for (std::size_t k = 0; k < queried.size(); ++k) {
+      EXPECT_EQ(queried[k].hand.hand_configuration, given[k].hand.hand_configuration);
+      ASSERT_EQ(queried[k].configurations.size(), given[k].configurations.size());
+      for (std::size_t c = 0; c < given[k].configurations.size(); ++c)
+        EXPECT_EQ(queried[k].configurations[c].grasp, given[k].configurations[c].grasp);
+    }
+    if (!given.empty()) ++compared;
+  }
+  EXPECT_EQ(compared, 1) << "no grasp with other postures to compare";
+}
+
 }  // namespace
 }  // namespace hfts::grasp
