@@ -210,6 +210,32 @@ class BenchCli(unittest.TestCase):
             rows = list(csv.DictReader(f))
         self.assertEqual([(r["scene"], r["object"]) for r in rows], [("table", "mug")])
 
+    def test_holdability_alone_plans_every_case(self):
+        # Without --holdable-only the answers are written and nothing is
+        # left out: the mug 3 m away is planned too (and fails).
+        scenes = os.path.join(self.tmp, "far-only")
+        os.makedirs(scenes, exist_ok=True)
+        with open(os.path.join(SOURCE_DIR, "objects", "scenes", "table.json")) as f:
+            far = dict(json.load(f), name="far", obstacles=[], placements=[])
+        far["target"] = {"object": "mug",
+                         "pose": {"position": [3.0, 0, 0.5], "orientation": [0, 0, 0, 1]}}
+        with open(os.path.join(scenes, "far.json"), "w") as f:
+            json.dump(far, f)
+        out = os.path.join(self.tmp, "all.csv")
+        holdability = os.path.join(self.tmp, "holdability-alone.csv")
+        result = self.run_bench("--scene-dir", scenes, "--scenes", "far", "--algorithms",
+                                "coupled", "--runs", "1", "--time-limit", "1",
+                                "--holdability", holdability, "--out", out)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(holdability, newline="") as f:
+            decided = list(csv.DictReader(f))
+        self.assertEqual([(r["scene"], r["holdable"]) for r in decided], [("far", "0")])
+        self.assertNotIn("left out", result.stderr)
+        with open(out, newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual([(r["scene"], r["object"], r["success"]) for r in rows],
+                         [("far", "mug", "0")])
+
     def test_unwritable_output_fails_before_planning(self):
         out = os.path.join(self.tmp, "no-such-dir", "results.csv")
         result = self.run_bench("--scenes", "table", "--out", out)
