@@ -6,7 +6,7 @@
 namespace hfts::robot {
 namespace {
 
-constexpr int kBox = 0, kCylinder = 1;
+constexpr int kBox = 0, kCylinder = 1, kSphere = 2;
 
 /// The segment a direction search starts from: the sphere's centre, the
 /// cylinder's axis, the box's middle segment along its longest edge.
@@ -21,6 +21,21 @@ void coreSegment(const PlacedShape& s, Eigen::Vector3d& from, Eigen::Vector3d& t
   }
   from = s.center - half;
   to = s.center + half;
+}
+
+/// The point of the shape nearest to p (p itself when inside).
+Eigen::Vector3d closestPoint(const PlacedShape& s, const Eigen::Vector3d& p) {
+  Eigen::Vector3d local = s.rotation.transpose() * (p - s.center);
+  if (s.type == kBox) {
+    local = local.cwiseMax(-0.5 * s.size).cwiseMin(0.5 * s.size);
+  } else if (s.type == kCylinder) {
+    const double radial = local.head<2>().norm();
+    if (radial > s.size.x()) local.head<2>() *= s.size.x() / radial;
+    local.z() = std::clamp(local.z(), -0.5 * s.size.y(), 0.5 * s.size.y());
+  } else if (local.norm() > s.size.x()) {
+    local *= s.size.x() / local.norm();
+  }
+  return s.center + s.rotation * local;
 }
 
 /// True when the shapes' extents along n are more than gap * |n| apart.
@@ -96,6 +111,10 @@ double closestPointsOfSegments(const Eigen::Vector3d& p0, const Eigen::Vector3d&
 }
 
 bool provablyApart(const PlacedShape& a, const PlacedShape& b, double gap) {
+  // A sphere against anything: the direction from the other shape's point
+  // nearest to its centre separates them whenever they are apart.
+  if (a.type == kSphere) return apartAlong(a, b, a.center - closestPoint(b, a.center), gap);
+  if (b.type == kSphere) return apartAlong(a, b, b.center - closestPoint(a, b.center), gap);
   Eigen::Vector3d a0, a1, b0, b1, onA, onB;
   coreSegment(a, a0, a1);
   coreSegment(b, b0, b1);

@@ -23,12 +23,14 @@ struct PlacedShape {
 double support(const PlacedShape& shape, const Eigen::Vector3d& n);
 
 /// True when some direction proves the two shapes more than `gap` apart:
-/// support(a, n) + gap * |n| < -support(b, -n). Tries the direction
-/// between the shapes' nearest core points (the centre, the cylinder's
-/// axis, the box's longest middle segment), the centre line, the faces and
-/// axes of both shapes, and, for two boxes, the nine edge-pair directions
-/// (with the faces, every separating axis two boxes can have). False means
-/// "not proven apart", never "touching": such pairs go to FCL.
+/// support(a, n) + gap * |n| < -support(b, -n). With a sphere, the
+/// direction from the other shape's point nearest to its centre (every
+/// pair apart is proven). Otherwise the direction between the shapes'
+/// nearest core points (the cylinder's axis, the box's longest middle
+/// segment), the centre line, the faces and axes of both shapes, and, for
+/// two boxes, the nine edge-pair directions (with the faces, every
+/// separating axis two boxes can have). False means "not proven apart",
+/// never "touching": such pairs go to FCL.
 bool provablyApart(const PlacedShape& a, const PlacedShape& b, double gap);
 
 /// The nearest points of segments [p0, p1] and [q0, q1] (either may be a

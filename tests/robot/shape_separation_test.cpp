@@ -19,12 +19,20 @@ namespace {
 
 constexpr double kGap = 1e-4;
 
+/// A uniformly random rotation from `rng` (not Eigen's UnitRandom, which
+/// draws from std::rand and so depends on what ran before in the process).
+Eigen::Matrix3d randomRotation(std::mt19937& rng) {
+  std::normal_distribution<double> normal;
+  Eigen::Quaterniond q(normal(rng), normal(rng), normal(rng), normal(rng));
+  return q.normalized().toRotationMatrix();
+}
+
 PlacedShape randomShape(std::mt19937& rng, int type, double spread) {
   std::uniform_real_distribution<double> size(0.005, 0.08), at(-spread, spread);
   PlacedShape s;
   s.type = type;
   s.size = {size(rng), size(rng), size(rng)};
-  s.rotation = Eigen::Quaterniond::UnitRandom().toRotationMatrix();
+  s.rotation = randomRotation(rng);
   s.center = {at(rng), at(rng), at(rng)};
   return s;
 }
@@ -94,7 +102,8 @@ TEST(ShapeSeparation, SupportIsTheMaximumOverTheShape) {
       const PlacedShape s = randomShape(rng, type, 0.2);
       const std::vector<Eigen::Vector3d> points = samples(s, rng, 4000);
       for (int d = 0; d < 10; ++d) {
-        const Eigen::Vector3d n = Eigen::Vector3d::Random() * 3.0;
+        std::uniform_real_distribution<double> component(-3.0, 3.0);
+        const Eigen::Vector3d n(component(rng), component(rng), component(rng));
         double most = -1e9;
         for (const Eigen::Vector3d& p : points) most = std::max(most, n.dot(p));
         const double bound = support(s, n);
@@ -162,12 +171,36 @@ TEST(ShapeSeparation, BoxesApartAreAlwaysProvenApart) {
   EXPECT_GT(checked, 500);
 }
 
-TEST(ShapeSeparation, SpheresAndParallelCylindersApartAreProvenApart) {
+TEST(ShapeSeparation, SpheresApartAreAlwaysProvenApart) {
+  // The direction from the other shape's nearest point to the centre.
   std::mt19937 rng(13);
-  for (int trial = 0; trial < 1000; ++trial) {
-    PlacedShape a = randomShape(rng, 2, 0.1), b = randomShape(rng, trial % 2 == 0 ? 2 : 1, 0.1);
-    if (b.type == 1) b.rotation = a.rotation;  // side by side or end to end
+  int checked = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const PlacedShape a = randomShape(rng, 2, 0.1), b = randomShape(rng, trial % 3, 0.1);
     if (fclDistance(a, b) <= 2 * kGap) continue;
+    ++checked;
+    EXPECT_TRUE(provablyApart(a, b, kGap)) << "trial " << trial;
+    EXPECT_TRUE(provablyApart(b, a, kGap)) << "trial " << trial;
+  }
+  EXPECT_GT(checked, 1000);
+}
+
+TEST(ShapeSeparation, ParallelCylindersSideBySideOrEndToEndAreProvenApart) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> size(0.005, 0.08), gap(2 * kGap, 0.02), along(-0.5, 0.5);
+  for (int trial = 0; trial < 500; ++trial) {
+    PlacedShape a, b;
+    a.type = b.type = 1;
+    a.size = {size(rng), size(rng), 0.0};
+    b.size = {size(rng), size(rng), 0.0};
+    a.rotation = b.rotation = randomRotation(rng);
+    const Eigen::Vector3d axis = a.rotation.col(2), across = a.rotation.col(0);
+    a.center = Eigen::Vector3d::Zero();
+    if (trial % 2 == 0)  // side by side, overlapping along the axis
+      b.center = across * (a.size.x() + b.size.x() + gap(rng)) +
+                 axis * along(rng) * std::min(a.size.y(), b.size.y());
+    else  // end to end on one axis
+      b.center = axis * (0.5 * (a.size.y() + b.size.y()) + gap(rng));
     EXPECT_TRUE(provablyApart(a, b, kGap)) << "trial " << trial;
   }
 }
