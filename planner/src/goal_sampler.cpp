@@ -72,10 +72,10 @@ std::vector<CachedConfiguration> GraspGoalSampler::configurationsOf(const grasp:
       std::none_of(free.begin(), free.end(), isGoal)) {
     // The first posture gives no goal: try the hand's other ways of taking
     // the same contacts (another finger on a contact, the palm turned).
-    const grasp::HandQuery used = postures.front().hand;
-    for (grasp::GraspConfigurations& other :
-         context_.configurator->configureOtherHands(context_.space->representative(node), used,
-                                                    context_.max_fingertip_error, *context_.rng)) {
+    // postures grows only after the call has read its first posture.
+    for (grasp::GraspConfigurations& other : context_.configurator->configureOtherHands(
+             context_.space->representative(node), postures.front().hand,
+             context_.max_fingertip_error, *context_.rng)) {
       label(node, epsilon, other, free, colliding);
       postures.push_back(std::move(other));
     }

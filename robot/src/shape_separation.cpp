@@ -8,8 +8,8 @@ namespace {
 
 constexpr int kBox = 0, kCylinder = 1, kSphere = 2;
 
-/// The segment a direction search starts from: the sphere's centre, the
-/// cylinder's axis, the box's middle segment along its longest edge.
+/// The segment a direction search starts from: the cylinder's axis, the
+/// box's middle segment along its longest edge (spheres are settled before).
 void coreSegment(const PlacedShape& s, Eigen::Vector3d& from, Eigen::Vector3d& to) {
   Eigen::Vector3d half = Eigen::Vector3d::Zero();
   if (s.type == kCylinder) {
