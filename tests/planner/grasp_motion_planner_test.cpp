@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 #include "hfts_db/invalid_argument.h"
 #include "planner/parameters.h"
@@ -514,11 +515,15 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
   EXPECT_EQ(plannerParameters(world()).size(), 32u) << "a parameter was added or removed";
 }
 
-/// The bundled KR5 + SDH with `planner_defaults` added to its config.
+/// The bundled KR5 + SDH with these `planner_defaults` instead of its own.
 robot::RobotModel kr5WithDefaults(const std::string& defaults) {
   std::string config = test::readBytes(test::sourcePath("robots/kr5_sdh/kr5_sdh.json"));
-  const std::string key = "\"pregrasp_offset\"";
-  config.replace(config.find(key), key.size(), "\"planner_defaults\": " + defaults + ", " + key);
+  const std::string key = "\"planner_defaults\": ";
+  const std::size_t at = config.find(key);
+  const std::size_t end = config.find('}', at);
+  if (at == std::string::npos || end == std::string::npos)
+    throw std::runtime_error("kr5_sdh.json has no planner_defaults object");
+  config.replace(at, end + 1 - at, key + defaults);
   return robot::RobotModel::fromStrings(
       test::readBytes(test::sourcePath("robots/kr5_sdh/kr5_sdh.urdf")), config, "kr5 defaults");
 }

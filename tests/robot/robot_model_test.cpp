@@ -155,19 +155,27 @@ TEST(RobotModel, HandMapNormalWeightIsOptionalAndPositive) {
 
 TEST(RobotModel, PlannerDefaultsAreTextByNameAndNeedNumbersOrStrings) {
   Sources s;
-  EXPECT_TRUE(RobotModel::fromStrings(s.urdf, s.config, "kr5").plannerDefaults().empty());
-  std::string config = s.config;
+  // The bundled KR5 sets the goal sampler's options for objects on supports.
+  EXPECT_EQ(RobotModel::fromStrings(s.urdf, s.config, "kr5").plannerDefaults(),
+            (std::map<std::string, std::string>{
+                {"hand_clearance", "1"}, {"other_postures", "1"}, {"stable_nodes", "1"}}));
+  std::string plain = s.config;
+  replaceOnce(
+      plain,
+      R"("planner_defaults": {"stable_nodes": 1, "other_postures": 1, "hand_clearance": 1},)", "");
+  EXPECT_TRUE(RobotModel::fromStrings(s.urdf, plain, "kr5").plannerDefaults().empty());
+  std::string config = plain;
   replaceOnce(config, "\"pregrasp_offset\"",
               "\"planner_defaults\": {\"stable_nodes\": 1, \"p_max\": 0.75, \"kappa\": \"3\"}, "
               "\"pregrasp_offset\"");
   const RobotModel m = RobotModel::fromStrings(s.urdf, config, "d");
   EXPECT_EQ(m.plannerDefaults(), (std::map<std::string, std::string>{
                                      {"kappa", "3"}, {"p_max", "0.75"}, {"stable_nodes", "1"}}));
-  config = s.config;
+  config = plain;
   replaceOnce(config, "\"pregrasp_offset\"",
               "\"planner_defaults\": {\"p_max\": [1]}, \"pregrasp_offset\"");
   expectModelError(s.urdf, config, "robot 'x': planner_defaults.p_max: must be a finite number");
-  config = s.config;
+  config = plain;
   replaceOnce(config, "\"pregrasp_offset\"", "\"planner_defaults\": 1, \"pregrasp_offset\"");
   expectModelError(s.urdf, config, "robot 'x': planner_defaults: must be an object");
 }
