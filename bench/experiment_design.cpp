@@ -5,10 +5,12 @@
 namespace hfts::bench {
 namespace {
 
-/// The coupled planner with the paper's goal sampling (Algorithm 2), whatever
-/// the robot config's `planner_defaults` choose: the bundled KR5 and UR5e
-/// default to the options for objects on supports.
-const std::string kCoupledPaper = "coupled:stable_nodes=0:other_postures=0:hand_clearance=0";
+/// The coupled planner as in the paper (Algorithm 1 without the retreat,
+/// Algorithm 2's goal sampling), whatever the planner's and the robot
+/// config's defaults: the bundled KR5 and UR5e default to the options for
+/// objects on supports.
+const std::string kCoupledPaper =
+    "coupled:stable_nodes=0:other_postures=0:hand_clearance=0:retreat=0";
 
 /// The coupled planner with the options for objects on supports
 /// (docs/planning.md): stable inner nodes only, the hand's other postures,

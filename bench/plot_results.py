@@ -37,7 +37,7 @@ import numpy as np  # noqa: E402
 Z95 = 1.959963984540054
 # The experiments name the goal sampling explicitly: a plain "coupled" is
 # the robot config's defaults (the KR5's and UR5e's are the support options).
-PAPER = "coupled:stable_nodes=0:other_postures=0:hand_clearance=0"
+PAPER = "coupled:stable_nodes=0:other_postures=0:hand_clearance=0:retreat=0"
 LABELS = {PAPER: "coupled (paper)", "coupled": "coupled (robot defaults)",
           "rrtconnect": "RRTConnect + lazy goals",
           "coupled:stable_nodes=1:other_postures=1:hand_clearance=1": "coupled + support options"}

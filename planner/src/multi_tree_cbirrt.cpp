@@ -114,6 +114,7 @@ void MultiTreeCBiRRT::declareParameters() {
   declareParameter(p, "p_min", {0.0, 0.01, 1.0}, pMin_);
   declareParameter(p, "p_w", {0.0, 0.1, 100.0}, pW_);
   declareParameter(p, "p_goal_tree", {0.0, 0.05, 1.0}, pGoalTree_);
+  declareParameter(p, "retreat", {0.0, 0.02, 1.0}, retreat_);
   declareParameter<double>(
       p, "d_m", {0.0, 0.05, 10.0},
       [this](double d) {
@@ -231,6 +232,34 @@ void MultiTreeCBiRRT::sampleGoal(GoalSampler& sampler, const ob::PlannerTerminat
   const int tree = addTree(goal ? TreeKind::kGoal : TreeKind::kApproximate, sample.configuration);
   trees_[static_cast<std::size_t>(tree)]->root = sample;
   ++(goal ? stats_.goal_trees : stats_.approximate_trees);
+  growRetreat(tree);
+}
+
+void MultiTreeCBiRRT::growRetreat(int treeIndex) {
+  if (!(retreat_ > 0.0) || !projection_) return;
+  constexpr double kPalmStep = 0.02;  // m of palm motion per node
+  const int steps = static_cast<int>(std::ceil(retreat_ / kPalmStep - 1e-9));
+  Motion* root = trees_[static_cast<std::size_t>(treeIndex)]->motions.front();
+  const Eigen::VectorXd start = root->q;
+  std::vector<Eigen::VectorXd> longest, chain;
+  for (const BackwardProjection::Retreat way : BackwardProjection::kRetreats) {
+    chain.clear();
+    const Eigen::VectorXd* from = &start;
+    while (static_cast<int>(chain.size()) < steps) {
+      std::optional<Eigen::VectorXd> next = projection_->retreatStep(*from, kPalmStep, way);
+      if (!next || (next->array() < lower_.array()).any() ||
+          (next->array() > upper_.array()).any() ||
+          !validator_->checkMotion(*from, *next, validator_->resolution()))
+        break;
+      chain.push_back(std::move(*next));
+      from = &chain.back();
+    }
+    if (chain.size() > longest.size()) longest.swap(chain);
+    if (static_cast<int>(longest.size()) == steps) break;
+  }
+  Motion* parent = root;
+  for (const Eigen::VectorXd& q : longest) parent = addMotion(treeIndex, q, parent);
+  stats_.retreat_nodes += longest.size();
 }
 
 int MultiTreeCBiRRT::pickBackwardTree() {

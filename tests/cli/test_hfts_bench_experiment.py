@@ -20,7 +20,7 @@ BENCH = None
 PREPROCESS = None
 SOURCE_DIR = None
 # The paper's goal sampling named explicitly: the KR5's defaults are the support options.
-PAPER = "coupled:stable_nodes=0:other_postures=0:hand_clearance=0"
+PAPER = "coupled:stable_nodes=0:other_postures=0:hand_clearance=0:retreat=0"
 ALGORITHMS = [PAPER, "decoupled20", "decoupled60", "decoupled100", "rrtconnect"]
 CASES = [("table", "mug"), ("bin", "blob")]
 RUNS = 2

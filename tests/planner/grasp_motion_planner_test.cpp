@@ -512,7 +512,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
     expected.erase(it);
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
-  EXPECT_EQ(plannerParameters(world()).size(), 32u) << "a parameter was added or removed";
+  EXPECT_EQ(plannerParameters(world()).size(), 33u) << "a parameter was added or removed";
 }
 
 /// The bundled KR5 + SDH with these `planner_defaults` instead of its own.

@@ -367,5 +367,95 @@ TEST_P(GoalTreeBias, BackwardDirectionPicksAGoalTreeWithProbabilityPGoalTree) {
 
 INSTANTIATE_TEST_SUITE_P(PGoalTree, GoalTreeBias, ::testing::Values(1.0, 0.0, 0.7, 0.3));
 
+/// One goal tree, rooted at the KR5 reaching forward, and what `retreat`
+/// grew from its root before anything else: the chain of retreat nodes in
+/// order from the root, as palm poses.
+struct Retreat {
+  /// The palm pointing down, the wrist (a5) well inside its limits.
+  static Eigen::VectorXd goal() { return test::armAt(0.0, -0.9, 1.4, 0.0, kHalfPi - 0.5, 0.0); }
+  static Eigen::Isometry3d palmAt(const Eigen::VectorXd& q) {
+    const robot::RobotModel& model = test::kr5Sdh();
+    return robot::forwardKinematics(model, q)[static_cast<std::size_t>(model.palmLink())];
+  }
+
+  Retreat(robot::Scene scene, const Eigen::Vector3d& target, double retreat)
+      : problem(std::move(scene), test::kr5Sdh().home(), {scripted(kGoal, goal())}) {
+    problem.planner->setProjection(std::make_shared<BackwardProjection>(
+        test::kr5Sdh(), Eigen::Isometry3d::Identity(), target, 0.1));
+    problem.set({{"p_max", 1.0}, {"p_min", 0.0}, {"p_w", 10.0}, {"retreat", retreat}});
+    problem.planner->setSeed(1);
+    test::IterationLog log(
+        *problem.planner, problem.sampler, 1,
+        [](const test::IterationLog::Snapshot& s) { return s.stats.goal_trees > 0; });
+    problem.planner->solve(log.condition());
+    ob::PlannerData data(problem.si);
+    problem.planner->getPlannerData(data);
+    const auto& space = *problem.si->getStateSpace()->as<WeightedStateSpace>();
+    // The goal tree: the root and the nodes below it, by depth.
+    std::vector<Eigen::VectorXd> nodes;
+    for (unsigned v = 0; v < data.numVertices(); ++v)
+      if (data.getVertex(v).getTag() != 0)
+        nodes.push_back(space.toVector(data.getVertex(v).getState()));
+    const Eigen::VectorXd root = goal();
+    std::sort(nodes.begin(), nodes.end(), [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+      return (a - root).norm() < (b - root).norm();
+    });
+    chain = nodes;
+  }
+
+  test::StubProblem problem;
+  std::vector<Eigen::VectorXd> chain;  ///< root first
+};
+
+TEST(MultiTreeCBiRRT, RetreatGrowsANewTreeAsAStraightPalmPathAwayFromTheTarget) {
+  // The hand points down at the object's centre 10 cm below the palm; the
+  // forearm is level, about 12 cm above the palm.
+  const Eigen::Isometry3d palm = Retreat::palmAt(Retreat::goal());
+  ASSERT_GT(palm.linear().col(2).dot(-Eigen::Vector3d::UnitZ()), 0.99);
+  const Eigen::Vector3d target = palm.translation() - Eigen::Vector3d(0.0, 0.0, 0.1);
+  Retreat free(robot::Scene{}, target, 0.2);
+  const std::vector<Eigen::VectorXd>& chain = free.chain;
+  ASSERT_EQ(chain.size(), 11u) << "the root and 10 palm steps of 2 cm";
+  EXPECT_EQ(free.problem.planner->statistics().retreat_nodes, 10u);
+  EXPECT_EQ(chain.front(), Retreat::goal());
+  for (std::size_t i = 1; i < chain.size(); ++i) {
+    SCOPED_TRACE("node " + std::to_string(i));
+    const Eigen::Isometry3d from = Retreat::palmAt(chain[i - 1]), to = Retreat::palmAt(chain[i]);
+    const Eigen::Vector3d step = to.translation() - from.translation();
+    EXPECT_NEAR(step.norm(), 0.02, 0.002);
+    EXPECT_GT(step.normalized().dot((from.translation() - target).normalized()), 0.995)
+        << "away from the target";
+    EXPECT_LT(Eigen::AngleAxisd(palm.linear().transpose() * to.linear()).angle(), 0.01)
+        << "the palm keeps its orientation";
+    EXPECT_EQ(chain[i].tail(7), chain[0].tail(7)) << "the hand does not move";
+    EXPECT_TRUE(free.problem.checker.isMotionValid(chain[i - 1], chain[i], 0.05));
+  }
+  const Eigen::Vector3d up = Retreat::palmAt(chain.back()).translation() - palm.translation();
+  EXPECT_NEAR(up.z(), 0.2, 0.01);
+  EXPECT_NEAR(up.head<2>().norm(), 0.0, 0.01);
+
+  // A block above the forearm: straight up is cut short, level away from
+  // the target is undefined (the palm is right above it), so the chain goes
+  // level towards the robot's base, free for all 20 cm.
+  robot::Scene blocked;
+  blocked.obstacles.push_back(
+      test::box("block", {0.1, 0.3, 0.04}, palm.translation() + Eigen::Vector3d(0.0, 0.0, 0.3)));
+  Retreat around(blocked, target, 0.2);
+  ASSERT_FALSE(around.problem.checker.inCollision(Retreat::goal()));
+  ASSERT_EQ(around.chain.size(), 11u);
+  for (std::size_t i = 1; i < around.chain.size(); ++i)
+    EXPECT_TRUE(around.problem.checker.isMotionValid(around.chain[i - 1], around.chain[i], 0.05));
+  const Eigen::Vector3d back =
+      Retreat::palmAt(around.chain.back()).translation() - palm.translation();
+  EXPECT_NEAR(back.norm(), 0.2, 0.01);
+  EXPECT_GT(back.normalized().dot(-palm.translation().normalized()), 0.0);
+  EXPECT_NEAR(back.z(), 0.0, 0.01) << "level";
+  const Eigen::Vector3d radial(palm.translation().x(), palm.translation().y(), 0.0);
+  EXPECT_GT(back.normalized().dot(-radial.normalized()), 0.99) << "towards the base's axis";
+
+  // Without `retreat` (the paper's planner) the tree is its root.
+  EXPECT_EQ(Retreat(robot::Scene{}, target, 0.0).chain.size(), 1u);
+}
+
 }  // namespace
 }  // namespace hfts::planner

@@ -65,6 +65,7 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   double getGoalProbabilityDecay() const { return pW_; }  ///< "p_w"
   double getGoalTreeBias() const { return pGoalTree_; }   ///< "p_goal_tree"
   double getProjectionDistance() const { return dM_; }    ///< D_m ("d_m")
+  double getRetreat() const { return retreat_; }  ///< palm retreat from new roots, m ("retreat")
   /// "smoothing_steps" and "final_resolution" (path_smoothing.h): also the
   /// resolution a goal's closing motion is checked at.
   const PathSmoothing& smoothing() const { return smoothing_; }
@@ -88,6 +89,12 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   Motion* addMotion(int tree, const Eigen::VectorXd& q, Motion* parent);
   int addTree(TreeKind kind, const Eigen::VectorXd& root);
   void sampleGoal(GoalSampler& sampler, const ompl::base::PlannerTerminationCondition& ptc);
+  /// Grows a new backward tree from its root as a chain of straight palm
+  /// steps of 2 cm (orientation kept) up to `retreat` metres, in the first
+  /// of BackwardProjection::kRetreats' directions that is free all the way,
+  /// else in the one that gets farthest before a step collides or leaves
+  /// the joint limits. Nothing without a projection or with retreat 0.
+  void growRetreat(int treeIndex);
   /// The Eq. (3) weight of all arm (or all hand) DoF.
   void setGroupWeight(bool arm, double weight);
   /// Algorithm 1 line 16: returns the index of a connected backward tree,
@@ -137,6 +144,7 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   double range_ = 0.1;
   double pMax_ = 0.9, pMin_ = 0.01, pW_ = 1.2, pGoalTree_ = 0.7;
   double dM_ = 0.4;
+  double retreat_ = 0.2;
   PathSmoothing smoothing_;
 
   std::deque<Motion> motions_;                // every node of every tree (stable addresses)
