@@ -21,7 +21,8 @@ PREPROCESS = None
 SOURCE_DIR = None
 # The paper's goal sampling named explicitly: the KR5's defaults are the support options.
 PAPER = "coupled:stable_nodes=0:other_postures=0:hand_clearance=0:retreat=0"
-ALGORITHMS = [PAPER, "decoupled20", "decoupled60", "decoupled100", "rrtconnect"]
+ALGORITHMS = [PAPER, "decoupled20:retreat=0", "decoupled60:retreat=0", "decoupled100:retreat=0",
+              "rrtconnect"]
 CASES = [("table", "mug"), ("bin", "blob")]
 RUNS = 2
 TIME_LIMIT = 2.0
@@ -237,7 +238,7 @@ class BenchExperiment(unittest.TestCase):
         # (as in the paper and with the options for supports) against
         # decoupled20, one run each.
         algorithms = [PAPER, "coupled:stable_nodes=1:other_postures=1:hand_clearance=1",
-                      "decoupled20"]
+                      "decoupled20:retreat=0"]
         self.assertEqual([(r["placement"], r["object"], r["algorithm"]) for r in rows],
                          [(p, o, a) for p in ["target", "lying", "turned_near_box"]
                           for o in ["blob", "mug"] for a in algorithms])
