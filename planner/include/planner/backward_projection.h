@@ -37,7 +37,8 @@ class BackwardProjection {
   Eigen::VectorXd project(const Eigen::VectorXd& from, const Eigen::VectorXd& to) const;
 
   /// Which way a straight retreat of the palm goes (MultiTreeCBiRRT's
-  /// `retreat`), each recomputed from the palm's current position.
+  /// `retreat`), each recomputed from the palm's current position. Level
+  /// and up are in the robot base frame (its z axis up).
   enum class Retreat {
     kAwayFromTarget,  ///< from the target's centre to the palm
     kLevelAway,       ///< the same without its vertical part
