@@ -368,8 +368,8 @@ TEST_P(GoalTreeBias, BackwardDirectionPicksAGoalTreeWithProbabilityPGoalTree) {
 INSTANTIATE_TEST_SUITE_P(PGoalTree, GoalTreeBias, ::testing::Values(1.0, 0.0, 0.7, 0.3));
 
 /// One goal tree, rooted at the KR5 reaching forward, and what `retreat`
-/// grew from its root before anything else: the chain of retreat nodes in
-/// order from the root, as palm poses.
+/// grew from its root before anything else: the chain of configurations in
+/// order from the root.
 struct Retreat {
   /// The palm pointing down, the wrist (a5) well inside its limits.
   static Eigen::VectorXd goal() { return test::armAt(0.0, -0.9, 1.4, 0.0, kHalfPi - 0.5, 0.0); }
@@ -392,15 +392,13 @@ struct Retreat {
     problem.planner->getPlannerData(data);
     const auto& space = *problem.si->getStateSpace()->as<WeightedStateSpace>();
     // The goal tree: the root and the nodes below it, by depth.
-    std::vector<Eigen::VectorXd> nodes;
     for (unsigned v = 0; v < data.numVertices(); ++v)
       if (data.getVertex(v).getTag() != 0)
-        nodes.push_back(space.toVector(data.getVertex(v).getState()));
+        chain.push_back(space.toVector(data.getVertex(v).getState()));
     const Eigen::VectorXd root = goal();
-    std::sort(nodes.begin(), nodes.end(), [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    std::sort(chain.begin(), chain.end(), [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
       return (a - root).norm() < (b - root).norm();
     });
-    chain = nodes;
   }
 
   test::StubProblem problem;
@@ -409,7 +407,7 @@ struct Retreat {
 
 TEST(MultiTreeCBiRRT, RetreatGrowsANewTreeAsAStraightPalmPathAwayFromTheTarget) {
   // The hand points down at the object's centre 10 cm below the palm; the
-  // forearm is level, about 12 cm above the palm.
+  // wrist and forearm are above the palm.
   const Eigen::Isometry3d palm = Retreat::palmAt(Retreat::goal());
   ASSERT_GT(palm.linear().col(2).dot(-Eigen::Vector3d::UnitZ()), 0.99);
   const Eigen::Vector3d target = palm.translation() - Eigen::Vector3d(0.0, 0.0, 0.1);
