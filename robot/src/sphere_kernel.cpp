@@ -420,13 +420,15 @@ void FindTouchingImpl(const Program& program, const float* q, std::size_t count,
 using DI = hn::RebindToSigned<D>;
 using VI = hn::Vec<DI>;
 
-/// A link's pose as scalars (rotation row-major, then translation).
+/// A link's pose, row by row: m[4 r + c] is rotation entry (r, c) for
+/// c < 3 and m[4 r + 3] translation component r.
 struct ScalarPose {
-  float m[12];
+  alignas(16) float m[12];
 };
 
 /// Single-precision forward kinematics of one configuration; the sines
-/// and cosines of every joint in one SIMD pass.
+/// and cosines of every joint in one SIMD pass, then a pose's three rows
+/// as vectors of four.
 void forwardKinematicsOne(D d, const Program& program, const float* q, ScalarPose* poses,
                           float* angles) {
   const std::size_t n = hn::Lanes(d), steps = program.steps.size();
@@ -444,23 +446,56 @@ void forwardKinematicsOne(D d, const Program& program, const float* q, ScalarPos
     hn::Store(hn::Sin(d, v), d, sines + i);
     hn::Store(hn::Cos(d, v), d, cosines + i);
   }
-  for (int k = 0; k < 12; ++k) poses[0].m[k] = program.base[k];
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) poses[0].m[4 * r + c] = program.base[3 * r + c];
+    poses[0].m[4 * r + 3] = program.base[9 + r];
+  }
+#if HWY_TARGET == HWY_SCALAR
+  for (std::size_t i = 0; i < steps; ++i) {
+    const FkRows& step = program.fk_rows[i];
+    const float* p = poses[program.steps[i].parent].m;
+    float* c = poses[program.steps[i].child].m;
+    float joint[12];
+    for (int k = 0; k < 12; ++k)
+      joint[k] = step.a[k] + cosines[i] * step.b[k] + sines[i] * step.c[k] + angles[i] * step.dt[k];
+    for (int r = 0; r < 3; ++r)
+      for (int col = 0; col < 4; ++col)
+        c[4 * r + col] = p[4 * r] * joint[col] + p[4 * r + 1] * joint[4 + col] +
+                         p[4 * r + 2] * joint[8 + col] + (col == 3 ? p[4 * r + 3] : 0.0f);
+  }
+#else
+  // child row r = p[r][0] J row 0 + p[r][1] J row 1 + p[r][2] J row 2 + (0, 0, 0, p[r][3]),
+  // with the joint's translation in lane 3 of its rows.
+  const hn::FixedTag<float, 4> d4;
+  using V4 = hn::Vec<decltype(d4)>;
+  alignas(16) static constexpr float kLast[4] = {0, 0, 0, 1};
+  const V4 last = hn::Load(d4, kLast);
   for (std::size_t i = 0; i < steps; ++i) {
     const FkStep& step = program.steps[i];
+    const FkRows& rows = program.fk_rows[i];
+    V4 joint[3];
+    for (int r = 0; r < 3; ++r) joint[r] = hn::Load(d4, rows.a + 4 * r);
+    if (step.revolute) {
+      const V4 c = hn::Set(d4, cosines[i]), s = hn::Set(d4, sines[i]);
+      for (int r = 0; r < 3; ++r)
+        joint[r] = hn::MulAdd(s, hn::Load(d4, rows.c + 4 * r),
+                              hn::MulAdd(c, hn::Load(d4, rows.b + 4 * r), joint[r]));
+    } else if (step.dof >= 0) {
+      const V4 v = hn::Set(d4, angles[i]);
+      for (int r = 0; r < 3; ++r) joint[r] = hn::MulAdd(v, hn::Load(d4, rows.dt + 4 * r), joint[r]);
+    }
     const float* p = poses[step.parent].m;
     float* c = poses[step.child].m;
-    float joint[9], t[3];
-    for (int k = 0; k < 9; ++k)
-      joint[k] =
-          step.revolute ? step.a[k] + cosines[i] * step.b[k] + sines[i] * step.c[k] : step.a[k];
-    for (int k = 0; k < 3; ++k) t[k] = step.t[k] + angles[i] * step.dt[k];
     for (int r = 0; r < 3; ++r) {
-      for (int col = 0; col < 3; ++col)
-        c[3 * r + col] =
-            p[3 * r] * joint[col] + p[3 * r + 1] * joint[3 + col] + p[3 * r + 2] * joint[6 + col];
-      c[9 + r] = p[3 * r] * t[0] + p[3 * r + 1] * t[1] + p[3 * r + 2] * t[2] + p[9 + r];
+      const V4 row = hn::Load(d4, p + 4 * r);
+      hn::Store(
+          hn::MulAdd(hn::Broadcast<0>(row), joint[0],
+                     hn::MulAdd(hn::Broadcast<1>(row), joint[1],
+                                hn::MulAdd(hn::Broadcast<2>(row), joint[2], hn::Mul(row, last)))),
+          d4, c + 4 * r);
     }
   }
+#endif
 }
 
 /// World centres of a wide node's slots, the link at `pose`.
@@ -471,22 +506,64 @@ HWY_INLINE Vec3 slotCenters(D d, const WideNode& node, std::size_t first, const 
   return Vec3{
       hn::MulAdd(
           hn::Set(d, m[0]), x,
-          hn::MulAdd(hn::Set(d, m[1]), y, hn::MulAdd(hn::Set(d, m[2]), z, hn::Set(d, m[9])))),
+          hn::MulAdd(hn::Set(d, m[1]), y, hn::MulAdd(hn::Set(d, m[2]), z, hn::Set(d, m[3])))),
       hn::MulAdd(
-          hn::Set(d, m[3]), x,
-          hn::MulAdd(hn::Set(d, m[4]), y, hn::MulAdd(hn::Set(d, m[5]), z, hn::Set(d, m[10])))),
+          hn::Set(d, m[4]), x,
+          hn::MulAdd(hn::Set(d, m[5]), y, hn::MulAdd(hn::Set(d, m[6]), z, hn::Set(d, m[7])))),
       hn::MulAdd(
-          hn::Set(d, m[6]), x,
-          hn::MulAdd(hn::Set(d, m[7]), y, hn::MulAdd(hn::Set(d, m[8]), z, hn::Set(d, m[11]))))};
+          hn::Set(d, m[8]), x,
+          hn::MulAdd(hn::Set(d, m[9]), y, hn::MulAdd(hn::Set(d, m[10]), z, hn::Set(d, m[11]))))};
 }
 
 /// Calls f(slot) for every set bit of a mask of `first`.. slots.
 template <typename F>
 HWY_INLINE void forEachSlot(D d, M mask, std::size_t first, F&& f) {
-  std::uint8_t bits[8] = {};
-  hn::StoreMaskBits(d, mask, bits);
-  for (std::size_t k = 0; k < hn::Lanes(d); ++k)
-    if (((bits[k / 8] >> (k % 8)) & 1u) != 0) f(first + k);
+  for (std::uint32_t bits = laneBits(d, mask); bits != 0; bits &= bits - 1)
+    f(first + static_cast<std::size_t>(__builtin_ctz(bits)));
+}
+
+/// World centres of wide nodes' slots (x, then y, then z, kSlots each per
+/// node), each computed at most once per configuration: a link pair's
+/// descent meets the same nodes again, and so do the pairs of one link.
+class CentreCache {
+ public:
+  /// Forgets the last configuration's centres.
+  void reset(std::size_t nodes) {
+    if (stamp_.size() < nodes) {
+      stamp_.assign(nodes, 0);
+      xyz_ = hwy::AllocateAligned<float>(nodes * 3 * WideNode::kSlots);
+      generation_ = 0;
+    }
+    if (++generation_ == 0) {  // wrapped: every stamp is stale
+      std::fill(stamp_.begin(), stamp_.end(), 0u);
+      generation_ = 1;
+    }
+  }
+  /// The centres of wide node `index` (of the link at `pose`).
+  const float* centres(D d, const Program& program, int index, const ScalarPose& pose) {
+    const auto i = static_cast<std::size_t>(index);
+    float* out = xyz_.get() + i * 3 * WideNode::kSlots;
+    if (stamp_[i] == generation_) return out;
+    stamp_[i] = generation_;
+    const WideNode& node = program.wide[i];
+    for (std::size_t first = 0; first < node.count; first += hn::Lanes(d)) {
+      const Vec3 c = slotCenters(d, node, first, pose);
+      hn::Store(c.x, d, out + first);
+      hn::Store(c.y, d, out + WideNode::kSlots + first);
+      hn::Store(c.z, d, out + 2 * WideNode::kSlots + first);
+    }
+    return out;
+  }
+
+ private:
+  hwy::AlignedFreeUniquePtr<float[]> xyz_;
+  std::vector<std::uint32_t> stamp_;
+  std::uint32_t generation_ = 0;
+};
+
+HWY_INLINE Vec3 loadCentres(D d, const float* centres, std::size_t first) {
+  return Vec3{hn::Load(d, centres + first), hn::Load(d, centres + WideNode::kSlots + first),
+              hn::Load(d, centres + 2 * WideNode::kSlots + first)};
 }
 
 /// A sphere of a descent: world centre, radius, and the wide node of the
@@ -499,15 +576,17 @@ struct Sphere {
 /// Does a leaf below wide node `top` of a link at `pose` touch the item?
 /// Depth first, a wide node's slots at a time.
 bool linkTouchesItem(D d, const Program& program, const ScalarPose& pose, int top, const Item& item,
-                     std::vector<int>& stack) {
+                     CentreCache& cache, std::vector<int>& stack) {
   const std::size_t n = hn::Lanes(d);
   stack.assign(1, top);
   while (!stack.empty()) {
-    const WideNode& node = program.wide[static_cast<std::size_t>(stack.back())];
+    const int index = stack.back();
+    const WideNode& node = program.wide[static_cast<std::size_t>(index)];
     stack.pop_back();
+    const float* centres = cache.centres(d, program, index, pose);
     for (std::size_t first = 0; first < node.count; first += n) {
       const M touching =
-          itemTouches(d, item, slotCenters(d, node, first, pose), hn::Load(d, node.r + first),
+          itemTouches(d, item, loadCentres(d, centres, first), hn::Load(d, node.r + first),
                       hn::FirstN(d, node.count - first));
       if (hn::AllFalse(d, touching)) continue;
       bool leaf = false;
@@ -527,7 +606,7 @@ bool linkTouchesItem(D d, const Program& program, const ScalarPose& pose, int to
 /// touch? Depth first over sphere pairs: the larger sphere of a pair is
 /// replaced by its wide node's slots, tested against the other at once.
 bool linksTouchOne(D d, const Program& program, const ScalarPose& pa, Sphere a,
-                   const ScalarPose& pb, Sphere b, std::vector<Sphere>& stack) {
+                   const ScalarPose& pb, Sphere b, CentreCache& cache, std::vector<Sphere>& stack) {
   const std::size_t n = hn::Lanes(d);
   stack.clear();
   stack.push_back(a);
@@ -541,23 +620,20 @@ bool linksTouchOne(D d, const Program& program, const ScalarPose& pa, Sphere a,
     // Split a where b is a leaf or a is at least as large (and can be split).
     const bool splitA = a.below >= 0 && (b.below < 0 || a.r >= b.r);
     const Sphere& kept = splitA ? b : a;
-    const WideNode& node = program.wide[static_cast<std::size_t>(splitA ? a.below : b.below)];
-    const ScalarPose& pose = splitA ? pa : pb;
+    const int index = splitA ? a.below : b.below;
+    const WideNode& node = program.wide[static_cast<std::size_t>(index)];
+    const float* centres = cache.centres(d, program, index, splitA ? pa : pb);
     for (std::size_t first = 0; first < node.count; first += n) {
-      const Vec3 c = slotCenters(d, node, first, pose);
+      const Vec3 c = loadCentres(d, centres, first);
       const Vec3 gap{hn::Sub(c.x, hn::Set(d, kept.x)), hn::Sub(c.y, hn::Set(d, kept.y)),
                      hn::Sub(c.z, hn::Set(d, kept.z))};
       const V reach = hn::Add(hn::Load(d, node.r + first), hn::Set(d, kept.r));
       const M touching = hn::And(hn::FirstN(d, node.count - first),
                                  hn::Le(squaredNorm(gap), hn::Mul(reach, reach)));
       if (hn::AllFalse(d, touching)) continue;
-      alignas(64) float cx[16], cy[16], cz[16];
-      hn::Store(c.x, d, cx);
-      hn::Store(c.y, d, cy);
-      hn::Store(c.z, d, cz);
       forEachSlot(d, touching, first, [&](std::size_t slot) {
-        const std::size_t k = slot - first;
-        const Sphere split{cx[k], cy[k], cz[k], node.r[slot], node.below[slot]};
+        const Sphere split{centres[slot], centres[WideNode::kSlots + slot],
+                           centres[2 * WideNode::kSlots + slot], node.r[slot], node.below[slot]};
         stack.push_back(splitA ? split : kept);
         stack.push_back(splitA ? kept : split);
       });
@@ -577,6 +653,7 @@ void FindTouchingOneImpl(const Program& program, const float* q, bool allowFinge
   thread_local LinkSphereBuffer roots;
   thread_local std::vector<int> envPairs, selfPairs, itemStack;
   thread_local std::vector<Sphere> pairStack;
+  thread_local CentreCache centres;
   const std::size_t needed = 3 * ((program.steps.size() + n - 1) / n * n);
   if (anglesSize < needed) {
     anglesSize = needed;
@@ -593,17 +670,18 @@ void FindTouchingOneImpl(const Program& program, const float* q, bool allowFinge
     }
     const Node& node = program.nodes[static_cast<std::size_t>(program.root[l])];
     const float* m = poses[l].m;
-    root.x[l] = m[0] * node.x + m[1] * node.y + m[2] * node.z + m[9];
-    root.y[l] = m[3] * node.x + m[4] * node.y + m[5] * node.z + m[10];
-    root.z[l] = m[6] * node.x + m[7] * node.y + m[8] * node.z + m[11];
+    root.x[l] = m[0] * node.x + m[1] * node.y + m[2] * node.z + m[3];
+    root.y[l] = m[4] * node.x + m[5] * node.y + m[6] * node.z + m[7];
+    root.z[l] = m[8] * node.x + m[9] * node.y + m[10] * node.z + m[11];
     root.r[l] = node.r;
   }
   broadphase(d, program, root, allowFingertipContact, envPairs, selfPairs);
+  centres.reset(program.wide.size());
   for (const int index : envPairs) {
     const EnvPair& pair = program.env[static_cast<std::size_t>(index)];
     const int top = program.wide_root[pair.link];
-    if ((top < 0 ||
-         linkTouchesItem(d, program, poses[pair.link], top, program.items[pair.item], itemStack)) &&
+    if ((top < 0 || linkTouchesItem(d, program, poses[pair.link], top, program.items[pair.item],
+                                    centres, itemStack)) &&
         visit(context, static_cast<std::uint32_t>(index), 1u) == 0)
       return;
   }
@@ -613,7 +691,7 @@ void FindTouchingOneImpl(const Program& program, const float* q, bool allowFinge
                    program.wide_root[pair.a]};
     const Sphere b{root.x[pair.b], root.y[pair.b], root.z[pair.b], root.r[pair.b],
                    program.wide_root[pair.b]};
-    if (linksTouchOne(d, program, poses[pair.a], a, poses[pair.b], b, pairStack) &&
+    if (linksTouchOne(d, program, poses[pair.a], a, poses[pair.b], b, centres, pairStack) &&
         visit(context,
               static_cast<std::uint32_t>(program.env.size()) + static_cast<std::uint32_t>(index),
               1u) == 0)
@@ -691,6 +769,22 @@ int collapse(Program& program, int node) {
 }  // namespace
 
 void buildWideTrees(Program& program) {
+  program.fk_rows.clear();
+  for (const FkStep& step : program.steps) {
+    FkRows rows;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        rows.a[4 * r + c] = step.a[3 * r + c];
+        rows.b[4 * r + c] = step.revolute ? step.b[3 * r + c] : 0.0f;
+        rows.c[4 * r + c] = step.revolute ? step.c[3 * r + c] : 0.0f;
+        rows.dt[4 * r + c] = 0.0f;
+      }
+      rows.a[4 * r + 3] = step.t[r];
+      rows.b[4 * r + 3] = rows.c[4 * r + 3] = 0.0f;
+      rows.dt[4 * r + 3] = step.dof >= 0 && !step.revolute ? step.dt[r] : 0.0f;
+    }
+    program.fk_rows.push_back(rows);
+  }
   const std::size_t links = program.root.size(), items = program.items.size();
   program.env_index.assign(links * items, -1);
   for (std::size_t i = 0; i < program.env.size(); ++i)

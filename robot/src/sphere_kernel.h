@@ -36,6 +36,16 @@ struct FkStep {
   float dt[3] = {};
 };
 
+/// An FkStep for the one-configuration kernel: the joint's transform as
+/// three rows of four (rotation, then translation), a + cos(v) b + sin(v) c
+/// + v dt.
+struct FkRows {
+  alignas(16) float a[12];
+  alignas(16) float b[12];
+  alignas(16) float c[12];
+  alignas(16) float dt[12];
+};
+
 /// A node of a link's sphere tree (link frame; radius padded).
 struct Node {
   float x = 0, y = 0, z = 0, r = 0;
@@ -92,6 +102,7 @@ struct Program {
   float base[12] = {1, 0, 0, 0, 1, 0,
                     0, 0, 1, 0, 0, 0};  ///< root link in the world: R row-major, then t
   std::vector<FkStep> steps;            ///< parents before children
+  std::vector<FkRows> fk_rows;          ///< [step], filled by buildWideTrees
   std::vector<int> root;                ///< [link]: its root node, -1 for a link without spheres
   std::vector<std::uint8_t> fingertip;  ///< [link]
   std::vector<Node> nodes;
@@ -122,8 +133,9 @@ using Visit = std::uint32_t (*)(void* context, std::uint32_t pair, std::uint32_t
 /// Lanes of a batch on this CPU (4, 8 or 16).
 std::size_t batchSize();
 
-/// Fills Program::wide and wide_root from Program::nodes, and the lookups
-/// env_index, self_index and self_mask from env and self.
+/// Fills Program::wide and wide_root from Program::nodes, fk_rows from
+/// steps, and the lookups env_index, self_index and self_mask from env and
+/// self.
 void buildWideTrees(Program& program);
 
 /// Tests one configuration q[0 .. num_dofs) like findTouching (lane 0),

@@ -1,6 +1,7 @@
 #include "robot/collision_checker.h"
 
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 
 #include <algorithm>
 #include <map>
@@ -472,6 +473,30 @@ TEST(CollisionChecker, TheSphereTierNeverChangesAnAnswer) {
   EXPECT_LT(collisions, configurations * 19 / 20);
   EXPECT_GT(settled, (configurations - collisions) / 10)
       << configurations << " configurations, " << collisions << " colliding";
+}
+
+TEST(CollisionChecker, EverySimdTargetOfTheSphereTierGivesFclsAnswers) {
+  // The kernel is compiled for every SIMD target (scalar, SSE, AVX2,
+  // AVX-512) and runs the best one the CPU has; each must agree with FCL.
+  Scene scene = bundledScene("shelf");
+  const auto& [object, db] = *objects().begin();
+  scene.target_object = object;
+  scene.target_pose = targetPose(scene, db.geometry.mesh_vertices);
+  const std::vector<std::int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  EXPECT_GE(targets.size(), 2u);  // at least the scalar fallback and one SIMD target
+  for (const std::int64_t target : targets) {
+    SCOPED_TRACE(hwy::TargetName(target));
+    hwy::SetSupportedTargetsForTest(target);
+    CollisionChecker checker(m(), scene, &db.geometry);
+    std::mt19937_64 rng(5);
+    int collisions = 0;
+    for (int i = 0; i < 300; ++i)
+      collisions += expectSameAnswerWithAndWithoutSpheres(checker, randomConfiguration(rng));
+    EXPECT_GT(collisions, 30);
+    EXPECT_LT(collisions, 270);
+    EXPECT_GT(checker.sphereSettledCount(), 10u);
+  }
+  hwy::SetSupportedTargetsForTest(0);  // back to what the CPU supports
 }
 
 TEST(CollisionChecker, ExactlyTouchingLinksGetOneAnswerInBothModes) {
