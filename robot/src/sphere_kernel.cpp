@@ -244,23 +244,32 @@ void broadphase(D d, const Program& program, const LinkSpheres& s, bool allowFin
   const std::size_t n = hn::Lanes(d), links = static_cast<std::size_t>(program.num_links);
   const std::size_t words = program.link_words, items = program.items.size();
   thread_local std::vector<std::uint64_t> near, touching;
-  // Sets of links as bit words (chunks of n lanes never straddle a word).
-  auto add = [&](std::uint64_t* set, std::size_t first, M mask) {
-    set[first / 64] |= static_cast<std::uint64_t>(laneBits(d, mask)) << (first % 64);
-  };
+  // Sets of links as bit words (chunks of n lanes never straddle a word),
+  // each gathered in a register and stored once.
+  const std::size_t padded = s.padded;
+  const float *sx = s.x, *sy = s.y, *sz = s.z, *sr = s.r;
+  auto wordEnds = [&](std::size_t l) { return (l + n) % 64 == 0 || l + n >= padded; };
   near.assign(items * words, 0);
   for (std::size_t i = 0; i < items; ++i) {
     const Item& item = program.items[i];
-    for (std::size_t l = 0; l < s.padded; l += n) {
-      const Vec3 c{hn::Load(d, s.x + l), hn::Load(d, s.y + l), hn::Load(d, s.z + l)};
-      const V r = hn::Load(d, s.r + l);
+    const Vec3 center{hn::Set(d, item.bound[0]), hn::Set(d, item.bound[1]),
+                      hn::Set(d, item.bound[2])};
+    const V radius = hn::Set(d, item.bound[3]);
+    std::uint64_t word = 0;
+    for (std::size_t l = 0; l < padded; l += n) {
+      const Vec3 c{hn::Load(d, sx + l), hn::Load(d, sy + l), hn::Load(d, sz + l)};
+      const V r = hn::Load(d, sr + l);
       // The item's bounding sphere first: one distance, no frame change.
-      const Vec3 gap{hn::Sub(c.x, hn::Set(d, item.bound[0])),
-                     hn::Sub(c.y, hn::Set(d, item.bound[1])),
-                     hn::Sub(c.z, hn::Set(d, item.bound[2]))};
-      const V reach = hn::Add(r, hn::Set(d, item.bound[3]));
+      const Vec3 gap{hn::Sub(c.x, center.x), hn::Sub(c.y, center.y), hn::Sub(c.z, center.z)};
+      const V reach = hn::Add(r, radius);
       const M bound = hn::Le(squaredNorm(gap), hn::Mul(reach, reach));
-      if (!hn::AllFalse(d, bound)) add(&near[i * words], l, itemTouches(d, item, c, r, bound));
+      if (!hn::AllFalse(d, bound))
+        word |= static_cast<std::uint64_t>(laneBits(d, itemTouches(d, item, c, r, bound)))
+                << (l % 64);
+      if (wordEnds(l)) {
+        near[i * words + l / 64] = word;
+        word = 0;
+      }
     }
   }
   env.clear();
@@ -278,12 +287,20 @@ void broadphase(D d, const Program& program, const LinkSpheres& s, bool allowFin
   touching.assign(links * words, 0);
   for (std::size_t a = 0; a < links; ++a) {
     if (program.root[a] < 0) continue;
-    const Vec3 c{hn::Set(d, s.x[a]), hn::Set(d, s.y[a]), hn::Set(d, s.z[a])};
-    for (std::size_t l = 0; l < s.padded; l += n) {
-      const Vec3 gap{hn::Sub(c.x, hn::Load(d, s.x + l)), hn::Sub(c.y, hn::Load(d, s.y + l)),
-                     hn::Sub(c.z, hn::Load(d, s.z + l))};
-      const V reach = hn::Add(hn::Set(d, s.r[a]), hn::Load(d, s.r + l));
-      add(&touching[a * words], l, hn::Le(squaredNorm(gap), hn::Mul(reach, reach)));
+    const Vec3 c{hn::Set(d, sx[a]), hn::Set(d, sy[a]), hn::Set(d, sz[a])};
+    const V r = hn::Set(d, sr[a]);
+    std::uint64_t word = 0;
+    for (std::size_t l = 0; l < padded; l += n) {
+      const Vec3 gap{hn::Sub(c.x, hn::Load(d, sx + l)), hn::Sub(c.y, hn::Load(d, sy + l)),
+                     hn::Sub(c.z, hn::Load(d, sz + l))};
+      const V reach = hn::Add(r, hn::Load(d, sr + l));
+      word |=
+          static_cast<std::uint64_t>(laneBits(d, hn::Le(squaredNorm(gap), hn::Mul(reach, reach))))
+          << (l % 64);
+      if (wordEnds(l)) {
+        touching[a * words + l / 64] = word;
+        word = 0;
+      }
     }
   }
   self.clear();
