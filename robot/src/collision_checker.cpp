@@ -13,7 +13,6 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
-#include <queue>
 #include <utility>
 
 #include "hfts_db/invalid_argument.h"
@@ -229,6 +228,7 @@ struct CollisionChecker::Impl {
   // Scratch of validSegments: the states in check order, as step s of
   // motionSteps[i] along their segment (which ends at state segmentEnds[k] - 1).
   std::vector<int> motionOrder, motionSteps;
+  std::vector<std::pair<int, int>> openRanges;  // scratch of bisect()
   std::vector<std::size_t> segmentEnds;
   std::vector<Eigen::VectorXd> motionStates;
   std::vector<const Eigen::VectorXd*> motionPointers;
@@ -438,16 +438,16 @@ struct CollisionChecker::Impl {
 
   /// Appends the midpoints of (low, high) in breadth-first bisection order.
   void bisect(int low, int high) {
-    std::queue<std::pair<int, int>> open;  // exclusive ranges still unchecked
-    open.emplace(low, high);
-    while (!open.empty()) {
-      const auto [from, to] = open.front();
-      open.pop();
+    // A FIFO of exclusive ranges still unchecked, kept between calls.
+    openRanges.clear();
+    openRanges.emplace_back(low, high);
+    for (std::size_t next = 0; next < openRanges.size(); ++next) {
+      const auto [from, to] = openRanges[next];
       if (to - from < 2) continue;
       const int mid = (from + to) / 2;
       motionOrder.push_back(mid);
-      open.emplace(from, mid);
-      open.emplace(mid, to);
+      openRanges.emplace_back(from, mid);
+      openRanges.emplace_back(mid, to);
     }
   }
 

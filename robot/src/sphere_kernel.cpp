@@ -10,6 +10,7 @@
 #include <hwy/highway.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "sphere_kernel.h"
 
@@ -382,17 +383,15 @@ void FindTouchingImpl(const Program& program, const float* q, std::size_t count,
     hn::Store(c.x, d, roots + (3 * l) * n);
     hn::Store(c.y, d, roots + (3 * l + 1) * n);
     hn::Store(c.z, d, roots + (3 * l + 2) * n);
-    const V half = hn::Set(d, 0.5f);
-    const Vec3 mid{hn::Mul(half, hn::Add(hn::MinOfLanes(d, c.x), hn::MaxOfLanes(d, c.x))),
-                   hn::Mul(half, hn::Add(hn::MinOfLanes(d, c.y), hn::MaxOfLanes(d, c.y))),
-                   hn::Mul(half, hn::Add(hn::MinOfLanes(d, c.z), hn::MaxOfLanes(d, c.z)))};
+    const Vec3 mid{hn::Set(d, hn::GetLane(c.x)), hn::Set(d, hn::GetLane(c.y)),
+                   hn::Set(d, hn::GetLane(c.z))};
     const Vec3 gap{hn::Sub(c.x, mid.x), hn::Sub(c.y, mid.y), hn::Sub(c.z, mid.z)};
     sweep.x[l] = hn::GetLane(mid.x);
     sweep.y[l] = hn::GetLane(mid.y);
     sweep.z[l] = hn::GetLane(mid.z);
     // Rounded up a little: the swept sphere must hold every lane's sphere.
     sweep.r[l] =
-        hn::GetLane(hn::Sqrt(hn::MaxOfLanes(d, squaredNorm(gap)))) * 1.0001f + 1e-6f + node.r;
+        std::sqrt(hn::GetLane(hn::MaxOfLanes(d, squaredNorm(gap)))) * 1.0001f + 1e-6f + node.r;
   }
   broadphase(d, program, sweep, allowFingertipContact, envPairs, selfPairs);
   // Hands the touching lanes of pair `index` to the visitor; false when no lane is left.
