@@ -457,16 +457,18 @@ struct CollisionChecker::Impl {
   }
 
   /// FCL on the shapes of one pair the sphere tier found touching, the
-  /// robot at `at`.
+  /// robot at `at`. Each link's shapes are placed once.
   bool pairCollides(const SphereTier::Pair& p, const LinkPoses& at, QueryData& data) {
-    for (const std::size_t i : placedLink(p.link, at)) {
-      if (p.other_link < 0) {
+    const std::vector<std::size_t>& shapes = placedLink(p.link, at);
+    if (p.other_link < 0) {
+      for (const std::size_t i : shapes)
         if (shapesCollide(*robotObjects[i], *environmentObjects[p.item], data)) return true;
-        continue;
-      }
-      for (const std::size_t j : placedLink(p.other_link, at))
-        if (shapesCollide(*robotObjects[i], *robotObjects[j], data)) return true;
+      return false;
     }
+    const std::vector<std::size_t>& others = placedLink(p.other_link, at);
+    for (const std::size_t i : shapes)
+      for (const std::size_t j : others)
+        if (shapesCollide(*robotObjects[i], *robotObjects[j], data)) return true;
     return false;
   }
 
