@@ -478,6 +478,8 @@ TEST(CollisionChecker, TheSphereTierNeverChangesAnAnswer) {
 TEST(CollisionChecker, EverySimdTargetOfTheSphereTierGivesFclsAnswers) {
   // The kernel is compiled for every SIMD target (scalar, SSE, AVX2,
   // AVX-512) and runs the best one the CPU has; each must agree with FCL.
+  // Single configurations only: the batch kernel's lane count
+  // (kernel::batchSize()) is fixed for the process at its first use.
   Scene scene = bundledScene("shelf");
   const auto& [object, db] = *objects().begin();
   scene.target_object = object;
