@@ -395,7 +395,10 @@ struct RobotModel::LazySpheres {
 };
 
 const SphereModel& RobotModel::spheres() const {
-  std::call_once(spheres_->built, [this] { spheres_->model = buildSphereModel(*this); });
+  std::call_once(spheres_->built, [this] {
+    spheres_->model = buildSphereModel(*this);
+    spheres_->model.pair_maps = buildPairMaps(*this, spheres_->model);
+  });
   return spheres_->model;
 }
 

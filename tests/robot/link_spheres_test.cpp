@@ -7,10 +7,12 @@
 #include <stdexcept>
 
 #include "robot_fixture.h"
+#include "shape_samples.h"
 
 namespace hfts::robot {
 namespace {
 
+using test::surfacePoint;
 using Shape = CollisionShape::Type;
 
 CollisionShape shape(Shape type, const Eigen::Vector3d& size,
@@ -27,28 +29,6 @@ Eigen::Isometry3d tilted(const Eigen::Vector3d& at) {
   pose.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   pose.translation() = at;
   return pose;
-}
-
-/// A point on the surface of `s` (link frame), uniform per face or side.
-Eigen::Vector3d surfacePoint(const CollisionShape& s, std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(-1, 1);
-  Eigen::Vector3d p;
-  if (s.type == Shape::kSphere) {
-    p = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized() * s.size[0];
-  } else if (s.type == Shape::kBox) {
-    p = Eigen::Vector3d(u(rng), u(rng), u(rng)).cwiseProduct(s.size / 2);
-    const int axis = std::uniform_int_distribution<int>(0, 2)(rng);
-    p[axis] = (u(rng) < 0 ? -0.5 : 0.5) * s.size[axis];
-  } else {
-    const double angle = M_PI * u(rng), half = s.size[1] / 2;
-    if (u(rng) < 0) {  // side
-      p << s.size[0] * std::cos(angle), s.size[0] * std::sin(angle), half * u(rng);
-    } else {  // a cap
-      const double r = s.size[0] * std::sqrt(std::abs(u(rng)));
-      p << r * std::cos(angle), r * std::sin(angle), u(rng) < 0 ? -half : half;
-    }
-  }
-  return s.origin * p;
 }
 
 /// A point inside `s`: a surface point pulled toward the shape's centre.
