@@ -58,7 +58,7 @@ void forwardKinematics(D d, const Program& program, const float* q, float* poses
     V value = hn::Zero(d);
     if (step.dof >= 0)
       value = hn::MulAdd(hn::Set(d, step.multiplier),
-                         hn::Load(d, q + static_cast<std::size_t>(step.dof) * n),
+                         hn::LoadU(d, q + static_cast<std::size_t>(step.dof) * n),
                          hn::Set(d, step.offset));
     if (step.revolute) {
       const V c = hn::Cos(d, value), s = hn::Sin(d, value);
@@ -220,6 +220,43 @@ M laneMask(D d, std::uint32_t bits) {
                                  0,
                                  0};
   return hn::LoadMaskBits(d, bytes);
+}
+
+/// The lanes whose configuration lies in a cell where the self pair's map
+/// proves it apart (none where the pair has no map).
+M mapApart(D d, const SelfMap& map, const float* q) {
+  const std::size_t n = hn::Lanes(d);
+  const hn::RebindToSigned<D> di;
+  const hn::RebindToUnsigned<D> du;
+  V t[2];
+  M valid = hn::FirstN(d, n);
+  for (int k = 0; k < 2; ++k) {
+    t[k] = hn::Mul(hn::Sub(hn::LoadU(d, q + static_cast<std::size_t>(map.dof[k]) * n),
+                           hn::Set(d, map.lower[k])),
+                   hn::Set(d, map.inverse[k]));
+    valid =
+        hn::And(valid, hn::And(hn::Ge(t[k], hn::Zero(d)), hn::Lt(t[k], hn::Set(d, map.cells[k]))));
+  }
+  if (hn::AllFalse(d, valid)) return valid;
+  const auto cell = hn::IfThenElseZero(
+      hn::RebindMask(di, valid),
+      hn::Add(hn::ConvertTo(di, t[0]), hn::Mul(hn::Set(di, map.stride), hn::ConvertTo(di, t[1]))));
+  const auto words =
+      hn::BitCast(du, hn::GatherIndex(di, reinterpret_cast<const std::int32_t*>(map.bits),
+                                      hn::ShiftRight<5>(cell)));
+  const auto bit = hn::And(hn::BitCast(du, cell), hn::Set(du, 31u));
+  const auto set = hn::And(hn::operator>>(words, bit), hn::Set(du, 1u));
+  return hn::And(valid, hn::RebindMask(d, hn::Eq(set, hn::Set(du, 1u))));
+}
+
+/// One configuration: does the self pair's map prove it apart?
+HWY_INLINE bool mapApartOne(const SelfMap& map, const float* q) {
+  const float t0 = (q[map.dof[0]] - map.lower[0]) * map.inverse[0];
+  const float t1 = (q[map.dof[1]] - map.lower[1]) * map.inverse[1];
+  if (!(t0 >= 0.0f && t0 < map.cells[0] && t1 >= 0.0f && t1 < map.cells[1])) return false;
+  const auto cell = static_cast<std::uint32_t>(t0) +
+                    static_cast<std::uint32_t>(map.stride) * static_cast<std::uint32_t>(t1);
+  return ((map.bits[cell / 32] >> (cell % 32)) & 1u) != 0;
 }
 
 // ---------------------------------------------------------------------------
@@ -422,8 +459,13 @@ void FindTouchingImpl(const Program& program, const float* q, std::size_t count,
     const Vec3 gap{hn::Sub(a.x, b.x), hn::Sub(a.y, b.y), hn::Sub(a.z, b.z)};
     const V reach = hn::Set(d, program.nodes[static_cast<std::size_t>(ra)].r +
                                    program.nodes[static_cast<std::size_t>(rb)].r);
-    const M near = hn::And(active, hn::Le(squaredNorm(gap), hn::Mul(reach, reach)));
+    M near = hn::And(active, hn::Le(squaredNorm(gap), hn::Mul(reach, reach)));
     if (hn::AllFalse(d, near)) continue;
+    const SelfMap& map = program.self_maps[static_cast<std::size_t>(index)];
+    if (map.bits != nullptr) {
+      near = hn::AndNot(mapApart(d, map, q), near);
+      if (hn::AllFalse(d, near)) continue;
+    }
     if (!report(program.env.size() + static_cast<std::size_t>(index),
                 nodesTouch(d, program, pose(pair.a), ra, a, pose(pair.b), rb, b, near)))
       return;
@@ -702,6 +744,8 @@ void FindTouchingOneImpl(const Program& program, const float* q, bool allowFinge
       return;
   }
   for (const int index : selfPairs) {
+    const SelfMap& map = program.self_maps[static_cast<std::size_t>(index)];
+    if (map.bits != nullptr && mapApartOne(map, q)) continue;
     const SelfPair& pair = program.self[static_cast<std::size_t>(index)];
     const Sphere a{root.x[pair.a], root.y[pair.a], root.z[pair.a], root.r[pair.a],
                    program.wide_root[pair.a]};

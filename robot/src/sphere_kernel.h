@@ -95,6 +95,19 @@ struct SelfPair {
   std::uint16_t b = 0;
 };
 
+/// A self pair's map of where in joint space it is apart
+/// (robot/pair_maps.h): apart when t_k = (q[dof[k]] - lower[k]) * inverse[k]
+/// lies in [0, cells[k]) for k = 0, 1 and bit floor(t_0) + stride
+/// floor(t_1) is set. A one-DoF map has inverse[1] = 0, cells[1] = 1.
+struct SelfMap {
+  int dof[2] = {0, 0};
+  float lower[2] = {0, 0};
+  float inverse[2] = {0, 0};
+  float cells[2] = {0, 0};  ///< 0: no map
+  int stride = 1;
+  const std::uint32_t* bits = nullptr;
+};
+
 /// Everything the kernel needs, built once per checker.
 struct Program {
   int num_dofs = 0;
@@ -119,8 +132,9 @@ struct Program {
   std::vector<std::uint64_t> self_mask;
   std::size_t link_words = 1;
   std::vector<Item> items;
-  std::vector<EnvPair> env;    ///< link-item pairs to test, ordered by link, then item
-  std::vector<SelfPair> self;  ///< link pairs to test
+  std::vector<EnvPair> env;        ///< link-item pairs to test, ordered by link, then item
+  std::vector<SelfPair> self;      ///< link pairs to test
+  std::vector<SelfMap> self_maps;  ///< [self pair]: bits == nullptr where it has none
 };
 
 /// Called for each pair whose spheres touch in some of the active lanes:

@@ -1,5 +1,6 @@
 #include "sphere_tier.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -146,6 +147,25 @@ void SphereTier::listPairs() {
     for (std::size_t b = a + 1; b < links; ++b)
       if (may_collide_[a][b])
         program_.self.push_back({static_cast<std::uint16_t>(a), static_cast<std::uint16_t>(b)});
+  program_.self_maps.assign(program_.self.size(), {});
+  for (const PairMap& map : spheres_.pair_maps) {
+    const auto a = static_cast<std::size_t>(map.link_a), b = static_cast<std::size_t>(map.link_b);
+    if (!may_collide_[a][b]) continue;
+    const auto pair = static_cast<std::size_t>(
+        std::find_if(program_.self.begin(), program_.self.end(),
+                     [&](const kernel::SelfPair& p) { return p.a == a && p.b == b; }) -
+        program_.self.begin());
+    kernel::SelfMap& out = program_.self_maps[pair];
+    for (int k = 0; k < 2; ++k) {
+      const bool used = map.dofs[k] >= 0;
+      out.dof[k] = used ? map.dofs[k] : map.dofs[0];
+      out.lower[k] = used ? static_cast<float>(map.lower[k]) : 0.0f;
+      out.inverse[k] = used ? static_cast<float>(1.0 / map.width[k]) : 0.0f;
+      out.cells[k] = static_cast<float>(map.cells[k]);
+    }
+    out.stride = map.cells[0];
+    out.bits = map.apart.data();
+  }
   kernel::buildWideTrees(program_);
 }
 
