@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -61,7 +62,7 @@ class Side {
     turn_.resize(joints_.size());
   }
 
-  /// Places the link at DoF values `value` (dofs[0], dofs[1]), each free to
+  /// Places the link at DoF values `value` (of dofs[0 ..]), each free to
   /// move by `halfWidth` around it.
   void place(const double* value, const double* halfWidth, const int* dofs) {
     ++generation_;
@@ -73,7 +74,7 @@ class Side {
       double v = 0.0;
       turn_[k] = 0.0;
       if (joint.type == Joint::Type::kRevolute) {
-        const int slot = joint.dof == dofs[0] ? 0 : 1;
+        const int slot = joint.dof == dofs[0] ? 0 : joint.dof == dofs[1] ? 1 : 2;
         v = joint.multiplier * value[slot] + joint.offset;
         turn_[k] = std::abs(joint.multiplier) * halfWidth[slot];
       }
@@ -129,9 +130,10 @@ class Side {
 };
 
 /// The geometry the spheres of a cover farther than `clearance` from that of
-/// b, both as placed (a node holds the geometry of the leaves below it).
-bool placedApart(Side& a, Side& b, double clearance) {
-  std::vector<std::pair<int, int>> stack{{a.root(), b.root()}};
+/// b, both as placed (a node holds the geometry of the leaves below it);
+/// `stack` is scratch.
+bool placedApart(Side& a, Side& b, double clearance, std::vector<std::pair<int, int>>& stack) {
+  stack.assign(1, {a.root(), b.root()});
   while (!stack.empty()) {
     const auto [na, nb] = stack.back();
     stack.pop_back();
@@ -156,35 +158,39 @@ class MapBuilder {
   MapBuilder(PairMap& map, Side& a, Side& b, double clearance)
       : map_(map), a_(a), b_(b), clearance_(clearance) {}
 
-  /// Sets the cells of [lo0, hi0) x [lo1, hi1) proven apart, the whole
-  /// block at once when it can be.
-  void fill(int lo0, int hi0, int lo1, int hi1) {
-    double value[2], half[2];
-    const int lo[2] = {lo0, lo1}, hi[2] = {hi0, hi1};
-    for (int d = 0; d < 2; ++d) {
-      value[d] = map_.lower[d] + 0.5 * (lo[d] + hi[d]) * map_.width[d];
-      half[d] = 0.5 * (hi[d] - lo[d]) * map_.width[d] + kLookupMargin;
+  /// Sets the cells of the block [lo[k], hi[k]) (k over the map's DoFs)
+  /// proven apart, the whole block at once when it can be.
+  void fill(const std::array<int, PairMap::kMaxDofs>& lo,
+            const std::array<int, PairMap::kMaxDofs>& hi) {
+    double value[PairMap::kMaxDofs], half[PairMap::kMaxDofs];
+    for (int k = 0; k < PairMap::kMaxDofs; ++k) {
+      value[k] = map_.lower[k] + 0.5 * (lo[k] + hi[k]) * map_.width[k];
+      half[k] = 0.5 * (hi[k] - lo[k]) * map_.width[k] + kLookupMargin;
     }
     a_.place(value, half, map_.dofs);
     b_.place(value, half, map_.dofs);
-    if (placedApart(a_, b_, clearance_)) {
-      for (int i1 = lo1; i1 < hi1; ++i1)
-        for (int i0 = lo0; i0 < hi0; ++i0) {
-          const auto bit = static_cast<std::size_t>(i0 + map_.cells[0] * i1);
-          map_.apart[bit / 32] |= std::uint32_t{1} << (bit % 32);
-        }
+    if (placedApart(a_, b_, clearance_, stack_)) {
+      for (int i2 = lo[2]; i2 < hi[2]; ++i2)
+        for (int i1 = lo[1]; i1 < hi[1]; ++i1)
+          for (int i0 = lo[0]; i0 < hi[0]; ++i0) {
+            const auto bit =
+                static_cast<std::size_t>(i0 + map_.cells[0] * (i1 + map_.cells[1] * i2));
+            map_.apart[bit / 32] |= std::uint32_t{1} << (bit % 32);
+          }
       return;
     }
-    if (hi0 - lo0 == 1 && hi1 - lo1 == 1) return;
-    if (hi0 - lo0 >= hi1 - lo1) {
-      const int mid = (lo0 + hi0) / 2;
-      fill(lo0, mid, lo1, hi1);
-      fill(mid, hi0, lo1, hi1);
-    } else {
-      const int mid = (lo1 + hi1) / 2;
-      fill(lo0, hi0, lo1, mid);
-      fill(lo0, hi0, mid, hi1);
-    }
+    // Split the block's longest side (in cells); a single cell stays unset.
+    int longest = 0;
+    for (int k = 1; k < PairMap::kMaxDofs; ++k)
+      if (hi[k] - lo[k] > hi[longest] - lo[longest]) longest = k;
+    if (hi[longest] - lo[longest] == 1) return;
+    const int mid = (lo[longest] + hi[longest]) / 2;
+    std::array<int, PairMap::kMaxDofs> split = hi;
+    split[static_cast<std::size_t>(longest)] = mid;
+    fill(lo, split);
+    split = lo;
+    split[static_cast<std::size_t>(longest)] = mid;
+    fill(split, hi);
   }
 
  private:
@@ -192,13 +198,14 @@ class MapBuilder {
   Side& a_;
   Side& b_;
   double clearance_;
+  std::vector<std::pair<int, int>> stack_;  // scratch of placedApart
 };
 
 }  // namespace
 
 bool PairMap::provesApart(const Eigen::VectorXd& q) const {
   int index = 0, stride = 1;
-  for (int d = 0; d < 2; ++d) {
+  for (int d = 0; d < kMaxDofs; ++d) {
     if (dofs[d] < 0) break;
     const double t = (q(dofs[d]) - lower[d]) / width[d];
     if (!(t >= 0.0 && t < cells[d])) return false;
@@ -212,7 +219,7 @@ bool PairMap::provesApart(const Eigen::VectorXd& q) const {
 double PairMap::apartShare() const {
   std::size_t set = 0;
   for (const std::uint32_t word : apart) set += static_cast<std::size_t>(__builtin_popcount(word));
-  return static_cast<double>(set) / static_cast<double>(cells[0] * cells[1]);
+  return static_cast<double>(set) / static_cast<double>(cells[0] * cells[1] * cells[2]);
 }
 
 std::vector<PairMap> buildPairMaps(const RobotModel& model, const SphereModel& spheres,
@@ -237,23 +244,28 @@ std::vector<PairMap> buildPairMaps(const RobotModel& model, const SphereModel& s
           const Joint& joint = model.joints()[static_cast<std::size_t>(j)];
           if (joint.type == Joint::Type::kPrismatic) usable = false;
           if (joint.type != Joint::Type::kRevolute) continue;
-          if (joint.dof == map.dofs[0] || joint.dof == map.dofs[1]) continue;
-          if (count == 2) usable = false;
-          if (count < 2) map.dofs[count] = joint.dof;
-          ++count;
+          if (std::find(map.dofs, map.dofs + count, joint.dof) != map.dofs + count) continue;
+          if (count == PairMap::kMaxDofs) {
+            usable = false;
+            break;
+          }
+          map.dofs[count++] = joint.dof;
         }
       if (!usable || count == 0) continue;
-      if (count == 2 && map.dofs[1] < map.dofs[0]) std::swap(map.dofs[0], map.dofs[1]);
+      std::sort(map.dofs, map.dofs + count);
+      const int cells[] = {options.cells_one, options.cells_two, options.cells_three};
       for (int d = 0; d < count; ++d) {
-        map.cells[d] = count == 1 ? options.cells_one : options.cells_two;
+        map.cells[d] = cells[count - 1];
         map.lower[d] = model.lowerLimits()(map.dofs[d]);
         map.width[d] = (model.upperLimits()(map.dofs[d]) - map.lower[d]) / map.cells[d];
         if (!std::isfinite(map.width[d]) || !(map.width[d] > 0.0)) usable = false;
       }
       if (!usable) continue;
-      map.apart.assign(static_cast<std::size_t>(map.cells[0] * map.cells[1] + 31) / 32, 0u);
+      map.apart.assign(
+          static_cast<std::size_t>(map.cells[0] * map.cells[1] * map.cells[2] + 31) / 32, 0u);
       Side sideA(model, sa, pathA), sideB(model, sb, pathB);
-      MapBuilder(map, sideA, sideB, options.clearance).fill(0, map.cells[0], 0, map.cells[1]);
+      MapBuilder(map, sideA, sideB, options.clearance)
+          .fill({0, 0, 0}, {map.cells[0], map.cells[1], map.cells[2]});
       if (map.apartShare() > 0.0) maps.push_back(std::move(map));
     }
   }

@@ -228,19 +228,17 @@ M mapApart(D d, const SelfMap& map, const float* q) {
   const std::size_t n = hn::Lanes(d);
   const hn::RebindToSigned<D> di;
   const hn::RebindToUnsigned<D> du;
-  V t[2];
   M valid = hn::FirstN(d, n);
-  for (int k = 0; k < 2; ++k) {
-    t[k] = hn::Mul(hn::Sub(hn::LoadU(d, q + static_cast<std::size_t>(map.dof[k]) * n),
-                           hn::Set(d, map.lower[k])),
-                   hn::Set(d, map.inverse[k]));
-    valid =
-        hn::And(valid, hn::And(hn::Ge(t[k], hn::Zero(d)), hn::Lt(t[k], hn::Set(d, map.cells[k]))));
+  auto cell = hn::Zero(di);
+  for (int k = 0; k < SelfMap::kDofs; ++k) {
+    const V t = hn::Mul(hn::Sub(hn::LoadU(d, q + static_cast<std::size_t>(map.dof[k]) * n),
+                                hn::Set(d, map.lower[k])),
+                        hn::Set(d, map.inverse[k]));
+    valid = hn::And(valid, hn::And(hn::Ge(t, hn::Zero(d)), hn::Lt(t, hn::Set(d, map.cells[k]))));
+    cell = hn::Add(cell, hn::Mul(hn::Set(di, map.stride[k]), hn::ConvertTo(di, t)));
   }
   if (hn::AllFalse(d, valid)) return valid;
-  const auto cell = hn::IfThenElseZero(
-      hn::RebindMask(di, valid),
-      hn::Add(hn::ConvertTo(di, t[0]), hn::Mul(hn::Set(di, map.stride), hn::ConvertTo(di, t[1]))));
+  cell = hn::IfThenElseZero(hn::RebindMask(di, valid), cell);
   const auto words =
       hn::BitCast(du, hn::GatherIndex(di, reinterpret_cast<const std::int32_t*>(map.bits),
                                       hn::ShiftRight<5>(cell)));
@@ -251,11 +249,12 @@ M mapApart(D d, const SelfMap& map, const float* q) {
 
 /// One configuration: does the self pair's map prove it apart?
 HWY_INLINE bool mapApartOne(const SelfMap& map, const float* q) {
-  const float t0 = (q[map.dof[0]] - map.lower[0]) * map.inverse[0];
-  const float t1 = (q[map.dof[1]] - map.lower[1]) * map.inverse[1];
-  if (!(t0 >= 0.0f && t0 < map.cells[0] && t1 >= 0.0f && t1 < map.cells[1])) return false;
-  const auto cell = static_cast<std::uint32_t>(t0) +
-                    static_cast<std::uint32_t>(map.stride) * static_cast<std::uint32_t>(t1);
+  std::uint32_t cell = 0;
+  for (int k = 0; k < SelfMap::kDofs; ++k) {
+    const float t = (q[map.dof[k]] - map.lower[k]) * map.inverse[k];
+    if (!(t >= 0.0f && t < map.cells[k])) return false;
+    cell += static_cast<std::uint32_t>(map.stride[k]) * static_cast<std::uint32_t>(t);
+  }
   return ((map.bits[cell / 32] >> (cell % 32)) & 1u) != 0;
 }
 

@@ -97,15 +97,16 @@ struct SelfPair {
 
 /// A self pair's map of where in joint space it is apart
 /// (robot/pair_maps.h): apart when t_k = (q[dof[k]] - lower[k]) * inverse[k]
-/// lies in [0, cells[k]) for k = 0, 1 and bit floor(t_0) + stride
-/// floor(t_1) is set. A one-DoF map has inverse[1] = 0, cells[1] = 1.
+/// lies in [0, cells[k]) for k = 0, 1, 2 and bit sum of floor(t_k)
+/// stride[k] is set. An unused DoF has inverse 0 and one cell.
 struct SelfMap {
-  int dof[2] = {0, 0};
-  float lower[2] = {0, 0};
-  float inverse[2] = {0, 0};
-  float cells[2] = {0, 0};  ///< 0: no map
-  int stride = 1;
-  const std::uint32_t* bits = nullptr;
+  static constexpr int kDofs = 3;
+  int dof[kDofs] = {};
+  float lower[kDofs] = {};
+  float inverse[kDofs] = {};
+  float cells[kDofs] = {};
+  int stride[kDofs] = {};
+  const std::uint32_t* bits = nullptr;  ///< nullptr: no map
 };
 
 /// Everything the kernel needs, built once per checker.

@@ -156,14 +156,17 @@ void SphereTier::listPairs() {
                      [&](const kernel::SelfPair& p) { return p.a == a && p.b == b; }) -
         program_.self.begin());
     kernel::SelfMap& out = program_.self_maps[pair];
-    for (int k = 0; k < 2; ++k) {
+    static_assert(kernel::SelfMap::kDofs == PairMap::kMaxDofs);
+    int stride = 1;
+    for (int k = 0; k < PairMap::kMaxDofs; ++k) {
       const bool used = map.dofs[k] >= 0;
       out.dof[k] = used ? map.dofs[k] : map.dofs[0];
       out.lower[k] = used ? static_cast<float>(map.lower[k]) : 0.0f;
       out.inverse[k] = used ? static_cast<float>(1.0 / map.width[k]) : 0.0f;
       out.cells[k] = static_cast<float>(map.cells[k]);
+      out.stride[k] = stride;
+      stride *= map.cells[k];
     }
-    out.stride = map.cells[0];
     out.bits = map.apart.data();
   }
   kernel::buildWideTrees(program_);

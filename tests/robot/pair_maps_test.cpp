@@ -61,8 +61,8 @@ Eigen::VectorXd randomConfiguration(const RobotModel& model, std::mt19937_64& rn
 
 // The wrist's forearm and flange turn against each other through a5 and a6
 // only, a finger's base and the other finger's proximal link through the
-// knuckle and one joint. Pairs through three or more DoFs get no map.
-TEST(PairMaps, CoverTheKr5sPairsThroughOneOrTwoDofs) {
+// knuckle and one joint. Pairs through four or more DoFs get no map.
+TEST(PairMaps, CoverTheKr5sPairsThroughOneToThreeDofs) {
   const RobotModel& model = test::kr5Sdh();
   const PairMap* wrist = find(model, "link_4", "link_6");
   ASSERT_NE(wrist, nullptr);
@@ -73,7 +73,8 @@ TEST(PairMaps, CoverTheKr5sPairsThroughOneOrTwoDofs) {
           .dof;
   EXPECT_EQ(wrist->dofs[0], a5);
   EXPECT_EQ(wrist->dofs[1], a5 + 1);
-  EXPECT_EQ(wrist->cells[0] * wrist->cells[1], 128 * 128);
+  EXPECT_EQ(wrist->dofs[2], -1);
+  EXPECT_EQ(wrist->cells[0] * wrist->cells[1] * wrist->cells[2], 128 * 128);
   // Apart in most of the wrist's range, touching where a5 folds it.
   EXPECT_GT(wrist->apartShare(), 0.5);
   EXPECT_LT(wrist->apartShare(), 1.0);
@@ -85,8 +86,13 @@ TEST(PairMaps, CoverTheKr5sPairsThroughOneOrTwoDofs) {
   ASSERT_NE(flange, nullptr);  // the knuckle's DoF alone
   EXPECT_EQ(flange->dofs[1], -1);
   EXPECT_EQ(flange->cells[0], 512);
-  EXPECT_EQ(find(model, "link_1", "link_6"), nullptr);                        // a2 .. a6
-  EXPECT_EQ(find(model, "finger_1_proximal", "finger_2_proximal"), nullptr);  // three DoFs
+  const PairMap* twoFingers = find(model, "finger_1_proximal", "finger_2_proximal");
+  ASSERT_NE(twoFingers, nullptr);  // the knuckle's DoF and both proximal joints
+  EXPECT_NE(twoFingers->dofs[2], -1);
+  EXPECT_EQ(twoFingers->cells[0] * twoFingers->cells[1] * twoFingers->cells[2], 32 * 32 * 32);
+  EXPECT_GT(twoFingers->apartShare(), 0.0);
+  EXPECT_EQ(find(model, "link_1", "link_6"), nullptr);                      // a2 .. a6
+  EXPECT_EQ(find(model, "finger_1_distal", "finger_2_proximal"), nullptr);  // four DoFs
   for (const PairMap& map : model.spheres().pair_maps)
     EXPECT_FALSE(model.isCollisionDisabled(map.link_a, map.link_b));
 }
@@ -105,7 +111,7 @@ TEST(PairMaps, ApartCellsAreApartAtEveryConfigurationInThem) {
       for (int i = 0; i < 600; ++i) {
         Eigen::VectorXd q = randomConfiguration(model, rng);
         if (i % 2 == 1)  // on a cell boundary of each DoF
-          for (int d = 0; d < 2 && map.dofs[d] >= 0; ++d) {
+          for (int d = 0; d < PairMap::kMaxDofs && map.dofs[d] >= 0; ++d) {
             const int cell = std::uniform_int_distribution<int>(0, map.cells[d] - 1)(rng);
             q(map.dofs[d]) = map.lower[d] + cell * map.width[d];
           }
