@@ -16,29 +16,25 @@ namespace {
 /// single-precision lookup (well under 1e-5 rad).
 constexpr double kLookupMargin = 1e-4;
 
+/// The link above `link`, -1 for the root.
+int parentLink(const RobotModel& model, int link) {
+  const int joint = model.links()[static_cast<std::size_t>(link)].parent_joint;
+  return joint < 0 ? -1 : model.joints()[static_cast<std::size_t>(joint)].parent_link;
+}
+
 /// The joints from `link` up to (not including) `ancestor`, bottom up.
 std::vector<int> jointsUpTo(const RobotModel& model, int link, int ancestor) {
   std::vector<int> out;
-  while (link != ancestor) {
-    const int joint = model.links()[static_cast<std::size_t>(link)].parent_joint;
-    out.push_back(joint);
-    link = model.joints()[static_cast<std::size_t>(joint)].parent_link;
-  }
+  for (; link != ancestor; link = parentLink(model, link))
+    out.push_back(model.links()[static_cast<std::size_t>(link)].parent_joint);
   return out;
 }
 
 int commonAncestor(const RobotModel& model, int a, int b) {
   std::vector<bool> aboveA(model.links().size(), false);
-  for (int l = a; l >= 0;) {
-    aboveA[static_cast<std::size_t>(l)] = true;
-    const int joint = model.links()[static_cast<std::size_t>(l)].parent_joint;
-    l = joint < 0 ? -1 : model.joints()[static_cast<std::size_t>(joint)].parent_link;
-  }
-  for (int l = b; l >= 0;) {
+  for (int l = a; l >= 0; l = parentLink(model, l)) aboveA[static_cast<std::size_t>(l)] = true;
+  for (int l = b; l >= 0; l = parentLink(model, l))
     if (aboveA[static_cast<std::size_t>(l)]) return l;
-    const int joint = model.links()[static_cast<std::size_t>(l)].parent_joint;
-    l = joint < 0 ? -1 : model.joints()[static_cast<std::size_t>(joint)].parent_link;
-  }
   return -1;
 }
 
