@@ -108,7 +108,7 @@ TEST(PairMaps, ApartCellsAreApartAtEveryConfigurationInThem) {
     std::mt19937_64 rng(11);
     for (const PairMap& map : model.spheres().pair_maps) {
       int proven = 0;
-      for (int i = 0; i < 600; ++i) {
+      for (int i = 0; i < 400; ++i) {
         Eigen::VectorXd q = randomConfiguration(model, rng);
         if (i % 2 == 1)  // on a cell boundary of each DoF
           for (int d = 0; d < PairMap::kMaxDofs && map.dofs[d] >= 0; ++d) {
