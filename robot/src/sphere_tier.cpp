@@ -1,6 +1,5 @@
 #include "sphere_tier.h"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -147,15 +146,13 @@ void SphereTier::listPairs() {
     for (std::size_t b = a + 1; b < links; ++b)
       if (may_collide_[a][b])
         program_.self.push_back({static_cast<std::uint16_t>(a), static_cast<std::uint16_t>(b)});
+  kernel::buildWideTrees(program_);  // self_index, read below
   program_.self_maps.assign(program_.self.size(), {});
   for (const PairMap& map : spheres_.pair_maps) {
-    const auto a = static_cast<std::size_t>(map.link_a), b = static_cast<std::size_t>(map.link_b);
-    if (!may_collide_[a][b]) continue;
-    const auto pair = static_cast<std::size_t>(
-        std::find_if(program_.self.begin(), program_.self.end(),
-                     [&](const kernel::SelfPair& p) { return p.a == a && p.b == b; }) -
-        program_.self.begin());
-    kernel::SelfMap& out = program_.self_maps[pair];
+    const int pair = program_.self_index[static_cast<std::size_t>(map.link_a) * links +
+                                         static_cast<std::size_t>(map.link_b)];
+    if (pair < 0) continue;  // not tested (disabled, or static and clear)
+    kernel::SelfMap& out = program_.self_maps[static_cast<std::size_t>(pair)];
     static_assert(kernel::SelfMap::kDofs == PairMap::kMaxDofs);
     int stride = 1;
     for (int k = 0; k < PairMap::kMaxDofs; ++k) {
@@ -169,7 +166,6 @@ void SphereTier::listPairs() {
     }
     out.bits = map.apart.data();
   }
-  kernel::buildWideTrees(program_);
 }
 
 void SphereTier::skipStatic(int link, std::size_t item) {

@@ -2,9 +2,9 @@
 // Joint-space maps of link pairs that are apart (docs/collision.md): for two
 // links whose relative pose depends on one to three DoFs (a wrist's forearm
 // and flange, two fingers of a hand), a grid over those DoFs' limits with a
-// bit per cell, set when no sphere of one link can touch
-// a sphere of the other anywhere in the cell. The sphere tier looks a pair
-// up before it descends the pair's sphere trees.
+// bit per cell, set when no sphere of one link can touch a sphere of the
+// other anywhere in the cell. The sphere tier looks a pair up before it
+// descends the pair's sphere trees.
 
 #include <Eigen/Core>
 
@@ -51,9 +51,9 @@ struct PairMap {
 
 /// Maps for every link pair whose collision is not disabled, whose links
 /// both have spheres, whose relative pose depends on one to three DoFs
-/// through revolute joints only, and that are apart somewhere. A cell is set when the spheres (in
-/// `spheres`) are apart by `clearance` plus a bound on how far any point of
-/// them moves while the DoFs vary over the cell (grown by 1e-4 rad each
+/// through revolute joints only, and that are apart somewhere. A cell is
+/// set when the spheres (in `spheres`) are apart by `clearance` plus a bound
+/// on how far any point of them moves while the DoFs vary over the cell (grown by 1e-4 rad each
 /// side, for rounding in the kernels' lookup): angle times distance from the
 /// joint's axis, summed over the joints between the two links. Built
 /// coarse to fine: a block of cells proven apart as a whole is not split.
