@@ -11,7 +11,8 @@ namespace {
 constexpr const char* kHeader =
     "scene,object,algorithm,seed,success,failure,time,gs,vgs,gns,epsilon,path_length,"
     "collision_checks,cpu_time,placement,rejected_unstable,rejected_no_arm_ik,"
-    "rejected_out_of_hand_reach,rejected_colliding,rejected_closing_blocked";
+    "rejected_out_of_hand_reach,rejected_colliding,rejected_closing_blocked,fingertip_error,"
+    "epsilon_at_fingertips";
 
 /// RFC 4180 quoting; names from file stems may hold commas or quotes.
 std::string csvField(const std::string& text) {
@@ -40,6 +41,11 @@ void writeRow(std::ostream& out, const RunRecord& r) {
        {rejected.unstable, rejected.no_arm_ik, rejected.out_of_hand_reach, rejected.colliding,
         rejected.closing_blocked})
     out << ',' << count;
+  out << ',';
+  if (r.success)
+    out << std::setprecision(8) << r.fingertip_error << ',' << r.epsilon_at_fingertips;
+  else
+    out << ',';
   out << '\n';
 }
 
@@ -57,6 +63,8 @@ RunRecord makeRunRecord(const CaseName& c, const std::string& algorithm, std::ui
   r.failure = planner::toString(result.failure);
   r.cpu_time = cpuTime;
   r.epsilon = result.grasp.epsilon;
+  r.fingertip_error = result.grasp.fingertip_error;
+  r.epsilon_at_fingertips = result.grasp.epsilon_at_fingertips;
   r.stats = result.stats;
   return r;
 }

@@ -9,17 +9,22 @@
 #include <condition_variable>
 #include <exception>
 #include <iomanip>
+#include <limits>
 #include <mutex>
 #include <sstream>
 #include <thread>
 #include <utility>
+#include <vector>
 
 #include "grasp/contact_mask.h"
 #include "grasp/grasp_optimizer.h"
+#include "grasp/grasp_quality.h"
 #include "hfts_db/invalid_argument.h"
+#include "hfts_db/triangle_bvh.h"
 #include "planner/lazy_goal_baseline.h"
 #include "planner/multi_tree_cbirrt.h"
 #include "planner/sampling_tools.h"
+#include "robot/kinematics.h"
 
 namespace hfts::planner {
 
@@ -355,6 +360,61 @@ PlannedGrasp describeGrasp(const robot::RobotModel& robot, const GoalSample& goa
   return g;
 }
 
+/// Epsilon of the grasp with the contacts where the closed hand's
+/// fingertips are: each fingertip's pad point moved to the nearest point of
+/// the object's mesh. Its normal is the mean of the unit normals of the
+/// triangles that point lies on (several when it is on an edge or a
+/// corner), turned to agree with the nearest planned contact's, as a
+/// mesh's winding need not be outward. The planned epsilon is that of the
+/// HFTS contacts; the fingertips are up to max_fingertip_error from them.
+double epsilonAtFingertips(const Problem& p, const GoalSample& goal) {
+  const robot::RobotModel& robot = p.world.robot();
+  const robot::FingertipFrames tips =
+      robot::fingertipFrames(robot, robot::forwardKinematics(robot, goal.grasp));
+  const Eigen::Isometry3d baseInObject = p.scene.target_pose.inverse() * p.scene.robot_base;
+  const db::ObjectGeometry& g = p.object.geometry;
+  const Eigen::Index triangles = g.mesh_triangles.rows();
+  const auto corner = [&](Eigen::Index t, int k) -> Eigen::Vector3d {
+    return g.mesh_vertices.row(g.mesh_triangles(t, k)).transpose();
+  };
+  std::vector<double> distance(static_cast<std::size_t>(triangles));
+  grasp::GraspContacts at;
+  at.positions.resize(3, tips.positions.cols());
+  at.outward_normals.resize(3, tips.positions.cols());
+  for (Eigen::Index f = 0; f < tips.positions.cols(); ++f) {
+    const Eigen::Vector3d tip = baseInObject * Eigen::Vector3d(tips.positions.col(f));
+    double best = std::numeric_limits<double>::infinity();
+    for (Eigen::Index t = 0; t < triangles; ++t) {
+      const Eigen::Vector3d q =
+          db::closestPointOnTriangle(tip, corner(t, 0), corner(t, 1), corner(t, 2));
+      distance[static_cast<std::size_t>(t)] = (q - tip).norm();
+      if (distance[static_cast<std::size_t>(t)] < best) {
+        best = distance[static_cast<std::size_t>(t)];
+        at.positions.col(f) = q;
+      }
+    }
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    for (Eigen::Index t = 0; t < triangles; ++t) {
+      if (distance[static_cast<std::size_t>(t)] > best + 1e-9) continue;
+      const Eigen::Vector3d n = (corner(t, 1) - corner(t, 0)).cross(corner(t, 2) - corner(t, 0));
+      if (n.norm() > 0.0) normal += n.normalized();
+    }
+    Eigen::Index nearest = 0;
+    (goal.contacts.positions.colwise() - at.positions.col(f))
+        .colwise()
+        .squaredNorm()
+        .minCoeff(&nearest);
+    if (normal.dot(goal.contacts.outward_normals.col(nearest)) < 0.0) normal = -normal;
+    // A point on two opposite faces (a sheet's edge) has no normal; the
+    // planned contact's stands in.
+    at.outward_normals.col(f) = normal.norm() > 1e-9
+                                    ? Eigen::Vector3d(normal.normalized())
+                                    : Eigen::Vector3d(goal.contacts.outward_normals.col(nearest));
+  }
+  return grasp::graspQuality(grasp::qualityRequest(p.space, at, p.parameters.goals.objective))
+      .epsilon;
+}
+
 PlanResult failed(PlanResult result, std::pair<PlanFailure, std::string> why) {
   result.failure = why.first;
   result.message = std::move(why.second);
@@ -400,6 +460,7 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
   result.path = std::move(found.path);
   result.path.push_back(found.goal.grasp);
   result.grasp = describeGrasp(world.robot(), found.goal, problem.scene.target_pose);
+  result.grasp.epsilon_at_fingertips = epsilonAtFingertips(problem, found.goal);
   if (request.trajectory_rate > 0.0 && world.robot().maxAccelerations().size() > 0)
     result.trajectory = graspTrajectory(result.path, problem.checker,
                                         problem.parameters.planner->smoothing().final_resolution,

@@ -28,6 +28,7 @@ json graspJson(const planner::PlannedGrasp& g, const std::vector<std::string>& j
           {"epsilon", g.epsilon},
           {"reachability", g.reachability},
           {"fingertip_error", g.fingertip_error},
+          {"epsilon_at_fingertips", g.epsilon_at_fingertips},
           {"hand_joint_names",
            std::vector<std::string>(jointNames.end() - static_cast<std::ptrdiff_t>(handDofs),
                                     jointNames.end())},

@@ -207,5 +207,8 @@ class ServerTest(unittest.TestCase):
         self.assertEqual(grasp["hand_joint_names"], robot["hand_joint_names"])
         for a, b in zip(result["path"][-1][6:], grasp["hand_configuration"]):
             self.assertAlmostEqual(a, b, places=12)
-        self.assertLess(grasp["fingertip_error"], 0.005)
+        self.assertLessEqual(grasp["fingertip_error"], 0.008 + 1e-9)  # the KR5 default
+        # Where the fingertips are, a grasp on an edge may lose force closure
+        # (docs/results.md#fingertips-within-8-mm-of-their-contacts).
+        self.assertGreaterEqual(grasp["epsilon_at_fingertips"], 0.0)
         self.assertGreater(result["stats"]["path_length_smoothed"], 0.0)

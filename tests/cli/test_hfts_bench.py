@@ -19,7 +19,8 @@ SOURCE_DIR = None
 HEADER = ["scene", "object", "algorithm", "seed", "success", "failure", "time", "gs", "vgs",
           "gns", "epsilon", "path_length", "collision_checks", "cpu_time", "placement",
           "rejected_unstable", "rejected_no_arm_ik", "rejected_out_of_hand_reach",
-          "rejected_colliding", "rejected_closing_blocked"]
+          "rejected_colliding", "rejected_closing_blocked", "fingertip_error",
+          "epsilon_at_fingertips"]
 TIME_LIMIT = 10
 
 

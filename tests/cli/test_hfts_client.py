@@ -72,7 +72,8 @@ class CommandLine(ClientTest):
         self.assertRegex(lines[0],
                          r"^plan: success \(kr5_sdh, bin, blob, coupled, seed 1\) in [\d.]+ s$")
         self.assertRegex(lines[1], r"^grasp: epsilon [\d.e-]+, reachability [\d.e-]+ m, "
-                                   r"fingertip error [\d.e-]+ m, HFTS node on level 3$")
+                                   r"fingertip error [\d.e-]+ m \(epsilon there [\d.e-]+\), "
+                                   r"HFTS node on level 3$")
         self.assertEqual(sum(l.startswith("  contact ") for l in lines), 3)
         self.assertTrue(any(l.startswith("  hand (knuckle ") for l in lines))
         self.assertRegex(text, r"\npath: \d+ waypoints \(start \.\.\. pre-grasp, grasp\), length ")

@@ -43,6 +43,9 @@ class ThreeRobots(ServerTest):
         self.assertEqual(defaults["kr5_sdh"]["unstable_by_reach"], "0")
         self.assertEqual(defaults["panda_gripper"]["unstable_by_reach"], "1")
         self.assertEqual(defaults["ur5e_allegro"]["unstable_by_reach"], "0")
+        self.assertEqual(float(defaults["kr5_sdh"]["max_fingertip_error"]), 0.008)
+        self.assertEqual(float(defaults["panda_gripper"]["max_fingertip_error"]), 0.005)
+        self.assertEqual(float(defaults["ur5e_allegro"]["max_fingertip_error"]), 0.008)
 
     def test_listings_are_per_robot(self):
         default = self.server.call("scenes.list")["result"]

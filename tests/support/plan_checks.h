@@ -8,10 +8,12 @@
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <string>
 
 #include "bundled_objects.h"
 #include "grasp/grasp_quality.h"
+#include "hfts_db/triangle_bvh.h"
 #include "planner/grasp_motion_planner.h"
 #include "robot/collision_checker.h"
 #include "robot/kinematics.h"
@@ -88,11 +90,72 @@ inline robot::Scene plannedScene(const planner::PlanningWorld& world,
   return scene;
 }
 
+/// The largest fingertip-to-contact distance a plan may have: the
+/// request's max_fingertip_error, else the robot's planner_defaults', else
+/// the planner's 5 mm.
+inline double maxFingertipError(const planner::PlanningWorld& world,
+                                const planner::PlanRequest& request) {
+  const std::string name = "max_fingertip_error";
+  if (const auto it = request.parameters.find(name); it != request.parameters.end())
+    return std::stod(it->second);
+  const std::map<std::string, std::string>& defaults = world.robot().plannerDefaults();
+  const auto it = defaults.find(name);
+  return it != defaults.end() ? std::stod(it->second) : 0.005;
+}
+
+/// PlannedGrasp::epsilon_at_fingertips recomputed in the world frame:
+/// every fingertip of the plan's last configuration moved to the nearest
+/// point of the object's mesh (Embree's nearest-point query), with the mean
+/// normal of the triangles within 1e-9 m of it, on the side of the nearest
+/// planned contact's normal.
+inline double epsilonAtFingertips(const planner::PlanningWorld& world, const robot::Scene& scene,
+                                  const planner::PlanResult& result) {
+  const robot::RobotModel& robot = world.robot();
+  const db::ObjectGeometry& g = world.object(scene.target_object)->geometry;
+  TriangleMesh mesh;
+  mesh.vertices = g.mesh_vertices;
+  mesh.triangles = g.mesh_triangles;
+  const db::TriangleBvh bvh(mesh);
+  const robot::FingertipFrames tips =
+      robot::fingertipFrames(robot, robot::forwardKinematics(robot, result.path.back()));
+  grasp::GraspQualityRequest q;
+  q.positions.resize(3, tips.positions.cols());
+  q.normals.resize(3, tips.positions.cols());
+  for (Eigen::Index f = 0; f < tips.positions.cols(); ++f) {
+    const Eigen::Vector3d tip =
+        scene.target_pose.inverse() * (scene.robot_base * Eigen::Vector3d(tips.positions.col(f)));
+    const db::ClosestPoint nearest = bvh.closestPoint(tip);
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+      const Eigen::Vector3d a = mesh.vertices.row(mesh.triangles(t, 0)).transpose();
+      const Eigen::Vector3d b = mesh.vertices.row(mesh.triangles(t, 1)).transpose();
+      const Eigen::Vector3d c = mesh.vertices.row(mesh.triangles(t, 2)).transpose();
+      if ((db::closestPointOnTriangle(tip, a, b, c) - tip).norm() > nearest.distance + 1e-9)
+        continue;
+      if ((b - a).cross(c - a).norm() > 0.0) normal += (b - a).cross(c - a).normalized();
+    }
+    const Eigen::Vector3d onMesh = scene.target_pose * nearest.point;
+    Eigen::Index planned = 0;
+    (result.grasp.contacts_world.colwise() - onMesh).colwise().squaredNorm().minCoeff(&planned);
+    Eigen::Vector3d inward = result.grasp.inward_normals_world.col(planned);
+    if (normal.norm() > 1e-9) {
+      const Eigen::Vector3d along = scene.target_pose.linear() * -normal.normalized();
+      inward = along.dot(inward) < 0.0 ? Eigen::Vector3d(-along) : along;
+    }
+    q.positions.col(f) = onMesh;
+    q.normals.col(f) = inward;
+  }
+  q.center = scene.target_pose * g.center_of_mass;
+  q.torque_scale = g.rho;
+  q.torsional_friction = robot.torsionalFriction();
+  return grasp::graspQuality(q).epsilon;
+}
+
 /// A fresh collision checker at `resolution` (the planner promises its
 /// final resolution; a graze shallower than a sample step can hide between
 /// samples at any resolution, see docs/planning.md), the start, the joint
 /// limits, the closing motion under the grasp-aware rule, the fingertips
-/// on the contacts (5 mm) and a stable grasp (epsilon recomputed from the
+/// on the contacts (maxFingertipError) and a stable grasp (epsilon recomputed from the
 /// world-frame contacts).
 inline void expectValidPlan(const planner::PlanningWorld& world,
                             const planner::PlanRequest& request, const planner::PlanResult& result,
@@ -126,7 +189,7 @@ inline void expectValidPlan(const planner::PlanningWorld& world,
     double nearest = 1e9;
     for (Eigen::Index f = 0; f < tips.positions.cols(); ++f)
       nearest = std::min(nearest, (tips.positions.col(f) - contacts.col(c)).norm());
-    EXPECT_LT(nearest, 0.005) << "contact " << c;
+    EXPECT_LE(nearest, maxFingertipError(world, request) + 1e-9) << "contact " << c;
   }
   GraspQualityRequest q;
   q.positions = result.grasp.contacts_world;
@@ -136,6 +199,7 @@ inline void expectValidPlan(const planner::PlanningWorld& world,
   const double epsilon = graspQuality(q).epsilon;
   EXPECT_GT(epsilon, 0.0);
   EXPECT_NEAR(epsilon, result.grasp.epsilon, 1e-9);
+  EXPECT_NEAR(epsilonAtFingertips(world, scene, result), result.grasp.epsilon_at_fingertips, 1e-9);
 }
 
 /// Threads of this process (Linux: /proc/self/status), to see that a

@@ -91,6 +91,11 @@ struct PlannedGrasp {
   double epsilon = 0.0;
   double reachability = 0.0;     ///< R(h) (m)
   double fingertip_error = 0.0;  ///< m, at the final configuration
+  /// Epsilon with the contacts where the fingertips of the final
+  /// configuration are (each moved to the nearest point of the object's
+  /// mesh), instead of the HFTS contacts they are within
+  /// max_fingertip_error of.
+  double epsilon_at_fingertips = 0.0;
   Eigen::VectorXd hand_configuration;
 };
 
