@@ -367,6 +367,9 @@ PlannedGrasp describeGrasp(const robot::RobotModel& robot, const GoalSample& goa
 /// corner), turned to agree with the nearest planned contact's, as a
 /// mesh's winding need not be outward. The planned epsilon is that of the
 /// HFTS contacts; the fingertips are up to max_fingertip_error from them.
+/// A scan of all triangles, once per successful plan: the mean normal
+/// needs every triangle at the nearest distance, which a BVH's
+/// nearest-point query does not give.
 double epsilonAtFingertips(const Problem& p, const GoalSample& goal) {
   const robot::RobotModel& robot = p.world.robot();
   const robot::FingertipFrames tips =
