@@ -155,14 +155,18 @@ TEST(RobotModel, HandMapNormalWeightIsOptionalAndPositive) {
 
 TEST(RobotModel, PlannerDefaultsAreTextByNameAndNeedNumbersOrStrings) {
   Sources s;
-  // The bundled KR5 sets the goal sampler's options for objects on supports.
+  // The bundled KR5 sets the goal sampler's options for objects on supports
+  // and an 8 mm fingertip tolerance.
   EXPECT_EQ(RobotModel::fromStrings(s.urdf, s.config, "kr5").plannerDefaults(),
-            (std::map<std::string, std::string>{
-                {"hand_clearance", "1"}, {"other_postures", "1"}, {"stable_nodes", "1"}}));
+            (std::map<std::string, std::string>{{"hand_clearance", "1"},
+                                                {"max_fingertip_error", "0.008"},
+                                                {"other_postures", "1"},
+                                                {"stable_nodes", "1"}}));
   std::string plain = s.config;
-  replaceOnce(
-      plain,
-      R"("planner_defaults": {"stable_nodes": 1, "other_postures": 1, "hand_clearance": 1},)", "");
+  replaceOnce(plain,
+              "\"planner_defaults\": {\"stable_nodes\": 1, \"other_postures\": 1, "
+              "\"hand_clearance\": 1,\n                       \"max_fingertip_error\": 0.008},",
+              "");
   EXPECT_TRUE(RobotModel::fromStrings(s.urdf, plain, "kr5").plannerDefaults().empty());
   std::string config = plain;
   replaceOnce(config, "\"pregrasp_offset\"",
