@@ -2,9 +2,10 @@
 # Builds the libFuzzer targets (tests/fuzz/) with clang into build-fuzz/ and
 # runs each for SECONDS (default 60) on a working copy of its seed corpus.
 #   scripts/fuzz.sh [--build-only | --no-build] [--replay | --seeds-only] [--target NAME]... [SECONDS]
-# --replay runs every seed once and does not fuzz (the fuzz_smoke test);
-# --seeds-only fuzzes from the seeds alone in a temporary corpus, not from
-# earlier finds (the fuzz_short test: slow finds of a long run stay out).
+# --replay runs every seed once and does not fuzz;
+# --seeds-only runs every seed, then fuzzes from the seeds alone in a
+# temporary corpus, not from earlier finds (the fuzz_short test: slow finds
+# of a long run stay out).
 # New inputs go to build-fuzz/corpus/<name>/, crashes, timeouts and
 # out-of-memory inputs to build-fuzz/artifacts/<name>/; the repository is
 # never written. Exits non-zero when a target found something.

@@ -5,6 +5,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 scripts/build.sh
-scripts/fuzz.sh --build-only  # the fuzz targets of the fuzz_smoke test (build-fuzz/, clang)
+scripts/fuzz.sh --build-only  # the fuzz targets of the fuzz_short test (build-fuzz/, clang)
 cd build
 ctest --output-on-failure -j "$(nproc)" --timeout 600
