@@ -33,7 +33,7 @@ void printGrasp(const json& grasp, std::ostream& out) {
   out << "grasp: epsilon " << grasp.at("epsilon").get<double>() << ", reachability "
       << grasp.at("reachability").get<double>() << " m, fingertip error "
       << grasp.at("fingertip_error").get<double>() << " m (epsilon there "
-      << grasp.value("epsilon_at_fingertips", 0.0) << "), HFTS node on level "
+      << grasp.at("epsilon_at_fingertips").get<double>() << "), HFTS node on level "
       << grasp.at("node").at("level").get<int>() << "\n";
   int finger = 1;
   for (const json& c : grasp.at("contacts_world"))
