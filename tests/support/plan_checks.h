@@ -8,7 +8,6 @@
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
-#include <map>
 #include <string>
 
 #include "bundled_objects.h"
@@ -91,16 +90,17 @@ inline robot::Scene plannedScene(const planner::PlanningWorld& world,
 }
 
 /// The largest fingertip-to-contact distance a plan may have: the
-/// request's max_fingertip_error, else the robot's planner_defaults', else
-/// the planner's 5 mm.
+/// request's max_fingertip_error, else its default for the world's robot
+/// (plannerParameters: the robot's planner_defaults over the planner's).
 inline double maxFingertipError(const planner::PlanningWorld& world,
                                 const planner::PlanRequest& request) {
   const std::string name = "max_fingertip_error";
   if (const auto it = request.parameters.find(name); it != request.parameters.end())
     return std::stod(it->second);
-  const std::map<std::string, std::string>& defaults = world.robot().plannerDefaults();
-  const auto it = defaults.find(name);
-  return it != defaults.end() ? std::stod(it->second) : 0.005;
+  for (const planner::PlannerParameterInfo& p : planner::plannerParameters(world))
+    if (p.name == name) return std::stod(p.default_value);
+  ADD_FAILURE() << name << " is not a declared planner parameter";
+  return 0.0;
 }
 
 /// PlannedGrasp::epsilon_at_fingertips recomputed in the world frame:
