@@ -111,6 +111,10 @@ class HftsClient:
             line = self._reader.readline()
             if not line:
                 raise ConnectionResetError("the server closed the connection")
+            if not line.endswith(b"\n"):
+                # The connection ended in the middle of a response (the
+                # instance behind a proxy was killed while writing it).
+                raise ConnectionResetError("the server closed the connection within a response")
             response = json.loads(line)
             key = response.get("id")
             self._waiting[request_id if key is None else key] = response

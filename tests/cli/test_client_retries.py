@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """The clients' retries on a lost connection (hfts-client and
 client/python/hfts_client.py), against a scripted stand-in for a server:
-each connection it accepts either answers every request or drops the
-connection after reading one, the way an instance behind a balancer dies
-mid-call. Standard library only; run by ctest with /usr/bin/python3.
+each connection it accepts either answers every request, drops the
+connection after reading one, or closes it halfway through writing the
+answer, the ways an instance behind a balancer dies mid-call. Standard library only; run by ctest with /usr/bin/python3.
 
     test_client_retries.py --client build/bin/hfts-client
 """
@@ -27,7 +27,8 @@ CLIENT = None  # the hfts-client program
 
 class ScriptedServer:
     """Listens on an ephemeral loopback port; connection k follows script[k]
-    ("drop": read one request, then close; "answer": answer every request
+    ("drop": read one request, then close; "half": read one request, send
+    the first half of its answer, then close; "answer": answer every request
     with its method and the connection's number). listen_after delays
     listen() so that the first connects are refused."""
 
@@ -65,8 +66,12 @@ class ScriptedServer:
                     if behaviour == "drop":
                         break
                     result = {"method": request["method"], "connection": number}
-                    peer.sendall(json.dumps({"jsonrpc": "2.0", "id": request["id"],
-                                             "result": result}).encode() + b"\n")
+                    answer = json.dumps({"jsonrpc": "2.0", "id": request["id"],
+                                         "result": result}).encode() + b"\n"
+                    if behaviour == "half":
+                        peer.sendall(answer[:len(answer) // 2])
+                        break
+                    peer.sendall(answer)
 
 
 class Scripted(unittest.TestCase):
@@ -99,6 +104,14 @@ class CommandLineClient(Scripted):
         self.assertEqual(result.returncode, 0, result.stderr)
         self.assertEqual(json.loads(result.stdout), {"method": "server.info", "connection": 2})
         self.assertIn("attempt 3 of 3", result.stderr)
+
+    def test_an_answer_cut_off_midway_is_asked_for_again(self):
+        server = self.serve("half", "answer")
+        result = self.client(server, "info")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertEqual(json.loads(result.stdout), {"method": "server.info", "connection": 1})
+        self.assertIn("the server closed the connection; trying again (attempt 2 of 3)",
+                      result.stderr)
 
     def test_retries_run_out(self):
         server = self.serve("drop", "drop", "drop", "answer")
@@ -142,6 +155,15 @@ class PythonClient(Scripted):
             # The new connection serves the calls that follow.
             self.assertEqual(client.info(), {"method": "server.info", "connection": 1})
         (_, first), (_, second), _ = server.requests
+        self.assertEqual(first["params"], second["params"])
+
+    def test_an_answer_cut_off_midway_is_asked_for_again(self):
+        # Not a JSON error: half a line is a lost connection.
+        server = self.serve("half", "answer")
+        with hfts_client.HftsClient("127.0.0.1", server.port, timeout=30, backoff=0.05) as client:
+            self.assertEqual(client.plan("table", seed=5), {"method": "plan", "connection": 1})
+            self.assertEqual(client.reconnections, 1)
+        (_, first), (_, second) = server.requests
         self.assertEqual(first["params"], second["params"])
 
     def test_retries_run_out(self):
