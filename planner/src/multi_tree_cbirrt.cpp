@@ -115,6 +115,8 @@ void MultiTreeCBiRRT::declareParameters() {
   declareParameter(p, "p_w", {0.0, 0.1, 100.0}, pW_);
   declareParameter(p, "p_goal_tree", {0.0, 0.05, 1.0}, pGoalTree_);
   declareParameter(p, "retreat", {0.0, 0.02, 1.0}, retreat_);
+  declareParameter(p, "p_local", {0.0, 0.05, 1.0}, pLocal_);
+  declareParameter(p, "local_radius", {0.01, 0.05, 3.2}, localRadius_);
   declareParameter<double>(
       p, "d_m", {0.0, 0.05, 10.0},
       [this](double d) {
@@ -220,6 +222,16 @@ Eigen::VectorXd MultiTreeCBiRRT::sampleUniform() {
   Eigen::VectorXd q(lower_.size());
   for (Eigen::Index i = 0; i < q.size(); ++i)
     q(i) = std::uniform_real_distribution<double>(lower_(i), upper_(i))(rng_);
+  return q;
+}
+
+Eigen::VectorXd MultiTreeCBiRRT::sampleNear(const Tree& tree) {
+  const Motion* at =
+      tree.motions[std::uniform_int_distribution<std::size_t>(0, tree.motions.size() - 1)(rng_)];
+  Eigen::VectorXd q(at->q.size());
+  std::uniform_real_distribution<double> offset(-localRadius_, localRadius_);
+  for (Eigen::Index i = 0; i < q.size(); ++i)
+    q(i) = std::clamp(at->q(i) + offset(rng_), lower_(i), upper_(i));
   return q;
 }
 
@@ -360,7 +372,12 @@ int MultiTreeCBiRRT::extendTrees(const ob::PlannerTerminationCondition& ptc, Mot
     return reached->tree;
   }
   Tree& backward = *trees_[static_cast<std::size_t>(picked)];
-  if (constrainedExtend(backward, random, ptc, grown) == GrowState::kTrapped) return -1;
+  // Backward trees stand in narrow places (between the boards of a shelf),
+  // where a step towards a far uniform sample collides at once.
+  const bool local =
+      pLocal_ > 0.0 && std::uniform_real_distribution<double>(0.0, 1.0)(rng_) < pLocal_;
+  const Eigen::VectorXd target = local ? sampleNear(backward) : random;
+  if (constrainedExtend(backward, target, ptc, grown) == GrowState::kTrapped) return -1;
   Motion* reached = nullptr;
   if (constrainedExtend(forward, grown->q, ptc, reached) != GrowState::kReached) return -1;
   forwardEnd = reached;

@@ -506,7 +506,11 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
                                             // fingers (1 only for two-fingered hands).
                                             {"unstable_by_reach", 0},
                                             {"fit_check", 0},
-                                            {"fit_clearance", 0.0}};
+                                            {"fit_clearance", 0.0},
+                                            // Backward trees aim near their own nodes
+                                            // (0: the paper's Algorithm 1).
+                                            {"p_local", 1.0},
+                                            {"local_radius", 0.8}};
   for (const PlannerParameterInfo& p : plannerParameters(world())) {
     const auto it = expected.find(p.name);
     if (it == expected.end()) continue;
@@ -514,7 +518,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
     expected.erase(it);
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
-  EXPECT_EQ(plannerParameters(world()).size(), 33u) << "a parameter was added or removed";
+  EXPECT_EQ(plannerParameters(world()).size(), 35u) << "a parameter was added or removed";
 }
 
 /// The bundled KR5 + SDH with these `planner_defaults` instead of its own.

@@ -66,6 +66,11 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   double getGoalTreeBias() const { return pGoalTree_; }   ///< "p_goal_tree"
   double getProjectionDistance() const { return dM_; }    ///< D_m ("d_m")
   double getRetreat() const { return retreat_; }  ///< palm retreat from new roots, m ("retreat")
+  /// Share of backward extensions that aim near one of the tree's own nodes
+  /// instead of at a uniform sample ("p_local").
+  double getLocalProbability() const { return pLocal_; }
+  /// Half-width of that neighbourhood, rad per joint ("local_radius").
+  double getLocalRadius() const { return localRadius_; }
   /// "smoothing_steps" and "final_resolution" (path_smoothing.h): also the
   /// resolution a goal's closing motion is checked at.
   const PathSmoothing& smoothing() const { return smoothing_; }
@@ -116,6 +121,9 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   bool extractAndShortcutPath(int tree, Motion* forwardEnd, Motion* backwardEnd,
                               const ompl::base::PlannerTerminationCondition& ptc);
   Eigen::VectorXd sampleUniform();
+  /// A configuration within local_radius of a random node of `tree`, in
+  /// every joint, clamped to the joint limits.
+  Eigen::VectorXd sampleNear(const Tree& tree);
   double distance(const Eigen::Ref<const Eigen::VectorXd>& a,
                   const Eigen::Ref<const Eigen::VectorXd>& b) const;
 
@@ -145,6 +153,7 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   double pMax_ = 0.9, pMin_ = 0.01, pW_ = 1.2, pGoalTree_ = 0.7;
   double dM_ = 0.4;
   double retreat_ = 0.2;
+  double pLocal_ = 1.0, localRadius_ = 0.8;
   PathSmoothing smoothing_;
 
   std::deque<Motion> motions_;                // every node of every tree (stable addresses)
