@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <ostream>
 #include <string>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "planner/configuration_space.h"
+#include "robot/configuration_metric.h"
 #include "robot/kinematics.h"
 #include "stub_planning.h"
 #include "table_mug.h"
@@ -370,11 +372,23 @@ TEST_P(GoalTreeBias, BackwardDirectionPicksAGoalTreeWithProbabilityPGoalTree) {
 
 INSTANTIATE_TEST_SUITE_P(PGoalTree, GoalTreeBias, ::testing::Values(1.0, 0.0, 0.7, 0.3));
 
-/// The edges of the backward trees after `iterations` iterations of the
-/// slot problem's one goal tree (the arm between the plates), grown with
-/// `p_local` and a local_radius of 0.02 rad: the weighted length of each
-/// edge, parent to child.
-std::vector<double> backwardEdgesInTheSlot(double pLocal, std::uint64_t iterations) {
+/// The backward trees after `iterations` iterations of the slot problem's
+/// one goal tree (the arm between the plates), grown with `p_local` and a
+/// local_radius of 0.02 rad.
+struct SlotBackwardEdges {
+  std::vector<double> lengths;  ///< weighted length of each edge, parent to child
+  /// The weighted length of 0.02 rad in every joint: the longest a local
+  /// step can be.
+  double local_bound = 0.0;
+
+  std::ptrdiff_t shortOnes() const {
+    return std::count_if(lengths.begin(), lengths.end(),
+                         [this](double l) { return l <= local_bound + 1e-12; });
+  }
+};
+
+SlotBackwardEdges backwardEdgesInTheSlot(double pLocal, std::uint64_t iterations) {
+  constexpr double kRadius = 0.02;
   test::StubProblem problem(SlotProblem::scene(), SlotProblem::start(),
                             {scripted(kGoal, SlotProblem::goal())});
   problem.set({{"p_max", 1.0},
@@ -383,7 +397,7 @@ std::vector<double> backwardEdgesInTheSlot(double pLocal, std::uint64_t iteratio
                {"step_size", 0.2},
                {"collision_resolution", 0.02},
                {"p_local", pLocal},
-               {"local_radius", 0.02}});
+               {"local_radius", kRadius}});
   problem.planner->setSeed(5);
   test::IterationLog log(*problem.planner, problem.sampler, iterations);
   problem.planner->solve(log.condition());
@@ -391,15 +405,18 @@ std::vector<double> backwardEdgesInTheSlot(double pLocal, std::uint64_t iteratio
   ob::PlannerData data(problem.si);
   problem.planner->getPlannerData(data);
   const std::vector<Eigen::VectorXd> q = vertexConfigurations(data);
-  std::vector<double> lengths;
+  const robot::ConfigurationMetric& metric = problem.checker.metric();
+  SlotBackwardEdges out;
+  const auto dofs = static_cast<Eigen::Index>(q.front().size());
+  out.local_bound =
+      metric.distance(Eigen::VectorXd::Zero(dofs), Eigen::VectorXd::Constant(dofs, kRadius));
   for (unsigned v = 0; v < data.numVertices(); ++v) {
     if (data.getVertex(v).getTag() == 0) continue;
     std::vector<unsigned> children;
     data.getEdges(v, children);
-    for (const unsigned c : children)
-      lengths.push_back(problem.checker.metric().distance(q[v], q[c]));
+    for (const unsigned c : children) out.lengths.push_back(metric.distance(q[v], q[c]));
   }
-  return lengths;
+  return out;
 }
 
 TEST(MultiTreeCBiRRT, LocalSamplesGrowABackwardTreeNearItsOwnNodes) {
@@ -408,22 +425,15 @@ TEST(MultiTreeCBiRRT, LocalSamplesGrowABackwardTreeNearItsOwnNodes) {
   // at most as far (weighted) as that node, and nearer than a step, so the
   // extension adds one short edge. The other edges of a backward tree are
   // its connections towards new forward nodes (Sec. III-A.1), whole steps.
-  const robot::RobotModel& model = test::kr5Sdh();
-  const double bound = test::StubProblem(robot::Scene{}, model.home(), {})
-                           .checker.metric()
-                           .distance(Eigen::VectorXd::Zero(model.numDofs()),
-                                     Eigen::VectorXd::Constant(model.numDofs(), 0.02));
-  const auto shortEdges = [bound](const std::vector<double>& lengths) {
-    return std::count_if(lengths.begin(), lengths.end(),
-                         [bound](double l) { return l <= bound + 1e-12; });
-  };
   // Measured with seed 5: 184 of 190 edges short; without: 0 of 35.
-  const std::vector<double> local = backwardEdgesInTheSlot(1.0, 400);
-  const std::vector<double> uniform = backwardEdgesInTheSlot(0.0, 400);
-  ASSERT_FALSE(uniform.empty());
-  EXPECT_GT(local.size(), 3 * uniform.size()) << "the goal tree grew no more than without";
-  EXPECT_GE(static_cast<double>(shortEdges(local)), 0.9 * static_cast<double>(local.size()));
-  EXPECT_EQ(shortEdges(uniform), 0) << "p_local 0 (the paper's planner) aims at uniform samples";
+  const SlotBackwardEdges local = backwardEdgesInTheSlot(1.0, 400);
+  const SlotBackwardEdges uniform = backwardEdgesInTheSlot(0.0, 400);
+  ASSERT_FALSE(uniform.lengths.empty());
+  EXPECT_GT(local.lengths.size(), 3 * uniform.lengths.size())
+      << "the goal tree grew no more than without";
+  EXPECT_GE(static_cast<double>(local.shortOnes()),
+            0.9 * static_cast<double>(local.lengths.size()));
+  EXPECT_EQ(uniform.shortOnes(), 0) << "p_local 0 (the paper's planner) aims at uniform samples";
 }
 
 /// One goal tree, rooted at the KR5 reaching forward, and what `retreat`
