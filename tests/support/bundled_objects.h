@@ -1,7 +1,9 @@
 #pragma once
-// Databases of the bundled objects, built once per test program (a few
-// seconds for all of them).
+// Databases of the bundled objects, built once per ctest run (the
+// test_fixtures test) or, outside ctest, once per test program.
 
+#include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <string>
 
@@ -11,21 +13,32 @@
 namespace hfts::test {
 
 /// What the shared fixtures are built with: the defaults but a coarse
-/// distance grid (8 mm). Every test process builds its fixtures again, and
-/// the default grid would take most of that time; tests of the grid itself
-/// build their own.
+/// distance grid (8 mm); tests of the grid itself build their own.
 inline db::BuildParameters fixtureParameters() {
   db::BuildParameters params;
   params.distance_grid_spacing = 0.008;
   return params;
 }
 
+/// The environment variable naming the directory of prebuilt fixtures.
+inline constexpr const char* kFixtureDirVariable = "HFTS_TEST_FIXTURES";
+
+/// The database of one bundled mesh, built with fixtureParameters(). Under
+/// ctest it is read from the directory in HFTS_TEST_FIXTURES, where the
+/// test_fixtures test (build_test_fixtures) wrote it in the same run; a
+/// missing or unreadable file there fails loudly. A test program run by
+/// hand builds it from the mesh.
+inline db::ObjectDatabase bundledObject(const std::filesystem::path& mesh) {
+  if (const char* dir = std::getenv(kFixtureDirVariable); dir != nullptr && *dir != '\0')
+    return db::loadObjectDatabase(std::filesystem::path(dir) / (mesh.stem().string() + ".h5"));
+  return preprocess::buildObjectDatabaseFromFile(mesh, fixtureParameters()).database;
+}
+
 inline const std::map<std::string, db::ObjectDatabase>& bundledObjects() {
   static const std::map<std::string, db::ObjectDatabase> all = [] {
     std::map<std::string, db::ObjectDatabase> out;
     for (const auto& entry : std::filesystem::directory_iterator(bundledMeshDir())) {
-      auto database =
-          preprocess::buildObjectDatabaseFromFile(entry.path(), fixtureParameters()).database;
+      auto database = bundledObject(entry.path());
       out.emplace(database.name, std::move(database));
     }
     return out;

@@ -1,7 +1,7 @@
 #pragma once
 // The service's catalog of the bundled robot, the scenes' target objects
-// and the scenes, built once per test program (databases in memory, about
-// half a second).
+// and the scenes, built once per test program (the databases as
+// bundledObject() gives them).
 
 #include <memory>
 
@@ -19,9 +19,7 @@ inline const std::map<std::string, db::ObjectDatabase>& sceneTargetObjects() {
   static const std::map<std::string, db::ObjectDatabase> all = [] {
     std::map<std::string, db::ObjectDatabase> out;
     for (const char* mesh : {"blob.stl", "bottle.stl", "mug.ply"}) {
-      auto database =
-          preprocess::buildObjectDatabaseFromFile(bundledMeshDir() / mesh, fixtureParameters())
-              .database;
+      auto database = bundledObject(bundledMeshDir() / mesh);
       out.emplace(database.name, std::move(database));
     }
     return out;
