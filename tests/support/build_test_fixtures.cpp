@@ -19,9 +19,8 @@ int main(int argc, char** argv) {
     std::filesystem::create_directories(out);
     int built = 0;
     for (const auto& entry : std::filesystem::directory_iterator(hfts::test::bundledMeshDir())) {
-      const auto result = hfts::preprocess::buildObjectDatabaseFromFile(
-          entry.path(), hfts::test::fixtureParameters());
-      hfts::db::saveObjectDatabase(result.database, out / (entry.path().stem().string() + ".h5"));
+      hfts::db::saveObjectDatabase(hfts::test::buildBundledObject(entry.path()),
+                                   hfts::test::fixtureFile(out, entry.path()));
       ++built;
     }
     std::cout << built << " fixture databases in " << out.string() << "\n";

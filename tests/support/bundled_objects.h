@@ -23,15 +23,26 @@ inline db::BuildParameters fixtureParameters() {
 /// The environment variable naming the directory of prebuilt fixtures.
 inline constexpr const char* kFixtureDirVariable = "HFTS_TEST_FIXTURES";
 
-/// The database of one bundled mesh, built with fixtureParameters(). Under
-/// ctest it is read from the directory in HFTS_TEST_FIXTURES, where the
-/// test_fixtures test (build_test_fixtures) wrote it in the same run; a
-/// missing or unreadable file there fails loudly. A test program run by
-/// hand builds it from the mesh.
+/// Where a fixture directory holds the database of `mesh`.
+inline std::filesystem::path fixtureFile(const std::filesystem::path& dir,
+                                         const std::filesystem::path& mesh) {
+  return dir / (mesh.stem().string() + ".h5");
+}
+
+/// The database of one bundled mesh, built from the mesh with
+/// fixtureParameters().
+inline db::ObjectDatabase buildBundledObject(const std::filesystem::path& mesh) {
+  return preprocess::buildObjectDatabaseFromFile(mesh, fixtureParameters()).database;
+}
+
+/// buildBundledObject(mesh) as the tests get it. Under ctest it is read
+/// from the directory in HFTS_TEST_FIXTURES, where the test_fixtures test
+/// (build_test_fixtures) wrote it in the same run; a missing or unreadable
+/// file there fails loudly. A test program run by hand builds it.
 inline db::ObjectDatabase bundledObject(const std::filesystem::path& mesh) {
   if (const char* dir = std::getenv(kFixtureDirVariable); dir != nullptr && *dir != '\0')
-    return db::loadObjectDatabase(std::filesystem::path(dir) / (mesh.stem().string() + ".h5"));
-  return preprocess::buildObjectDatabaseFromFile(mesh, fixtureParameters()).database;
+    return db::loadObjectDatabase(fixtureFile(dir, mesh));
+  return buildBundledObject(mesh);
 }
 
 inline const std::map<std::string, db::ObjectDatabase>& bundledObjects() {
