@@ -309,8 +309,12 @@ void TimeOptimalTrajectory::solveTimeLaw(const TrajectoryOptions& options) {
 void TimeOptimalTrajectory::certifyLimits() {
   // On a straight segment the joint acceleration is constant between two
   // knots and the velocity monotonic: the knots bound them exactly. On a
-  // blend both change with s; samples plus a Lipschitz bound of each over
-  // the gap between samples bound them (|f''| = 1/r, |f'''| <= 1/r^2).
+  // blend both change with s; samples plus a bound of each over the gap h
+  // to the nearest sample bound them. Velocity f'_i sd: |f'_i| changes by
+  // at most h / r (|f''| = 1/r) and x = sd^2, linear in s, by at most
+  // 2 |sdd| h, so |f'_i sd| <= (|f'_i| + h / r) sqrt(x + 2 |sdd| h). (A
+  // bound through d(sd)/ds = sdd / sd has no limit where the time law
+  // nearly stops on a blend.) Acceleration: Lipschitz in s, |f'''| <= 1/r^2.
   double velocityRatio = 0.0, accelerationRatio = 0.0;
   Eigen::VectorXd v, a;
   for (std::size_t k = 0; k + 1 < knots_.size(); ++k) {
@@ -318,21 +322,24 @@ void TimeOptimalTrajectory::certifyLimits() {
     const Knot& to = knots_[k + 1];
     const Segment& seg = segments_[from.segment];
     const int samples = seg.arc ? kCertifySamples : 1;
-    double velocitySlack = 0.0, accelerationSlack = 0.0;
+    double tangentSlack = 0.0, xSlack = 0.0, accelerationSlack = 0.0;
     if (seg.arc) {
       const double h = (to.s - from.s) / samples / 2.0, r = seg.radius;
-      const double slowest = std::max(std::min(from.speed, to.speed), 1e-12);
       const double fastest = std::max(from.speed, to.speed);
-      velocitySlack = h * (std::abs(from.acceleration) / slowest + fastest / r);
+      tangentSlack = h / r;
+      xSlack = 2.0 * std::abs(from.acceleration) * h;
       accelerationSlack = h * (3.0 * std::abs(from.acceleration) / r + fastest * fastest / (r * r));
     }
     for (int j = 0; j <= samples; ++j) {
       const double s = from.s + (to.s - from.s) * j / samples;
-      const double x = from.speed * from.speed + 2.0 * from.acceleration * (s - from.s);
-      derivatives(seg, s - seg.start, std::sqrt(std::max(0.0, x)), from.acceleration, v, a);
+      const double x =
+          std::max(0.0, from.speed * from.speed + 2.0 * from.acceleration * (s - from.s));
+      derivatives(seg, s - seg.start, std::sqrt(x), from.acceleration, v, a);
+      const double speed = std::sqrt(x + xSlack);
       velocityRatio =
-          std::max(velocityRatio,
-                   ((v.cwiseAbs().array() + velocitySlack) / maxVelocity_.array()).maxCoeff());
+          std::max(velocityRatio, ((tangent(seg, s - seg.start).cwiseAbs().array() + tangentSlack) *
+                                   speed / maxVelocity_.array())
+                                      .maxCoeff());
       accelerationRatio = std::max(
           accelerationRatio,
           ((a.cwiseAbs().array() + accelerationSlack) / maxAcceleration_.array()).maxCoeff());
