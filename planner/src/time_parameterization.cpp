@@ -375,8 +375,14 @@ TrajectoryPoint TimeOptimalTrajectory::at(double t) const {
 std::vector<TrajectoryPoint> TimeOptimalTrajectory::sample(double rate) const {
   if (!(rate > 0.0) || !std::isfinite(rate))
     throw InvalidArgument("rate", "must be positive and finite");
+  const double count = std::floor(duration_ * rate);
+  if (!(count < kMaxTrajectorySamples))
+    throw InvalidArgument("rate", std::to_string(rate) + " states per second over " +
+                                      std::to_string(duration_) + " s are more than " +
+                                      std::to_string(static_cast<long>(kMaxTrajectorySamples)) +
+                                      " states");
   std::vector<TrajectoryPoint> out;
-  const auto steps = static_cast<std::size_t>(std::floor(duration_ * rate));
+  const auto steps = static_cast<std::size_t>(count);
   for (std::size_t i = 0; i <= steps; ++i) {
     const double t = static_cast<double>(i) / rate;
     if (t < duration_ || i == 0) out.push_back(at(t));

@@ -272,6 +272,21 @@ TEST(TimeOptimalTrajectory, OneConfigurationIsATrajectoryOfNoTime) {
   EXPECT_EQ(points[0].velocities.norm(), 0.0);
 }
 
+TEST(TimeOptimalTrajectory, TooManyStatesAreRefusedNotAllocated) {
+  // 100 rad at 0.01 rad/s: about 10,000 s; at 100 states per second
+  // that is a million.
+  const TimeOptimalTrajectory slow({vec({0, 0}), vec({100, 0})}, vec({0.01, 0.01}), vec({1, 1}));
+  EXPECT_GT(slow.duration(), 9999.0);
+  EXPECT_EQ(slow.sample(1.0).size(), static_cast<std::size_t>(std::floor(slow.duration())) + 2);
+  try {
+    slow.sample(100.0);
+    ADD_FAILURE() << "a million states were sampled";
+  } catch (const InvalidArgument& e) {
+    EXPECT_EQ(e.field(), "rate");
+    EXPECT_NE(std::string(e.what()).find("1000000 states"), std::string::npos) << e.what();
+  }
+}
+
 TEST(TimeOptimalTrajectory, BadInputIsRefusedByName) {
   const Eigen::VectorXd one = vec({1, 1});
   const auto field = [&](const Waypoints& w, const Eigen::VectorXd& v, const Eigen::VectorXd& a,

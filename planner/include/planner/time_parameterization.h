@@ -28,6 +28,11 @@ struct TrajectoryOptions {
   double path_step = 1e-3;
 };
 
+/// The most states TimeOptimalTrajectory::sample gives (about 0.4 GB for
+/// a 16-DoF robot; 10,000 s at 100 per second): more is refused, not left
+/// to exhaust the memory of a planning service.
+inline constexpr double kMaxTrajectorySamples = 1e6;
+
 /// One state of a trajectory.
 struct TrajectoryPoint {
   double time = 0.0;  ///< from the start (s)
@@ -55,7 +60,8 @@ class TimeOptimalTrajectory {
 
   /// States every 1 / rate seconds from 0, and the final state at
   /// duration() (so the last step may be shorter). Throws InvalidArgument
-  /// ("rate") unless rate is positive and finite.
+  /// ("rate") unless rate is positive and finite, or when that would be
+  /// more than kMaxTrajectorySamples states.
   std::vector<TrajectoryPoint> sample(double rate) const;
 
   /// The largest distance of the trajectory from the waypoints' polyline
