@@ -34,7 +34,7 @@ using hfts::planner::PlanningWorld;
 using hfts::robot::Scene;
 
 struct Options {
-  std::string db, robot, sceneDir, out, experiment, outDir, holdability,
+  std::string db, robot, sceneDir, out, experiment, outDir, holdability, holdableFrom,
       python = "/usr/bin/python3";
   std::vector<std::string> scenes, objects, placements{"target"},
       algorithms{"coupled", "decoupled20", "decoupled60", "decoupled100"};
@@ -124,8 +124,14 @@ Given addOptions(CLI::App& app, Options& o) {
                "Plan only where the robot can hold the object (a collision-free grasp "
                "configuration exists, docs/robots.md#which-objects-a-robot-can-hold); the "
                "others are listed");
-  app.add_option("--holdability", o.holdability,
-                 "CSV file: whether the robot can hold each case's object, and why not")
+  auto* holdability =
+      app.add_option("--holdability", o.holdability,
+                     "CSV file: whether the robot can hold each case's object, and why not")
+          ->type_name("FILE");
+  app.add_option("--holdable-from", o.holdableFrom,
+                 "Like --holdable-only, with the answers read from a file --holdability wrote "
+                 "(for the same robot) instead of decided again")
+      ->excludes(holdability)
       ->type_name("FILE");
   return g;
 }
@@ -222,6 +228,28 @@ void checkParameterNames(const std::vector<Algorithm>& algorithms, const Plannin
                          "' (see docs/planning.md#parameters)");
 }
 
+/// Moves a case whose object cannot be held to e.unholdable, saying why.
+void leaveOut(Experiment& e, const Case& c, const std::string& reason) {
+  e.unholdable.push_back(c);
+  std::cerr << "hfts-bench: left out " << c.scene.name << "/" << c.object
+            << (c.placement == "target" ? "" : " at " + c.placement) << ": " << reason << "\n";
+}
+
+/// --holdable-from: the cases the file answers holdable stay, the others
+/// move to e.unholdable; a case the file does not answer is an error
+/// before any run.
+void sortOutHoldableFromFile(Experiment& e, const Options& o) {
+  const hfts::bench::HoldabilityFile answers(o.holdableFrom);
+  std::vector<Case> holdable;
+  for (const Case& c : e.cases) {
+    if (answers.holdable({c.scene.name, c.object, c.placement}))
+      holdable.push_back(c);
+    else
+      leaveOut(e, c, "not holdable in " + o.holdableFrom);
+  }
+  e.cases = std::move(holdable);
+}
+
 /// holdability() for every case (the robot's default parameters, seed 1);
 /// with --holdable-only, the cases whose object cannot be held move to
 /// e.unholdable. With --holdability, writes the answers.
@@ -236,14 +264,10 @@ void sortOutHoldable(Experiment& e, const Options& o) {
     hfts::bench::HoldabilityRecord r{{c.scene.name, c.object, c.placement},
                                      hfts::planner::holdability(*e.world, request)};
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
-    if (r.answer.holdable || !o.holdableOnly) {
+    if (r.answer.holdable || !o.holdableOnly)
       holdable.push_back(c);
-    } else {
-      e.unholdable.push_back(c);
-      std::cerr << "hfts-bench: left out " << c.scene.name << "/" << c.object
-                << (c.placement == "target" ? "" : " at " + c.placement) << ": " << r.answer.reason
-                << "\n";
-    }
+    else
+      leaveOut(e, c, r.answer.reason);
     records.push_back(std::move(r));
   }
   if (!o.holdability.empty()) hfts::bench::writeHoldabilityCsv(o.holdability, records);
@@ -258,7 +282,10 @@ Experiment prepare(const Options& o) {
   e.world = loadWorld(o);
   checkParameterNames(e.algorithms, *e.world);
   e.cases = casesOf(scenes, *e.world, o);
-  if (o.holdableOnly || !o.holdability.empty()) sortOutHoldable(e, o);
+  if (!o.holdableFrom.empty())
+    sortOutHoldableFromFile(e, o);
+  else if (o.holdableOnly || !o.holdability.empty())
+    sortOutHoldable(e, o);
   e.runs = o.runs;
   e.firstSeed = o.firstSeed;
   e.timeLimit = o.timeLimit;

@@ -1,7 +1,10 @@
 #include "run_record.h"
 
+#include <algorithm>
+#include <fstream>
 #include <iomanip>
 #include <sstream>
+#include <stdexcept>
 
 #include "hfts_db/atomic_file.h"
 
@@ -20,6 +23,34 @@ std::string csvField(const std::string& text) {
   std::string quoted = "\"";
   for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
   return quoted + "\"";
+}
+
+/// One line of an RFC 4180 file split into its fields (quoted fields may
+/// hold commas and doubled quotes, not line breaks). False for a quote
+/// that is not closed or a closing quote not followed by a comma.
+bool splitCsvLine(const std::string& line, std::vector<std::string>& fields) {
+  fields.assign(1, std::string());
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    if (line[i] == ',') {
+      fields.emplace_back();
+    } else if (line[i] == '"' && fields.back().empty()) {
+      for (++i;; ++i) {
+        if (i >= line.size()) return false;
+        if (line[i] != '"') {
+          fields.back() += line[i];
+        } else if (i + 1 < line.size() && line[i + 1] == '"') {
+          fields.back() += '"';
+          ++i;
+        } else {
+          break;
+        }
+      }
+      if (i + 1 < line.size() && line[i + 1] != ',') return false;
+    } else {
+      fields.back() += line[i];
+    }
+  }
+  return true;
 }
 
 void writeRow(std::ostream& out, const RunRecord& r) {
@@ -90,6 +121,51 @@ void writeHoldabilityCsv(const std::filesystem::path& out,
          << r.seconds << ',' << csvField(g.reason) << '\n';
   }
   db::writeFileAtomically(out, text.str());
+}
+
+HoldabilityFile::HoldabilityFile(const std::filesystem::path& path) : path_(path) {
+  const std::string name = "holdability file '" + path.string() + "'";
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(name + ": cannot be read");
+  std::string line;
+  std::vector<std::string> fields;
+  if (!std::getline(in, line) || !splitCsvLine(line, fields))
+    throw std::runtime_error(name + ": no header line");
+  const auto column = [&](const std::string& wanted) {
+    const auto at = std::find(fields.begin(), fields.end(), wanted);
+    if (at == fields.end())
+      throw std::runtime_error(name + ": no '" + wanted +
+                               "' column (hfts-bench --holdability writes the file)");
+    return static_cast<std::size_t>(at - fields.begin());
+  };
+  const std::size_t scene = column("scene"), object = column("object"),
+                    placement = column("placement"), holdable = column("holdable");
+  const std::size_t needed = std::max({scene, object, placement, holdable}) + 1;
+  for (int number = 2; std::getline(in, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    const std::string where = name + " line " + std::to_string(number);
+    if (!splitCsvLine(line, fields)) throw std::runtime_error(where + ": a quote is not closed");
+    if (fields.size() < needed)
+      throw std::runtime_error(where + ": " + std::to_string(fields.size()) +
+                               " fields, the header names " + std::to_string(needed));
+    if (fields[holdable] != "0" && fields[holdable] != "1")
+      throw std::runtime_error(where + ": holdable is '" + fields[holdable] + "', not 0 or 1");
+    if (!answers_
+             .emplace(std::make_tuple(fields[scene], fields[object], fields[placement]),
+                      fields[holdable] == "1")
+             .second)
+      throw std::runtime_error(where + ": " + fields[scene] + "/" + fields[object] + " at " +
+                               fields[placement] + " is answered twice");
+  }
+}
+
+bool HoldabilityFile::holdable(const CaseName& c) const {
+  const auto at = answers_.find(std::make_tuple(c.scene, c.object, c.placement));
+  if (at == answers_.end())
+    throw std::runtime_error("holdability file '" + path_.string() + "' has no answer for " +
+                             c.scene + "/" + c.object + " at " + c.placement);
+  return at->second;
 }
 
 }  // namespace hfts::bench

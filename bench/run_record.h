@@ -3,7 +3,9 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "planner/grasp_motion_planner.h"
@@ -60,5 +62,23 @@ struct HoldabilityRecord {
 /// std::runtime_error naming the file when it cannot be written.
 void writeHoldabilityCsv(const std::filesystem::path& out,
                          const std::vector<HoldabilityRecord>& records);
+
+/// The answers of a file writeHoldabilityCsv wrote, read back so that a
+/// series of runs need not decide them again (hfts-bench --holdable-from).
+class HoldabilityFile {
+ public:
+  /// Throws std::runtime_error naming the file, and the line where one is
+  /// at fault, when it cannot be read, has no scene, object, placement and
+  /// holdable columns, has a row with fewer fields or a holdable other than
+  /// 0 or 1, or answers a case twice.
+  explicit HoldabilityFile(const std::filesystem::path& path);
+  /// The file's answer for `c`; throws std::runtime_error naming the file
+  /// and the case when it has none.
+  bool holdable(const CaseName& c) const;
+
+ private:
+  std::filesystem::path path_;
+  std::map<std::tuple<std::string, std::string, std::string>, bool> answers_;
+};
 
 }  // namespace hfts::bench

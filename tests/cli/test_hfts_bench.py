@@ -237,6 +237,59 @@ class BenchCli(unittest.TestCase):
         self.assertEqual([(r["scene"], r["object"], r["success"]) for r in rows],
                          [("far", "mug", "0")])
 
+    def write_holdability(self, name, text):
+        path = os.path.join(self.tmp, name)
+        with open(path, "w") as f:
+            f.write(text)
+        return path
+
+    def test_holdable_from_plans_only_what_the_file_holds(self):
+        answers = self.write_holdability(
+            "answers.csv",
+            "scene,object,placement,holdable,climbs,leaves,stable,reached,hand_clear,epsilon,"
+            "seconds,reason\n"
+            "table,mug,target,1,3,100,20,5,2,0.05,1.0,\n"
+            'shelf,mug,target,0,9,900,80,9,0,0,9.0,"no grasp, ""really"", in 9 climbs"\n')
+        out = os.path.join(self.tmp, "from-file.csv")
+        result = self.run_bench("--scenes", "table,shelf", "--objects", "mug", "--algorithms",
+                                "coupled", "--runs", "1", "--time-limit", TIME_LIMIT,
+                                "--holdable-from", answers, "--out", out)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn(f"left out shelf/mug: not holdable in {answers}", result.stderr)
+        self.assertIn("1 of 2 cases left out", result.stderr)
+        with open(out, newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual([(r["scene"], r["object"]) for r in rows], [("table", "mug")])
+
+    def test_a_bad_holdability_file_is_named_before_any_run(self):
+        header = "scene,object,placement,holdable\n"
+        cases = {
+            "no answer for shelf/mug at target": header + "table,mug,target,1\n",
+            "line 3: holdable is 'yes', not 0 or 1": header + "table,mug,target,1\n"
+                                                      "shelf,mug,target,yes\n",
+            "line 2: 3 fields, the header names 4": header + "table,mug,target\n",
+            "line 3: table/mug at target is answered twice": header + "table,mug,target,1\n"
+                                                              "table,mug,target,0\n",
+            "line 2: a quote is not closed": header + 'table,"mug,target,1\n',
+            "no 'holdable' column": "scene,object,placement\ntable,mug,target\n",
+        }
+        for i, (message, text) in enumerate(cases.items()):
+            path = self.write_holdability(f"bad{i}.csv", text)
+            out = os.path.join(self.tmp, f"bad{i}-runs.csv")
+            result = self.run_bench("--scenes", "table,shelf", "--objects", "mug",
+                                    "--holdable-from", path, "--out", out)
+            self.assertEqual(result.returncode, 1, (message, result.stderr))
+            self.assertIn(f"holdability file '{path}'", result.stderr)
+            self.assertIn(message, result.stderr)
+            self.assertNotIn("[1/", result.stderr)
+            self.assertFalse(os.path.exists(out), message)
+        missing = os.path.join(self.tmp, "no-such-answers.csv")
+        result = self.run_bench("--scenes", "table", "--objects", "mug",
+                                "--holdable-from", missing, "--out", out)
+        self.assertIn(f"holdability file '{missing}': cannot be read", result.stderr)
+        self.assertIn("--holdability", self.usage_error("--holdable-from", missing,
+                                                        "--holdability", missing))
+
     def test_unwritable_output_fails_before_planning(self):
         out = os.path.join(self.tmp, "no-such-dir", "results.csv")
         result = self.run_bench("--scenes", "table", "--out", out)
