@@ -54,6 +54,12 @@ GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
   TrajectoryOptions exact;
   exact.max_deviation = 0.0;
   const TimeOptimalTrajectory closing({path[path.size() - 2], path.back()}, v, a, exact);
+  // Too many states to hold (kMaxTrajectorySamples): the plan keeps its
+  // path and goes without a trajectory.
+  const auto tooLong = [rate](double states) {
+    return !(states <= static_cast<double>(kMaxTrajectorySamples));
+  };
+  if (tooLong(closing.sampleCount(rate))) return {};
   std::vector<TrajectoryPoint> closingSamples = closing.sample(rate);
   if (!collisionFree(closingSamples, checker, resolution, true)) return {};
 
@@ -64,6 +70,7 @@ GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
     if (attempt > 0 && deviation == options.max_deviation) continue;  // tried already
     options.max_deviation = deviation;
     const TimeOptimalTrajectory moving(approach, v, a, options);
+    if (tooLong(moving.sampleCount(rate) + static_cast<double>(closingSamples.size()))) return {};
     GraspTrajectory out;
     out.points = moving.sample(rate);
     if (!collisionFree(out.points, checker, resolution, false)) continue;

@@ -372,17 +372,22 @@ TrajectoryPoint TimeOptimalTrajectory::at(double t) const {
   return p;
 }
 
+double TimeOptimalTrajectory::sampleCount(double rate) const {
+  // sample()'s loop: floor(duration rate) + 1 states, and the end state
+  // unless the last of them is already at the end (or there is no end).
+  const double steps = std::floor(duration_ * rate);
+  return steps + 1.0 + (duration_ > 0.0 && steps / rate < duration_ ? 1.0 : 0.0);
+}
+
 std::vector<TrajectoryPoint> TimeOptimalTrajectory::sample(double rate) const {
   if (!(rate > 0.0) || !std::isfinite(rate))
     throw InvalidArgument("rate", "must be positive and finite");
-  const double count = std::floor(duration_ * rate);
-  if (!(count < kMaxTrajectorySamples))
-    throw InvalidArgument("rate", std::to_string(rate) + " states per second over " +
-                                      std::to_string(duration_) + " s are more than " +
-                                      std::to_string(static_cast<long>(kMaxTrajectorySamples)) +
-                                      " states");
+  if (!(sampleCount(rate) <= static_cast<double>(kMaxTrajectorySamples)))
+    throw InvalidArgument("rate", "a state every 1/" + std::to_string(rate) + " s over " +
+                                      std::to_string(duration_) + " s is more than " +
+                                      std::to_string(kMaxTrajectorySamples) + " states");
   std::vector<TrajectoryPoint> out;
-  const auto steps = static_cast<std::size_t>(count);
+  const auto steps = static_cast<std::size_t>(std::floor(duration_ * rate));
   for (std::size_t i = 0; i <= steps; ++i) {
     const double t = static_cast<double>(i) / rate;
     if (t < duration_ || i == 0) out.push_back(at(t));

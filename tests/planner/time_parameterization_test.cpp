@@ -251,6 +251,7 @@ TEST(TimeOptimalTrajectory, ABlendStartingNearRestTakesNoLongerThanStopping) {
   const TimeOptimalTrajectory blended(w, v, a);
   EXPECT_LT(blended.timeScale(), 1.05);
   EXPECT_LE(blended.duration(), stopping);
+  expectWithinLimits(blended, v, a, 1000);
 }
 
 TEST(TimeOptimalTrajectory, ATurnBackStopsThereAndRepeatsAreIgnored) {
@@ -272,18 +273,35 @@ TEST(TimeOptimalTrajectory, OneConfigurationIsATrajectoryOfNoTime) {
   EXPECT_EQ(points[0].velocities.norm(), 0.0);
 }
 
+TEST(TimeOptimalTrajectory, SampleCountIsWhatSampleGives) {
+  const Eigen::VectorXd v = vec({1, 1}), a = vec({2, 2});
+  // 1 rad rest to rest at these limits: 1.5 s, a whole number of steps at
+  // 2 and 10 per second (the end state is then one of the steps).
+  const TimeOptimalTrajectory line({vec({0, 0}), vec({1, 0})}, v, a);
+  const TimeOptimalTrajectory still({vec({0, 0}), vec({0, 0})}, v, a);
+  const TimeOptimalTrajectory blended({vec({0, 0}), vec({1, 0}), vec({1, 1}), vec({0.3, 2})}, v, a);
+  for (const TimeOptimalTrajectory* t : {&line, &still, &blended})
+    for (const double rate : {0.5, 2.0, 3.0, 10.0, 100.0, 997.0}) {
+      SCOPED_TRACE("duration " + std::to_string(t->duration()) + " rate " + std::to_string(rate));
+      EXPECT_EQ(t->sampleCount(rate), static_cast<double>(t->sample(rate).size()));
+    }
+  EXPECT_NEAR(line.duration(), 1.5, 1e-6);
+}
+
 TEST(TimeOptimalTrajectory, TooManyStatesAreRefusedNotAllocated) {
   // 100 rad at 0.01 rad/s: about 10,000 s; at 100 states per second
-  // that is a million.
+  // that is a million and two.
   const TimeOptimalTrajectory slow({vec({0, 0}), vec({100, 0})}, vec({0.01, 0.01}), vec({1, 1}));
   EXPECT_GT(slow.duration(), 9999.0);
-  EXPECT_EQ(slow.sample(1.0).size(), static_cast<std::size_t>(std::floor(slow.duration())) + 2);
+  EXPECT_EQ(slow.sample(1.0).size(), static_cast<std::size_t>(slow.sampleCount(1.0)));
+  EXPECT_GT(slow.sampleCount(100.0), static_cast<double>(kMaxTrajectorySamples));
   try {
     slow.sample(100.0);
-    ADD_FAILURE() << "a million states were sampled";
+    ADD_FAILURE() << "more than kMaxTrajectorySamples states were sampled";
   } catch (const InvalidArgument& e) {
     EXPECT_EQ(e.field(), "rate");
-    EXPECT_NE(std::string(e.what()).find("1000000 states"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("more than 1000000 states"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -114,7 +114,8 @@ struct PlanResult {
   PlannedGrasp grasp;
   /// The path as a time-optimal trajectory (grasp_trajectory.h): empty
   /// points when not asked for, when the robot has no acceleration limits,
-  /// or (never seen) when no collision-free one was found.
+  /// or (never seen) when no collision-free one was found or it would hold
+  /// more than kMaxTrajectorySamples states.
   GraspTrajectory trajectory;
   /// With PlanRequest::explored and the coupled planner: every node of the
   /// goal hierarchy cache but the root, in the order cached.

@@ -35,7 +35,8 @@ struct GraspTrajectory {
 /// exactly). Throws InvalidArgument ("trajectory_rate") for a rate that is
 /// not positive, ("path") for fewer than two configurations, and
 /// robot::ModelError when the robot has no acceleration limits; returns
-/// nothing (empty points) when even the exact path's samples collide.
+/// nothing (empty points) when even the exact path's samples collide, or
+/// when the trajectory would hold more than kMaxTrajectorySamples states.
 GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
                                 robot::CollisionChecker& checker, double resolution, double rate,
                                 double maxDeviation = TrajectoryOptions{}.max_deviation);

@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include <cstddef>
 #include <vector>
 
 namespace hfts::planner {
@@ -31,7 +32,7 @@ struct TrajectoryOptions {
 /// The most states TimeOptimalTrajectory::sample gives (about 0.4 GB for
 /// a 16-DoF robot; 10,000 s at 100 per second): more is refused, not left
 /// to exhaust the memory of a planning service.
-inline constexpr double kMaxTrajectorySamples = 1e6;
+inline constexpr std::size_t kMaxTrajectorySamples = 1000000;
 
 /// One state of a trajectory.
 struct TrajectoryPoint {
@@ -61,8 +62,12 @@ class TimeOptimalTrajectory {
   /// States every 1 / rate seconds from 0, and the final state at
   /// duration() (so the last step may be shorter). Throws InvalidArgument
   /// ("rate") unless rate is positive and finite, or when that would be
-  /// more than kMaxTrajectorySamples states.
+  /// more than kMaxTrajectorySamples states (sampleCount).
   std::vector<TrajectoryPoint> sample(double rate) const;
+
+  /// How many states sample(rate) gives (a double: it may be beyond any
+  /// count, or infinite). rate must be positive.
+  double sampleCount(double rate) const;
 
   /// The largest distance of the trajectory from the waypoints' polyline
   /// (rad): at most the option max_deviation, reached in the sharpest
