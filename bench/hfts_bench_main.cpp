@@ -11,6 +11,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -69,7 +70,8 @@ struct Experiment {
   double timeLimit = 0.0;
   fs::path csv;
   fs::path outDir;  ///< experiment mode only: logs and plots go here
-  /// Cases left out by --holdable-only (the object cannot be held there).
+  /// Cases left out by --holdable-only or --holdable-from (the object
+  /// cannot be held there).
   std::vector<Case> unholdable;
 };
 
@@ -238,8 +240,8 @@ void leaveOut(Experiment& e, const Case& c, const std::string& reason) {
 /// --holdable-from: the cases the file answers holdable stay, the others
 /// move to e.unholdable; a case the file does not answer is an error
 /// before any run.
-void sortOutHoldableFromFile(Experiment& e, const Options& o) {
-  const hfts::bench::HoldabilityFile answers(o.holdableFrom);
+void sortOutHoldableFromFile(Experiment& e, const hfts::bench::HoldabilityFile& answers,
+                             const Options& o) {
   std::vector<Case> holdable;
   for (const Case& c : e.cases) {
     if (answers.holdable({c.scene.name, c.object, c.placement}))
@@ -279,11 +281,13 @@ Experiment prepare(const Options& o) {
   e.algorithms = hfts::bench::parseAlgorithms(o.algorithms);
   hfts::bench::checkRunsAndTimeLimit(o.runs, o.timeLimit);
   const std::vector<Scene> scenes = loadScenes(o);
+  std::optional<hfts::bench::HoldabilityFile> answers;  // read before the slow loadWorld
+  if (!o.holdableFrom.empty()) answers.emplace(o.holdableFrom);
   e.world = loadWorld(o);
   checkParameterNames(e.algorithms, *e.world);
   e.cases = casesOf(scenes, *e.world, o);
-  if (!o.holdableFrom.empty())
-    sortOutHoldableFromFile(e, o);
+  if (answers)
+    sortOutHoldableFromFile(e, *answers, o);
   else if (o.holdableOnly || !o.holdability.empty())
     sortOutHoldable(e, o);
   e.runs = o.runs;
@@ -392,8 +396,7 @@ int benchmark(const Options& o) {
   }
   if (!e.unholdable.empty())
     std::cerr << "hfts-bench: " << e.unholdable.size() << " of "
-              << e.unholdable.size() + e.cases.size()
-              << " cases left out: no grasp the robot can hold the object by was found\n";
+              << e.unholdable.size() + e.cases.size() << " cases left out as not holdable\n";
   const std::vector<RunRecord> records = runAll(e, o.commandLine);
   hfts::bench::printSummary(std::cout, records, namesOf(e.algorithms));
   std::cout << records.size() << " runs written to " << e.csv.string() << "\n";

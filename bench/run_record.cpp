@@ -25,17 +25,17 @@ std::string csvField(const std::string& text) {
   return quoted + "\"";
 }
 
-/// One line of an RFC 4180 file split into its fields (quoted fields may
-/// hold commas and doubled quotes, not line breaks). False for a quote
-/// that is not closed or a closing quote not followed by a comma.
-bool splitCsvLine(const std::string& line, std::vector<std::string>& fields) {
+/// One line of an RFC 4180 file (without its line break) split into its
+/// fields; quoted fields may hold commas and doubled quotes, not line
+/// breaks. Returns what is wrong, empty when nothing is.
+std::string splitCsvLine(const std::string& line, std::vector<std::string>& fields) {
   fields.assign(1, std::string());
   for (std::size_t i = 0; i < line.size(); ++i) {
     if (line[i] == ',') {
       fields.emplace_back();
     } else if (line[i] == '"' && fields.back().empty()) {
       for (++i;; ++i) {
-        if (i >= line.size()) return false;
+        if (i >= line.size()) return "a quote is not closed";
         if (line[i] != '"') {
           fields.back() += line[i];
         } else if (i + 1 < line.size() && line[i + 1] == '"') {
@@ -45,11 +45,19 @@ bool splitCsvLine(const std::string& line, std::vector<std::string>& fields) {
           break;
         }
       }
-      if (i + 1 < line.size() && line[i + 1] != ',') return false;
+      if (i + 1 < line.size() && line[i + 1] != ',')
+        return "text follows a closing quote in field " + std::to_string(fields.size());
     } else {
       fields.back() += line[i];
     }
   }
+  return {};
+}
+
+/// The next line of `in` without its line break (LF or CRLF); false at the end.
+bool nextLine(std::istream& in, std::string& line) {
+  if (!std::getline(in, line)) return false;
+  if (!line.empty() && line.back() == '\r') line.pop_back();
   return true;
 }
 
@@ -129,8 +137,9 @@ HoldabilityFile::HoldabilityFile(const std::filesystem::path& path) : path_(path
   if (!in) throw std::runtime_error(name + ": cannot be read");
   std::string line;
   std::vector<std::string> fields;
-  if (!std::getline(in, line) || !splitCsvLine(line, fields))
-    throw std::runtime_error(name + ": no header line");
+  if (!nextLine(in, line)) throw std::runtime_error(name + ": is empty");
+  if (const std::string wrong = splitCsvLine(line, fields); !wrong.empty())
+    throw std::runtime_error(name + " line 1: " + wrong);
   const auto column = [&](const std::string& wanted) {
     const auto at = std::find(fields.begin(), fields.end(), wanted);
     if (at == fields.end())
@@ -141,14 +150,14 @@ HoldabilityFile::HoldabilityFile(const std::filesystem::path& path) : path_(path
   const std::size_t scene = column("scene"), object = column("object"),
                     placement = column("placement"), holdable = column("holdable");
   const std::size_t needed = std::max({scene, object, placement, holdable}) + 1;
-  for (int number = 2; std::getline(in, line); ++number) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
+  for (int number = 2; nextLine(in, line); ++number) {
     if (line.empty()) continue;
     const std::string where = name + " line " + std::to_string(number);
-    if (!splitCsvLine(line, fields)) throw std::runtime_error(where + ": a quote is not closed");
+    if (const std::string wrong = splitCsvLine(line, fields); !wrong.empty())
+      throw std::runtime_error(where + ": " + wrong);
     if (fields.size() < needed)
       throw std::runtime_error(where + ": " + std::to_string(fields.size()) +
-                               " fields, the header names " + std::to_string(needed));
+                               " fields, the columns need at least " + std::to_string(needed));
     if (fields[holdable] != "0" && fields[holdable] != "1")
       throw std::runtime_error(where + ": holdable is '" + fields[holdable] + "', not 0 or 1");
     if (!answers_

@@ -210,6 +210,16 @@ class BenchCli(unittest.TestCase):
         with open(out, newline="") as f:
             rows = list(csv.DictReader(f))
         self.assertEqual([(r["scene"], r["object"]) for r in rows], [("table", "mug")])
+        # The file read back gives the same cases without deciding again.
+        again = os.path.join(self.tmp, "held-again.csv")
+        result = self.run_bench("--scene-dir", scenes, "--scenes", "far,table", "--algorithms",
+                                "coupled", "--runs", "1", "--time-limit", TIME_LIMIT,
+                                "--holdable-from", holdability, "--out", again)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn(f"left out far/mug: not holdable in {holdability}", result.stderr)
+        with open(again, newline="") as f:
+            self.assertEqual([(r["scene"], r["object"]) for r in csv.DictReader(f)],
+                             [("table", "mug")])
 
     def test_holdability_alone_plans_every_case(self):
         # Without --holdable-only the answers are written and nothing is
@@ -249,7 +259,8 @@ class BenchCli(unittest.TestCase):
             "scene,object,placement,holdable,climbs,leaves,stable,reached,hand_clear,epsilon,"
             "seconds,reason\n"
             "table,mug,target,1,3,100,20,5,2,0.05,1.0,\n"
-            'shelf,mug,target,0,9,900,80,9,0,0,9.0,"no grasp, ""really"", in 9 climbs"\n')
+            'shelf,mug,target,0,9,900,80,9,0,0,9.0,"no grasp, ""really"", in 9 climbs"\n'
+            .replace("\n", "\r\n"))
         out = os.path.join(self.tmp, "from-file.csv")
         result = self.run_bench("--scenes", "table,shelf", "--objects", "mug", "--algorithms",
                                 "coupled", "--runs", "1", "--time-limit", TIME_LIMIT,
@@ -267,7 +278,9 @@ class BenchCli(unittest.TestCase):
             "no answer for shelf/mug at target": header + "table,mug,target,1\n",
             "line 3: holdable is 'yes', not 0 or 1": header + "table,mug,target,1\n"
                                                       "shelf,mug,target,yes\n",
-            "line 2: 3 fields, the header names 4": header + "table,mug,target\n",
+            "line 2: 3 fields, the columns need at least 4": header + "table,mug,target\n",
+            "line 2: text follows a closing quote in field 2": header + 'table,"mug"x,target,1\n',
+            "line 1: a quote is not closed": 'scene,"object,placement,holdable\n',
             "line 3: table/mug at target is answered twice": header + "table,mug,target,1\n"
                                                               "table,mug,target,0\n",
             "line 2: a quote is not closed": header + 'table,"mug,target,1\n',
@@ -286,6 +299,7 @@ class BenchCli(unittest.TestCase):
         missing = os.path.join(self.tmp, "no-such-answers.csv")
         result = self.run_bench("--scenes", "table", "--objects", "mug",
                                 "--holdable-from", missing, "--out", out)
+        self.assertEqual(result.returncode, 1, result.stderr)
         self.assertIn(f"holdability file '{missing}': cannot be read", result.stderr)
         self.assertIn("--holdability", self.usage_error("--holdable-from", missing,
                                                         "--holdability", missing))
