@@ -56,7 +56,7 @@ GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
   const TimeOptimalTrajectory closing({path[path.size() - 2], path.back()}, v, a, exact);
   // Too many states to hold (kMaxTrajectorySamples): the plan keeps its
   // path and goes without a trajectory.
-  const auto tooLong = [rate](double states) {
+  const auto tooLong = [](double states) {
     return !(states <= static_cast<double>(kMaxTrajectorySamples));
   };
   if (tooLong(closing.sampleCount(rate))) return {};
