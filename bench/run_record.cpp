@@ -15,7 +15,7 @@ constexpr const char* kHeader =
     "scene,object,algorithm,seed,success,failure,time,gs,vgs,gns,epsilon,path_length,"
     "collision_checks,cpu_time,placement,rejected_unstable,rejected_no_arm_ik,"
     "rejected_out_of_hand_reach,rejected_colliding,rejected_closing_blocked,fingertip_error,"
-    "epsilon_at_fingertips";
+    "planned_epsilon,penetration,rejected_no_pad_contact,rejected_weak_at_contacts";
 
 /// RFC 4180 quoting; names from file stems may hold commas or quotes.
 std::string csvField(const std::string& text) {
@@ -82,10 +82,11 @@ void writeRow(std::ostream& out, const RunRecord& r) {
     out << ',' << count;
   out << ',';
   if (r.success)
-    out << std::setprecision(8) << r.fingertip_error << ',' << r.epsilon_at_fingertips;
+    out << std::setprecision(8) << r.fingertip_error << ',' << r.planned_epsilon << ','
+        << r.penetration;
   else
-    out << ',';
-  out << '\n';
+    out << ",,";
+  out << ',' << rejected.no_pad_contact << ',' << rejected.weak_at_contacts << '\n';
 }
 
 }  // namespace
@@ -103,7 +104,8 @@ RunRecord makeRunRecord(const CaseName& c, const std::string& algorithm, std::ui
   r.cpu_time = cpuTime;
   r.epsilon = result.grasp.epsilon;
   r.fingertip_error = result.grasp.fingertip_error;
-  r.epsilon_at_fingertips = result.grasp.epsilon_at_fingertips;
+  r.planned_epsilon = result.grasp.planned_epsilon;
+  r.penetration = result.grasp.penetration;
   r.stats = result.stats;
   return r;
 }

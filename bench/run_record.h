@@ -29,11 +29,13 @@ struct RunRecord {
   bool success = false;
   std::string failure;    ///< toString(PlanFailure): "none" on success
   double cpu_time = 0.0;  ///< s, CPU time of the process during the run (all threads)
-  double epsilon = 0.0;   ///< of the planned grasp; unused on failure
-  /// PlannedGrasp's fingertip_error (m) and epsilon_at_fingertips; unused
-  /// on failure.
+  /// PlannedGrasp's epsilon (at the contacts the closed hand touches),
+  /// fingertip_error (m), planned_epsilon and penetration (m); unused on
+  /// failure.
+  double epsilon = 0.0;
   double fingertip_error = 0.0;
-  double epsilon_at_fingertips = 0.0;
+  double planned_epsilon = 0.0;
+  double penetration = 0.0;
   /// The plan's statistics; the CSV's time, gs, vgs, gns, path_length and
   /// collision_checks columns are planning_time, goal_sampling_calls,
   /// valid_goal_samples, hfts_nodes_explored, path_length_smoothed and

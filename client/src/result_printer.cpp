@@ -30,10 +30,12 @@ std::string names(const json& values) {
 }
 
 void printGrasp(const json& grasp, std::ostream& out) {
-  out << "grasp: epsilon " << grasp.at("epsilon").get<double>() << ", reachability "
-      << grasp.at("reachability").get<double>() << " m, fingertip error "
-      << grasp.at("fingertip_error").get<double>() << " m (epsilon there "
-      << grasp.at("epsilon_at_fingertips").get<double>() << "), HFTS node on level "
+  out << "grasp (the hand closed until its pads touch): epsilon "
+      << grasp.at("epsilon").get<double>() << " at the contacts touched (planned "
+      << grasp.at("planned_epsilon").get<double>() << "), penetration "
+      << 1000.0 * grasp.at("penetration").get<double>() << " mm, reachability "
+      << grasp.at("reachability").get<double>() << " m, planned fingertip error "
+      << grasp.at("fingertip_error").get<double>() << " m, HFTS node on level "
       << grasp.at("node").at("level").get<int>() << "\n";
   int finger = 1;
   for (const json& c : grasp.at("contacts_world"))

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "grasp/grasp_quality.h"
 #include "hfts_db/invalid_argument.h"
 
 namespace hfts::planner {
@@ -51,6 +52,8 @@ GraspGoalSampler::GraspGoalSampler(GoalSamplingContext context) : context_(conte
     throw InvalidArgument("GoalSamplingContext::approach_resolution", "must be > 0");
   if (!(context.max_fingertip_error > 0.0))
     throw InvalidArgument("parameters.max_fingertip_error", "must be > 0");
+  if (!(context.min_epsilon >= 0.0))
+    throw InvalidArgument("parameters.min_epsilon", "must be >= 0");
 }
 
 std::vector<CachedConfiguration> GraspGoalSampler::configurationsOf(const grasp::HftsNode& node,
@@ -61,8 +64,10 @@ std::vector<CachedConfiguration> GraspGoalSampler::configurationsOf(const grasp:
   // configuration for the rating and A; the palm turns are for the grasps
   // that may be goals and the inner nodes above them.
   const bool turn = !leaf || epsilon > 0.0;
+  // Only a stable leaf can be a goal: only its hand is closed on the object.
+  const bool close = leaf && epsilon > 0.0;
   std::vector<grasp::GraspConfigurations> postures{
-      context_.configurator->configure(*context_.space, node, *context_.rng, turn)};
+      context_.configurator->configure(*context_.space, node, *context_.rng, turn, close)};
   ++stats_.configured_nodes;
   if (turn && postures.front().hand.free_turn) ++stats_.turned_nodes;
   std::vector<CachedConfiguration> free, colliding;
@@ -75,7 +80,7 @@ std::vector<CachedConfiguration> GraspGoalSampler::configurationsOf(const grasp:
     // postures grows only after the call has read its first posture.
     for (grasp::GraspConfigurations& other : context_.configurator->configureOtherHands(
              context_.space->representative(node), postures.front().hand,
-             context_.max_fingertip_error, *context_.rng)) {
+             context_.max_fingertip_error, *context_.rng, close)) {
       label(node, epsilon, other, free, colliding);
       postures.push_back(std::move(other));
     }
@@ -98,8 +103,10 @@ std::vector<CachedConfiguration> GraspGoalSampler::configurationsOf(const grasp:
 std::vector<CachedConfiguration> GraspGoalSampler::otherHandConfigurationsOf(
     const grasp::HftsNode& node, double epsilon) {
   std::vector<CachedConfiguration> free, colliding;
+  const bool close = context_.space->isLeaf(node) && epsilon > 0.0;
   for (const grasp::GraspConfigurations& posture : context_.configurator->configureOtherHands(
-           context_.space->representative(node), context_.max_fingertip_error, *context_.rng))
+           context_.space->representative(node), context_.max_fingertip_error, *context_.rng,
+           close))
     label(node, epsilon, posture, free, colliding);
   return free;
 }
@@ -110,6 +117,9 @@ void GraspGoalSampler::label(const grasp::HftsNode& node, double epsilon,
                              std::vector<CachedConfiguration>& colliding) {
   const bool stableLeaf = context_.space->isLeaf(node) && epsilon > 0.0;
   std::vector<char> goals(all.configurations.size(), 0);
+  // One closure per palm pose, shared by its arm solutions: rate it once.
+  const grasp::HandClosure* rated = nullptr;
+  double contactEpsilon = 0.0;
   for (std::size_t k = 0; k < all.configurations.size(); ++k) {
     const grasp::GraspConfiguration& c = all.configurations[k];
     if (c.label == grasp::ConfigurationLabel::kNoKinematicSolution) continue;
@@ -117,17 +127,32 @@ void GraspGoalSampler::label(const grasp::HftsNode& node, double epsilon,
     out.pregrasp = c.pregrasp;
     out.grasp = c.grasp;
     out.fingertip_error = c.fingertip_error;
+    out.closure = c.closure;
     out.collision_free = c.label == grasp::ConfigurationLabel::kCollisionFree;
+    if (c.closure && c.closure.get() != rated) {
+      rated = c.closure.get();
+      contactEpsilon = c.closure->touches() ? contactQuality(*c.closure) : 0.0;
+    }
+    out.contact_epsilon = c.closure ? contactEpsilon : 0.0;
     // A whole-turn variant closes the hand where its twin does.
     out.goal = c.same_poses_as >= 0 ? goals[static_cast<std::size_t>(c.same_poses_as)] != 0
-                                    : out.collision_free && stableLeaf &&
-                                          c.fingertip_error <= context_.max_fingertip_error &&
-                                          context_.checker->isMotionValid(
-                                              c.pregrasp, c.grasp, context_.approach_resolution,
-                                              /*allowFingertipContact=*/true);
+                                    : out.collision_free && stableLeaf && isGoal(out);
     goals[k] = out.goal ? 1 : 0;
     (out.collision_free ? free : colliding).push_back(std::move(out));
   }
+}
+
+double GraspGoalSampler::contactQuality(const grasp::HandClosure& closure) const {
+  return grasp::graspQuality(grasp::qualityRequest(*context_.space, closure.contacts(),
+                                                   context_.objective->options()))
+      .epsilon;
+}
+
+bool GraspGoalSampler::isGoal(const CachedConfiguration& c) const {
+  return c.closure && c.closure->touches() && c.contact_epsilon >= context_.min_epsilon &&
+         c.contact_epsilon > 0.0 && c.fingertip_error <= context_.max_fingertip_error &&
+         context_.checker->isMotionValid(c.pregrasp, c.grasp, context_.approach_resolution,
+                                         /*allowFingertipContact=*/true);
 }
 
 void GraspGoalSampler::countRejection(double epsilon,
@@ -150,6 +175,15 @@ void GraspGoalSampler::countRejection(double epsilon,
     ++r.out_of_hand_reach;
   else if (std::none_of(free.begin(), free.end(), reaches))
     ++r.colliding;
+  else if (std::none_of(free.begin(), free.end(), [&](const CachedConfiguration& c) {
+             return reaches(c) && c.closure && c.closure->touches();
+           }))
+    ++r.no_pad_contact;
+  else if (std::none_of(free.begin(), free.end(), [&](const CachedConfiguration& c) {
+             return reaches(c) && c.closure && c.closure->touches() && c.contact_epsilon > 0.0 &&
+                    c.contact_epsilon >= context_.min_epsilon;
+           }))
+    ++r.weak_at_contacts;
   else if (std::none_of(free.begin(), free.end(),
                         [](const CachedConfiguration& c) { return c.goal; }))
     ++r.closing_blocked;
@@ -167,6 +201,10 @@ GoalSample GraspGoalSampler::describe(const grasp::HftsNode& node,
   s.epsilon = e.quality;
   s.reachability = e.reachability;
   s.fingertip_error = config.fingertip_error;
+  if (kind == GoalKind::kGoal) {
+    s.closure = config.closure;
+    s.contact_epsilon = config.contact_epsilon;
+  }
   if (kind == GoalKind::kGoal) ++stats_.valid_goals;
   if (kind == GoalKind::kApproximate) ++stats_.approximate_goals;
   return s;
@@ -318,6 +356,8 @@ void declareParameters(ompl::base::ParamSet& params, GoalSamplingSettings& setti
   declareParameter(params, "stable_nodes", {0, 1, 1}, c.stable_nodes);
   declareParameter(params, "iterations", kDecoupledIterationsRange, settings.decoupled_iterations);
   declareParameter(params, "max_fingertip_error", {1e-9, 0.001, 0.1}, settings.max_fingertip_error);
+  declareParameter(params, "min_epsilon", {0.0, 0.001, 1.0}, settings.min_epsilon);
+  declareParameter(params, "max_penetration", {0.0, 0.0005, 0.01}, settings.max_penetration);
   declareParameter(params, "mask_contacts", {0, 1, 1}, settings.mask_contacts);
   declareParameter(params, "other_postures", {0, 1, 1}, settings.other_postures);
   declareParameter(params, "hand_clearance", {0, 1, 1}, settings.hand_clearance);

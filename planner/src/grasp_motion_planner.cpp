@@ -20,11 +20,11 @@
 #include "grasp/grasp_optimizer.h"
 #include "grasp/grasp_quality.h"
 #include "hfts_db/invalid_argument.h"
-#include "hfts_db/triangle_bvh.h"
 #include "planner/lazy_goal_baseline.h"
 #include "planner/multi_tree_cbirrt.h"
 #include "planner/sampling_tools.h"
 #include "robot/kinematics.h"
+#include "robot/object_surface.h"
 
 namespace hfts::planner {
 
@@ -154,7 +154,7 @@ struct Problem {
         start(std::move(q0)),
         seed(request.seed),
         explored(request.explored),
-        checker(w.robot(), scene, &o.geometry, w.collisionMesh(o.name)),
+        checker(w.robot(), scene, &o.geometry, w.collisionMesh(o.name), w.surface(o.name)),
         si(makeSpaceInformation(w.robot(), checker, kTreeResolution)),
         parameters(si, request, w.robot()),
         // A robot whose fingertips have no measurable pad is not masked.
@@ -165,6 +165,7 @@ struct Problem {
         space(o, static_cast<int>(w.robot().fingertips().size()),
               usable.empty() ? nullptr : &usable) {
     checker.setSphereTier(parameters.sphereTier != 0);
+    checker.setMaxPenetration(parameters.goals.max_penetration);
   }
 
   /// The request's object where the request puts it: at object_pose, or
@@ -324,7 +325,10 @@ std::string rejectionText(const GraspRejections& r) {
        {std::pair{r.unstable, "unstable (no force closure)"},
         std::pair{r.no_arm_ik, "without arm IK solution"},
         std::pair{r.out_of_hand_reach, "out of the hand's reach"},
-        std::pair{r.colliding, "colliding"}, std::pair{r.closing_blocked, "closing blocked"}})
+        std::pair{r.colliding, "colliding"},
+        std::pair{r.no_pad_contact, "without every pad on the object when the hand closes"},
+        std::pair{r.weak_at_contacts, "below min_epsilon where the pads touch"},
+        std::pair{r.closing_blocked, "closing blocked"}})
     if (count > 0) out += (out.empty() ? "" : ", ") + std::to_string(count) + " " + what;
   return out.empty() ? "none tried" : out;
 }
@@ -345,77 +349,41 @@ std::pair<PlanFailure, std::string> failureOf(const GoalSamplerStatistics& goals
                                        " goals found within the time limit"};
 }
 
-PlannedGrasp describeGrasp(const robot::RobotModel& robot, const GoalSample& goal,
-                           const Eigen::Isometry3d& objectPose) {
-  PlannedGrasp g;
-  g.node = goal.node;
-  g.contacts_object = goal.contacts.positions;
-  g.contacts_world = objectPose * goal.contacts.positions;
-  g.inward_normals_object = -goal.contacts.outward_normals;
-  g.inward_normals_world = objectPose.linear() * g.inward_normals_object;
-  g.epsilon = goal.epsilon;
-  g.reachability = goal.reachability;
-  g.fingertip_error = goal.fingertip_error;
-  g.hand_configuration = goal.grasp.tail(robot.numHandDofs());
-  return g;
+/// How deep the robot's fingertip links at q reach into the target (m, >= 0).
+double fingertipPenetration(const Problem& p, const Eigen::VectorXd& q) {
+  const robot::RobotModel& robot = p.world.robot();
+  const robot::ObjectSurface* surface = p.world.surface(p.object.name);
+  if (surface == nullptr) return 0.0;
+  const robot::LinkPoses poses = robot::forwardKinematics(robot, q);
+  const Eigen::Isometry3d baseInObject = p.scene.target_pose.inverse() * p.scene.robot_base;
+  double depth = 0.0;
+  for (const robot::Fingertip& tip : robot.fingertips()) {
+    constexpr double kTolerance = 5e-5;
+    const auto link = static_cast<std::size_t>(tip.link);
+    depth = std::max(
+        depth, surface->linkDepth(robot.links()[link], baseInObject * poses[link], kTolerance));
+  }
+  return depth;
 }
 
-/// Epsilon of the grasp with the contacts where the closed hand's
-/// fingertips are: each fingertip's pad point moved to the nearest point of
-/// the object's mesh. Its normal is the mean of the unit normals of the
-/// triangles that point lies on (several when it is on an edge or a
-/// corner), turned to agree with the nearest planned contact's, as a
-/// mesh's winding need not be outward. The planned epsilon is that of the
-/// HFTS contacts; the fingertips are up to max_fingertip_error from them.
-/// A scan of all triangles, once per successful plan: the mean normal
-/// needs every triangle at the nearest distance, which a BVH's
-/// nearest-point query does not give.
-double epsilonAtFingertips(const Problem& p, const GoalSample& goal) {
+PlannedGrasp describeGrasp(const Problem& p, const GoalSample& goal) {
   const robot::RobotModel& robot = p.world.robot();
-  const robot::FingertipFrames tips =
-      robot::fingertipFrames(robot, robot::forwardKinematics(robot, goal.grasp));
-  const Eigen::Isometry3d baseInObject = p.scene.target_pose.inverse() * p.scene.robot_base;
-  const db::ObjectGeometry& g = p.object.geometry;
-  const Eigen::Index triangles = g.mesh_triangles.rows();
-  const auto corner = [&](Eigen::Index t, int k) -> Eigen::Vector3d {
-    return g.mesh_vertices.row(g.mesh_triangles(t, k)).transpose();
-  };
-  std::vector<double> distance(static_cast<std::size_t>(triangles));
-  grasp::GraspContacts at;
-  at.positions.resize(3, tips.positions.cols());
-  at.outward_normals.resize(3, tips.positions.cols());
-  for (Eigen::Index f = 0; f < tips.positions.cols(); ++f) {
-    const Eigen::Vector3d tip = baseInObject * Eigen::Vector3d(tips.positions.col(f));
-    double best = std::numeric_limits<double>::infinity();
-    for (Eigen::Index t = 0; t < triangles; ++t) {
-      const Eigen::Vector3d q =
-          db::closestPointOnTriangle(tip, corner(t, 0), corner(t, 1), corner(t, 2));
-      distance[static_cast<std::size_t>(t)] = (q - tip).norm();
-      if (distance[static_cast<std::size_t>(t)] < best) {
-        best = distance[static_cast<std::size_t>(t)];
-        at.positions.col(f) = q;
-      }
-    }
-    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-    for (Eigen::Index t = 0; t < triangles; ++t) {
-      if (distance[static_cast<std::size_t>(t)] > best + 1e-9) continue;
-      const Eigen::Vector3d n = (corner(t, 1) - corner(t, 0)).cross(corner(t, 2) - corner(t, 0));
-      if (n.norm() > 0.0) normal += n.normalized();
-    }
-    Eigen::Index nearest = 0;
-    (goal.contacts.positions.colwise() - at.positions.col(f))
-        .colwise()
-        .squaredNorm()
-        .minCoeff(&nearest);
-    if (normal.dot(goal.contacts.outward_normals.col(nearest)) < 0.0) normal = -normal;
-    // A point on two opposite faces (a sheet's edge) has no normal; the
-    // planned contact's stands in.
-    at.outward_normals.col(f) = normal.norm() > 1e-9
-                                    ? Eigen::Vector3d(normal.normalized())
-                                    : Eigen::Vector3d(goal.contacts.outward_normals.col(nearest));
-  }
-  return grasp::graspQuality(grasp::qualityRequest(p.space, at, p.parameters.goals.objective))
-      .epsilon;
+  const Eigen::Isometry3d& objectPose = p.scene.target_pose;
+  const grasp::GraspContacts touched = goal.closure->contacts();
+  PlannedGrasp g;
+  g.node = goal.node;
+  g.contacts_object = touched.positions;
+  g.contacts_world = objectPose * touched.positions;
+  g.inward_normals_object = -touched.outward_normals;
+  g.inward_normals_world = objectPose.linear() * g.inward_normals_object;
+  g.epsilon = goal.contact_epsilon;
+  g.planned_contacts_object = goal.contacts.positions;
+  g.planned_epsilon = goal.epsilon;
+  g.reachability = goal.reachability;
+  g.fingertip_error = goal.fingertip_error;
+  g.penetration = fingertipPenetration(p, goal.grasp);
+  g.hand_configuration = goal.grasp.tail(robot.numHandDofs());
+  return g;
 }
 
 PlanResult failed(PlanResult result, std::pair<PlanFailure, std::string> why) {
@@ -462,8 +430,7 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
   result.success = true;
   result.path = std::move(found.path);
   result.path.push_back(found.goal.grasp);
-  result.grasp = describeGrasp(world.robot(), found.goal, problem.scene.target_pose);
-  result.grasp.epsilon_at_fingertips = epsilonAtFingertips(problem, found.goal);
+  result.grasp = describeGrasp(problem, found.goal);
   if (request.trajectory_rate > 0.0 && world.robot().maxAccelerations().size() > 0)
     result.trajectory = graspTrajectory(result.path, problem.checker,
                                         problem.parameters.planner->smoothing().final_resolution,
@@ -606,24 +573,35 @@ Holdability holdability(const PlanningWorld& world, const PlanRequest& request, 
   SamplingTools tools(world, p.scene, p.space, p.checker, settings);
   tools.configurator.setArmReference(p.start.head(world.robot().numArmDofs()));
   std::mt19937_64 rng(request.seed);
+  // The hand alone closed from the pre-grasp until its pads touch.
   const auto fits = [&](const grasp::HandQuery& hand) {
+    if (!tools.closer) return false;
     const Eigen::VectorXd pregrasp = tools.configurator.openedHand(hand.hand_configuration);
     const int turns = hand.free_turn ? settings.palm_turns : 1;
-    for (int k = 0; k < turns; ++k)
-      if (handFits(p.checker, p.scene.target_pose * grasp::turnedPalm(hand, 2.0 * M_PI * k / turns),
-                   pregrasp, hand.hand_configuration))
+    for (int k = 0; k < turns; ++k) {
+      const grasp::HandClosure closed = tools.closer->close(
+          grasp::turnedPalm(hand, 2.0 * M_PI * k / turns), pregrasp, hand.hand_configuration);
+      if (closed.touches() &&
+          handFits(p.checker, p.scene.target_pose * closed.palm, pregrasp, closed.hand))
         return true;
+    }
     return false;
   };
   // A collision-free robot configuration with the fingertips on the
   // contacts, for a hand posture whose hand alone fits (Phi(h)).
   const auto robotHolds = [&](const grasp::GraspContacts& contacts, const grasp::HandQuery& hand) {
-    const grasp::GraspConfigurations all = tools.configurator.configure(contacts, hand, rng);
-    return std::any_of(all.configurations.begin(), all.configurations.end(),
-                       [&](const grasp::GraspConfiguration& c) {
-                         return c.label == grasp::ConfigurationLabel::kCollisionFree &&
-                                c.fingertip_error <= settings.max_fingertip_error;
-                       });
+    const grasp::GraspConfigurations all =
+        tools.configurator.configure(contacts, hand, rng, true, /*close=*/true);
+    return std::any_of(
+        all.configurations.begin(), all.configurations.end(),
+        [&](const grasp::GraspConfiguration& c) {
+          return c.label == grasp::ConfigurationLabel::kCollisionFree &&
+                 c.fingertip_error <= settings.max_fingertip_error && c.closure &&
+                 c.closure->touches() &&
+                 grasp::graspQuality(
+                     grasp::qualityRequest(p.space, c.closure->contacts(), settings.objective))
+                         .epsilon >= std::max(settings.min_epsilon, 1e-300);
+        });
   };
   // Whether the robot takes the leaf's contacts: R(h)'s posture, then the
   // hand's other ways of taking them (the planner's other_postures).

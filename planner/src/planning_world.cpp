@@ -7,6 +7,7 @@
 #include "planner/grasp_motion_planner.h"
 #include "robot/collision_checker.h"
 #include "robot/fingertip_geometry.h"
+#include "robot/object_surface.h"
 
 namespace hfts::planner {
 
@@ -14,10 +15,12 @@ namespace fs = std::filesystem;
 
 ObjectLibrary::ObjectLibrary(std::map<std::string, db::ObjectDatabase> objects)
     : objects_(std::move(objects)) {
-  for (const auto& [name, database] : objects_)
+  for (const auto& [name, database] : objects_) {
     collision_meshes_.emplace(
         name, std::make_unique<const robot::CollisionMesh>(
                   TriangleMesh{database.geometry.mesh_vertices, database.geometry.mesh_triangles}));
+    surfaces_.emplace(name, std::make_unique<const robot::ObjectSurface>(database.geometry));
+  }
 }
 
 ObjectLibrary::~ObjectLibrary() = default;
@@ -61,6 +64,11 @@ const db::ObjectDatabase* ObjectLibrary::object(const std::string& name) const {
 const robot::CollisionMesh* ObjectLibrary::collisionMesh(const std::string& name) const {
   const auto it = collision_meshes_.find(name);
   return it == collision_meshes_.end() ? nullptr : it->second.get();
+}
+
+const robot::ObjectSurface* ObjectLibrary::surface(const std::string& name) const {
+  const auto it = surfaces_.find(name);
+  return it == surfaces_.end() ? nullptr : it->second.get();
 }
 
 std::vector<std::string> ObjectLibrary::names() const {

@@ -10,9 +10,14 @@ SamplingTools::SamplingTools(const PlanningWorld& world, const robot::Scene& sce
     : space(hfts),
       checker(robotChecker),
       objective(hfts, world.handMap(), settings.objective),
+      closer(world.surface(scene.target_object) == nullptr
+                 ? nullptr
+                 : std::make_unique<const grasp::HandCloser>(world.robot(),
+                                                             *world.surface(scene.target_object))),
       configurator(world.robot(), world.ik(), world.thoroughHandMap(), robotChecker,
-                   scene.target_pose, scene.robot_base) {
+                   scene.target_pose, scene.robot_base, closer.get()) {
   configurator.setTurns(settings.palm_turns);
+  configurator.setMaxClosingError(settings.max_fingertip_error);
   if (settings.hand_clearance == 0) return;
   objective.setHandCheck([&robotChecker, object = scene.target_pose,
                           turns = settings.palm_turns](const grasp::HandQuery& hand) {
@@ -37,6 +42,7 @@ GoalSamplingContext SamplingTools::context(std::mt19937_64& rng,
           &rng,
           approachResolution,
           settings.max_fingertip_error,
+          settings.min_epsilon,
           settings.other_postures != 0};
 }
 

@@ -17,6 +17,7 @@
 
 #include "hfts_db/invalid_argument.h"
 #include "robot/kinematics.h"
+#include "robot/object_surface.h"
 #include "shape_separation.h"
 #include "sphere_tier.h"
 
@@ -87,9 +88,21 @@ CollisionMesh::~CollisionMesh() = default;
 
 namespace {
 
+/// The grasp rule's view of the target: where it is and how deep a
+/// fingertip may be inside it.
+struct GraspContactRule {
+  const ObjectSurface* surface = nullptr;
+  Eigen::Isometry3d worldToObject = Eigen::Isometry3d::Identity();
+  double maxPenetration = 0.0;
+};
+
 struct QueryData {
   const RobotModel* model = nullptr;
+  /// The grasp rule: a fingertip link may be inside the target by at most
+  /// `rule.maxPenetration` (exact signed distance); everything else as
+  /// the full rule.
   bool allowFingertipContact = false;
+  GraspContactRule rule;
   bool collision = false;
   CollisionPair pair;
   double distance = std::numeric_limits<double>::infinity();
@@ -99,10 +112,26 @@ struct QueryData {
 bool ignored(const Tag& a, const Tag& b, const QueryData& data) {
   if (a.link >= 0 && b.link >= 0)
     return a.link == b.link || data.model->isCollisionDisabled(a.link, b.link);
-  if (a.link < 0 && b.link < 0) return true;  // environment against itself
-  if (data.allowFingertipContact && ((a.target && b.fingertip) || (b.target && a.fingertip)))
-    return true;
-  return false;
+  return a.link < 0 && b.link < 0;  // environment against itself
+}
+
+/// Tolerance of the depth of a fingertip shape in the target (m): the
+/// depth is bounded from above, never underestimated.
+constexpr double kDepthTolerance = 2e-5;
+
+/// Under the grasp rule: whether a fingertip shape that FCL finds touching
+/// the target stays within the allowed depth (then it is no collision).
+bool withinAllowedDepth(const Object& shape, const Tag& tag, const GraspContactRule& rule) {
+  if (rule.surface == nullptr || tag.primitive_type < 0) return false;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = shape.getRotation();
+  pose.translation() = shape.getTranslation();
+  CollisionShape primitive;
+  primitive.type = static_cast<CollisionShape::Type>(tag.primitive_type);
+  primitive.size = tag.primitive_size;
+  const double allowed = -rule.maxPenetration;
+  return rule.surface->shapeDistance(primitive, rule.worldToObject * pose, kDepthTolerance, allowed)
+             .lower >= allowed;
 }
 
 bool collideCallback(Object* o1, Object* o2, void* raw) {
@@ -116,6 +145,10 @@ bool collideCallback(Object* o1, Object* o2, void* raw) {
   fcl::CollisionRequestd request;
   fcl::CollisionResultd result;
   if (fcl::collide(o1, o2, request, result) == 0) return false;
+  if (data->allowFingertipContact && (a.target || b.target) && (a.fingertip || b.fingertip)) {
+    const bool robotFirst = a.fingertip;
+    if (withinAllowedDepth(robotFirst ? *o1 : *o2, robotFirst ? a : b, data->rule)) return false;
+  }
   data->collision = true;
   data->pair = a.link < 0 ? CollisionPair{b.name, a.name} : CollisionPair{a.name, b.name};
   return true;  // stop at the first contact (the robot's part named first)
@@ -235,11 +268,34 @@ struct CollisionChecker::Impl {
   // The mesh obstacles' distance grids, shared with the scene, which the
   // sphere tier reads (the target's it reads in the target's geometry).
   std::vector<std::shared_ptr<const db::DistanceGrid>> obstacleGrids;
+  // The grasp rule's target: its surface (shared, or built here on first
+  // need), its pose and the depth a fingertip may reach in it.
+  const db::ObjectGeometry* target = nullptr;
+  const ObjectSurface* sharedSurface = nullptr;
+  std::unique_ptr<ObjectSurface> ownSurface;
+  Eigen::Isometry3d targetPose = Eigen::Isometry3d::Identity();
+  double maxPenetration = kDefaultMaxPenetration;
 
   Impl(const RobotModel& m, const Scene& scene)
       : model(m),
         base(scene.robot_base),
-        metric(std::make_shared<ConfigurationMetric>(m.dofWeights())) {}
+        metric(std::make_shared<ConfigurationMetric>(m.dofWeights())),
+        targetPose(scene.target_pose) {}
+
+  const ObjectSurface* surface() {
+    if (sharedSurface != nullptr || target == nullptr) return sharedSurface;
+    if (!ownSurface) ownSurface = std::make_unique<ObjectSurface>(*target);
+    return ownSurface.get();
+  }
+
+  /// A query under the full rule, or the grasp rule.
+  QueryData queryData(bool graspRule) {
+    QueryData data;
+    data.model = &model;
+    data.allowFingertipContact = graspRule;
+    if (graspRule) data.rule = {surface(), targetPose.inverse(), maxPenetration};
+    return data;
+  }
 
   Tag* tag(Tag value) {
     value.order = tags.size();
@@ -349,9 +405,7 @@ struct CollisionChecker::Impl {
   /// time, FCL then takes the batch's configurations in order.
   long firstCollision(const Eigen::VectorXd* const* states, std::size_t count, bool allowFingertips,
                       CollisionPair* pair) {
-    QueryData data;
-    data.model = &model;
-    data.allowFingertipContact = allowFingertips;
+    QueryData data = queryData(allowFingertips);
     if (!useTier) {
       for (std::size_t i = 0; i < count; ++i) {
         ++checks;
@@ -372,8 +426,7 @@ struct CollisionChecker::Impl {
       std::uint32_t placed = 0, touched = 0;
       std::size_t first = n;
       tier->forEachTouchingPair(
-          states + begin, n, allowFingertips,
-          [&](const SphereTier::Pair& p, std::uint32_t lanes) -> std::uint32_t {
+          states + begin, n, [&](const SphereTier::Pair& p, std::uint32_t lanes) -> std::uint32_t {
             touched |= lanes;
             for (std::size_t lane = 0; lane < first; ++lane) {
               const std::uint32_t bit = 1u << lane;
@@ -507,8 +560,11 @@ struct CollisionChecker::Impl {
 
 CollisionChecker::CollisionChecker(const RobotModel& model, const Scene& scene,
                                    const db::ObjectGeometry* target,
-                                   const CollisionMesh* targetMesh)
+                                   const CollisionMesh* targetMesh,
+                                   const ObjectSurface* targetSurface)
     : impl_(std::make_unique<Impl>(model, scene)) {
+  impl_->target = target;
+  impl_->sharedSurface = target != nullptr ? targetSurface : nullptr;
   for (const Obstacle& o : scene.obstacles) {
     const bool mesh = o.type == Obstacle::Type::kMesh;
     const Geometry geometry =
@@ -545,6 +601,16 @@ const RobotModel& CollisionChecker::model() const {
 
 bool CollisionChecker::inCollision(const Eigen::VectorXd& q, CollisionPair* pair) {
   return impl_->collide(q, false, pair);
+}
+
+void CollisionChecker::setMaxPenetration(double depth) {
+  if (!(depth >= 0.0) || !std::isfinite(depth))
+    throw InvalidArgument("max_penetration", "must be a finite number >= 0 (m)");
+  impl_->maxPenetration = depth;
+}
+
+double CollisionChecker::maxPenetration() const {
+  return impl_->maxPenetration;
 }
 
 bool CollisionChecker::inCollisionAllowingFingertipContact(const Eigen::VectorXd& q,
@@ -610,9 +676,7 @@ bool CollisionChecker::handTouchesObstacles(const Eigen::Isometry3d& palm,
 
 bool CollisionChecker::handInCollision(const Eigen::Isometry3d& palm, const Eigen::VectorXd& hand,
                                        bool allowFingertipContact, CollisionPair* pair) {
-  QueryData data;
-  data.model = &impl_->model;
-  data.allowFingertipContact = allowFingertipContact;
+  QueryData data = impl_->queryData(allowFingertipContact);
   const std::vector<std::size_t> placed = placeHand(palm, hand);
   for (std::size_t k = 0; k < placed.size() && !data.collision; ++k) {
     Object& object = *impl_->robotObjects[placed[k]];

@@ -274,10 +274,10 @@ struct LinkSpheres {
 };
 
 /// The pairs whose link spheres touch, in the exact check's order: indices
-/// into Program::env (by link, then item; under the grasp rule without the
-/// fingertips' pairs with the target) and into Program::self (by a, then b).
-void broadphase(D d, const Program& program, const LinkSpheres& s, bool allowFingertipContact,
-                std::vector<int>& env, std::vector<int>& self) {
+/// into Program::env (by link, then item) and into Program::self (by a,
+/// then b).
+void broadphase(D d, const Program& program, const LinkSpheres& s, std::vector<int>& env,
+                std::vector<int>& self) {
   const std::size_t n = hn::Lanes(d), links = static_cast<std::size_t>(program.num_links);
   const std::size_t words = program.link_words, items = program.items.size();
   thread_local std::vector<std::uint64_t> near, touching;
@@ -311,11 +311,10 @@ void broadphase(D d, const Program& program, const LinkSpheres& s, bool allowFin
   }
   env.clear();
   for (std::size_t i = 0; i < items; ++i) {
-    const bool skipFingertips = allowFingertipContact && program.items[i].target;
     for (std::size_t w = 0; w < words; ++w)
       for (std::uint64_t bits = near[i * words + w]; bits != 0; bits &= bits - 1) {
         const std::size_t link = 64 * w + static_cast<std::size_t>(__builtin_ctzll(bits));
-        if (link >= links || (skipFingertips && program.fingertip[link] != 0)) continue;
+        if (link >= links) continue;
         const int index = program.env_index[link * items + i];
         if (index >= 0) env.push_back(index);
       }
@@ -377,8 +376,8 @@ std::size_t BatchSizeImpl() {
   return hn::Lanes(D());
 }
 
-void FindTouchingImpl(const Program& program, const float* q, std::size_t count,
-                      bool allowFingertipContact, Visit visit, void* context) {
+void FindTouchingImpl(const Program& program, const float* q, std::size_t count, Visit visit,
+                      void* context) {
   const D d;
   const std::size_t n = hn::Lanes(d);
   const std::size_t links = static_cast<std::size_t>(program.num_links);
@@ -429,7 +428,7 @@ void FindTouchingImpl(const Program& program, const float* q, std::size_t count,
     sweep.r[l] =
         std::sqrt(hn::GetLane(hn::MaxOfLanes(d, squaredNorm(gap)))) * 1.0001f + 1e-6f + node.r;
   }
-  broadphase(d, program, sweep, allowFingertipContact, envPairs, selfPairs);
+  broadphase(d, program, sweep, envPairs, selfPairs);
   // Hands the touching lanes of pair `index` to the visitor; false when no lane is left.
   auto report = [&](std::size_t index, M touching) {
     if (hn::AllFalse(d, touching)) return true;
@@ -699,8 +698,7 @@ bool linksTouchOne(D d, const Program& program, const ScalarPose& pa, Sphere a,
   return false;
 }
 
-void FindTouchingOneImpl(const Program& program, const float* q, bool allowFingertipContact,
-                         Visit visit, void* context) {
+void FindTouchingOneImpl(const Program& program, const float* q, Visit visit, void* context) {
   const D d;
   const std::size_t n = hn::Lanes(d);
   const std::size_t links = static_cast<std::size_t>(program.num_links);
@@ -732,7 +730,7 @@ void FindTouchingOneImpl(const Program& program, const float* q, bool allowFinge
     root.z[l] = m[8] * node.x + m[9] * node.y + m[10] * node.z + m[11];
     root.r[l] = node.r;
   }
-  broadphase(d, program, root, allowFingertipContact, envPairs, selfPairs);
+  broadphase(d, program, root, envPairs, selfPairs);
   centres.reset(program.wide.size());
   for (const int index : envPairs) {
     const EnvPair& pair = program.env[static_cast<std::size_t>(index)];
@@ -774,14 +772,13 @@ std::size_t batchSize() {
   return size;
 }
 
-void findTouching(const Program& program, const float* q, std::size_t count,
-                  bool allowFingertipContact, Visit visit, void* context) {
-  HWY_DYNAMIC_DISPATCH(FindTouchingImpl)(program, q, count, allowFingertipContact, visit, context);
+void findTouching(const Program& program, const float* q, std::size_t count, Visit visit,
+                  void* context) {
+  HWY_DYNAMIC_DISPATCH(FindTouchingImpl)(program, q, count, visit, context);
 }
 
-void findTouchingOne(const Program& program, const float* q, bool allowFingertipContact,
-                     Visit visit, void* context) {
-  HWY_DYNAMIC_DISPATCH(FindTouchingOneImpl)(program, q, allowFingertipContact, visit, context);
+void findTouchingOne(const Program& program, const float* q, Visit visit, void* context) {
+  HWY_DYNAMIC_DISPATCH(FindTouchingOneImpl)(program, q, visit, context);
 }
 
 namespace {

@@ -118,7 +118,6 @@ struct Program {
   std::vector<FkStep> steps;            ///< parents before children
   std::vector<FkRows> fk_rows;          ///< [step], filled by buildWideTrees
   std::vector<int> root;                ///< [link]: its root node, -1 for a link without spheres
-  std::vector<std::uint8_t> fingertip;  ///< [link]
   std::vector<Node> nodes;
   /// The same trees with up to 16 children a node, for the
   /// one-configuration kernel; wide_root[link]: the wide node holding the
@@ -156,16 +155,13 @@ void buildWideTrees(Program& program);
 /// Tests one configuration q[0 .. num_dofs) like findTouching (lane 0),
 /// with the SIMD lanes spread over link pairs and sphere pairs instead of
 /// configurations.
-void findTouchingOne(const Program& program, const float* q, bool allowFingertipContact,
-                     Visit visit, void* context);
+void findTouchingOne(const Program& program, const float* q, Visit visit, void* context);
 
 /// Tests the configurations of a batch: q[d * batchSize() + lane] is DoF d
 /// of lane `lane`; lanes >= `count` are ignored. Calls `visit` for every
 /// pair whose spheres touch in some active lane, in the order of
 /// Program::env, then Program::self, and stops when no lane is active.
-/// With `allowFingertipContact`, fingertip links are not tested against
-/// the target item.
-void findTouching(const Program& program, const float* q, std::size_t count,
-                  bool allowFingertipContact, Visit visit, void* context);
+void findTouching(const Program& program, const float* q, std::size_t count, Visit visit,
+                  void* context);
 
 }  // namespace hfts::robot::kernel

@@ -76,8 +76,6 @@ void SphereTier::compileRobot(const RobotModel& model, const Eigen::Isometry3d& 
     const auto child = static_cast<std::size_t>(joint.child_link);
     static_[child] = step.dof < 0 && static_[static_cast<std::size_t>(joint.parent_link)];
   }
-  p.fingertip.assign(model.links().size(), 0);
-  for (const Fingertip& f : model.fingertips()) p.fingertip[static_cast<std::size_t>(f.link)] = 1;
   p.root.assign(model.links().size(), -1);
   for (std::size_t l = 0; l < spheres_.links.size(); ++l) {
     const LinkSpheres& link = spheres_.links[l];

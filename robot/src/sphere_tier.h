@@ -70,11 +70,10 @@ class SphereTier {
   /// check (link-item pairs by link, then item; then link pairs); `visit`
   /// returns the configurations still to be tested (as bits) and the tier
   /// stops when none is left. A configuration without a call is certainly
-  /// free. With `allowFingertipContact`, fingertip links are not paired
-  /// with the target (the grasp-aware rule, as in the exact check).
+  /// free. Fingertips are paired with the target under either rule: the
+  /// exact check decides how deep they may be.
   template <typename Visit>
-  void forEachTouchingPair(const Eigen::VectorXd* const* q, std::size_t count,
-                           bool allowFingertipContact, Visit&& visit) {
+  void forEachTouchingPair(const Eigen::VectorXd* const* q, std::size_t count, Visit&& visit) {
     load(q, count);
     struct Context {
       const SphereTier* tier;
@@ -87,9 +86,9 @@ class SphereTier {
     };
     // One configuration: lanes over pairs; several: a configuration per lane.
     if (count == 1)
-      kernel::findTouchingOne(program_, q_.data(), allowFingertipContact, forward, &context);
+      kernel::findTouchingOne(program_, q_.data(), forward, &context);
     else
-      kernel::findTouching(program_, q_.data(), count, allowFingertipContact, forward, &context);
+      kernel::findTouching(program_, q_.data(), count, forward, &context);
   }
 
   /// The pair of a kernel pair index.

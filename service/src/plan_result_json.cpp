@@ -15,6 +15,12 @@ json contacts(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& normals
   return out;
 }
 
+json pointsJson(const Eigen::Matrix3Xd& points) {
+  json out = json::array();
+  for (Eigen::Index i = 0; i < points.cols(); ++i) out.push_back(vectorJson(points.col(i)));
+  return out;
+}
+
 json graspJson(const planner::PlannedGrasp& g, const std::vector<std::string>& jointNames) {
   const auto fingers = static_cast<std::size_t>(g.contacts_world.cols());
   const auto handDofs = static_cast<std::size_t>(g.hand_configuration.size());
@@ -26,9 +32,11 @@ json graspJson(const planner::PlannedGrasp& g, const std::vector<std::string>& j
           {"contacts_object", contacts(g.contacts_object, g.inward_normals_object)},
           {"normals", "inward"},
           {"epsilon", g.epsilon},
+          {"penetration", g.penetration},
+          {"planned_contacts_object", pointsJson(g.planned_contacts_object)},
+          {"planned_epsilon", g.planned_epsilon},
           {"reachability", g.reachability},
           {"fingertip_error", g.fingertip_error},
-          {"epsilon_at_fingertips", g.epsilon_at_fingertips},
           {"hand_joint_names",
            std::vector<std::string>(jointNames.end() - static_cast<std::ptrdiff_t>(handDofs),
                                     jointNames.end())},
@@ -54,11 +62,8 @@ json trajectoryJson(const planner::GraspTrajectory& t, const std::vector<std::st
 json exploredJson(const std::vector<planner::ExploredNode>& nodes) {
   json out = json::array();
   for (const planner::ExploredNode& n : nodes) {
-    json contacts = json::array();
-    for (Eigen::Index c = 0; c < n.contacts_object.cols(); ++c)
-      contacts.push_back(vectorJson(n.contacts_object.col(c)));
     out.push_back({{"level", n.level},
-                   {"contacts_object", std::move(contacts)},
+                   {"contacts_object", pointsJson(n.contacts_object)},
                    {"value", n.value},
                    {"epsilon", n.quality},
                    {"goal", n.goal}});

@@ -20,7 +20,8 @@ HEADER = ["scene", "object", "algorithm", "seed", "success", "failure", "time", 
           "gns", "epsilon", "path_length", "collision_checks", "cpu_time", "placement",
           "rejected_unstable", "rejected_no_arm_ik", "rejected_out_of_hand_reach",
           "rejected_colliding", "rejected_closing_blocked", "fingertip_error",
-          "epsilon_at_fingertips"]
+          "planned_epsilon", "penetration", "rejected_no_pad_contact",
+          "rejected_weak_at_contacts"]
 TIME_LIMIT = 10
 
 

@@ -374,8 +374,8 @@ TEST(GraspMotionPlanner, OtherPosturesPlansAreValidAndCountEveryPosture) {
   const PlanResult result = planGrasp(world(), r);
   expectValidPlan(r, result);
   const GraspRejections& x = result.stats.rejected;
-  EXPECT_EQ(x.total(),
-            x.unstable + x.no_arm_ik + x.out_of_hand_reach + x.colliding + x.closing_blocked);
+  EXPECT_EQ(x.total(), x.unstable + x.no_arm_ik + x.out_of_hand_reach + x.colliding +
+                           x.no_pad_contact + x.weak_at_contacts + x.closing_blocked);
 }
 
 TEST(GraspMotionPlanner, UnknownObjectIsReported) {
@@ -510,7 +510,11 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
                                             // Backward trees aim near their own nodes
                                             // (0: the paper's Algorithm 1).
                                             {"p_local", 1.0},
-                                            {"local_radius", 0.8}};
+                                            {"local_radius", 0.8},
+                                            // A goal is a grasp that holds
+                                            // (docs/planning.md#what-a-goal-is).
+                                            {"min_epsilon", 0.01},
+                                            {"max_penetration", 0.001}};
   for (const PlannerParameterInfo& p : plannerParameters(world())) {
     const auto it = expected.find(p.name);
     if (it == expected.end()) continue;
@@ -518,7 +522,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
     expected.erase(it);
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
-  EXPECT_EQ(plannerParameters(world()).size(), 35u) << "a parameter was added or removed";
+  EXPECT_EQ(plannerParameters(world()).size(), 37u) << "a parameter was added or removed";
 }
 
 /// The bundled KR5 + SDH with these `planner_defaults` instead of its own.

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "bundled_objects.h"
+#include "hfts_db/invalid_argument.h"
 #include "robot/arm_ik.h"
 #include "robot/kinematics.h"
 #include "robot_fixture.h"
@@ -178,12 +179,23 @@ db::ObjectGeometry smallCube() {
   return g;
 }
 
+/// The small cube with a face on fingertip `tip`'s pad at q, moved `depth`
+/// m into the pad along its normal.
+Scene cubeInPad(const Eigen::VectorXd& q, Eigen::Index tip, double depth) {
+  const FingertipFrames tips = fingertipFrames(m(), forwardKinematics(m(), q));
+  const Eigen::Vector3d normal = tips.normals.col(tip);
+  Scene scene;
+  scene.target_object = "cube";
+  scene.target_pose.linear() =
+      Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), normal).toRotationMatrix();
+  scene.target_pose.translation() = tips.positions.col(tip) + (0.005 - depth) * normal;
+  return scene;
+}
+
 TEST(CollisionChecker, OnlyFingertipsMayTouchTheTargetUnderTheGraspRule) {
   const Eigen::VectorXd q = m().home();
-  const FingertipFrames tips = fingertipFrames(m(), forwardKinematics(m(), q));
   const db::ObjectGeometry cube = smallCube();
-  Scene scene;
-  scene.target_pose.translation() = tips.positions.col(0) + 0.004 * tips.normals.col(0);
+  Scene scene = cubeInPad(q, 0, 0.0005);
   CollisionChecker touching(m(), scene, &cube);
   CollisionPair pair;
   EXPECT_TRUE(touching.inCollision(q, &pair));
@@ -195,6 +207,26 @@ TEST(CollisionChecker, OnlyFingertipsMayTouchTheTargetUnderTheGraspRule) {
   CollisionChecker palm(m(), scene, &cube);
   EXPECT_TRUE(palm.inCollisionAllowingFingertipContact(q, &pair));
   EXPECT_EQ(pair.second.find("target"), 0u) << pair.first << " / " << pair.second;
+}
+
+TEST(CollisionChecker, AFingertipDeeperThanMaxPenetrationCollidesUnderTheGraspRule) {
+  const Eigen::VectorXd q = m().home();
+  const db::ObjectGeometry cube = smallCube();
+  // The pad 3 mm in: rejected at the default 1 mm, allowed at 4 mm.
+  CollisionChecker deep(m(), cubeInPad(q, 1, 0.003), &cube);
+  EXPECT_DOUBLE_EQ(deep.maxPenetration(), kDefaultMaxPenetration);
+  CollisionPair pair;
+  EXPECT_TRUE(deep.inCollisionAllowingFingertipContact(q, &pair));
+  EXPECT_EQ(pair.first, m().links()[static_cast<std::size_t>(m().fingertips()[1].link)].name);
+  EXPECT_EQ(pair.second, "target 'cube'");
+  deep.setMaxPenetration(0.004);
+  EXPECT_FALSE(deep.inCollisionAllowingFingertipContact(q));
+  // Either side of the default by a tenth of a millimetre.
+  EXPECT_FALSE(
+      CollisionChecker(m(), cubeInPad(q, 1, 0.0009), &cube).inCollisionAllowingFingertipContact(q));
+  EXPECT_TRUE(
+      CollisionChecker(m(), cubeInPad(q, 1, 0.0011), &cube).inCollisionAllowingFingertipContact(q));
+  EXPECT_THROW(deep.setMaxPenetration(-1e-3), hfts::InvalidArgument);
 }
 
 /// A thin wall in the plane y = 0 in front of the robot, alone in a scene.
@@ -273,13 +305,10 @@ TEST(CollisionChecker, TheHandAloneMeetsTheTargetUnderEitherRule) {
   // alone at the home configuration's palm pose.
   const Eigen::VectorXd q = m().home();
   const LinkPoses poses = forwardKinematics(m(), q);
-  const FingertipFrames tips = fingertipFrames(m(), poses);
   const Eigen::Isometry3d palm = poses[static_cast<std::size_t>(m().palmLink())];
   const Eigen::VectorXd hand = q.tail(m().numHandDofs());
   const db::ObjectGeometry cube = smallCube();
-  Scene scene;
-  scene.target_object = "cube";
-  scene.target_pose.translation() = tips.positions.col(0) + 0.004 * tips.normals.col(0);
+  Scene scene = cubeInPad(q, 0, 0.0005);
   CollisionChecker touching(m(), scene, &cube);
   CollisionPair pair;
   EXPECT_TRUE(touching.handInCollision(palm, hand, false, &pair));
@@ -524,11 +553,9 @@ TEST(CollisionChecker, TheSphereTierKeepsTheGraspRuleForFingertipsTouchingTheTar
   int allowed = 0;
   for (int i = 0; i < 300; ++i) {
     const Eigen::VectorXd q = randomConfiguration(rng);
-    const FingertipFrames tips = fingertipFrames(m(), forwardKinematics(m(), q));
-    Scene scene;  // the cube 4 mm into one fingertip's pad
-    const Eigen::Index tip = i % tips.positions.cols();
-    scene.target_pose.translation() = tips.positions.col(tip) + 0.004 * tips.normals.col(tip);
-    CollisionChecker checker(m(), scene, &cube);
+    // A fingertip's pad 0.5 mm into the cube: allowed where nothing else
+    // touches it.
+    CollisionChecker checker(m(), cubeInPad(q, i % 3, 0.0005), &cube);
     const bool collides = expectSameAnswerWithAndWithoutSpheres(checker, q);
     allowed += collides && !checker.inCollisionAllowingFingertipContact(q);
   }

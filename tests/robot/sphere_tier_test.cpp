@@ -98,7 +98,7 @@ std::vector<std::set<PairKey>> reported(SphereTier& tier, const std::vector<Eige
   std::vector<const Eigen::VectorXd*> pointers;
   for (const Eigen::VectorXd& c : q) pointers.push_back(&c);
   std::vector<std::set<PairKey>> out(q.size());
-  tier.forEachTouchingPair(pointers.data(), pointers.size(), false,
+  tier.forEachTouchingPair(pointers.data(), pointers.size(),
                            [&](const SphereTier::Pair& p, std::uint32_t lanes) -> std::uint32_t {
                              for (std::size_t i = 0; i < q.size(); ++i)
                                if (((lanes >> i) & 1u) != 0) out[i].insert(key(p));

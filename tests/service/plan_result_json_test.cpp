@@ -36,7 +36,9 @@ planner::PlanResult success() {
   g.epsilon = 0.125;
   g.reachability = 0.001;
   g.fingertip_error = 0.002;
-  g.epsilon_at_fingertips = 0.04;
+  g.planned_epsilon = 0.04;
+  g.penetration = 0.0003;
+  g.planned_contacts_object = 3.0 * g.contacts_object;
   g.hand_configuration = robot.home().tail(robot.numHandDofs());
   r.stats.planning_time = 0.5;
   r.stats.iterations = 42;
@@ -66,7 +68,9 @@ TEST(PlanResultJson, DescribesTheGrasp) {
   EXPECT_EQ(g.at("epsilon"), 0.125);
   EXPECT_EQ(g.at("reachability"), 0.001);
   EXPECT_EQ(g.at("fingertip_error"), 0.002);
-  EXPECT_EQ(g.at("epsilon_at_fingertips"), 0.04);
+  EXPECT_EQ(g.at("planned_epsilon"), 0.04);
+  EXPECT_EQ(g.at("penetration"), 0.0003);
+  EXPECT_EQ(g.at("planned_contacts_object")[1], json({0, 3, 0}));
   EXPECT_EQ(g.at("hand_joint_names").size(), 7u);
   EXPECT_EQ(g.at("hand_joint_names")[0], test::kr5Sdh().dofNames()[6]);
   EXPECT_EQ(g.at("hand_configuration").size(), 7u);

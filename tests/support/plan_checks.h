@@ -16,6 +16,7 @@
 #include "planner/grasp_motion_planner.h"
 #include "robot/collision_checker.h"
 #include "robot/kinematics.h"
+#include "robot/link_spheres.h"
 #include "robot_fixture.h"
 
 namespace hfts::test {
@@ -92,9 +93,9 @@ inline robot::Scene plannedScene(const planner::PlanningWorld& world,
 /// The largest fingertip-to-contact distance a plan may have: the
 /// request's max_fingertip_error, else its default for the world's robot
 /// (plannerParameters: the robot's planner_defaults over the planner's).
-inline double maxFingertipError(const planner::PlanningWorld& world,
-                                const planner::PlanRequest& request) {
-  const std::string name = "max_fingertip_error";
+/// A planner parameter's value in a request, else its default.
+inline double parameterOf(const planner::PlanningWorld& world, const planner::PlanRequest& request,
+                          const std::string& name) {
   if (const auto it = request.parameters.find(name); it != request.parameters.end())
     return std::stod(it->second);
   for (const planner::PlannerParameterInfo& p : planner::plannerParameters(world))
@@ -103,52 +104,14 @@ inline double maxFingertipError(const planner::PlanningWorld& world,
   return 0.0;
 }
 
-/// PlannedGrasp::epsilon_at_fingertips recomputed in the world frame:
-/// every fingertip of the plan's last configuration moved to the nearest
-/// point of the object's mesh (Embree's nearest-point query), with the mean
-/// normal of the triangles within 1e-9 m of it, on the side of the nearest
-/// planned contact's normal.
-inline double epsilonAtFingertips(const planner::PlanningWorld& world, const robot::Scene& scene,
-                                  const planner::PlanResult& result) {
-  const robot::RobotModel& robot = world.robot();
-  const db::ObjectGeometry& g = world.object(scene.target_object)->geometry;
-  TriangleMesh mesh;
-  mesh.vertices = g.mesh_vertices;
-  mesh.triangles = g.mesh_triangles;
-  const db::TriangleBvh bvh(mesh);
-  const robot::FingertipFrames tips =
-      robot::fingertipFrames(robot, robot::forwardKinematics(robot, result.path.back()));
-  grasp::GraspQualityRequest q;
-  q.positions.resize(3, tips.positions.cols());
-  q.normals.resize(3, tips.positions.cols());
-  for (Eigen::Index f = 0; f < tips.positions.cols(); ++f) {
-    const Eigen::Vector3d tip =
-        scene.target_pose.inverse() * (scene.robot_base * Eigen::Vector3d(tips.positions.col(f)));
-    const db::ClosestPoint nearest = bvh.closestPoint(tip);
-    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-    for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-      const Eigen::Vector3d a = mesh.vertices.row(mesh.triangles(t, 0)).transpose();
-      const Eigen::Vector3d b = mesh.vertices.row(mesh.triangles(t, 1)).transpose();
-      const Eigen::Vector3d c = mesh.vertices.row(mesh.triangles(t, 2)).transpose();
-      if ((db::closestPointOnTriangle(tip, a, b, c) - tip).norm() > nearest.distance + 1e-9)
-        continue;
-      if ((b - a).cross(c - a).norm() > 0.0) normal += (b - a).cross(c - a).normalized();
-    }
-    const Eigen::Vector3d onMesh = scene.target_pose * nearest.point;
-    Eigen::Index planned = 0;
-    (result.grasp.contacts_world.colwise() - onMesh).colwise().squaredNorm().minCoeff(&planned);
-    Eigen::Vector3d inward = result.grasp.inward_normals_world.col(planned);
-    if (normal.norm() > 1e-9) {
-      const Eigen::Vector3d along = scene.target_pose.linear() * -normal.normalized();
-      inward = along.dot(inward) < 0.0 ? Eigen::Vector3d(-along) : along;
-    }
-    q.positions.col(f) = onMesh;
-    q.normals.col(f) = inward;
-  }
-  q.center = scene.target_pose * g.center_of_mass;
-  q.torque_scale = g.rho;
-  q.torsional_friction = robot.torsionalFriction();
-  return grasp::graspQuality(q).epsilon;
+inline double maxFingertipError(const planner::PlanningWorld& world,
+                                const planner::PlanRequest& request) {
+  return parameterOf(world, request, "max_fingertip_error");
+}
+
+inline double maxPenetration(const planner::PlanningWorld& world,
+                             const planner::PlanRequest& request) {
+  return parameterOf(world, request, "max_penetration");
 }
 
 /// A fresh collision checker at `resolution` (the planner promises its
@@ -182,24 +145,39 @@ inline void expectValidPlan(const planner::PlanningWorld& world,
   EXPECT_TRUE(checker.isMotionValid(pregrasp, grasp, resolution, /*allowFingertipContact=*/true));
   EXPECT_TRUE(grasp.tail(robot.numHandDofs()).isApprox(result.grasp.hand_configuration));
 
-  // Some finger on each contact.
-  const FingertipFrames tips = fingertipFrames(robot, forwardKinematics(robot, grasp));
-  const Eigen::Matrix3Xd contacts = scene.robot_base.inverse() * result.grasp.contacts_world;
-  for (Eigen::Index c = 0; c < contacts.cols(); ++c) {
-    double nearest = 1e9;
-    for (Eigen::Index f = 0; f < tips.positions.cols(); ++f)
-      nearest = std::min(nearest, (tips.positions.col(f) - contacts.col(c)).norm());
-    EXPECT_LE(nearest, maxFingertipError(world, request) + 1e-9) << "contact " << c;
+  // The grasp as executed: each fingertip link touches the object's
+  // surface at its contact (within the closing's contact distance), the
+  // contact lies on the mesh, and epsilon there is the plan's.
+  const LinkPoses poses = forwardKinematics(robot, grasp);
+  TriangleMesh mesh{object.geometry.mesh_vertices, object.geometry.mesh_triangles};
+  const db::TriangleBvh bvh(mesh);
+  constexpr double kTouch = 1e-4 + 1e-6;  // grasp::ClosingOptions::contact_distance
+  ASSERT_EQ(result.grasp.contacts_world.cols(),
+            static_cast<Eigen::Index>(robot.fingertips().size()));
+  for (std::size_t f = 0; f < robot.fingertips().size(); ++f) {
+    const auto c = static_cast<Eigen::Index>(f);
+    const Eigen::Vector3d contact = result.grasp.contacts_world.col(c);
+    EXPECT_LE(bvh.closestPoint(scene.target_pose.inverse() * contact).distance, 1e-9)
+        << "contact " << f << " is not on the mesh";
+    const int link = robot.fingertips()[f].link;
+    const Eigen::Vector3d inLink =
+        (scene.robot_base * poses[static_cast<std::size_t>(link)]).inverse() * contact;
+    EXPECT_LE(signedDistance(robot.links()[static_cast<std::size_t>(link)], inLink), kTouch)
+        << "fingertip " << f << " does not touch its contact";
   }
+  EXPECT_LE(result.grasp.penetration, maxPenetration(world, request) + 1e-12);
   GraspQualityRequest q;
   q.positions = result.grasp.contacts_world;
   q.normals = result.grasp.inward_normals_world;
   q.center = scene.target_pose * object.geometry.center_of_mass;
   q.torque_scale = object.geometry.rho;
+  q.torsional_friction = robot.torsionalFriction();
   const double epsilon = graspQuality(q).epsilon;
   EXPECT_GT(epsilon, 0.0);
+  EXPECT_GE(epsilon, parameterOf(world, request, "min_epsilon") - 1e-12);
   EXPECT_NEAR(epsilon, result.grasp.epsilon, 1e-9);
-  EXPECT_NEAR(epsilonAtFingertips(world, scene, result), result.grasp.epsilon_at_fingertips, 1e-9);
+  // The planned fingertips were near the planned contacts (the search's filter).
+  EXPECT_LE(result.grasp.fingertip_error, maxFingertipError(world, request) + 1e-9);
 }
 
 /// Threads of this process (Linux: /proc/self/status), to see that a

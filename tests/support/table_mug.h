@@ -39,11 +39,13 @@ struct TableMug {
   const db::ObjectDatabase& object = *world.object("mug");
   robot::Scene scene = table();
   robot::CollisionChecker checker{world.robot(), scene, &object.geometry,
-                                  world.collisionMesh("mug")};
+                                  world.collisionMesh("mug"), world.surface("mug")};
   grasp::HftsSpace space{object, static_cast<int>(world.robot().fingertips().size())};
   grasp::GraspObjective objective{space, world.handMap()};
+  grasp::HandCloser closer{world.robot(), *world.surface("mug")};
   grasp::GraspConfigurator configurator{world.robot(), world.ik(),        world.thoroughHandMap(),
-                                        checker,       scene.target_pose, scene.robot_base};
+                                        checker,       scene.target_pose, scene.robot_base,
+                                        &closer};
   std::mt19937_64 rng{5};
   planner::GoalSamplingContext context{&space, &objective, &configurator, &checker, &rng};
   Eigen::VectorXd start = scene.startFor(world.robot().name()).value_or(world.robot().home());

@@ -110,6 +110,7 @@ class GraspObjective {
   /// the paper). Forgets the cached evaluations.
   void setHandCheck(HandCheck check);
   const HftsSpace& space() const { return space_; }
+  const ObjectiveOptions& options() const { return options_; }
   std::size_t evaluations() const { return size_; }
 
  private:

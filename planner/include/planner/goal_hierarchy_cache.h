@@ -8,10 +8,12 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <random>
 #include <unordered_set>
 #include <vector>
 
+#include "grasp/hand_closing.h"
 #include "grasp/hfts_space.h"
 
 namespace hfts::planner {
@@ -58,10 +60,19 @@ struct RatingWeights {
 /// A robot configuration stored for a cached node (the set C_n).
 struct CachedConfiguration {
   Eigen::VectorXd pregrasp;      ///< the hand opened by the pre-grasp angle
-  Eigen::VectorXd grasp;         ///< the hand closed on the contacts
+  Eigen::VectorXd grasp;         ///< see GraspConfiguration::grasp
   double fingertip_error = 0.0;  ///< m, see GraspConfiguration
+  /// How the hand closed on the object (stable leaves), else null.
+  std::shared_ptr<const grasp::HandClosure> closure;
+  /// Ferrari-Canny epsilon at the contacts the closed hand touches (0
+  /// without a closure or when not every pad touches).
+  double contact_epsilon = 0.0;
   bool collision_free = false;
-  bool goal = false;      ///< a valid goal (leaf, stable, free, fingertips on the contacts)
+  /// A valid goal: a stable leaf whose free pre-grasp's hand closes to pad
+  /// contacts with contact_epsilon >= min_epsilon, the closing motion and
+  /// the closed grasp free under the grasp rule, the planned fingertips
+  /// within max_fingertip_error of the contacts.
+  bool goal = false;
   bool returned = false;  ///< already handed to the motion planner
   FreeSpaceMemo memo;     ///< Omega and Gamma of the pre-grasp at the last rating
 };

@@ -20,6 +20,9 @@
 
 namespace hfts::planner {
 
+/// The default of min_epsilon (docs/planning.md#what-a-goal-is).
+inline constexpr double kDefaultMinEpsilon = 0.01;
+
 enum class GoalKind {
   kNone,         ///< nothing new (the paper's "bottom")
   kGoal,         ///< a stable leaf grasp with a collision-free pre-grasp
@@ -30,12 +33,16 @@ enum class GoalKind {
 struct GoalSample {
   GoalKind kind = GoalKind::kNone;
   Eigen::VectorXd configuration;  ///< the pre-grasp (goal) or the approximate goal
-  Eigen::VectorXd grasp;          ///< kGoal: the hand closed on the contacts
+  Eigen::VectorXd grasp;          ///< kGoal: the grasp as executed (the hand closed to contact)
   grasp::HftsNode node;           ///< the grasp's HFTS node
-  grasp::GraspContacts contacts;  ///< object frame, outward normals
-  double epsilon = 0.0;
-  double reachability = 0.0;  ///< R(h) (m)
+  grasp::GraspContacts contacts;  ///< the node's representative contacts (object frame, outward)
+  double epsilon = 0.0;           ///< of `contacts`: Q(h) as the search rated it
+  double reachability = 0.0;      ///< R(h) (m)
   double fingertip_error = 0.0;
+  /// kGoal: how the hand closed (its contacts, the palm it closed at) and
+  /// the epsilon at those contacts.
+  std::shared_ptr<const grasp::HandClosure> closure;
+  double contact_epsilon = 0.0;
 };
 
 /// What both samplers share: the object's HFTS, Eq. (1), Phi(h) and the
@@ -50,8 +57,12 @@ struct GoalSamplingContext {
   /// Resolution at which the closing motion (pre-grasp -> grasp) is checked
   /// with the grasp-aware collision rule.
   double approach_resolution = 0.0025;
-  /// Largest fingertip-to-contact distance of a goal (m).
+  /// Largest fingertip-to-contact distance of a goal's planned hand
+  /// posture (m): a search-time filter, not what makes a goal.
   double max_fingertip_error = 0.005;
+  /// Smallest Ferrari-Canny epsilon at the contacts where the closed hand
+  /// touches the object for a goal.
+  double min_epsilon = kDefaultMinEpsilon;
   /// Whether a stable leaf without a goal tries the hand's other postures
   /// (GoalSamplingSettings::other_postures).
   bool other_postures = false;
@@ -100,6 +111,11 @@ class GraspGoalSampler : public GoalSampler {
                                                              double epsilon);
   GoalSample describe(const grasp::HftsNode& node, const CachedConfiguration& config,
                       GoalKind kind);
+  /// Ferrari-Canny epsilon at the contacts where the closed hand touches.
+  double contactQuality(const grasp::HandClosure& closure) const;
+  /// Whether a collision-free configuration of a stable leaf is a goal
+  /// (CachedConfiguration::goal).
+  bool isGoal(const CachedConfiguration& c) const;
   /// Counts a leaf grasp that gave no goal under its first reason.
   void countRejection(double epsilon, const std::vector<grasp::GraspConfigurations>& postures,
                       const std::vector<CachedConfiguration>& free);
@@ -179,8 +195,15 @@ struct GoalSamplingSettings {
   HftsGoalSamplerOptions coupled;     ///< "w_f", "w_c", "n_a", "kappa", "i_min", "i_max"
   int decoupled_iterations = 20;      ///< i of the decoupled sampler ("iterations")
   grasp::ObjectiveOptions objective;  ///< "alpha", "friction", "cone_edges"
-  /// Largest fingertip-to-contact distance of a goal, m ("max_fingertip_error").
+  /// Largest fingertip-to-contact distance of a goal's planned hand
+  /// posture, m ("max_fingertip_error"): which grasps are worth closing.
   double max_fingertip_error = 0.005;
+  /// Smallest Ferrari-Canny epsilon of a goal at the contacts where the
+  /// hand, closed from the pre-grasp, touches the object ("min_epsilon").
+  double min_epsilon = kDefaultMinEpsilon;
+  /// How deep (m) a fingertip may be inside the object at the grasp and
+  /// while closing; every other link must stay clear ("max_penetration").
+  double max_penetration = robot::kDefaultMaxPenetration;
   /// 1: the HFTS holds only the contacts a fingertip can touch where the
   /// object stands (grasp/contact_mask.h), and a plan fails at once when
   /// those allow no stable grasp; 0: every contact, as in the paper

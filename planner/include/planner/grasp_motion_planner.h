@@ -82,30 +82,39 @@ struct ExploredNode {
   bool goal = false;                 ///< it gave a collision-free goal configuration
 };
 
+/// The grasp a plan ends in: the grasp as executed, the hand closed from
+/// the pre-grasp until every fingertip pad touches the object.
 struct PlannedGrasp {
   grasp::HftsNode node;
-  Eigen::Matrix3Xd contacts_object;  ///< one column per finger
+  /// Where the closed hand's fingertips touch the object's surface, one
+  /// column per fingertip (robot order), and the mesh's normals there.
+  Eigen::Matrix3Xd contacts_object;
   Eigen::Matrix3Xd contacts_world;
   Eigen::Matrix3Xd inward_normals_object;
   Eigen::Matrix3Xd inward_normals_world;
+  /// Ferrari-Canny epsilon at those contacts (>= min_epsilon).
   double epsilon = 0.0;
-  double reachability = 0.0;     ///< R(h) (m)
-  double fingertip_error = 0.0;  ///< m, at the final configuration
-  /// Epsilon with the contacts where the fingertips of the final
-  /// configuration are (each moved to the nearest point of the object's
-  /// mesh), instead of the HFTS contacts they are within
-  /// max_fingertip_error of.
-  double epsilon_at_fingertips = 0.0;
-  Eigen::VectorXd hand_configuration;
+  /// The HFTS node's representative contacts (object frame, one column
+  /// per contact) and their epsilon: the grasp the search planned.
+  Eigen::Matrix3Xd planned_contacts_object;
+  double planned_epsilon = 0.0;
+  double reachability = 0.0;  ///< R(h) (m)
+  /// Largest distance of the planned hand posture's fingertips from the
+  /// planned contacts (m; at most max_fingertip_error).
+  double fingertip_error = 0.0;
+  /// How deep the deepest fingertip link is inside the object at the
+  /// grasp (m, >= 0, at most max_penetration); no other link touches it.
+  double penetration = 0.0;
+  Eigen::VectorXd hand_configuration;  ///< the closed hand
 };
 
 struct PlanResult {
   bool success = false;
   PlanFailure failure = PlanFailure::kNone;
   std::string message;  ///< human-readable reason when unsuccessful
-  /// Start, ..., pre-grasp, grasp (hand closed on the object): the last
-  /// segment was checked with the grasp-aware rule, all others with the
-  /// full rule at the planner's final resolution.
+  /// Start, ..., pre-grasp, grasp (the hand closed until its pads touch
+  /// the object): the last segment was checked with the grasp rule, all
+  /// others with the full rule at the planner's final resolution.
   std::vector<Eigen::VectorXd> path;
   std::vector<std::string> joint_names;
   /// Where the object was: the request's object_pose, or the scene's

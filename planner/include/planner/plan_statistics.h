@@ -29,12 +29,18 @@ struct GraspRejections {
   std::uint64_t unstable = 0;   ///< epsilon = 0: no force closure
   std::uint64_t no_arm_ik = 0;  ///< no arm IK solution for the palm pose
   std::uint64_t out_of_hand_reach =
-      0;                              ///< no fingertips within max_fingertip_error of the contacts
-  std::uint64_t colliding = 0;        ///< every configuration reaching the contacts collides
+      0;                        ///< no fingertips within max_fingertip_error of the contacts
+  std::uint64_t colliding = 0;  ///< every configuration reaching the contacts collides
+  /// Closed from the pre-grasp, some finger does not end touching with its
+  /// pad (joint limit, another part first).
+  std::uint64_t no_pad_contact = 0;
+  /// The contacts the closed hand touches have epsilon below min_epsilon.
+  std::uint64_t weak_at_contacts = 0;
   std::uint64_t closing_blocked = 0;  ///< the closing motion (pre-grasp -> grasp) collides
 
   std::uint64_t total() const {
-    return unstable + no_arm_ik + out_of_hand_reach + colliding + closing_blocked;
+    return unstable + no_arm_ik + out_of_hand_reach + colliding + no_pad_contact +
+           weak_at_contacts + closing_blocked;
   }
 };
 

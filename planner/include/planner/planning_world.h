@@ -17,11 +17,13 @@
 
 namespace hfts::robot {
 class CollisionMesh;
+class ObjectSurface;
 }  // namespace hfts::robot
 
 namespace hfts::planner {
 
-/// The object databases of a folder with their collision hierarchies.
+/// The object databases of a folder with their collision hierarchies and
+/// exact surfaces.
 /// Immutable once built; the worlds of several robots share one.
 class ObjectLibrary {
  public:
@@ -41,11 +43,15 @@ class ObjectLibrary {
   const db::ObjectDatabase* object(const std::string& name) const;
   /// The collision hierarchy of an object's mesh; nullptr for an unknown name.
   const robot::CollisionMesh* collisionMesh(const std::string& name) const;
+  /// The object's exact surface (signed distances, the mesh's normals);
+  /// nullptr for an unknown name.
+  const robot::ObjectSurface* surface(const std::string& name) const;
   std::vector<std::string> names() const;
 
  private:
   std::map<std::string, db::ObjectDatabase> objects_;
   std::map<std::string, std::unique_ptr<const robot::CollisionMesh>> collision_meshes_;
+  std::map<std::string, std::unique_ptr<const robot::ObjectSurface>> surfaces_;
 };
 
 /// What plans are made with: the robot, its hand reachability map and the
@@ -85,6 +91,11 @@ class PlanningWorld {
   /// objects; nullptr for an unknown name.
   const robot::CollisionMesh* collisionMesh(const std::string& name) const {
     return objects_->collisionMesh(name);
+  }
+  /// The object's exact surface, built once with the objects; nullptr for
+  /// an unknown name.
+  const robot::ObjectSurface* surface(const std::string& name) const {
+    return objects_->surface(name);
   }
   std::vector<std::string> objectNames() const { return objects_->names(); }
   const std::shared_ptr<const ObjectLibrary>& objects() const { return objects_; }

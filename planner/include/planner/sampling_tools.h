@@ -20,7 +20,7 @@ namespace hfts::planner {
 /// The Eq. (1) objective and Phi(h) on one thread's collision checker.
 struct SamplingTools {
   /// `world`, `scene`, `space` and `checker` must outlive the tools;
-  /// `scene` holds the target's pose. The objective is set up from
+  /// `scene` holds the target's pose and name. The objective is set up from
   /// `settings` (its options, hand_clearance: for a hand with a free turn
   /// blocked only when blocked at each of palm_turns turns), Phi(h) with its
   /// palm_turns.
@@ -44,6 +44,9 @@ struct SamplingTools {
   const grasp::HftsSpace& space;
   robot::CollisionChecker& checker;
   grasp::GraspObjective objective;
+  /// Closes the hand on the target (null when the world has no surface
+  /// for it: no grasp is then a goal).
+  std::unique_ptr<const grasp::HandCloser> closer;
   grasp::GraspConfigurator configurator;
 };
 

@@ -15,6 +15,13 @@
 
 namespace hfts::robot {
 
+class ObjectSurface;  // object_surface.h
+
+/// How deep (m) a fingertip link may be inside the target under the grasp
+/// rule, by default: the depth a fingertip pad's rubber takes when it
+/// presses (CollisionChecker::setMaxPenetration).
+inline constexpr double kDefaultMaxPenetration = 0.001;
+
 /// The first colliding pair found, for diagnostics.
 struct CollisionPair {
   std::string first;
@@ -48,10 +55,13 @@ class CollisionChecker {
  public:
   /// `target` (may be null: no target object) is placed at
   /// scene.target_pose. `targetMesh`, when given, is the prebuilt hierarchy
-  /// of target's mesh (else it is built here). The model, target and
-  /// targetMesh must outlive the checker.
+  /// of target's mesh (else it is built here); `targetSurface`, when given,
+  /// the target's ObjectSurface (else built here when the grasp rule first
+  /// needs it). The model, target, targetMesh and targetSurface must
+  /// outlive the checker.
   CollisionChecker(const RobotModel& model, const Scene& scene, const db::ObjectGeometry* target,
-                   const CollisionMesh* targetMesh = nullptr);
+                   const CollisionMesh* targetMesh = nullptr,
+                   const ObjectSurface* targetSurface = nullptr);
   ~CollisionChecker();
   CollisionChecker(const CollisionChecker&) = delete;
   CollisionChecker& operator=(const CollisionChecker&) = delete;
@@ -60,9 +70,18 @@ class CollisionChecker {
   /// itself (except disabled link pairs). q must be valid (numDofs values).
   bool inCollision(const Eigen::VectorXd& q, CollisionPair* pair = nullptr);
 
-  /// The grasp-aware rule: like inCollision, but the fingertip links may
-  /// touch the target object.
+  /// The grasp rule: like inCollision, but a fingertip link may touch the
+  /// target object and be inside it by at most maxPenetration(), measured
+  /// by the exact signed distance to the target's mesh (ObjectSurface);
+  /// every other link must stay clear of the target, and every link,
+  /// fingertips included, clear of the obstacles (the support too).
   bool inCollisionAllowingFingertipContact(const Eigen::VectorXd& q, CollisionPair* pair = nullptr);
+
+  /// The grasp rule's allowed fingertip depth in the target (m;
+  /// kDefaultMaxPenetration unless set). Throws InvalidArgument
+  /// ("max_penetration") for a negative or non-finite depth.
+  void setMaxPenetration(double depth);
+  double maxPenetration() const;
 
   /// True when the target object intersects an obstacle (a scene that
   /// places the object inside something).
@@ -91,10 +110,10 @@ class CollisionChecker {
   /// True when the hand alone, placed as handTouchesObstacles places it,
   /// intersects anything of the scene including the target object, or one
   /// of its own links another (pairs the robot config disables excepted).
-  /// `allowFingertipContact` selects the grasp rule (fingertip links may
-  /// touch the target). Asks whether a hand without an arm could take a
-  /// grasp (planner::holdability); checkCount() does not change. Throws as
-  /// handTouchesObstacles does.
+  /// `allowFingertipContact` selects the grasp rule (a fingertip link may
+  /// touch the target, up to maxPenetration() deep). Asks whether a hand without an arm could take
+  /// a grasp (planner::holdability); checkCount() does not change. Throws as handTouchesObstacles
+  /// does.
   bool handInCollision(const Eigen::Isometry3d& palm, const Eigen::VectorXd& hand,
                        bool allowFingertipContact, CollisionPair* pair = nullptr);
 

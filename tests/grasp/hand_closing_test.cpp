@@ -1,0 +1,191 @@
+#include "grasp/hand_closing.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "bundled_objects.h"
+#include "grasp/grasp_configurations.h"
+#include "grasp/hand_reachability.h"
+#include "hand_fixture.h"
+#include "hfts_db/invalid_argument.h"
+#include "robot/kinematics.h"
+#include "robot/link_spheres.h"
+#include "robot_fixture.h"
+#include "test_meshes.h"
+
+namespace hfts::grasp {
+namespace {
+
+const robot::RobotModel& panda() {
+  static const robot::RobotModel model =
+      robot::RobotModel::load(test::sourcePath("robots/panda_gripper/panda_gripper.json"));
+  return model;
+}
+
+/// A cube of side `size` centred at `center` (object frame = its mesh's).
+db::ObjectGeometry cube(double size, const Eigen::Vector3d& center = Eigen::Vector3d::Zero()) {
+  const TriangleMesh mesh = test::cube(size, center);
+  db::ObjectGeometry g;
+  g.mesh_vertices = mesh.vertices;
+  g.mesh_triangles = mesh.triangles;
+  return g;
+}
+
+/// The Panda's palm pose (object frame) that puts the midpoint between its
+/// fingertip points at the origin, jaws along the object's y axis.
+Eigen::Isometry3d palmAroundOrigin() {
+  Eigen::VectorXd q = panda().home();
+  q.tail(1) << 0.04;
+  const robot::LinkPoses poses = robot::forwardKinematics(panda(), q);
+  const robot::FingertipFrames tips = robot::fingertipFrames(panda(), poses);
+  const Eigen::Isometry3d palm = poses[static_cast<std::size_t>(panda().palmLink())];
+  const Eigen::Vector3d middle = (tips.positions.col(0) + tips.positions.col(1)) / 2;
+  return Eigen::Translation3d(-(palm.inverse() * middle)) * Eigen::Isometry3d::Identity();
+}
+
+/// Signed distance from fingertip f's link to `point` (object frame) at
+/// the closure's posture and palm: 0 when the point is on the link.
+double linkToPoint(const HandClosure& closure, std::size_t f, const Eigen::Vector3d& point) {
+  Eigen::VectorXd q = panda().home();
+  q.tail(1) = closure.hand;
+  const robot::LinkPoses poses = robot::forwardKinematics(panda(), q);
+  const int link = panda().fingertips()[f].link;
+  const Eigen::Isometry3d toObject =
+      closure.palm * poses[static_cast<std::size_t>(panda().palmLink())].inverse();
+  return robot::signedDistance(
+      panda().links()[static_cast<std::size_t>(link)],
+      (toObject * poses[static_cast<std::size_t>(link)]).inverse() * point);
+}
+
+TEST(HandCloser, APadShortOfTheSurfaceClosesOnToContact) {
+  // A 5 cm cube between jaws opened to 8 cm; the planned grasp leaves each
+  // pad 5 mm short of its face (jaws at 3 cm): the closing goes on past it.
+  const db::ObjectGeometry box = cube(0.05);
+  const robot::ObjectSurface surface(box);
+  const HandCloser closer(panda(), surface);
+  const HandClosure closed = closer.close(palmAroundOrigin(), Eigen::VectorXd::Constant(1, 0.04),
+                                          Eigen::VectorXd::Constant(1, 0.03));
+  ASSERT_TRUE(closed.touches()) << closed.failure(panda());
+  EXPECT_EQ(closed.failure(panda()), "");
+  EXPECT_NEAR(closed.hand(0), 0.025, ClosingOptions{}.contact_distance);
+  EXPECT_GE(closed.hand(0), 0.025);  // never into the cube
+  for (std::size_t f = 0; f < 2; ++f) {
+    const FingerClosure& finger = closed.fingers[f];
+    EXPECT_EQ(finger.stop, FingerStop::kPadContact);
+    EXPECT_NEAR(finger.travel, 1.5, 0.02);
+    EXPECT_NEAR(std::abs(finger.contact.y()), 0.025, 1e-9) << "on a jaw's face";
+    EXPECT_NEAR(std::abs(finger.outward_normal.y()), 1.0, 1e-9);
+    EXPECT_LE(linkToPoint(closed, f, finger.contact), ClosingOptions{}.contact_distance + 1e-9);
+  }
+  // The contacts oppose each other: a pinch.
+  const GraspContacts c = closed.contacts();
+  EXPECT_LT(c.outward_normals.col(0).dot(c.outward_normals.col(1)), -0.999);
+  EXPECT_TRUE(closed.palm.isApprox(palmAroundOrigin(), 1e-12)) << "centred already";
+}
+
+TEST(HandCloser, AGrippersPalmMovesSoThatBothJawsTouch) {
+  // The cube 3 mm towards the left jaw (+y): that jaw would touch first and
+  // leave the right one 6 mm off; a gripper centres the object between its
+  // jaws, the planner centres the palm on the object instead.
+  const db::ObjectGeometry box = cube(0.05, {0.0, 0.003, 0.0});
+  const robot::ObjectSurface surface(box);
+  const HandClosure closed = HandCloser(panda(), surface)
+                                 .close(palmAroundOrigin(), Eigen::VectorXd::Constant(1, 0.04),
+                                        Eigen::VectorXd::Constant(1, 0.03));
+  ASSERT_TRUE(closed.touches()) << closed.failure(panda());
+  const Eigen::Vector3d moved = closed.palm.translation() - palmAroundOrigin().translation();
+  EXPECT_NEAR(moved.y(), 0.003, 2e-4) << moved.transpose();
+  EXPECT_NEAR(moved.x(), 0.0, 1e-9);
+  EXPECT_NEAR(moved.z(), 0.0, 1e-9);
+  EXPECT_NEAR(closed.hand(0), 0.025, 2e-4);
+
+  // Without room to centre (one jaw held back by nothing it can reach: the
+  // object beyond the other's stroke), the other jaw stops at its limit.
+  const db::ObjectGeometry far = cube(0.02, {0.0, 0.0, 0.5});
+  const robot::ObjectSurface nowhere(far);
+  const HandClosure empty = HandCloser(panda(), nowhere)
+                                .close(palmAroundOrigin(), Eigen::VectorXd::Constant(1, 0.04),
+                                       Eigen::VectorXd::Constant(1, 0.03));
+  EXPECT_FALSE(empty.touches());
+  for (const FingerClosure& f : empty.fingers) EXPECT_EQ(f.stop, FingerStop::kJointLimit);
+  EXPECT_DOUBLE_EQ(empty.hand(0), 0.0);  // closed to the limit
+  EXPECT_NE(empty.failure(panda()).find("joint limit"), std::string::npos);
+}
+
+TEST(HandCloser, AFingerThatMeetsTheObjectWithAnotherPartIsNotAPadContact) {
+  // Opening the jaws from 2 to 4 cm drives the left jaw's back (its outer
+  // face, 16 mm behind the pad) into a block beside it: another part of
+  // the finger than its pad, which stops it.
+  const db::ObjectGeometry block = cube(0.01, {0.0, 0.045, 0.0});
+  const robot::ObjectSurface surface(block);
+  const HandClosure closed = HandCloser(panda(), surface)
+                                 .close(palmAroundOrigin(), Eigen::VectorXd::Constant(1, 0.02),
+                                        Eigen::VectorXd::Constant(1, 0.04));
+  ASSERT_EQ(closed.fingers.size(), 2u);
+  EXPECT_EQ(closed.fingers[0].stop, FingerStop::kOtherContact) << toString(closed.fingers[0].stop);
+  EXPECT_EQ(closed.fingers[0].link, "panda_leftfinger");
+  EXPECT_EQ(closed.fingers[1].stop, FingerStop::kCoupled);
+  EXPECT_NEAR(closed.hand(0), 0.024, ClosingOptions{}.contact_distance);
+  EXPECT_FALSE(closed.touches());
+  EXPECT_NE(closed.failure(panda()).find("another part"), std::string::npos)
+      << closed.failure(panda());
+}
+
+TEST(HandCloser, TheSdhClosesOnTheMugWithEveryPadOnTheSurface) {
+  // Leaf grasps of the mug as the thorough hand map answers them: where
+  // every pad touches, each fingertip link is within the contact distance
+  // of its contact, and no closing passed through the mug.
+  const robot::RobotModel& sdh = test::kr5Sdh();
+  const db::ObjectDatabase mug = test::bundledObject(test::bundledMeshDir() / "mug.ply");
+  const robot::ObjectSurface surface(mug.geometry);
+  const HandCloser closer(sdh, surface);
+  const HftsSpace space(mug, 3);
+  const HandReachability& hand = test::kr5SdhReachability();
+  std::mt19937_64 rng(7);
+  int touching = 0;
+  for (int k = 0; k < 400 && touching < 5; ++k) {
+    HftsNode node = space.root();
+    while (!space.isLeaf(node))
+      node = space.child(
+          node, std::uniform_int_distribution<std::uint64_t>(0, space.numChildren(node) - 1)(rng));
+    const GraspContacts planned = space.representative(node);
+    const HandQuery h = hand.query(planned.positions, planned.outward_normals);
+    if (h.position_error > 0.008) continue;  // what the planner would not close
+    Eigen::VectorXd q = sdh.home();
+    q.tail(sdh.numHandDofs()) = h.hand_configuration;
+    const HandClosure closed =
+        closer.close(h.palm_pose, openedHand(sdh, h.hand_configuration), h.hand_configuration);
+    if (!closed.touches()) continue;
+    ++touching;
+    q.tail(sdh.numHandDofs()) = closed.hand;
+    const robot::LinkPoses poses = robot::forwardKinematics(sdh, q);
+    const Eigen::Isometry3d toObject =
+        closed.palm * poses[static_cast<std::size_t>(sdh.palmLink())].inverse();
+    for (std::size_t f = 0; f < 3; ++f) {
+      const auto link = static_cast<std::size_t>(sdh.fingertips()[f].link);
+      const robot::Clearance gap = surface.linkClearance(sdh.links()[link], toObject * poses[link]);
+      EXPECT_LE(gap.distance, ClosingOptions{}.contact_distance);
+      EXPECT_LE(surface.linkDepth(sdh.links()[link], toObject * poses[link], 1e-4), 1e-4);
+      EXPECT_LE(std::abs(surface.nearest(closed.fingers[f].contact).signed_distance), 1e-9);
+    }
+  }
+  EXPECT_EQ(touching, 5) << "too few leaves closed on to the mug to tell";
+}
+
+TEST(HandCloser, RefusesPosturesOfTheWrongSizeAndBadOptions) {
+  const db::ObjectGeometry box = cube(0.05);
+  const robot::ObjectSurface surface(box);
+  const HandCloser closer(panda(), surface);
+  EXPECT_THROW(closer.close(palmAroundOrigin(), Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(1)),
+               InvalidArgument);
+  EXPECT_THROW(
+      closer.close(palmAroundOrigin(), Eigen::VectorXd::Constant(1, NAN), Eigen::VectorXd::Zero(1)),
+      InvalidArgument);
+  ClosingOptions bad;
+  bad.contact_distance = 0.0;
+  EXPECT_THROW(HandCloser(panda(), surface, bad), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace hfts::grasp
