@@ -122,6 +122,12 @@ Eigen::VectorXd nearTarget(const robot::RobotModel& m, const robot::ArmIk& ik,
   return q;
 }
 
+bool isFingertip(const robot::RobotModel& m, const std::string& link) {
+  return std::any_of(m.fingertips().begin(), m.fingertips().end(), [&](const robot::Fingertip& f) {
+    return m.links()[static_cast<std::size_t>(f.link)].name == link;
+  });
+}
+
 /// A collision-free start and an end 0.5 rad away (Eq. (3) metric), inside
 /// the limits; every state at `resolution` compared.
 void compareMotion(const robot::RobotModel& m, Comparison& c, double resolution,
@@ -187,7 +193,10 @@ int main(int argc, char** argv) {
             i % 2 == 0 ? uniform(model, rng) : nearTarget(model, ik, scene, centre, rng);
         const bool colliding = c.compare(q, t);
         t.colliding += colliding;
-        t.fingertipOnly += colliding && !c.fcl().inCollisionAllowingFingertipContact(q);
+        // A fingertip on the target: the grasp rule measured its depth.
+        robot::CollisionPair pair;
+        t.fingertipOnly += colliding && c.fcl().inCollision(q, &pair) &&
+                           pair.second.rfind("target", 0) == 0 && isFingertip(model, pair.first);
       }
       t.configurations = configurations;
       t.settled = static_cast<long>(c.settled());

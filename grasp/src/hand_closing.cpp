@@ -8,6 +8,7 @@
 
 #include "hfts_db/invalid_argument.h"
 #include "robot/kinematics.h"
+#include "robot/link_spheres.h"
 
 namespace hfts::grasp {
 
@@ -220,7 +221,7 @@ HandCloser::Touch HandCloser::firstTouch(const Finger& finger, const Eigen::Isom
     std::vector<std::size_t> sliding;
     for (std::size_t i = 0; i < finger.links.size(); ++i) {
       const auto l = static_cast<std::size_t>(finger.links[i]);
-      gap[i] = surface_.linkClearance(linkOf(i), poses[l]);
+      gap[i] = clearance(l, poses[l]);
       // Apart from the surface a link is outside or wholly inside: at the
       // start, tell which (later it cannot have passed through it).
       if (step == 0 && gap[i].distance > 0.0 &&
@@ -230,7 +231,10 @@ HandCloser::Touch HandCloser::firstTouch(const Finger& finger, const Eigen::Isom
         return out;
       }
       if (gap[i].distance > options_.contact_distance) {
-        if (speed[i] > 0.0) advance = std::min(advance, gap[i].distance / speed[i]);
+        // Aim at half the contact distance, so that no step ends touching
+        // (where the nearest points are not defined).
+        if (speed[i] > 0.0)
+          advance = std::min(advance, (gap[i].distance - options_.contact_distance / 2) / speed[i]);
         continue;
       }
       if (pushesIn(gap[i], poses[l], posesAt(t + kProbeStep)[l])) {
@@ -253,7 +257,7 @@ HandCloser::Touch HandCloser::firstTouch(const Finger& finger, const Eigen::Isom
       if (surface_.linkClearance(linkOf(i), ahead[l]).distance > 0.0) continue;
       if (surface_
               .linkDistance(linkOf(i), ahead[l], options_.contact_distance / 4,
-                            -options_.contact_distance)
+                            -options_.contact_distance, -options_.contact_distance)
               .lower < -options_.contact_distance) {
         stopAt(finger, i, poses, gap[i], out);
         return out;
@@ -263,6 +267,17 @@ HandCloser::Touch HandCloser::firstTouch(const Finger& finger, const Eigen::Isom
   }
   out.stop = FingerStop::kStuck;
   return out;
+}
+
+robot::Clearance HandCloser::clearance(std::size_t link, const Eigen::Isometry3d& pose) const {
+  // The link's spheres against the object's distance grid first: a few
+  // look-ups where FCL's mesh distance costs a fraction of a millisecond.
+  robot::Clearance far;
+  far.distance = std::numeric_limits<double>::infinity();
+  for (const robot::LinkSphere& s : model_.spheres().links[link].spheres)
+    far.distance = std::min(far.distance, surface_.gridBound(pose * s.center) - s.radius);
+  if (far.distance > kNear) return far;
+  return surface_.linkClearance(model_.links()[link], pose);
 }
 
 bool HandCloser::pushesIn(const robot::Clearance& gap, const Eigen::Isometry3d& pose,
@@ -283,6 +298,11 @@ void HandCloser::stopAt(const Finger& finger, std::size_t i, const robot::LinkPo
   out.surface = gap.distance > 0.0
                     ? surface_.nearest(gap.on_surface)
                     : surface_.linkDistance(link, pose, options_.contact_distance / 4).surface;
+  // The contact normal is the smooth side's: the mesh's inside a face, the
+  // finger's where it touches an edge or a corner of the mesh. The line
+  // between the two nearest points is both.
+  constexpr double kSeparated = 1e-5;
+  if (gap.distance > kSeparated) out.surface.normal = (gap.on_link - gap.on_surface).normalized();
   out.link = l;
   const robot::Fingertip& tip = model_.fingertips()[static_cast<std::size_t>(finger.tip)];
   const Eigen::Vector3d pad = pose.linear() * tip.normal;
@@ -354,6 +374,40 @@ HandClosure HandCloser::closeAt(const Eigen::Isometry3d& palm, const Eigen::Vect
   return out;
 }
 
+Eigen::Isometry3d HandCloser::squared(const HandClosure& closure, const std::vector<Touch>& touches,
+                                      const Eigen::VectorXd& open) const {
+  // A parallel gripper closing on two nearly opposite faces turns the
+  // object (or its pads give) until the jaws lie flat on them; a rigid jaw
+  // a few degrees off touches with its edge instead, centimetres from its
+  // pad. The planner turns the palm about the point between the fingertips
+  // so that the first jaw's pad normal points along the faces' common
+  // normal.
+  constexpr double kFlat = 0.9063;       // faces within 25 degrees of opposite
+  constexpr double kSquare = 0.0017453;  // 0.1 degree: square enough
+  if (!jaws_) return closure.palm;
+  const auto [first, second] = *jaws_;
+  if (touches[first].link < 0 || touches[second].link < 0) return closure.palm;
+  // The faces under the pads' own points: a tilted jaw may touch an edge
+  // first, whose normal says nothing of the face it should lie on.
+  const robot::LinkPoses poses = handPoses(model_, closure.palm, open);
+  const robot::Fingertip& tipA = model_.fingertips()[first];
+  const robot::Fingertip& tipB = model_.fingertips()[second];
+  const Eigen::Vector3d na =
+      surface_.nearest(poses[static_cast<std::size_t>(tipA.link)] * tipA.point).normal;
+  const Eigen::Vector3d nb =
+      surface_.nearest(poses[static_cast<std::size_t>(tipB.link)] * tipB.point).normal;
+  if (na.dot(nb) > -kFlat) return closure.palm;
+  const Eigen::Vector3d pad = poses[static_cast<std::size_t>(tipA.link)].linear() * tipA.normal;
+  const Eigen::Vector3d along = (nb - na).normalized();
+  const double angle = std::acos(std::clamp(pad.dot(along), -1.0, 1.0));
+  if (angle < kSquare || angle > std::acos(kFlat)) return closure.palm;
+  const Eigen::Vector3d pivot = (poses[static_cast<std::size_t>(tipA.link)] * tipA.point +
+                                 poses[static_cast<std::size_t>(tipB.link)] * tipB.point) /
+                                2;
+  return Eigen::Translation3d(pivot) * Eigen::Quaterniond::FromTwoVectors(pad, along) *
+         Eigen::Translation3d(-pivot) * closure.palm;
+}
+
 Eigen::Isometry3d HandCloser::centred(const HandClosure& closure, const std::vector<Touch>& touches,
                                       const Eigen::VectorXd& open,
                                       const Eigen::VectorXd& direction) const {
@@ -397,7 +451,8 @@ HandClosure HandCloser::close(const Eigen::Isometry3d& palm, const Eigen::Vector
   std::vector<Touch> touches;
   HandClosure closure = closeAt(palm, open, direction, touches);
   for (int round = 0; round < options_.centering_rounds; ++round) {
-    const Eigen::Isometry3d moved = centred(closure, touches, open, direction);
+    Eigen::Isometry3d moved = squared(closure, touches, open);
+    if (moved.matrix() == closure.palm.matrix()) moved = centred(closure, touches, open, direction);
     if (moved.matrix() == closure.palm.matrix()) break;
     closure = closeAt(moved, open, direction, touches);
   }

@@ -130,7 +130,9 @@ bool withinAllowedDepth(const Object& shape, const Tag& tag, const GraspContactR
   primitive.type = static_cast<CollisionShape::Type>(tag.primitive_type);
   primitive.size = tag.primitive_size;
   const double allowed = -rule.maxPenetration;
-  return rule.surface->shapeDistance(primitive, rule.worldToObject * pose, kDepthTolerance, allowed)
+  return rule.surface
+             ->shapeDistance(primitive, rule.worldToObject * pose, kDepthTolerance, allowed,
+                             allowed)
              .lower >= allowed;
 }
 

@@ -179,7 +179,7 @@ SurfacePoint ObjectSurface::nearest(const Eigen::Vector3d& p) const {
 
 ShapeDistance ObjectSurface::shapeDistance(const CollisionShape& shape,
                                            const Eigen::Isometry3d& pose, double tolerance,
-                                           double stopAbove) const {
+                                           double stopAbove, double stopBelow) const {
   if (!(tolerance > 0.0)) throw InvalidArgument("tolerance", "must be > 0");
   ShapeDistance best;
   best.shape_point = pose.translation();
@@ -220,7 +220,8 @@ ShapeDistance ObjectSurface::shapeDistance(const CollisionShape& shape,
         push(-extent + half.cwiseProduct(Eigen::Vector3d(2 * i + 1, 2 * j + 1, 2 * k + 1)), half);
   while (!open.empty()) {
     const Cell cell = open.top();
-    if (cell.bound >= found - tolerance || cell.bound > stopAbove || evaluations >= kMaxEvaluations)
+    if (cell.bound >= found - tolerance || cell.bound > stopAbove || found < stopBelow ||
+        evaluations >= kMaxEvaluations)
       break;
     open.pop();
     if (!cell.exact) {
@@ -253,7 +254,7 @@ Clearance ObjectSurface::linkClearance(const Link& link, const Eigen::Isometry3d
       geometry = std::make_shared<fcl::Sphered>(shape.size.x());
     const Eigen::Isometry3d pose = linkPose * shape.origin;
     const fcl::CollisionObjectd object(geometry, pose.linear(), pose.translation());
-    fcl::DistanceRequestd request(true);
+    fcl::DistanceRequestd request(true, false, 0.0, 0.0, 1e-6, fcl::GST_INDEP);
     fcl::DistanceResultd result;
     // The mesh first: FCL 0.7 gives the mesh's nearest point first then, in
     // the mesh's frame (the object frame); the shape's it gives in the
@@ -283,11 +284,13 @@ double ObjectSurface::linkDepth(const Link& link, const Eigen::Isometry3d& linkP
 }
 
 ShapeDistance ObjectSurface::linkDistance(const Link& link, const Eigen::Isometry3d& linkPose,
-                                          double tolerance, double stopAbove) const {
+                                          double tolerance, double stopAbove,
+                                          double stopBelow) const {
   ShapeDistance best;
   best.lower = std::numeric_limits<double>::infinity();
   for (const CollisionShape& shape : link.shapes) {
-    const ShapeDistance d = shapeDistance(shape, linkPose * shape.origin, tolerance, stopAbove);
+    const ShapeDistance d =
+        shapeDistance(shape, linkPose * shape.origin, tolerance, stopAbove, stopBelow);
     if (d.lower < best.lower) best = d;
   }
   return best;

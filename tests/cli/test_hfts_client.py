@@ -71,8 +71,10 @@ class CommandLine(ClientTest):
         lines = text.splitlines()
         self.assertRegex(lines[0],
                          r"^plan: success \(kr5_sdh, bin, blob, coupled, seed 1\) in [\d.]+ s$")
-        self.assertRegex(lines[1], r"^grasp: epsilon [\d.e-]+, reachability [\d.e-]+ m, "
-                                   r"fingertip error [\d.e-]+ m \(epsilon there [\d.e-]+\), "
+        self.assertRegex(lines[1], r"^grasp \(the hand closed until its pads touch\): "
+                                   r"epsilon [\d.e-]+ at the contacts touched \(planned "
+                                   r"[\d.e-]+\), penetration [\d.e-]+ mm, reachability "
+                                   r"[\d.e-]+ m, planned fingertip error [\d.e-]+ m, "
                                    r"HFTS node on level 3$")
         self.assertEqual(sum(l.startswith("  contact ") for l in lines), 3)
         self.assertTrue(any(l.startswith("  hand (knuckle ") for l in lines))

@@ -513,7 +513,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
                                             {"local_radius", 0.8},
                                             // A goal is a grasp that holds
                                             // (docs/planning.md#what-a-goal-is).
-                                            {"min_epsilon", 0.01},
+                                            {"min_epsilon", 0.002},
                                             {"max_penetration", 0.001}};
   for (const PlannerParameterInfo& p : plannerParameters(world())) {
     const auto it = expected.find(p.name);

@@ -151,7 +151,8 @@ inline void expectValidPlan(const planner::PlanningWorld& world,
   const LinkPoses poses = forwardKinematics(robot, grasp);
   TriangleMesh mesh{object.geometry.mesh_vertices, object.geometry.mesh_triangles};
   const db::TriangleBvh bvh(mesh);
-  constexpr double kTouch = 1e-4 + 1e-6;  // grasp::ClosingOptions::contact_distance
+  // grasp::FingerClosure::contact: within twice the contact distance.
+  constexpr double kTouch = 2 * 1e-4 + 1e-6;
   ASSERT_EQ(result.grasp.contacts_world.cols(),
             static_cast<Eigen::Index>(robot.fingertips().size()));
   for (std::size_t f = 0; f < robot.fingertips().size(); ++f) {

@@ -28,7 +28,9 @@ function base64Bytes(text) {
 function contactMarkers(grasp) {
   const group = new THREE.Group();
   group.name = 'contact_markers';
-  const red = new THREE.MeshStandardMaterial({color: 0xe02020});
+  // Drawn over everything: a contact lies where a fingertip touches the
+  // object, inside the finger's own geometry.
+  const red = new THREE.MeshStandardMaterial({color: 0xe02020, depthTest: false});
   const coneMaterial = new THREE.MeshStandardMaterial(
       {color: 0xffc020, transparent: true, opacity: 0.45, side: THREE.DoubleSide, depthWrite: false});
   const radius = CONE_HEIGHT * FRICTION;
@@ -37,6 +39,7 @@ function contactMarkers(grasp) {
     const inward = toView(c.normal).normalize();
     const dot = new THREE.Mesh(new THREE.SphereGeometry(0.006, 16, 12), red);
     dot.position.copy(p);
+    dot.renderOrder = 10;
     group.add(dot);
     group.add(new THREE.ArrowHelper(inward, p.clone().addScaledVector(inward, -0.04), 0.04,
                                     0xe02020, 0.012, 0.006));

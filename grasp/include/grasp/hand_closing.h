@@ -30,8 +30,9 @@ struct ClosingOptions {
   /// Steps of conservative advancement per finger before the closing is
   /// called stuck (a link sliding along the surface without touching it).
   int max_steps = 2000;
-  /// Rounds of moving the palm between two coupled jaws (below).
-  int centering_rounds = 4;
+  /// Rounds of turning and moving the palm of a parallel gripper so that
+  /// its jaws close flat and together on the object (HandCloser::close).
+  int centering_rounds = 6;
 };
 
 /// Why a finger stopped.
@@ -49,7 +50,10 @@ struct FingerClosure {
   FingerStop stop = FingerStop::kJointLimit;
   std::string link;  ///< the link that touched (kPadContact, kOtherContact)
   /// The surface point touched and the mesh's outward normal there (object
-  /// frame; kPadContact and kOtherContact).
+  /// frame; kPadContact and kOtherContact): within twice contact_distance
+  /// of the link (a pad flat on a face: the point of the patch nearest the
+  /// fingertip's own point; a jaw that stopped with its coupled partner:
+  /// where it is, up to a contact distance short).
   Eigen::Vector3d contact = Eigen::Vector3d::Zero();
   Eigen::Vector3d outward_normal = Eigen::Vector3d::UnitZ();
   /// The closing motion's parameter where the finger stopped: 0 at the
@@ -96,10 +100,11 @@ class HandCloser {
   /// finger passes through a thin part. DoFs that do not move between open
   /// and target stay. A DoF that drives two fingertips moving against each
   /// other (a parallel-jaw gripper) stops when the first touches; as the
-  /// jaws of a real gripper centre the object between them, the palm is
-  /// moved along the jaws' line until both touch together, and the result
-  /// says where. Throws InvalidArgument ("hand") for postures of the wrong
-  /// size or non-finite values.
+  /// jaws of a real gripper centre the object between them and square it
+  /// against their pads, the palm is turned (up to 25 degrees) until the
+  /// jaws lie flat on two nearly opposite faces and moved along the jaws'
+  /// line until both touch together, and the result says where. Throws InvalidArgument ("hand") for
+  /// postures of the wrong size or non-finite values.
   HandClosure close(const Eigen::Isometry3d& palm, const Eigen::VectorXd& open,
                     const Eigen::VectorXd& target) const;
 
@@ -108,6 +113,9 @@ class HandCloser {
   struct Touch;
   /// Closing travel used to tell which way a touching point moves.
   static constexpr double kProbeStep = 1e-4;
+  /// Beyond this distance (m) a bound of a link's clearance does; nearer,
+  /// it is computed exactly.
+  static constexpr double kNear = 0.002;
   /// How far (m) a link that grazes the surface slides per step.
   static constexpr double kSlideStep = 5e-4;
   /// A touching point that moves within this angle (rad) of the surface's
@@ -116,6 +124,9 @@ class HandCloser {
   static constexpr double kGrazeAngle = 0.17453292519943295;
 
   std::vector<double> linkSpeeds(const Finger& finger, const Eigen::VectorXd& direction) const;
+  /// A link's clearance (object frame pose): exact within kNear of the
+  /// surface, else a lower bound above kNear without nearest points.
+  robot::Clearance clearance(std::size_t link, const Eigen::Isometry3d& pose) const;
   /// Whether the link's point nearest to the surface moves into it.
   bool pushesIn(const robot::Clearance& gap, const Eigen::Isometry3d& pose,
                 const Eigen::Isometry3d& later) const;
@@ -127,6 +138,12 @@ class HandCloser {
                    const Eigen::VectorXd& direction, double limit) const;
   HandClosure closeAt(const Eigen::Isometry3d& palm, const Eigen::VectorXd& open,
                       const Eigen::VectorXd& direction, std::vector<Touch>& touches) const;
+  /// A parallel gripper's palm turned so that its jaws close flat on the
+  /// two faces they touch; the same palm when they do, or cannot.
+  Eigen::Isometry3d squared(const HandClosure& closure, const std::vector<Touch>& touches,
+                            const Eigen::VectorXd& open) const;
+  /// A parallel gripper's palm moved along its jaws' line so that both
+  /// touch together; the same palm when they do.
   Eigen::Isometry3d centred(const HandClosure& closure, const std::vector<Touch>& touches,
                             const Eigen::VectorXd& open, const Eigen::VectorXd& direction) const;
 

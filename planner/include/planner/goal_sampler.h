@@ -21,7 +21,7 @@
 namespace hfts::planner {
 
 /// The default of min_epsilon (docs/planning.md#what-a-goal-is).
-inline constexpr double kDefaultMinEpsilon = 0.01;
+inline constexpr double kDefaultMinEpsilon = 0.002;
 
 enum class GoalKind {
   kNone,         ///< nothing new (the paper's "bottom")

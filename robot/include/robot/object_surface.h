@@ -77,21 +77,30 @@ class ObjectSurface {
   /// signed distance: cells of the shape are split until the smallest
   /// lower bound is within `tolerance` (m, > 0) of the smallest value
   /// found. The search also stops once the answer is known to be above
-  /// `stopAbove` (it then returns a lower bound above it, not the minimum):
-  /// callers that only ask "closer than x?" pass x. The object's distance
+  /// `stopAbove` (it then returns a lower bound above it, not the minimum)
+  /// or known to be below `stopBelow` (it then returns a value below it,
+  /// found at `shape_point`): callers that only ask "closer than x?" pass
+  /// x as both. The object's distance
   /// grid, when it has one, bounds cells before any exact query: a shape
   /// far from the object costs a few grid look-ups. `shape_point` and
   /// `surface` are then those of the last exact query (none: the shape's
   /// centre and a default point).
   ShapeDistance shapeDistance(const CollisionShape& shape, const Eigen::Isometry3d& pose,
                               double tolerance,
-                              double stopAbove = std::numeric_limits<double>::infinity()) const;
+                              double stopAbove = std::numeric_limits<double>::infinity(),
+                              double stopBelow = -std::numeric_limits<double>::infinity()) const;
 
   /// shapeDistance over every shape of `link` (each at `linkPose` times its
   /// origin, object frame): the smallest. A link without shapes gives an
   /// infinite distance.
+  /// A lower bound of the signed distance at p (object frame) from the
+  /// object's signed distance grid (DistanceGrid::lowerBound), within
+  /// about 1.7 grid spacings of it; -infinity without a signed grid.
+  double gridBound(const Eigen::Vector3d& p) const;
+
   ShapeDistance linkDistance(const Link& link, const Eigen::Isometry3d& linkPose, double tolerance,
-                             double stopAbove = std::numeric_limits<double>::infinity()) const;
+                             double stopAbove = std::numeric_limits<double>::infinity(),
+                             double stopBelow = -std::numeric_limits<double>::infinity()) const;
 
   /// The exact distance (m) between the shapes of `link` (at `linkPose`,
   /// object frame) and the mesh's triangles, from FCL (its BVH culls, GJK
@@ -108,10 +117,6 @@ class ObjectSurface {
 
  private:
   Eigen::Vector3d pseudoNormal(std::uint32_t triangle, const Eigen::Vector3d& point) const;
-
-  /// A lower bound of the signed distance at p: the distance grid's, or
-  /// -infinity without one.
-  double gridBound(const Eigen::Vector3d& p) const;
 
   db::Points3 vertices_;
   db::Faces3 triangles_;
