@@ -42,16 +42,21 @@ class Trial {
   const SimulationOptions& options() const { return plan_.options; }
   int arm() const { return plan_.robot->numArmDofs(); }
 
-  /// The hand's servo targets `t` s after closing began.
-  Eigen::VectorXd handTarget(double t) const {
-    const int n = plan_.robot->numHandDofs();
-    Eigen::VectorXd target(n);
-    for (int i = 0; i < n; ++i) {
-      const double start = plan_.pregrasp(arm() + i);
-      const double reach = plan_.robot->maxVelocities()(arm() + i) * t;
-      target(i) = start + std::clamp(plan_.close_limit(i) - start, -reach, reach);
+  /// Advances the hand's servo targets by one time step of closing: each
+  /// towards its closing limit at its joint's speed limit, but never more
+  /// than its lead ahead of the joint, so a blocked finger presses with its
+  /// effort without its target winding up beyond the contact.
+  void advanceHandTarget() {
+    for (int i = 0; i < plan_.robot->numHandDofs(); ++i) {
+      const double limit = plan_.close_limit(i);
+      double& target = hand_target_(i);
+      const double step = plan_.robot->maxVelocities()(arm() + i) * options().timestep;
+      target += std::clamp(limit - target, -step, step);
+      const double q = data_->qpos[plan_.index.dof_qpos[static_cast<std::size_t>(arm() + i)]];
+      const double lead = plan_.close_lead(i);
+      if (limit > plan_.grasp(arm() + i)) target = std::min(target, q + lead);
+      if (limit < plan_.grasp(arm() + i)) target = std::max(target, q - lead);
     }
-    return target;
   }
 
   bool settleAndClose() {
@@ -59,11 +64,12 @@ class Trial {
       step(plan_.pregrasp, "settle");
     const int n = stepsOf(options().close_time, options().timestep);
     Eigen::VectorXd target = plan_.pregrasp;
+    hand_target_ = plan_.pregrasp.tail(plan_.robot->numHandDofs());
     for (int s = 1; s <= n; ++s) {
-      const double t = s * options().timestep;
       const double f = static_cast<double>(s) / n;
       target.head(arm()) = (1 - f) * plan_.pregrasp.head(arm()) + f * plan_.grasp.head(arm());
-      target.tail(plan_.robot->numHandDofs()) = handTarget(t);
+      advanceHandTarget();
+      target.tail(plan_.robot->numHandDofs()) = hand_target_;
       step(target, "close");
       if (unstable("close")) return false;
     }
@@ -82,8 +88,7 @@ class Trial {
       const double f = waypoints.size() > 1 ? along - static_cast<double>(k) : 0.0;
       Eigen::VectorXd target =
           (1 - f) * waypoints[k] + f * waypoints[std::min(k + 1, waypoints.size() - 1)];
-      target.tail(plan_.robot->numHandDofs()) =
-          handTarget(options().close_time + s * options().timestep);
+      target.tail(plan_.robot->numHandDofs()) = hand_target_;
       if (!stepAndTrack(target, "lift")) return false;
     }
     const std::string support = touchedObstacle();
@@ -95,8 +100,7 @@ class Trial {
   /// The configuration the servos hold after the lift.
   Eigen::VectorXd heldTarget() const {
     Eigen::VectorXd target = plan_.lift.back();
-    target.tail(plan_.robot->numHandDofs()) =
-        handTarget(options().close_time + options().lift_time);
+    target.tail(plan_.robot->numHandDofs()) = hand_target_;
     return target;
   }
 
@@ -233,6 +237,7 @@ class Trial {
   DataPtr data_;
   std::vector<MotionSample>* motion_;
   Eigen::Isometry3d reference_ = Eigen::Isometry3d::Identity();
+  Eigen::VectorXd hand_target_;  ///< the hand servos' targets, held after closing
   TrialResult result_;
   double elapsed_ = 0.0;
   double next_sample_ = 0.0;
@@ -251,6 +256,11 @@ Eigen::VectorXd closeLimits(const robot::RobotModel& robot, const Eigen::VectorX
     if (closing < -1e-9) limits(i) = robot.lowerLimits()(arm + i);
   }
   return limits;
+}
+
+Eigen::VectorXd closeLeads(const robot::RobotModel& robot) {
+  const robot::HandActuation& hand = *robot.handActuation();
+  return kCloseLead * hand.efforts / hand.kp;
 }
 
 ModelPtr perturbedModel(const mjModel& nominal, const WorldIndex& index, int numArmDofs,

@@ -22,6 +22,9 @@ struct TrialPlan {
   /// closing direction (pregrasp -> grasp), or the grasp value for a DoF
   /// that does not move between the two.
   Eigen::VectorXd close_limit;
+  /// Per hand DoF, how far its servo target may run ahead of the joint
+  /// while closing (closeLeads()).
+  Eigen::VectorXd close_lead;
   std::vector<Eigen::VectorXd> lift;  ///< full configurations, PalmLine::waypoints
   Eigen::Isometry3d object_pose = Eigen::Isometry3d::Identity();
   SimulationOptions options;
@@ -30,6 +33,15 @@ struct TrialPlan {
 /// The closing targets' end points (TrialPlan::close_limit).
 Eigen::VectorXd closeLimits(const robot::RobotModel& robot, const Eigen::VectorXd& pregrasp,
                             const Eigen::VectorXd& grasp);
+
+/// How far ahead of a hand joint its closing target may run, in units of
+/// effort / kp: 2, so that a joint held back at the contact presses with
+/// twice its effort before the force limit (its effort exactly with the
+/// servo gains halved, the gain_low trial).
+inline constexpr double kCloseLead = 2.0;
+
+/// Per hand DoF, kCloseLead x effort / kp (TrialPlan::close_lead).
+Eigen::VectorXd closeLeads(const robot::RobotModel& robot);
 
 /// A copy of `nominal` with the perturbation's factors applied (every
 /// geom's friction, the object body's mass and inertia, the hand servos'

@@ -101,6 +101,7 @@ GraspVerdict simulateGrasp(const robot::RobotModel& robot, const robot::Scene& s
                  pregrasp,
                  grasp,
                  closeLimits(robot, pregrasp, grasp),
+                 closeLeads(robot),
                  lift.line.waypoints,
                  scene.target_pose,
                  options};

@@ -22,6 +22,7 @@ struct CubeTrial {
     plan.pregrasp = world.pregrasp;
     plan.grasp = world.grasp;
     plan.close_limit = closeLimits(test::panda(), world.pregrasp, world.grasp);
+    plan.close_lead = closeLeads(test::panda());
     plan.lift = planLift(test::panda(), world.scene, world.grasp, 0.1).line.waypoints;
     plan.object_pose = world.scene.target_pose;
     plan.options.disturbance_time = 0.0;
@@ -48,6 +49,14 @@ TEST(GraspTrial, TheHandCloseTargetRunsOnToTheJointLimitInTheClosingDirection) {
   EXPECT_EQ(limits(1), sdh.upperLimits()(7));
   EXPECT_EQ(limits(2), sdh.lowerLimits()(8));
   EXPECT_EQ(limits(3), grasp(9));
+}
+
+TEST(GraspTrial, AClosingTargetLeadsItsJointByTwiceEffortOverStiffness) {
+  // The Panda's one DoF: 2 x 70 N / 5000 N/m = 28 mm; the SDH's distal
+  // joints 2 x 1.4 N m / 100 N m/rad = 0.028 rad.
+  EXPECT_DOUBLE_EQ(closeLeads(test::panda())(0), 0.028);
+  EXPECT_DOUBLE_EQ(closeLeads(test::kr5Sdh())(2), 0.028);
+  EXPECT_DOUBLE_EQ(closeLeads(test::kr5Sdh())(1), 0.042);
 }
 
 TEST(GraspTrial, APerturbedModelScalesFrictionObjectMassAndHandGainsOnly) {

@@ -49,7 +49,7 @@ TEST(SimulateGrasp, PandaSqueezingTheCubeHoldsItThroughLiftHoldAndAllSixDisturba
   EXPECT_EQ(v.trials[0].name, "nominal");
   for (const TrialResult& t : v.trials) {
     EXPECT_TRUE(t.failure.empty()) << t.name << ": " << t.failure;
-    EXPECT_LT(t.max_displacement, 0.002) << t.name;  // far inside the 10 mm tolerance
+    EXPECT_LT(t.max_displacement, 0.002) << t.name;  // far inside the 20 mm tolerance
     EXPECT_LT(t.max_rotation, 0.02) << t.name;
     EXPECT_EQ(t.fingers_in_contact, 2) << t.name;
   }
@@ -89,7 +89,7 @@ TEST(SimulateGrasp, TheCubeStaysOnTheTableWhenTheHandStaysOpen) {
   ASSERT_EQ(v.trials.size(), 1u);
   EXPECT_EQ(v.trials[0].fingers_in_contact, 0);
   EXPECT_EQ(v.trials[0].failure.rfind("lift: object slipped", 0), 0u) << v.trials[0].failure;
-  EXPECT_GT(v.trials[0].max_displacement, 0.01);
+  EXPECT_GT(v.trials[0].max_displacement, 0.02);
 }
 
 TEST(SimulateGrasp, WithoutFrictionTheSqueezedCubeSlipsOut) {

@@ -36,10 +36,14 @@ struct SimulationOptions {
   /// +-z of the world) lasts this long (s, >= 0; 0: none).
   double disturbance_time = 1.0;
   /// The object counts as held while its centre of mass stays within this
-  /// distance (m, > 0) of where the closed hand had it, in the palm frame ...
-  double max_displacement = 0.01;
-  /// ... and turns less than this (rad, > 0) in the palm frame.
-  double max_rotation = 0.26;
+  /// distance (m, > 0) of where the closed hand had it, in the palm frame:
+  /// 20 mm, more than the pad radius of every bundled hand (SDH 14 mm,
+  /// Allegro tips 12 mm), so the contacts have left their pads ...
+  double max_displacement = 0.02;
+  /// ... and turns less than this (rad, > 0) in the palm frame: 0.46 rad
+  /// (26.6 deg), the friction cone's half-angle at mu 0.5, beyond which the
+  /// planned contact normals have left their cones (docs/physics.md).
+  double max_rotation = 0.46;
   /// Run the perturbed trials too (perturbations.h); false: nominal only.
   bool perturb = true;
   /// A grasp holds when at least this fraction of its trials hold ([0, 1]).
