@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <sstream>
+#include <thread>
 
 #include "hfts_db/invalid_argument.h"
 #include "panda_cube.h"
@@ -129,6 +130,24 @@ TEST(SimulateGrasp, SameInputsGiveTheSameVerdict) {
   EXPECT_EQ(a.trials[0].max_displacement, b.trials[0].max_displacement);
   EXPECT_EQ(a.trials[0].max_rotation, b.trials[0].max_rotation);
   EXPECT_TRUE(a.nominal_motion.back().object.isApprox(b.nominal_motion.back().object, 0.0));
+}
+
+TEST(SimulateGrasp, CallsOnSeveralThreadsAtOnceGiveTheSameVerdicts) {
+  const test::PandaCube world;
+  SimulationOptions options;
+  options.perturb = false;
+  options.disturbance_time = 0.2;
+  const GraspVerdict alone = simulate(test::panda(), world, world.pregrasp, world.grasp, options);
+  std::vector<GraspVerdict> verdicts(2);
+  std::vector<std::thread> threads;
+  for (GraspVerdict& v : verdicts)
+    threads.emplace_back(
+        [&] { v = simulate(test::panda(), world, world.pregrasp, world.grasp, options); });
+  for (std::thread& t : threads) t.join();
+  for (const GraspVerdict& v : verdicts) {
+    EXPECT_EQ(v.trials[0].max_displacement, alone.trials[0].max_displacement);
+    EXPECT_EQ(v.nominal_motion.size(), alone.nominal_motion.size());
+  }
 }
 
 TEST(SimulateGrasp, BadInputNamesTheField) {
