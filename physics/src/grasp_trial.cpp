@@ -1,6 +1,7 @@
 // One run of the protocol: settle, close, lift, hold, disturb (docs/physics.md).
 #include "grasp_trial.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <string>
@@ -60,8 +61,10 @@ class Trial {
   }
 
   bool settleAndClose() {
-    for (int s = 0; s < stepsOf(options().settle_time, options().timestep); ++s)
+    for (int s = 0; s < stepsOf(options().settle_time, options().timestep); ++s) {
       step(plan_.pregrasp, "settle");
+      if (unstable("settle")) return false;
+    }
     const int n = stepsOf(options().close_time, options().timestep);
     Eigen::VectorXd target = plan_.pregrasp;
     hand_target_ = plan_.pregrasp.tail(plan_.robot->numHandDofs());
@@ -127,8 +130,9 @@ class Trial {
       mj_copyData(data_.get(), &m_, snapshot.get());
       mjtNum* force = data_->xfrc_applied + 6 * plan_.index.object_body;
       force[k / 2] = (k % 2 == 0 ? weight : -weight);
+      const std::string phase = std::string("disturbance ") + names[k];
       for (int s = 0; s < n; ++s)
-        if (!stepAndTrack(target, std::string("disturbance ") + names[k])) return false;
+        if (!stepAndTrack(target, phase)) return false;
     }
     return true;
   }
@@ -169,10 +173,14 @@ class Trial {
   /// full contact or constraint buffers drop contacts.
   bool unstable(const std::string& phase) {
     const mjWarningStat* w = data_->warning;
-    if (w[mjWARN_BADQACC].number + w[mjWARN_BADQVEL].number + w[mjWARN_BADQPOS].number > 0)
-      return !fail(phase + ": the simulation diverged");
-    if (w[mjWARN_CONTACTFULL].number + w[mjWARN_CNSTRFULL].number > 0)
-      return !fail(phase + ": more contacts than the model has room for");
+    if (w[mjWARN_BADQACC].number + w[mjWARN_BADQVEL].number + w[mjWARN_BADQPOS].number > 0) {
+      fail(phase + ": the simulation diverged");
+      return true;
+    }
+    if (w[mjWARN_CONTACTFULL].number + w[mjWARN_CNSTRFULL].number > 0) {
+      fail(phase + ": more contacts than the model has room for");
+      return true;
+    }
     return false;
   }
 

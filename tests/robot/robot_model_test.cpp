@@ -209,13 +209,13 @@ TEST(RobotModel, HandActuationErrorsNameTheKey) {
   replaceOnce(config, efforts, "\"efforts\": [2.1, 2.1, 1.4, 2.1, 1.4, 2.1, -1]");
   expectModelError(s.urdf, config, "robot 'x': hand_actuation.efforts: must be positive");
   config = s.config;
-  replaceOnce(config, "\"kp\": 20", "\"kp\": 0");
+  replaceOnce(config, "\"kp\": 100", "\"kp\": 0");
   expectModelError(s.urdf, config, "robot 'x': hand_actuation.kp: must be > 0");
   config = s.config;
-  replaceOnce(config, "\"kv\": 0.4", "\"kv\": \"fast\"");
+  replaceOnce(config, "\"kv\": 1.0", "\"kv\": \"fast\"");
   expectModelError(s.urdf, config, "robot 'x': hand_actuation.kv: must be a finite number");
   config = s.config;
-  replaceOnce(config, "\"kv\": 0.4,", "");
+  replaceOnce(config, "\"kv\": 1.0,", "");
   expectModelError(s.urdf, config, "robot 'x': hand_actuation.kv: is required");
   config = s.config;
   replaceOnce(config, "\"hand_actuation\": {", "\"hand_actuation\": 1, \"unused\": {");
