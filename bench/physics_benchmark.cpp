@@ -84,25 +84,21 @@ void BM_SimulateGrasp(benchmark::State& state, const std::string& robotName,
                                                : ", nominal: " + verdict.trials[0].failure));
 }
 
-}  // namespace
+/// One benchmark per robot and object, each simulated once (seconds each).
+const bool registered = [] {
+  const std::pair<const char*, const char*> robots[] = {
+      {"panda", "panda_gripper"}, {"kr5", "kr5_sdh"}, {"ur5e", "ur5e_allegro"}};
+  for (const auto& [shortName, robotName] : robots)
+    for (const char* object : {"box", "bottle"})
+      benchmark::RegisterBenchmark(
+          (std::string("BM_SimulateGrasp/") + shortName + "_" + object).c_str(),
+          [robotName = std::string(robotName), object = std::string(object)](
+              benchmark::State& state) { BM_SimulateGrasp(state, robotName, object); })
+          ->Unit(benchmark::kSecond)
+          ->Iterations(1);
+  return true;
+}();
 
-BENCHMARK_CAPTURE(BM_SimulateGrasp, panda_box, "panda_gripper", "box")
-    ->Unit(benchmark::kSecond)
-    ->Iterations(1);
-BENCHMARK_CAPTURE(BM_SimulateGrasp, panda_bottle, "panda_gripper", "bottle")
-    ->Unit(benchmark::kSecond)
-    ->Iterations(1);
-BENCHMARK_CAPTURE(BM_SimulateGrasp, kr5_box, "kr5_sdh", "box")
-    ->Unit(benchmark::kSecond)
-    ->Iterations(1);
-BENCHMARK_CAPTURE(BM_SimulateGrasp, kr5_bottle, "kr5_sdh", "bottle")
-    ->Unit(benchmark::kSecond)
-    ->Iterations(1);
-BENCHMARK_CAPTURE(BM_SimulateGrasp, ur5e_box, "ur5e_allegro", "box")
-    ->Unit(benchmark::kSecond)
-    ->Iterations(1);
-BENCHMARK_CAPTURE(BM_SimulateGrasp, ur5e_bottle, "ur5e_allegro", "bottle")
-    ->Unit(benchmark::kSecond)
-    ->Iterations(1);
+}  // namespace
 
 BENCHMARK_MAIN();

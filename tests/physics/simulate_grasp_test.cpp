@@ -30,15 +30,26 @@ GraspVerdict simulate(const robot::RobotModel& robot, const test::PandaCube& wor
   return simulateGrasp(robot, world.scene, test::smallCube(), pregrasp, grasp, options);
 }
 
-/// The Panda with its grasping force scaled (the config's efforts times `scale`).
-robot::RobotModel pandaWithEffortScaled(double scale) {
+/// The Panda with `from` replaced by `to` in its robot config.
+robot::RobotModel pandaWith(const std::string& from, const std::string& to) {
   const std::string urdf =
       test::readBytes(test::sourcePath("robots/panda_gripper/panda_gripper.urdf"));
   std::string config = test::readBytes(test::sourcePath("robots/panda_gripper/panda_gripper.json"));
-  const std::string efforts = "\"efforts\": [70]";
-  config.replace(config.find(efforts), efforts.size(),
-                 "\"efforts\": [" + std::to_string(70 * scale) + "]");
-  return robot::RobotModel::fromStrings(urdf, config, "weak panda");
+  config.replace(config.find(from), from.size(), to);
+  return robot::RobotModel::fromStrings(urdf, config, "changed panda");
+}
+
+/// The Panda with its grasping force scaled (the config's efforts times `scale`).
+robot::RobotModel pandaWithEffortScaled(double scale) {
+  return pandaWith("\"efforts\": [70]", "\"efforts\": [" + std::to_string(70 * scale) + "]");
+}
+
+/// The nominal trial alone with short disturbances: quick.
+GraspVerdict quickNominal(const test::PandaCube& world) {
+  SimulationOptions options;
+  options.perturb = false;
+  options.disturbance_time = 0.2;
+  return simulate(test::panda(), world, world.pregrasp, world.grasp, options);
 }
 
 TEST(SimulateGrasp, PandaSqueezingTheCubeHoldsItThroughLiftHoldAndAllSixDisturbances) {
@@ -122,11 +133,8 @@ TEST(SimulateGrasp, AHandTooWeakToCarryTheWeightDropsTheCube) {
 
 TEST(SimulateGrasp, SameInputsGiveTheSameVerdict) {
   const test::PandaCube world;
-  SimulationOptions options;
-  options.perturb = false;
-  options.disturbance_time = 0.2;
-  const GraspVerdict a = simulate(test::panda(), world, world.pregrasp, world.grasp, options);
-  const GraspVerdict b = simulate(test::panda(), world, world.pregrasp, world.grasp, options);
+  const GraspVerdict a = quickNominal(world);
+  const GraspVerdict b = quickNominal(world);
   EXPECT_EQ(a.trials[0].max_displacement, b.trials[0].max_displacement);
   EXPECT_EQ(a.trials[0].max_rotation, b.trials[0].max_rotation);
   EXPECT_TRUE(a.nominal_motion.back().object.isApprox(b.nominal_motion.back().object, 0.0));
@@ -134,15 +142,10 @@ TEST(SimulateGrasp, SameInputsGiveTheSameVerdict) {
 
 TEST(SimulateGrasp, CallsOnSeveralThreadsAtOnceGiveTheSameVerdicts) {
   const test::PandaCube world;
-  SimulationOptions options;
-  options.perturb = false;
-  options.disturbance_time = 0.2;
-  const GraspVerdict alone = simulate(test::panda(), world, world.pregrasp, world.grasp, options);
+  const GraspVerdict alone = quickNominal(world);
   std::vector<GraspVerdict> verdicts(2);
   std::vector<std::thread> threads;
-  for (GraspVerdict& v : verdicts)
-    threads.emplace_back(
-        [&] { v = simulate(test::panda(), world, world.pregrasp, world.grasp, options); });
+  for (GraspVerdict& v : verdicts) threads.emplace_back([&] { v = quickNominal(world); });
   for (std::thread& t : threads) t.join();
   for (const GraspVerdict& v : verdicts) {
     EXPECT_EQ(v.trials[0].max_displacement, alone.trials[0].max_displacement);
@@ -183,12 +186,7 @@ TEST(SimulateGrasp, BadInputNamesTheField) {
 }
 
 TEST(SimulateGrasp, ARobotWithoutHandActuationIsRefused) {
-  const std::string urdf =
-      test::readBytes(test::sourcePath("robots/panda_gripper/panda_gripper.urdf"));
-  std::string config = test::readBytes(test::sourcePath("robots/panda_gripper/panda_gripper.json"));
-  const std::string key = "\"hand_actuation\"";
-  config.replace(config.find(key), key.size(), "\"unused_actuation\"");
-  const robot::RobotModel bare = robot::RobotModel::fromStrings(urdf, config, "bare panda");
+  const robot::RobotModel bare = pandaWith("\"hand_actuation\"", "\"unused_actuation\"");
   const test::PandaCube world;
   try {
     simulate(bare, world, world.pregrasp, world.grasp);
