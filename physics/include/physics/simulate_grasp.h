@@ -38,7 +38,8 @@ struct SimulationOptions {
   /// The object counts as held while its centre of mass stays within this
   /// distance (m, > 0) of where the closed hand had it, in the palm frame:
   /// 20 mm, more than the pad radius of every bundled hand (SDH 14 mm,
-  /// Allegro tips 12 mm), so the contacts have left their pads ...
+  /// Allegro tips 12 mm): an object that slid further is no longer on
+  /// its planned contacts ...
   double max_displacement = 0.02;
   /// ... and turns less than this (rad, > 0) in the palm frame: 0.46 rad
   /// (26.6 deg), the friction cone's half-angle at mu 0.5, beyond which the
