@@ -14,6 +14,7 @@ find_package(Qhull 8 REQUIRED)
 find_package(fcl 0.7 REQUIRED)
 find_package(hwy 1.0 REQUIRED)  # Highway: the sphere tier's SIMD kernel
 find_package(ompl 1.5 REQUIRED)
+find_package(mujoco 2.2 REQUIRED)  # physics/: does a grasp hold?
 find_package(nlohmann_json 3.11 REQUIRED)
 find_package(CLI11 2.1 REQUIRED)
 find_package(OpenSSL 3 REQUIRED COMPONENTS Crypto)

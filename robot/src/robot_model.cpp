@@ -13,7 +13,7 @@
 #include <optional>
 #include <sstream>
 
-#include "json_numbers.h"
+#include "config_reader.h"
 #include "robot/link_spheres.h"
 
 namespace hfts::robot {
@@ -69,58 +69,17 @@ CollisionShape toShape(const urdf::Collision& collision, const std::string& wher
   return shape;
 }
 
-/// Reads the config's keys; every error is "<source>: <field>: <problem>"
-/// with the key's path in the config as the field.
-class ConfigReader {
- public:
-  ConfigReader(const json& root, std::string what, std::string prefix = {})
-      : root_(root), what_(std::move(what)), prefix_(std::move(prefix)) {}
-
-  bool has(const char* key) const { return root_.contains(key); }
-  const json& at(const char* key) const {
-    if (!root_.contains(key)) failAt(key, "is required");
-    return root_.at(key);
-  }
-  std::string string(const char* key) const {
-    const json& v = at(key);
-    if (!v.is_string()) failAt(key, "must be a string");
-    return v.get<std::string>();
-  }
-  std::vector<std::string> strings(const char* key) const {
-    const json& v = at(key);
-    if (!v.is_array()) failAt(key, "must be an array of names");
-    std::vector<std::string> out;
-    for (const json& item : v) {
-      if (!item.is_string()) failAt(key, "must be an array of names");
-      out.push_back(item.get<std::string>());
-    }
-    return out;
-  }
-  Eigen::VectorXd numbers(const char* key, Eigen::Index expected) const {
-    std::string problem;
-    std::optional<Eigen::VectorXd> values = finiteNumbers(at(key), expected, problem);
-    if (!values) failAt(key, problem);
-    return *values;
-  }
-  double number(const char* key) const {
-    const json& v = at(key);
-    if (!v.is_number() || !std::isfinite(v.get<double>())) failAt(key, "must be a finite number");
-    return v.get<double>();
-  }
-  /// A problem of the key `key` (a path below this reader's prefix).
-  [[noreturn]] void failAt(const std::string& key, const std::string& problem) const {
-    throw ModelError(what_ + ": " + prefix_ + key + ": " + problem);
-  }
-  /// A problem that is not one key's (the URDF's structure).
-  [[noreturn]] void fail(const std::string& problem) const {
-    throw ModelError(what_ + ": " + problem);
-  }
-
- private:
-  const json& root_;
-  std::string what_;
-  std::string prefix_;  // the path of root_ in the config, e.g. "fingertips[1]."
-};
+std::optional<Inertial> toInertial(const urdf::InertialSharedPtr& in, const std::string& where) {
+  if (!in) return std::nullopt;
+  Inertial out;
+  out.mass = in->mass;
+  out.origin = toIsometry(in->origin);
+  out.inertia << in->ixx, in->ixy, in->ixz, in->ixy, in->iyy, in->iyz, in->ixz, in->iyz, in->izz;
+  if (!(out.mass > 0.0) || !std::isfinite(out.mass) || !out.inertia.allFinite() ||
+      (out.inertia.diagonal().array() <= 0.0).any())
+    throw ModelError(where + ": <inertial> needs a positive mass and positive moments of inertia");
+  return out;
+}
 
 }  // namespace
 
@@ -139,6 +98,7 @@ class RobotModelBuilder {
     addContactModel();
     addHandMapSettings();
     addPlannerDefaults();
+    addHandActuation();
     addDisabledCollisions();
     markHandLinks();
     model_.spheres_ = std::make_shared<RobotModel::LazySpheres>();
@@ -155,9 +115,10 @@ class RobotModelBuilder {
       const auto [link, parentJoint] = queue.front();
       queue.pop_front();
       const int index = static_cast<int>(model_.links_.size());
-      Link out{link->name, parentJoint, {}};
+      const std::string where = what_ + ": link '" + link->name + "'";
+      Link out{link->name, parentJoint, {}, toInertial(link->inertial, where)};
       for (const auto& collision : link->collision_array)
-        out.shapes.push_back(toShape(*collision, what_ + ": link '" + link->name + "'"));
+        out.shapes.push_back(toShape(*collision, where));
       model_.links_.push_back(std::move(out));
       if (parentJoint >= 0)
         model_.joints_[static_cast<std::size_t>(parentJoint)].child_link = index;
@@ -168,6 +129,8 @@ class RobotModelBuilder {
         joint.origin = toIsometry(child->parent_to_joint_origin_transform);
         joint.axis = Eigen::Vector3d(child->axis.x, child->axis.y, child->axis.z);
         joint.type = jointType(*child);
+        if (child->limits && joint.type != Joint::Type::kFixed)
+          joint.effort = child->limits->effort;
         if (joint.type != Joint::Type::kFixed) {
           if (joint.axis.norm() < 1e-9) config_.fail("joint '" + child->name + "' has no axis");
           joint.axis.normalize();
@@ -333,6 +296,26 @@ class RobotModelBuilder {
       else
         config_.failAt("planner_defaults." + item.key(), "must be a finite number or a string");
     }
+  }
+
+  /// `hand_actuation`: {"efforts": [one per hand DoF], "kp", "kv", "source"}.
+  void addHandActuation() {
+    if (!config_.has("hand_actuation")) return;
+    const json& section = config_.at("hand_actuation");
+    if (!section.is_object())
+      config_.failAt("hand_actuation", "must be an object with efforts, kp, kv and source");
+    const ConfigReader reader(section, what_, "hand_actuation.");
+    HandActuation actuation;
+    actuation.efforts = reader.numbers("efforts", model_.numHandDofs());
+    if ((actuation.efforts.array() <= 0.0).any())
+      reader.failAt("efforts", "must be positive (N m or N, one per hand DoF)");
+    actuation.kp = reader.number("kp");
+    if (!(actuation.kp > 0.0)) reader.failAt("kp", "must be > 0");
+    actuation.kv = reader.number("kv");
+    if (actuation.kv < 0.0) reader.failAt("kv", "must be >= 0");
+    actuation.source = reader.string("source");
+    if (actuation.source.empty()) reader.failAt("source", "must name where the efforts come from");
+    model_.hand_actuation_ = std::move(actuation);
   }
 
   void addHandMapSettings() {

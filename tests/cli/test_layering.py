@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The libraries depend one way (docs/architecture.md):
-hfts_db <- robot <- grasp <- planner <- service, bench; preprocess uses
+hfts_db <- robot <- grasp, physics <- planner <- service, bench; preprocess uses
 hfts_db only (its program also robot and grasp); the client no library but
 the atomic file writer and base64 (hfts::atomic_file). Checked on the sources' #include lines and on what
 the built programs link."""
@@ -16,9 +16,10 @@ ALLOWED = {
     "hfts_db": set(),
     "robot": {"hfts_db"},
     "grasp": {"hfts_db", "robot"},
-    "planner": {"hfts_db", "robot", "grasp"},
+    "physics": {"hfts_db", "robot"},  # MuJoCo: never grasp or planner
+    "planner": {"hfts_db", "robot", "grasp", "physics"},
     "preprocess": {"hfts_db", "robot", "grasp"},  # robot and grasp: tools/ only
-    "service": {"hfts_db", "robot", "grasp", "planner"},
+    "service": {"hfts_db", "robot", "grasp", "physics", "planner"},
     "client": {"hfts_db"},  # atomic_file.h only
 }
 LIBRARY_FOLDERS = set(ALLOWED) | {"bench"}

@@ -346,9 +346,11 @@ TEST(ArmIk, ArmsOfFewerThanSixDofAreRefused) {
   config.replace(at, 7, "]");
   const std::string hand = "\"hand_joints\": [";
   config.replace(config.find(hand), hand.size(), hand + "\"a6\", ");
-  // a6 counts as a hand DoF now: the open hand has one more value.
-  const std::string open = "\"hand_open\": [";
+  // a6 counts as a hand DoF now: the open hand and the hand's efforts
+  // have one more value.
+  const std::string open = "\"hand_open\": [", efforts = "\"efforts\": [";
   config.replace(config.find(open), open.size(), open + "0, ");
+  config.replace(config.find(efforts), efforts.size(), efforts + "1, ");
   const RobotModel five = RobotModel::fromStrings(
       test::readBytes(test::sourcePath("robots/kr5_sdh/kr5_sdh.urdf")), config, "five");
   ASSERT_EQ(five.numArmDofs(), 5);

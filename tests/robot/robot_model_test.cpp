@@ -184,6 +184,65 @@ TEST(RobotModel, PlannerDefaultsAreTextByNameAndNeedNumbersOrStrings) {
   expectModelError(s.urdf, config, "robot 'x': planner_defaults: must be an object");
 }
 
+TEST(RobotModel, EveryBundledRobotHasItsHandsEffortsWithTheirSource) {
+  for (const char* name : {"kr5_sdh", "panda_gripper", "ur5e_allegro"}) {
+    const RobotModel m =
+        RobotModel::load(test::sourcePath(std::string("robots/") + name + "/" + name + ".json"));
+    ASSERT_TRUE(m.handActuation()) << name;
+    EXPECT_EQ(m.handActuation()->efforts.size(), m.numHandDofs()) << name;
+    EXPECT_GT(m.handActuation()->kp, 0.0) << name;
+    EXPECT_FALSE(m.handActuation()->source.empty()) << name;
+  }
+  // The SDH: 2.1 N m at the knuckle and the proximal joints, 1.4 N m distal.
+  Eigen::VectorXd sdh(7);
+  sdh << 2.1, 2.1, 1.4, 2.1, 1.4, 2.1, 1.4;
+  EXPECT_EQ(test::kr5Sdh().handActuation()->efforts, sdh);
+}
+
+TEST(RobotModel, HandActuationErrorsNameTheKey) {
+  Sources s;
+  const std::string efforts = "\"efforts\": [2.1, 2.1, 1.4, 2.1, 1.4, 2.1, 1.4]";
+  std::string config = s.config;
+  replaceOnce(config, efforts, "\"efforts\": [2.1, 2.1]");
+  expectModelError(s.urdf, config, "robot 'x': hand_actuation.efforts: ");
+  config = s.config;
+  replaceOnce(config, efforts, "\"efforts\": [2.1, 2.1, 1.4, 2.1, 1.4, 2.1, -1]");
+  expectModelError(s.urdf, config, "robot 'x': hand_actuation.efforts: must be positive");
+  config = s.config;
+  replaceOnce(config, "\"kp\": 100", "\"kp\": 0");
+  expectModelError(s.urdf, config, "robot 'x': hand_actuation.kp: must be > 0");
+  config = s.config;
+  replaceOnce(config, "\"kv\": 1.0", "\"kv\": \"fast\"");
+  expectModelError(s.urdf, config, "robot 'x': hand_actuation.kv: must be a finite number");
+  config = s.config;
+  replaceOnce(config, "\"kv\": 1.0,", "");
+  expectModelError(s.urdf, config, "robot 'x': hand_actuation.kv: is required");
+  config = s.config;
+  replaceOnce(config, "\"hand_actuation\": {", "\"hand_actuation\": 1, \"unused\": {");
+  expectModelError(s.urdf, config, "robot 'x': hand_actuation: must be an object");
+  config = s.config;
+  replaceOnce(config, "\"hand_actuation\"", "\"no_actuation\"");
+  EXPECT_FALSE(RobotModel::fromStrings(s.urdf, config, "kr5").handActuation());
+}
+
+TEST(RobotModel, UrdfInertialsAndEffortsAreKept) {
+  const RobotModel& kr5 = test::kr5Sdh();
+  const Link& palm = kr5.links()[static_cast<std::size_t>(kr5.palmLink())];
+  ASSERT_TRUE(palm.inertial);
+  EXPECT_EQ(palm.inertial->mass, 1.3);
+  EXPECT_TRUE(palm.inertial->origin.translation().isApprox(Eigen::Vector3d(-0.01, 0, 0.036)));
+  EXPECT_EQ(palm.inertial->inertia(1, 1), 0.00205);
+  EXPECT_EQ(palm.inertial->inertia(0, 1), 0.0);
+  EXPECT_EQ(kr5.joints()[0].effort, 100.0);  // a1, nominal
+  const RobotModel panda =
+      RobotModel::load(test::sourcePath("robots/panda_gripper/panda_gripper.json"));
+  EXPECT_FALSE(panda.links()[0].inertial);  // the Panda's URDF gives none
+  Sources s;
+  std::string urdf = s.urdf;
+  replaceOnce(urdf, "<mass value=\"1.3\"/>", "<mass value=\"0\"/>");
+  expectModelError(urdf, s.config, "link 'palm': <inertial> needs a positive mass");
+}
+
 TEST(RobotModel, MissingFilesAreNamed) {
   test::expectErrorMentioning<ModelError>([] { RobotModel::load("/nonexistent/robot.json"); },
                                           {"/nonexistent/robot.json"});

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -32,10 +33,22 @@ struct CollisionShape {
   Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
 };
 
+/// A link's mass properties from its URDF <inertial>: the mass (kg), the
+/// centre-of-mass frame in the link frame and the inertia tensor (kg m^2)
+/// about the centre of mass in that frame.
+struct Inertial {
+  double mass = 0.0;
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+};
+
 struct Link {
   std::string name;
   int parent_joint = -1;  ///< index into joints(); -1 for the root
   std::vector<CollisionShape> shapes;
+  /// From the URDF's <inertial>; empty when the URDF gives none (physics
+  /// derives the link's mass from its collision shapes, docs/physics.md).
+  std::optional<Inertial> inertial;
 };
 
 /// A joint; `dof` is the configuration index that drives it (a mimic joint
@@ -51,6 +64,10 @@ struct Joint {
   int dof = -1;
   double multiplier = 1.0;  ///< joint value = multiplier * q[dof] + offset
   double offset = 0.0;
+  /// The URDF's <limit effort> (N m or N); 0 for fixed joints and when the
+  /// URDF gives none. Nominal: the hand's real limits are the config's
+  /// hand_actuation.
+  double effort = 0.0;
   /// The joint's frame in its parent at value v, from origin and axis (set
   /// by RobotModel::load, for fast forward kinematics): rotation
   /// rotation_fixed + cos(v) rotation_cos + sin(v) rotation_sin (= origin
@@ -71,6 +88,21 @@ struct Fingertip {
   int link = -1;
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitX();
+};
+
+/// How the hand's DoF are driven, from the config's optional
+/// `hand_actuation` (docs/robot.md): position servos whose force is limited
+/// to the hand's published effort per DoF. For physics checks only.
+struct HandActuation {
+  /// The largest force or torque of each hand DoF's actuator (numHandDofs()
+  /// values, > 0; N m for a revolute DoF, N for a prismatic one). For a DoF
+  /// that drives mimic joints it is what the DoF's motor delivers in all,
+  /// the reactions of its followers included (the Franka Hand's one DoF
+  /// carries both jaws' squeeze).
+  Eigen::VectorXd efforts;
+  double kp = 0.0;     ///< servo stiffness (> 0): N m/rad (revolute), N/m (prismatic)
+  double kv = 0.0;     ///< servo damping (>= 0): N m s/rad (revolute), N s/m (prismatic)
+  std::string source;  ///< where the efforts come from (the citation)
 };
 
 class RobotModel {
@@ -117,6 +149,9 @@ class RobotModel {
   /// win. Names and values are checked by the planner when it loads the
   /// robot (planner::PlanningWorld::load), not here.
   const std::map<std::string, std::string>& plannerDefaults() const { return planner_defaults_; }
+  /// The config's optional `hand_actuation`: the hand's effort limits and
+  /// servo gains for physics checks; empty when the config has none.
+  const std::optional<HandActuation>& handActuation() const { return hand_actuation_; }
 
   /// Links in topological order (a parent before its children); link 0 is
   /// the root (the base link).
@@ -158,6 +193,7 @@ class RobotModel {
   double torsional_friction_ = 0.0;
   double hand_map_normal_weight_ = 0.0;
   std::map<std::string, std::string> planner_defaults_;
+  std::optional<HandActuation> hand_actuation_;
   std::vector<Link> links_;
   std::vector<Joint> joints_;
   int flange_link_ = -1;

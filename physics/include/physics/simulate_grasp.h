@@ -1,0 +1,123 @@
+#pragma once
+// Does a planned grasp hold in physics? The robot closes its hand from the
+// pre-grasp with the hand's real effort limits, lifts the object, holds it
+// and resists disturbances, in MuJoCo (docs/physics.md has the protocol
+// with every number and why).
+
+#include <Eigen/Geometry>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hfts_db/object_database.h"
+#include "robot/robot_model.h"
+#include "robot/scene.h"
+
+namespace hfts::physics {
+
+/// Everything a user may tune; the defaults are the protocol of
+/// docs/physics.md. Checked by simulateGrasp (InvalidArgument naming
+/// "options.<field>").
+struct SimulationOptions {
+  /// The object's density (kg/m^3, > 0). Unset: the object's own once
+  /// databases carry one, else kDefaultDensity, 1000 (object_body.h,
+  /// objectDensity()).
+  std::optional<double> density;
+  /// Sliding friction of every contact (>= 0): the planner's mu. Soft
+  /// fingers get torsional friction in proportion (docs/physics.md).
+  double friction = 0.5;
+  double lift_height = 0.10;  ///< how far the palm lifts the object (m, > 0)
+  double lift_time = 1.0;     ///< duration of the lift (s, > 0), smooth start and stop
+  double settle_time = 0.3;   ///< object settles on its support, hand at the pre-grasp (s, >= 0)
+  double close_time = 1.0;    ///< the hand closes (s, > 0)
+  double hold_time = 2.0;     ///< held still after the lift (s, >= 0)
+  /// Each of the six disturbances (the object's weight along +-x, +-y,
+  /// +-z of the world) lasts this long (s, >= 0; 0: none).
+  double disturbance_time = 1.0;
+  /// The object counts as held while its centre of mass stays within this
+  /// distance (m, > 0) of where the closed hand had it, in the palm frame:
+  /// 20 mm, more than the pad radius of every bundled hand (SDH 14 mm,
+  /// Allegro tips 12 mm): an object that slid further is no longer on
+  /// its planned contacts ...
+  double max_displacement = 0.02;
+  /// ... and turns less than this (rad, > 0) in the palm frame: 0.46 rad
+  /// (26.6 deg), the friction cone's half-angle at mu 0.5, beyond which the
+  /// planned contact normals have left their cones (docs/physics.md).
+  double max_rotation = 0.46;
+  /// Run the perturbed trials too (perturbations.h); false: nominal only.
+  bool perturb = true;
+  /// A grasp holds when at least this fraction of its trials hold ([0, 1]).
+  double min_held_fraction = 6.0 / 7.0;
+  double timestep = 0.002;  ///< MuJoCo's time step (s, in (0, 0.005])
+  /// Object poses of the nominal trial per second of simulated time for
+  /// GraspVerdict::nominal_motion (>= 0; 0: none).
+  double record_rate = 50.0;
+};
+
+/// One run of the protocol (one perturbation).
+struct TrialResult {
+  std::string name;  ///< the perturbation ("nominal", "friction_low", ...)
+  bool held = false;
+  /// The first failure, "<phase>: <what happened>" (e.g. "lift: object
+  /// slipped 23 mm in the palm"); empty when held. A trial stops there.
+  std::string failure;
+  double max_displacement =
+      0.0;                    ///< largest distance of the centre of mass from its grasped place (m)
+  double max_rotation = 0.0;  ///< largest turn from its grasped orientation (rad)
+  /// Fingertip links touching the object at the end of the hold (before
+  /// the disturbances, which each start from that state), or where the
+  /// trial stopped when it failed earlier.
+  int fingers_in_contact = 0;
+};
+
+/// A sample of the nominal trial for a viewer: the object's pose and the
+/// robot's joint values at one time.
+struct MotionSample {
+  double time = 0.0;  ///< s from the start
+  std::string phase;  ///< settle, close, lift, hold, disturbance
+  Eigen::Isometry3d object = Eigen::Isometry3d::Identity();  ///< object frame in the world
+  Eigen::VectorXd configuration;                             ///< RobotModel::numDofs() values
+};
+
+struct GraspVerdict {
+  /// held_fraction >= options.min_held_fraction.
+  bool held = false;
+  double held_fraction = 0.0;
+  std::vector<TrialResult> trials;  ///< the nominal trial first
+  double mass = 0.0;                ///< the object's nominal mass (kg)
+  double density = 0.0;             ///< the density that gave it (kg/m^3)
+  /// What the object collides as: "hull" (its convex hull) or
+  /// "convex_parts" (its convex decomposition).
+  std::string collision_shape;
+  /// The object's volume over its collision shape's volume: 1 for a convex
+  /// object; below 1 the hull fills cavities the real object has (a mug's
+  /// inside), and contacts there are not real.
+  double shape_fidelity = 0.0;
+  /// "up" (world z), "retreat" (against the palm's approach axis) or
+  /// "up_blocked" (neither is collision-free for the robot without the
+  /// object; lifted up all the same): lift_path.h.
+  std::string lift_direction;
+  std::vector<MotionSample> nominal_motion;  ///< at options.record_rate
+};
+
+/// Simulates the grasp: the object (a free body of density x its volume,
+/// colliding as collisionPieces()) at scene.target_pose, the robot at the
+/// pre-grasp, then close, lift, hold and disturb, under every perturbation
+/// (docs/physics.md). `pregrasp` and `grasp` are full configurations
+/// (robot.numDofs() values): the hand open with the arm at the grasp, and
+/// the hand closed until its pads touch. Deterministic; safe to call from
+/// several threads at once (each call builds its own MuJoCo model).
+/// Throws InvalidArgument naming the field ("pregrasp", "grasp",
+/// "options.<field>", "robot.hand_actuation" for a robot config without
+/// one) for bad input, and std::runtime_error when MuJoCo rejects the
+/// generated model.
+GraspVerdict simulateGrasp(const robot::RobotModel& robot, const robot::Scene& scene,
+                           const db::ObjectDatabase& object, const Eigen::VectorXd& pregrasp,
+                           const Eigen::VectorXd& grasp, const SimulationOptions& options = {});
+
+/// Checks options as simulateGrasp does; throws InvalidArgument naming
+/// "options.<field>".
+void validateOptions(const SimulationOptions& options);
+
+}  // namespace hfts::physics

@@ -1,0 +1,120 @@
+// simulateGrasp: the inputs checked, the world built once, every
+// perturbation's trial run on its own copy of it, the verdict.
+#include "physics/simulate_grasp.h"
+
+#include <cmath>
+
+#include "grasp_trial.h"
+#include "hfts_db/invalid_argument.h"
+#include "physics/lift_path.h"
+#include "physics/mjcf_scene.h"
+#include "physics/object_body.h"
+
+namespace hfts::physics {
+namespace {
+
+/// The planner's friction, at which robot configs give their soft-finger
+/// gamma (= 2/3 mu a for a pad of radius a, docs/grasp_quality.md).
+constexpr double kConfigFriction = 0.5;
+
+void checkPositive(double value, const char* field, bool zeroAllowed = false) {
+  const bool ok = std::isfinite(value) && (zeroAllowed ? value >= 0.0 : value > 0.0);
+  if (!ok)
+    throw InvalidArgument(std::string("options.") + field, zeroAllowed
+                                                               ? "must be a finite number >= 0"
+                                                               : "must be a finite number > 0");
+}
+
+void checkConfiguration(const robot::RobotModel& robot, const Eigen::VectorXd& q,
+                        const char* field) {
+  std::string why;
+  if (!robot.withinLimits(q, 1e-6, &why)) throw InvalidArgument(field, why);
+}
+
+/// The object's body: its collision pieces and its solid's mass at the
+/// chosen density, where the scene puts it.
+ObjectBody objectBody(const db::ObjectDatabase& object, const robot::Scene& scene, double density) {
+  return {collisionPieces(object), objectMassProperties(object, density), scene.target_pose};
+}
+
+/// The object's volume over the volume of what it collides as.
+double shapeFidelity(const db::ObjectDatabase& object, const std::vector<ConvexPiece>& pieces,
+                     double volume) {
+  double collision = 0.0;
+  for (const ConvexPiece& piece : pieces)
+    collision += solidMassProperties(piece.vertices, piece.faces, 1.0).volume;
+  return object.geometry.closed ? std::min(1.0, volume / collision) : 1.0;
+}
+
+ModelSettings modelSettings(const robot::RobotModel& robot, const SimulationOptions& options) {
+  ModelSettings settings;
+  settings.timestep = options.timestep;
+  settings.friction = options.friction;
+  settings.torsional_friction = robot.torsionalFriction() * options.friction / kConfigFriction;
+  return settings;
+}
+
+}  // namespace
+
+void validateOptions(const SimulationOptions& options) {
+  if (options.density) checkPositive(*options.density, "density");
+  checkPositive(options.friction, "friction", true);
+  checkPositive(options.lift_height, "lift_height");
+  checkPositive(options.lift_time, "lift_time");
+  checkPositive(options.settle_time, "settle_time", true);
+  checkPositive(options.close_time, "close_time");
+  checkPositive(options.hold_time, "hold_time", true);
+  checkPositive(options.disturbance_time, "disturbance_time", true);
+  checkPositive(options.max_displacement, "max_displacement");
+  checkPositive(options.max_rotation, "max_rotation");
+  checkPositive(options.record_rate, "record_rate", true);
+  if (!(options.min_held_fraction >= 0.0 && options.min_held_fraction <= 1.0))
+    throw InvalidArgument("options.min_held_fraction", "must be in [0, 1]");
+  if (!(options.timestep > 0.0 && options.timestep <= 0.005))
+    throw InvalidArgument("options.timestep", "must be in (0, 0.005] s");
+}
+
+GraspVerdict simulateGrasp(const robot::RobotModel& robot, const robot::Scene& scene,
+                           const db::ObjectDatabase& object, const Eigen::VectorXd& pregrasp,
+                           const Eigen::VectorXd& grasp, const SimulationOptions& options) {
+  checkConfiguration(robot, pregrasp, "pregrasp");
+  checkConfiguration(robot, grasp, "grasp");
+  validateOptions(options);
+  if (!robot.handActuation())
+    throw InvalidArgument("robot.hand_actuation",
+                          "robot '" + robot.name() + "' has no hand_actuation in its config");
+
+  GraspVerdict verdict;
+  verdict.density = objectDensity(object, options.density);
+  const ObjectBody body = objectBody(object, scene, verdict.density);
+  verdict.mass = body.mass.mass;
+  verdict.collision_shape = collisionShapeName(object);
+  verdict.shape_fidelity = shapeFidelity(object, body.pieces, body.mass.volume);
+
+  const LiftPlan lift = planLift(robot, scene, grasp, options.lift_height);
+  verdict.lift_direction = lift.direction;
+
+  const ModelPtr nominal =
+      compileMjcf(mjcfScene(robot, scene, body, modelSettings(robot, options)));
+  TrialPlan plan{&robot,
+                 indexWorld(*nominal, robot),
+                 pregrasp,
+                 grasp,
+                 closeLimits(robot, pregrasp, grasp),
+                 closeLeads(robot),
+                 lift.line.waypoints,
+                 scene.target_pose,
+                 options};
+  int held = 0;
+  for (const Perturbation& perturbation : perturbations(options.perturb)) {
+    const ModelPtr model = perturbedModel(*nominal, plan.index, robot.numArmDofs(), perturbation);
+    std::vector<MotionSample>* motion = verdict.trials.empty() ? &verdict.nominal_motion : nullptr;
+    verdict.trials.push_back(runTrial(*model, plan, perturbation.name, motion));
+    held += verdict.trials.back().held ? 1 : 0;
+  }
+  verdict.held_fraction = static_cast<double>(held) / static_cast<double>(verdict.trials.size());
+  verdict.held = verdict.held_fraction >= options.min_held_fraction - 1e-12;
+  return verdict;
+}
+
+}  // namespace hfts::physics
