@@ -95,9 +95,10 @@ void addCrossings(const LineLattice& lattice, const Eigen::Vector3d& A, const Ei
 /// The intervals of one line from its sorted crossings [c, end): crossings
 /// at one depth are applied together, so their order does not matter and
 /// no interval is empty. Where an open mesh leaves the winding number
-/// non-zero, the last interval never ends.
-void appendIntervals(const Crossing* c, const Crossing* end, std::vector<Interval>& out) {
+/// non-zero, the last interval never ends. Returns the line's overlap.
+double appendIntervals(const Crossing* c, const Crossing* end, std::vector<Interval>& out) {
   int winding = 0;
+  double overlap = 0.0;
   while (c != end) {
     const double depth = c->depth;
     const int before = winding;
@@ -105,7 +106,9 @@ void appendIntervals(const Crossing* c, const Crossing* end, std::vector<Interva
     if (before == 0 && winding != 0)
       out.push_back({depth, std::numeric_limits<double>::infinity()});
     if (before != 0 && winding == 0) out.back().exit = depth;
+    if (std::abs(winding) > 1 && c != end) overlap += (std::abs(winding) - 1) * (c->depth - depth);
   }
+  return overlap;
 }
 
 void checkInput(const TriangleMesh& mesh, const LineLattice& lattice) {
@@ -141,6 +144,7 @@ WindingLines windingLines(const TriangleMesh& mesh, const LineLattice& lattice) 
   WindingLines out;
   out.lattice = lattice;
   out.first.assign(lattice.lines() + 1, 0);
+  out.overlap.assign(lattice.lines(), 0.0);
   if (lattice.lines() == 0) return out;
   std::vector<Crossing> crossings;
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
@@ -153,7 +157,7 @@ WindingLines windingLines(const TriangleMesh& mesh, const LineLattice& lattice) 
   for (std::size_t line = 0; line < lattice.lines(); ++line) {
     const Crossing* next = c;
     while (next != end && next->line == line) ++next;
-    appendIntervals(c, next, out.intervals);
+    out.overlap[line] = appendIntervals(c, next, out.intervals);
     c = next;
     out.first[line + 1] = static_cast<std::uint32_t>(out.intervals.size());
   }

@@ -57,6 +57,26 @@ struct FilterReport {
   std::uint64_t removed = 0;
 };
 
+/// A closed convex polytope stored as its own convex hull: one piece of the
+/// object's convex decomposition (object frame, metres).
+struct ConvexPiece {
+  Points3 vertices;  ///< corners, sorted lexicographically (x, then y, then z)
+  Faces3 faces;      ///< triangles as rows of `vertices`, counter-clockwise seen from outside
+};
+
+/// Most convex parts an object database holds.
+inline constexpr std::uint32_t kMaxConvexParts = 1024;
+
+/// The least volume (m^3) of a convex part of an object with this bounding
+/// box: 1e-9 of the cube of its diagonal. Slivers below it are not stored,
+/// since simulators refuse meshes of almost no volume (MuJoCo below
+/// 1e-15 m^3) and they cover next to nothing.
+inline double minimumConvexPartVolume(const Eigen::Vector3d& bbox_min,
+                                      const Eigen::Vector3d& bbox_max) {
+  const double diagonal = (bbox_max - bbox_min).norm();
+  return 1e-9 * diagonal * diagonal * diagonal;
+}
+
 /// Geometry of the whole object (object frame, metres).
 struct ObjectGeometry {
   Eigen::Vector3d center_of_mass = Eigen::Vector3d::Zero();

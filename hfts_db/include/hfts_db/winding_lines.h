@@ -50,6 +50,10 @@ struct WindingLines {
   LineLattice lattice;
   std::vector<std::uint32_t> first;  ///< lattice.lines() + 1 offsets
   std::vector<Interval> intervals;
+  /// Per line, the integral of max(|w| - 1, 0) along it: how much more than
+  /// once closed parts that overlap cover it (0 where none do). The
+  /// divergence theorem counts that much twice or more; the solid, once.
+  std::vector<double> overlap;
 
   const Interval* begin(std::size_t line) const { return intervals.data() + first[line]; }
   const Interval* end(std::size_t line) const { return intervals.data() + first[line + 1]; }
