@@ -15,6 +15,8 @@
 #include <map>
 #include <set>
 
+#include "preprocess/convex_decomposition.h"
+
 namespace hfts::preprocess {
 namespace {
 
@@ -257,9 +259,10 @@ db::ObjectGeometry objectGeometry(const TriangleMesh& mesh, bool closed, const C
   g.mesh_triangles = mesh.triangles;
   g.closed = closed;
   if (closed) {
-    const SolidProperties solid = solidProperties(mesh);
-    g.volume = solid.volume;
-    g.center_of_mass = solid.centroid;
+    // The centroid counts an overlap of closed parts twice (a small shift
+    // for the bundled objects); the volume counts it once.
+    g.volume = solidVolume(mesh);
+    g.center_of_mass = solidProperties(mesh).centroid;
   } else {
     g.center_of_mass = hull.centroid();
   }

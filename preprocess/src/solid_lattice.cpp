@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "preprocess/convex_hull.h"
+#include "preprocess/convex_decomposition.h"
 
 namespace hfts::preprocess {
 namespace {

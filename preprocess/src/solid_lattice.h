@@ -73,11 +73,4 @@ class SolidLattice {
   std::vector<std::vector<std::uint32_t>> columns_;
 };
 
-/// The volume of the solid of a closed mesh, where its winding number is
-/// not 0: the divergence theorem's volume (exact for a solid of parts that
-/// do not overlap) less what closed parts that overlap count more than once,
-/// measured along vertical lines 1/256 of the longest side apart (exact
-/// along each line, the midpoint rule across them).
-double solidVolume(const TriangleMesh& mesh);
-
 }  // namespace hfts::preprocess

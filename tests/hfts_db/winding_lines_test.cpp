@@ -64,6 +64,7 @@ TEST(WindingLines, OverlappingPartsMergeAndInwardWindingStillCounts) {
   ASSERT_EQ(count(overlapping, 0), 1u);
   EXPECT_DOUBLE_EQ(overlapping.begin(0)->enter, -0.05);
   EXPECT_DOUBLE_EQ(overlapping.begin(0)->exit, 0.11);
+  EXPECT_DOUBLE_EQ(overlapping.overlap[0], 0.04);  // 0.01 .. 0.05, covered twice
   const WindingLines inward = windingLines(test::flipped(test::cube(0.1)), lattice);
   ASSERT_EQ(count(inward, 0), 1u);
   EXPECT_DOUBLE_EQ(inward.length(0, -1, 1), 0.1);
@@ -71,6 +72,8 @@ TEST(WindingLines, OverlappingPartsMergeAndInwardWindingStillCounts) {
       windingLines(test::merged(test::cube(0.1), test::cube(0.1, {0, 0, 0.2})), lattice);
   EXPECT_EQ(count(apart, 0), 2u);
   EXPECT_DOUBLE_EQ(apart.length(0, -1, 1), 0.2);
+  EXPECT_EQ(apart.overlap[0], 0.0);
+  EXPECT_EQ(inward.overlap[0], 0.0);
 }
 
 TEST(WindingLines, LinesThroughEdgesAndVerticesCrossTheSurfaceOnce) {

@@ -14,13 +14,7 @@ namespace {
 
 using test::TempDir;
 
-std::vector<std::filesystem::path> bundledMeshes() {
-  std::vector<std::filesystem::path> out;
-  for (const auto& entry : std::filesystem::directory_iterator(test::bundledMeshDir()))
-    out.push_back(entry.path());
-  std::sort(out.begin(), out.end());
-  return out;
-}
+using test::bundledMeshes;
 
 TEST(DatabaseBuilder, AtLeastEightObjectsAreBundled) {
   EXPECT_GE(bundledMeshes().size(), 8u);

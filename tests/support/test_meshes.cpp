@@ -200,4 +200,12 @@ std::filesystem::path bundledMeshDir() {
   return std::filesystem::path(HFTS_SOURCE_DIR) / "objects" / "meshes";
 }
 
+std::vector<std::filesystem::path> bundledMeshes() {
+  std::vector<std::filesystem::path> out;
+  for (const auto& entry : std::filesystem::directory_iterator(bundledMeshDir()))
+    if (entry.path().extension() != ".json") out.push_back(entry.path());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 }  // namespace hfts::test

@@ -70,4 +70,8 @@ void expectErrorMentioning(Action&& action, const std::vector<std::string>& part
 /// The bundled object meshes (objects/meshes).
 std::filesystem::path bundledMeshDir();
 
+/// The mesh files of bundledMeshDir(), sorted; not their sidecars (`.json`,
+/// preprocess/object_sidecar.h).
+std::vector<std::filesystem::path> bundledMeshes();
+
 }  // namespace hfts::test

@@ -37,6 +37,14 @@ struct ConvexDecomposition {
   double solid_volume = 0.0;
 };
 
+/// The volume (m^3) of the solid of a closed mesh, where its winding number
+/// is not 0: the divergence theorem's volume (solidProperties, exact for
+/// parts that do not overlap) less what closed parts that overlap count
+/// more than once, measured along vertical lines 1/256 of the longest side
+/// of the bounding box apart (exact along each line, the midpoint rule
+/// across them).
+double solidVolume(const TriangleMesh& mesh);
+
 /// Splits the solid of a closed mesh (where its winding number is not 0, so
 /// closed parts that overlap count once) into axis-aligned boxes. Each
 /// piece is the convex hull of the solid in one box: the mesh's triangles
