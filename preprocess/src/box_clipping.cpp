@@ -65,12 +65,6 @@ bool onFace(const Box3& box, const Polygon& polygon) {
   return false;
 }
 
-Eigen::Vector3d centroid(const Polygon& polygon) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (int k = 0; k < polygon.size; ++k) sum += polygon.corner[static_cast<std::size_t>(k)];
-  return sum / polygon.size;
-}
-
 }  // namespace
 
 std::vector<std::uint32_t> trianglesMeeting(const TriangleMesh& mesh,
@@ -100,7 +94,7 @@ Eigen::Vector3d justInside(const Box3& box, const Eigen::Vector3d& p) {
 }
 
 void appendClippedCorners(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles,
-                          const Box3& box, const SolidTest& solid, std::vector<double>& xyz) {
+                          const Box3& box, std::vector<double>& xyz) {
   std::vector<bool> added(static_cast<std::size_t>(mesh.vertices.rows()), false);
   for (std::uint32_t t : triangles) {
     Polygon polygon;
@@ -123,8 +117,7 @@ void appendClippedCorners(const TriangleMesh& mesh, const std::vector<std::uint3
       polygon = clip(polygon, axis, box.lo[axis], true);
       polygon = clip(polygon, axis, box.hi[axis], false);
     }
-    if (!hasArea(polygon)) continue;
-    if (onFace(box, polygon) && !solid(justInside(box, centroid(polygon)))) continue;
+    if (!hasArea(polygon) || onFace(box, polygon)) continue;
     for (int k = 0; k < polygon.size; ++k) {
       const Eigen::Vector3d& p = polygon.corner[static_cast<std::size_t>(k)];
       xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});

@@ -6,7 +6,6 @@
 #include <Eigen/Core>
 
 #include <cstdint>
-#include <functional>
 #include <vector>
 
 #include "hfts_db/triangle_mesh.h"
@@ -25,22 +24,22 @@ std::vector<std::uint32_t> trianglesMeeting(const TriangleMesh& mesh,
                                             const std::vector<std::uint32_t>& candidates,
                                             const Box3& box);
 
-/// Whether a point lies in the solid (for the parts of the surface that lie
-/// in a face of the box).
-using SolidTest = std::function<bool(const Eigen::Vector3d&)>;
-
 /// Appends (x, y, z) of the corners of every triangle of `triangles`
 /// clipped to `box` (Sutherland-Hodgman against its six planes; a point
 /// made on a plane gets that plane's coordinate exactly): with the box's
 /// corners in the solid, the points whose convex hull is the hull of the
-/// solid in the box. What has no area in the box (a triangle outside that
-/// touches it along an edge) is left out, and so is a triangle lying in a
-/// face of the box unless the solid lies on the box's side of it (`solid`
-/// at a point just inside the box): a cut along a face of the mesh leaves
-/// that face to the side it bounds. A mesh vertex inside the box is
-/// appended once, however many triangles share it.
+/// solid in the box. Left out is what lies in the box's boundary: a
+/// triangle outside that touches the box along an edge (no area in it), and
+/// a triangle lying in a face of the box, since a cut along a face of the
+/// mesh must not give that face to the side it does not bound (an arm's
+/// inner face stays out of the base beside it). Such a face adds no corner
+/// to the solid in the box: where the solid lies on the box's side, the
+/// triangles that bound it there enter the box and bring the face's
+/// corners, and the box's own corners in the solid come with them. The
+/// corners of triangles wholly inside the box are appended once each,
+/// however many triangles share them.
 void appendClippedCorners(const TriangleMesh& mesh, const std::vector<std::uint32_t>& triangles,
-                          const Box3& box, const SolidTest& solid, std::vector<double>& xyz);
+                          const Box3& box, std::vector<double>& xyz);
 
 /// The point `p` of the box moved a little towards the box's inside
 /// (1e-6 of the box's diagonal along each axis where p is on a face), to

@@ -4,6 +4,8 @@
 #include "preprocess/convex_decomposition.h"
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <numeric>
 #include <optional>
 
@@ -70,6 +72,8 @@ class Decomposer {
     splitOnVoxels(cells);
     for (Cell& cell : cells) makePiece(cell);
     splitMeasured(cells, solidVolume);
+    while (joinOnePair(cells)) {
+    }
     return cells;
   }
 
@@ -113,17 +117,70 @@ class Decomposer {
     }
   }
 
-  /// Of the candidate cuts, the one whose pieces are the smallest, made.
+  /// Of the candidate cuts (and, if none of those helps, the fallbacks),
+  /// the one whose pieces are the smallest, made; none if no cut makes
+  /// them smaller than the cell's: the piece is convex as far as cuts can
+  /// tell (the lattice's measure of the solid in a thin box errs by a part
+  /// of a voxel, and can make a convex piece look otherwise).
   std::optional<std::array<Cell, 2>> measuredSplit(const Cell& cell) const {
     const VoxelSet voxels(lattice_, cell.voxels);
     std::optional<std::array<Cell, 2>> best;
-    for (const Cut& cut : search_.candidates(voxels, cell.bounds)) {
-      std::array<Cell, 2> two = halves(cell, voxels, cut);
-      for (Cell& half : two) makePiece(half);
-      if (!best || two[0].hull + two[1].hull < (*best)[0].hull + (*best)[1].hull)
-        best = std::move(two);
+    const auto smaller = [&](const std::vector<Cut>& cuts) {
+      for (const Cut& cut : cuts) {
+        std::array<Cell, 2> two = halves(cell, voxels, cut);
+        for (Cell& half : two) makePiece(half);
+        if (!best || two[0].hull + two[1].hull < (*best)[0].hull + (*best)[1].hull)
+          best = std::move(two);
+      }
+      return best && (*best)[0].hull + (*best)[1].hull < cell.hull * (1.0 - 1e-9);
+    };
+    if (smaller(search_.candidates(voxels, cell.bounds)) || smaller(search_.fallbacks(voxels)))
+      return best;
+    return std::nullopt;
+  }
+
+  /// Joins the first two neighbouring cells whose boxes together are a box
+  /// and whose pieces together are convex (within rounding): the halves of
+  /// a flat wall that a cut nearby split on its way. Fewer parts for
+  /// nothing. Whether it joined two.
+  static bool joinOnePair(std::vector<Cell>& cells) {
+    for (int axis = 0; axis < 3; ++axis) {
+      // Cells by their extent across the other two axes and where they start.
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      const auto key = [&](const Cell& c, double start) {
+        return std::array<double, 5>{c.bounds.lo[u], c.bounds.hi[u], c.bounds.lo[v], c.bounds.hi[v],
+                                     start};
+      };
+      std::map<std::array<double, 5>, std::size_t> starting;
+      for (std::size_t i = 0; i < cells.size(); ++i)
+        starting.emplace(key(cells[i], cells[i].bounds.lo[axis]), i);
+      for (std::size_t i = 0; i < cells.size(); ++i) {
+        const auto next = starting.find(key(cells[i], cells[i].bounds.hi[axis]));
+        if (next == starting.end() || join(cells[i], cells[next->second]) == false) continue;
+        cells.erase(cells.begin() + static_cast<std::ptrdiff_t>(next->second));
+        return true;
+      }
     }
-    return best;
+    return false;
+  }
+
+  /// Makes `a` the union of `a` and `b` if their pieces' hull is no larger
+  /// than the two pieces; whether it did.
+  static bool join(Cell& a, const Cell& b) {
+    std::vector<double> xyz;
+    for (const db::ConvexPiece* piece : {static_cast<const db::ConvexPiece*>(&a.piece), &b.piece})
+      for (Eigen::Index i = 0; i < piece->vertices.rows(); ++i)
+        xyz.insert(xyz.end(),
+                   {piece->vertices(i, 0), piece->vertices(i, 1), piece->vertices(i, 2)});
+    db::ConvexPiece joined = pieceHull(std::move(xyz));
+    const double hull = volumeOf(joined);
+    if (hull > (a.hull + b.hull) * (1.0 + 1e-9)) return false;
+    a.bounds.lo = a.bounds.lo.cwiseMin(b.bounds.lo);
+    a.bounds.hi = a.bounds.hi.cwiseMax(b.bounds.hi);
+    a.piece = std::move(joined);
+    a.hull = hull;
+    a.solid += b.solid;
+    return true;
   }
 
   /// Puts the halves in place of cell i, or marks it done if there are none.
@@ -156,15 +213,14 @@ class Decomposer {
   /// the box's corners in the solid), its volume and the solid's.
   void makePiece(Cell& cell) const {
     const Box3& box = cell.bounds;
-    const SolidTest solid = [&](const Eigen::Vector3d& p) { return lattice_.contains(p); };
     std::vector<double> xyz;
-    appendClippedCorners(mesh_, cell.triangles, box, solid, xyz);
+    appendClippedCorners(mesh_, cell.triangles, box, xyz);
     for (int corner = 0; corner < 8; ++corner) {
       const Eigen::Vector3d p((corner & 1) ? box.hi.x() : box.lo.x(),
                               (corner & 2) ? box.hi.y() : box.lo.y(),
                               (corner & 4) ? box.hi.z() : box.lo.z());
       // A corner on the surface counts if the solid is on the box's side.
-      if (solid(justInside(box, p))) xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
+      if (lattice_.contains(justInside(box, p))) xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
     }
     cell.piece = pieceHull(std::move(xyz));
     cell.hull = volumeOf(cell.piece);

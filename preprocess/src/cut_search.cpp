@@ -175,4 +175,19 @@ std::vector<Cut> CutSearch::candidates(const VoxelSet& voxels, const Box3& bound
   return out;
 }
 
+std::vector<Cut> CutSearch::fallbacks(const VoxelSet& voxels) const {
+  std::vector<Cut> out;
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<std::size_t>(axis);
+    const std::vector<std::array<VoxelMeasure, 2>> cuts = voxels.cuts(axis);
+    const int lo = voxels.box().lo[a], size = voxels.box().size(axis);
+    for (int eighths : {1, 2, 6, 7}) {
+      const std::optional<Cut> cut = at(voxels, cuts, axis, lo + (size * eighths + 4) / 8);
+      if (cut && (out.empty() || out.back().axis != axis || out.back().at != cut->at))
+        out.push_back(*cut);
+    }
+  }
+  return out;
+}
+
 }  // namespace hfts::preprocess

@@ -48,6 +48,12 @@ class CutSearch {
   /// without voxels is halved across each axis at least two voxels long.
   std::vector<Cut> candidates(const VoxelSet& voxels, const Box3& bounds) const;
 
+  /// More cuts to measure when none of candidates() gives smaller pieces
+  /// (the voxels see nothing to cut, as at a bottle's shoulder): across
+  /// each axis at an eighth, a quarter, three quarters and seven eighths
+  /// of the voxels.
+  std::vector<Cut> fallbacks(const VoxelSet& voxels) const;
+
  private:
   std::optional<Cut> best(const VoxelSet& voxels, int axis) const;
   std::optional<Cut> balanced(const VoxelSet& voxels, int axis) const;

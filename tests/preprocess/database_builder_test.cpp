@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 #include <thread>
+#include <tuple>
 
 #include "bundled_objects.h"
 #include "hfts_db/invalid_argument.h"
@@ -180,6 +181,53 @@ TEST(DatabaseBuilder, TheDistanceGridFollowsItsParameters) {
   EXPECT_GT(grid.origin.x(), -0.06 - 0.004);  // the margin, not a node more
   EXPECT_GT(r.times.distance_grid, 0.0);
   EXPECT_LT(grid.lowerBound(Eigen::Vector3d::Zero()), -0.05 + 0.004 * std::sqrt(3.0));
+}
+
+TEST(DatabaseBuilder, TheConvexPartsFollowTheirParametersAndAreTimed) {
+  const TriangleMesh torus = loadMesh(test::bundledMeshDir() / "torus.stl").mesh;
+  db::BuildParameters params = test::fixtureParameters();
+  params.convex_parts_max = 4;
+  const BuildResult r = buildObjectDatabase(torus, true, params, "torus");
+  EXPECT_EQ(r.database.geometry.convex_parts.size(), 4u);
+  EXPECT_GT(r.times.convex_parts, 0.0);
+  EXPECT_EQ(r.database.density, db::kDefaultDensity);
+  // A convex object is one part, and its volume is the mesh's.
+  const BuildResult cube = buildObjectDatabase(test::cube(0.1), true, params, "cube");
+  EXPECT_EQ(cube.database.geometry.convex_parts.size(), 1u);
+  EXPECT_NEAR(cube.database.geometry.volume, 0.001, 1e-15);
+}
+
+TEST(DatabaseBuilder, TheDensityIsTheSidecarsElseTheOneGivenElseWaters) {
+  TempDir dir;
+  test::writeBinaryStl(dir / "a.stl", test::cube(0.1));
+  test::writeBinaryStl(dir / "b.stl", test::cube(0.1));
+  test::writeText(dir / "b.json", "{\"density\": 2300}");
+  const db::BuildParameters params = test::fixtureParameters();
+  EXPECT_EQ(buildObjectDatabaseFromFile(dir / "a.stl", params).database.density, 1000.0);
+  EXPECT_EQ(buildObjectDatabaseFromFile(dir / "a.stl", params, 700.0).database.density, 700.0);
+  EXPECT_EQ(buildObjectDatabaseFromFile(dir / "b.stl", params, 700.0).database.density, 2300.0);
+  test::expectErrorMentioning<InvalidArgument>(
+      [&] { buildObjectDatabaseFromFile(dir / "a.stl", params, 5.0); },
+      {"density: must be in [10, 25000] kg/m^3, got 5"});
+  test::writeText(dir / "b.json", "{\"density\": -1}");
+  test::expectErrorMentioning<InvalidArgument>(
+      [&] { buildObjectDatabaseFromFile(dir / "b.stl", params); },
+      {(dir / "b.json").string(), "density: must be in"});
+}
+
+TEST(DatabaseBuilder, RejectsBadConvexPartParametersByName) {
+  for (const auto& [max, tolerance, field] :
+       std::vector<std::tuple<std::uint32_t, double, std::string>>{
+           {0, 0.04, "convex_parts_max"},
+           {2000, 0.04, "convex_parts_max"},
+           {64, 1.0, "convex_parts_tolerance"},
+           {64, std::nan(""), "convex_parts_tolerance"}}) {
+    db::BuildParameters params;
+    params.convex_parts_max = max;
+    params.convex_parts_tolerance = tolerance;
+    test::expectErrorMentioning<InvalidArgument>([&] { checkBuildParameters(params); },
+                                                 {field + ": must be in"});
+  }
 }
 
 TEST(Sha256, MatchesAKnownDigest) {

@@ -32,6 +32,13 @@ TriangleMesh cube(double size, const Eigen::Vector3d& center) {
   return mesh;
 }
 
+TriangleMesh block(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  TriangleMesh mesh = cube(1.0, Eigen::Vector3d::Constant(0.5));  // corners 0 and 1
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v)
+    for (int c = 0; c < 3; ++c) mesh.vertices(v, c) = mesh.vertices(v, c) == 0.0 ? lo[c] : hi[c];
+  return mesh;
+}
+
 TriangleMesh merged(const TriangleMesh& a, const TriangleMesh& b) {
   TriangleMesh out;
   out.vertices.resize(a.vertices.rows() + b.vertices.rows(), 3);
