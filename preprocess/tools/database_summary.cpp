@@ -1,5 +1,6 @@
 #include "database_summary.h"
 
+#include <iomanip>
 #include <sstream>
 
 namespace hfts::preprocess {
@@ -133,7 +134,11 @@ std::string databaseSummaryText(const db::ObjectDatabase& db,
       << g.distance_grid.dims[2] << " nodes, " << 1000.0 * g.distance_grid.spacing << " mm apart, "
       << (g.distance_grid.is_signed ? "signed" : "unsigned (open mesh)") << "\n"
       << "convex parts    " << g.convex_parts.size();
-  if (g.volume > 0.0) out << ", their volumes " << partsVolume(g) / g.volume << " x the solid's";
+  if (g.volume > 0.0) {
+    std::ostringstream ratio;
+    ratio << std::fixed << std::setprecision(3) << partsVolume(g) / g.volume;
+    out << ", their volumes " << ratio.str() << " x the solid's";
+  }
   out << "\n";
   out << "graspability    ";
   if (const auto& v = graspability.value) {

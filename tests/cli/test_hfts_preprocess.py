@@ -36,6 +36,13 @@ class PreprocessCli(unittest.TestCase):
     def tearDownClass(cls):
         shutil.rmtree(cls.tmp, ignore_errors=True)
 
+    def assert_usage_errors(self, mesh, out, cases):
+        """Each (option, value) is a usage error (exit 2) naming the option."""
+        for option, value in cases:
+            result = run(mesh, "-o", out, option, value)
+            self.assertEqual(result.returncode, 2, (option, value))
+            self.assertIn(option, result.stderr)
+
     def test_directory_builds_every_bundled_object_with_a_summary(self):
         self.assertEqual(self.build.returncode, 0, self.build.stderr)
         # The sidecars (kettlebell.json, washer.json) are not meshes.
@@ -126,12 +133,10 @@ class PreprocessCli(unittest.TestCase):
         self.assertLessEqual(summary["convex_parts"]["count"], 4)
         self.assertEqual(summary["parameters"]["convex_parts_max"], 4)
         self.assertEqual(summary["parameters"]["convex_parts_tolerance"], 0.5)
-        for option, value in (("--convex-parts-max", "0"), ("--convex-parts-max", "2000"),
-                              ("--convex-parts-tolerance", "-0.1"), ("--density", "5"),
-                              ("--density", "30000")):
-            result = run(torus, "-o", out, option, value)
-            self.assertEqual(result.returncode, 2, (option, value))
-            self.assertIn(option, result.stderr)
+        self.assert_usage_errors(torus, out, (("--convex-parts-max", "0"),
+                                              ("--convex-parts-max", "2000"),
+                                              ("--convex-parts-tolerance", "-0.1"),
+                                              ("--density", "5"), ("--density", "30000")))
         result = run(torus, "-o", out, "--convex-parts-tolerance", "1")
         self.assertEqual(result.returncode, 2)
         self.assertIn("convex_parts_tolerance: must be in [0, 1)", result.stderr)
@@ -191,11 +196,9 @@ class PreprocessCli(unittest.TestCase):
         self.assertEqual(summary["distance_grid"]["spacing"], 0.004)
         self.assertEqual(summary["parameters"]["distance_grid_margin"], 0.01)
         self.assertIn("distance grid", run("--inspect", os.path.join(out, "box.h5"), check=0).stdout)
-        for option, value in (("--distance-grid-spacing", "-1"), ("--distance-grid-margin", "-0.1"),
-                              ("--distance-grid-margin", "x")):
-            result = run(box, "-o", out, option, value)
-            self.assertEqual(result.returncode, 2, (option, value))
-            self.assertIn(option, result.stderr)
+        self.assert_usage_errors(box, out, (("--distance-grid-spacing", "-1"),
+                                            ("--distance-grid-margin", "-0.1"),
+                                            ("--distance-grid-margin", "x")))
         result = run(box, "-o", out, "--distance-grid-margin", "nan")
         self.assertEqual(result.returncode, 2)
         self.assertIn("distance_grid_margin: must be >= 0", result.stderr)

@@ -212,24 +212,38 @@ TEST(ObjectDatabase, VersionOneIsRejectedBeforeItsStringsAreRead) {
       {"format version 1 is not supported", "reads version 4", "hfts-preprocess MESH -o DIR"});
 }
 
+/// The sample saved as `name`, then made a file of an older version:
+/// `links` and `attributes` ({group, name}) removed, the version set.
+std::filesystem::path olderVersion(
+    const TempDir& dir, const std::string& name, int version, const std::vector<std::string>& links,
+    const std::vector<std::pair<std::string, std::string>>& attributes) {
+  saveObjectDatabase(sample(), dir / name);
+  const hid_t file = H5Fopen((dir / name).c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  for (const std::string& link : links) H5Ldelete(file, link.c_str(), H5P_DEFAULT);
+  for (const auto& [group, attribute] : attributes) {
+    const hid_t g = H5Gopen2(file, group.c_str(), H5P_DEFAULT);
+    H5Adelete(g, attribute.c_str());
+    H5Gclose(g);
+  }
+  H5Fclose(file);
+  test::setFormatVersion(dir / name, version);
+  return dir / name;
+}
+
+void expectRebuildAsked(const std::filesystem::path& path, int version) {
+  test::expectErrorMentioning<DatabaseError>(
+      [&] { loadObjectDatabase(path); },
+      {path.string(), "format version " + std::to_string(version) + " is not supported",
+       "reads version 4", "rebuild it with hfts-preprocess MESH -o DIR"});
+}
+
 TEST(ObjectDatabase, VersionTwoIsRejectedNamingTheCommandThatRebuildsIt) {
   // A version-2 file: no distance grid, no grid parameters.
   TempDir dir;
-  saveObjectDatabase(sample(), dir / "v2.h5");
-  {
-    const hid_t file = H5Fopen((dir / "v2.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-    H5Ldelete(file, "distance_grid", H5P_DEFAULT);
-    const hid_t parameters = H5Gopen2(file, "parameters", H5P_DEFAULT);
-    H5Adelete(parameters, "distance_grid_spacing");
-    H5Adelete(parameters, "distance_grid_margin");
-    H5Gclose(parameters);
-    H5Fclose(file);
-  }
-  test::setFormatVersion(dir / "v2.h5", 2);
-  test::expectErrorMentioning<DatabaseError>(
-      [&] { loadObjectDatabase(dir / "v2.h5"); },
-      {(dir / "v2.h5").string(), "format version 2 is not supported", "reads version 4",
-       "rebuild it with hfts-preprocess MESH -o DIR"});
+  expectRebuildAsked(olderVersion(dir, "v2.h5", 2, {"distance_grid", "convex_parts"},
+                                  {{"parameters", "distance_grid_spacing"},
+                                   {"parameters", "distance_grid_margin"}}),
+                     2);
 }
 
 TEST(ObjectDatabase, VersionThreeIsRejectedNamingTheCommandThatRebuildsIt) {
@@ -237,24 +251,11 @@ TEST(ObjectDatabase, VersionThreeIsRejectedNamingTheCommandThatRebuildsIt) {
   // parameters. The physics check needs the parts, so it is rebuilt, not
   // read with the hull in their place.
   TempDir dir;
-  saveObjectDatabase(sample(), dir / "v3.h5");
-  {
-    const hid_t file = H5Fopen((dir / "v3.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-    H5Ldelete(file, "convex_parts", H5P_DEFAULT);
-    const hid_t parameters = H5Gopen2(file, "parameters", H5P_DEFAULT);
-    H5Adelete(parameters, "convex_parts_max");
-    H5Adelete(parameters, "convex_parts_tolerance");
-    H5Gclose(parameters);
-    const hid_t object = H5Gopen2(file, "object", H5P_DEFAULT);
-    H5Adelete(object, "density");
-    H5Gclose(object);
-    H5Fclose(file);
-  }
-  test::setFormatVersion(dir / "v3.h5", 3);
-  test::expectErrorMentioning<DatabaseError>(
-      [&] { loadObjectDatabase(dir / "v3.h5"); },
-      {(dir / "v3.h5").string(), "format version 3 is not supported", "reads version 4",
-       "rebuild it with hfts-preprocess MESH -o DIR"});
+  expectRebuildAsked(olderVersion(dir, "v3.h5", 3, {"convex_parts"},
+                                  {{"parameters", "convex_parts_max"},
+                                   {"parameters", "convex_parts_tolerance"},
+                                   {"object", "density"}}),
+                     3);
 }
 
 TEST(ObjectDatabase, ConvexPartsCoverTheSolidAndTheDensityIsWaters) {
