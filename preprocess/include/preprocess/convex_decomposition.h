@@ -42,7 +42,8 @@ struct ConvexDecomposition {
 /// parts that do not overlap) less what closed parts that overlap count
 /// more than once, measured along vertical lines 1/256 of the longest side
 /// of the bounding box apart (exact along each line, the midpoint rule
-/// across them).
+/// across them). Precondition: a mesh with triangles and finite vertices,
+/// as loadMesh gives.
 double solidVolume(const TriangleMesh& mesh);
 
 /// Splits the solid of a closed mesh (where its winding number is not 0, so
@@ -58,15 +59,17 @@ double solidVolume(const TriangleMesh& mesh);
 /// until that measure is within the tolerance overall; then the piece whose
 /// hull exceeds the solid in its box by the most, by whichever of a few
 /// cuts gives the smallest pieces, until the pieces' volumes add up to at
-/// most 1 + tolerance times the solid's, or there are max_parts. A convex
-/// solid is one piece: its hull. An open mesh bounds no solid and is one
-/// piece too, its hull. Pieces below db::minimumConvexPartVolume are left
-/// out. Deterministic: the same mesh and options give the same pieces, each
-/// in the canonical order of db::ConvexPiece.
+/// most 1 + tolerance times the solid's, or there are max_parts. Last,
+/// neighbouring pieces whose boxes together are a box and whose hull
+/// together is no larger are joined. A convex solid is one piece: its hull. An open mesh bounds no
+/// solid and is one piece too, its hull. Pieces below db::minimumConvexPartVolume are left out.
+/// Deterministic: the same mesh and options give the same pieces, each in the canonical order of
+/// db::ConvexPiece.
 ///
 /// Throws hfts::InvalidArgument naming the option ("max_parts",
 /// "tolerance", "resolution") for a value out of range, and MeshError
-/// (naming `what`) when the mesh spans no volume.
+/// (naming `what`) when the mesh spans no volume. Precondition: a mesh
+/// with triangles and finite vertices, as loadMesh gives.
 ConvexDecomposition decomposeConvex(const TriangleMesh& mesh, bool closed,
                                     const DecompositionOptions& options, const std::string& what);
 
