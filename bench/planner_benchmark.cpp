@@ -192,7 +192,8 @@ struct SceneChecker {
       : scene(robot::loadScene(kSource / ("objects/scenes/" + name + ".json"))) {
     std::filesystem::path mesh;
     for (const auto& entry : std::filesystem::directory_iterator(kSource / "objects/meshes"))
-      if (entry.path().stem() == scene.target_object) mesh = entry.path();
+      if (entry.path().stem() == scene.target_object && entry.path().extension() != ".json")
+        mesh = entry.path();
     target = preprocess::buildObjectDatabaseFromFile(mesh, {}).database.geometry;
     checker = std::make_unique<robot::CollisionChecker>(robot(), scene, &target);
   }

@@ -94,4 +94,23 @@ double surfaceArea(const TriangleMesh& mesh) {
   return 0.5 * twice;
 }
 
+SolidProperties solidProperties(const TriangleMesh& mesh) {
+  // Tetrahedra against a point near the mesh keep the sums well conditioned.
+  const Eigen::Vector3d origin = mesh.vertices.colwise().mean().transpose();
+  double volume6 = 0.0;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+    const Eigen::Vector3d a = mesh.vertices.row(mesh.triangles(t, 0)).transpose() - origin;
+    const Eigen::Vector3d b = mesh.vertices.row(mesh.triangles(t, 1)).transpose() - origin;
+    const Eigen::Vector3d c = mesh.vertices.row(mesh.triangles(t, 2)).transpose() - origin;
+    const double v6 = a.dot(b.cross(c));
+    volume6 += v6;
+    moment += v6 * (a + b + c) / 4.0;
+  }
+  SolidProperties out;
+  out.volume = std::abs(volume6) / 6.0;
+  out.centroid = volume6 != 0.0 ? Eigen::Vector3d(origin + moment / volume6) : origin;
+  return out;
+}
+
 }  // namespace hfts

@@ -41,6 +41,8 @@ void writeParameters(hid_t file, const BuildParameters& p) {
   h5::writeAttribute(g, "seed", p.seed);
   h5::writeAttribute(g, "distance_grid_spacing", p.distance_grid_spacing);
   h5::writeAttribute(g, "distance_grid_margin", p.distance_grid_margin);
+  h5::writeAttribute(g, "convex_parts_max", std::uint64_t{p.convex_parts_max});
+  h5::writeAttribute(g, "convex_parts_tolerance", p.convex_parts_tolerance);
 }
 
 BuildParameters readParameters(hid_t file) {
@@ -65,6 +67,8 @@ BuildParameters readParameters(hid_t file) {
   p.seed = h5::readUInt64(g, "seed");
   p.distance_grid_spacing = h5::readDouble(g, "distance_grid_spacing");
   p.distance_grid_margin = h5::readDouble(g, "distance_grid_margin");
+  p.convex_parts_max = narrowed(h5::readUInt64(g, "convex_parts_max"), "convex_parts_max");
+  p.convex_parts_tolerance = h5::readDouble(g, "convex_parts_tolerance");
   return p;
 }
 
@@ -77,9 +81,10 @@ Eigen::Vector3d asVector3(const std::vector<double>& v, const std::string& name)
   return {v[0], v[1], v[2]};
 }
 
-void writeGeometry(hid_t file, const ObjectGeometry& geometry) {
+void writeGeometry(hid_t file, const ObjectGeometry& geometry, double density) {
   Handle group = h5::createGroup(file, "object");
   const hid_t g = group.id();
+  h5::writeAttribute(g, "density", density);
   h5::writeAttribute(g, "center_of_mass", asVector(geometry.center_of_mass));
   h5::writeAttribute(g, "rho", geometry.rho);
   h5::writeAttribute(g, "volume", geometry.volume);
@@ -105,10 +110,11 @@ Matrix toMatrix(const h5::Array<T>& array, const std::string& name) {
   return m;
 }
 
-ObjectGeometry readGeometry(hid_t file) {
+ObjectGeometry readGeometry(hid_t file, double& density) {
   Handle group = h5::openGroup(file, "object");
   const hid_t g = group.id();
   ObjectGeometry geometry;
+  density = h5::readDouble(g, "density");
   geometry.center_of_mass =
       asVector3(h5::readDoubleAttribute(g, "center_of_mass"), "center_of_mass");
   geometry.rho = h5::readDouble(g, "rho");
@@ -152,6 +158,68 @@ DistanceGrid readDistanceGrid(hid_t file) {
     throw DatabaseError("dataset 'values' must have shape (dims[2], dims[1], dims[0])");
   grid.values = std::move(values.data);
   return grid;
+}
+
+/// All parts' vertices (and faces) one after the other, with the number
+/// each part has: few datasets however many parts there are.
+void writeConvexParts(hid_t file, const std::vector<ConvexPiece>& parts) {
+  Handle group = h5::createGroup(file, "convex_parts");
+  std::vector<std::uint32_t> vertexCount, faceCount;
+  Eigen::Index vertices = 0, faces = 0;
+  for (const ConvexPiece& part : parts) {
+    vertexCount.push_back(static_cast<std::uint32_t>(part.vertices.rows()));
+    faceCount.push_back(static_cast<std::uint32_t>(part.faces.rows()));
+    vertices += part.vertices.rows();
+    faces += part.faces.rows();
+  }
+  Points3 allVertices(vertices, 3);
+  Faces3 allFaces(faces, 3);
+  vertices = faces = 0;
+  for (const ConvexPiece& part : parts) {
+    allVertices.middleRows(vertices, part.vertices.rows()) = part.vertices;
+    allFaces.middleRows(faces, part.faces.rows()) = part.faces;
+    vertices += part.vertices.rows();
+    faces += part.faces.rows();
+  }
+  h5::writeDataset(group.id(), "vertex_count", vertexCount.data(), {vertexCount.size()});
+  h5::writeDataset(group.id(), "face_count", faceCount.data(), {faceCount.size()});
+  h5::writeDataset(group.id(), "vertices", allVertices.data(), shapeOf(allVertices.rows(), 3));
+  h5::writeDataset(group.id(), "faces", allFaces.data(), shapeOf(allFaces.rows(), 3));
+}
+
+std::vector<std::uint32_t> readCounts(hid_t group, const std::string& name) {
+  h5::Array<std::uint32_t> counts = h5::readUInt32s(group, name);
+  if (counts.shape.size() != 1) throw DatabaseError("dataset '" + name + "' must be 1-D");
+  if (counts.data.size() > kMaxConvexParts)
+    throw DatabaseError("dataset '" + name + "' holds more than " +
+                        std::to_string(kMaxConvexParts) + " parts");
+  return std::move(counts.data);
+}
+
+std::vector<ConvexPiece> readConvexParts(hid_t file) {
+  Handle group = h5::openGroup(file, "convex_parts");
+  const std::vector<std::uint32_t> vertexCount = readCounts(group.id(), "vertex_count");
+  const std::vector<std::uint32_t> faceCount = readCounts(group.id(), "face_count");
+  if (vertexCount.size() != faceCount.size())
+    throw DatabaseError("convex_parts: vertex_count and face_count differ in length");
+  const Points3 vertices =
+      toMatrix<Points3>(h5::readDoubles(group.id(), "vertices"), "convex_parts/vertices");
+  const Faces3 faces = toMatrix<Faces3>(h5::readUInt32s(group.id(), "faces"), "convex_parts/faces");
+  std::uint64_t v = 0, f = 0;
+  std::vector<ConvexPiece> parts(vertexCount.size());
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (v + vertexCount[i] > static_cast<std::uint64_t>(vertices.rows()) ||
+        f + faceCount[i] > static_cast<std::uint64_t>(faces.rows()))
+      throw DatabaseError("convex_parts: the counts exceed the vertices or faces");
+    parts[i].vertices = vertices.middleRows(static_cast<Eigen::Index>(v), vertexCount[i]);
+    parts[i].faces = faces.middleRows(static_cast<Eigen::Index>(f), faceCount[i]);
+    v += vertexCount[i];
+    f += faceCount[i];
+  }
+  if (v != static_cast<std::uint64_t>(vertices.rows()) ||
+      f != static_cast<std::uint64_t>(faces.rows()))
+    throw DatabaseError("convex_parts: the counts do not add up to the vertices and faces");
+  return parts;
 }
 
 void writeContacts(hid_t file, const ObjectDatabase& db) {
@@ -242,8 +310,9 @@ void writeAll(hid_t file, const ObjectDatabase& db) {
     h5::writeAttribute(group.id(), "filters", h5::joinNames(names));
     h5::writeAttribute(group.id(), "removed", removed);
   }
-  writeGeometry(file, db.geometry);
+  writeGeometry(file, db.geometry, db.density);
   writeDistanceGrid(file, db.geometry.distance_grid);
+  writeConvexParts(file, db.geometry.convex_parts);
   writeContacts(file, db);
   Handle hierarchy = h5::createGroup(file, "hierarchy");
   h5::writeAttribute(hierarchy.id(), "branching", widened(db.parameters.branching));
@@ -274,8 +343,9 @@ ObjectDatabase readAll(hid_t file) {
     for (std::size_t i = 0; i < names.size(); ++i)
       db.filter_reports.push_back({names[i], removed[i]});
   }
-  db.geometry = readGeometry(file);
+  db.geometry = readGeometry(file, db.density);
   db.geometry.distance_grid = readDistanceGrid(file);
+  db.geometry.convex_parts = readConvexParts(file);
   readContacts(file, db);
   Handle hierarchy = h5::openGroup(file, "hierarchy");
   const std::size_t numLevels = db.parameters.branching.size();

@@ -1,10 +1,15 @@
 // The schema's invariants, checked before every save and after every load.
+#include <Eigen/Geometry>
 #include <algorithm>
+
 #include <cmath>
 #include <limits>
+#include <map>
 #include <string>
+#include <utility>
 
 #include "hfts_db/object_database.h"
+#include "hfts_db/triangle_mesh.h"
 
 namespace hfts::db {
 namespace {
@@ -33,6 +38,50 @@ class Checker {
  private:
   std::string what_;
 };
+
+double signedVolume(const ConvexPiece& part) {
+  double six = 0.0;
+  const Eigen::RowVector3d o = part.vertices.row(0);
+  for (Eigen::Index t = 0; t < part.faces.rows(); ++t) {
+    const Eigen::Vector3d a = (part.vertices.row(part.faces(t, 0)) - o).transpose();
+    const Eigen::Vector3d b = (part.vertices.row(part.faces(t, 1)) - o).transpose();
+    const Eigen::Vector3d d = (part.vertices.row(part.faces(t, 2)) - o).transpose();
+    six += a.dot(b.cross(d));
+  }
+  return six / 6.0;
+}
+
+/// Whether no corner of a face's neighbour lies more than `tolerance` in
+/// front of the face (for faces of some area), and the face angles around
+/// every vertex add up to at most 2 pi.
+bool convexEdges(const ConvexPiece& part, double tolerance) {
+  const auto corner = [&](std::uint32_t v) -> Eigen::Vector3d {
+    return part.vertices.row(v).transpose();
+  };
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> opposite;  // edge -> corner
+  std::vector<double> angles(static_cast<std::size_t>(part.vertices.rows()), 0.0);
+  for (Eigen::Index t = 0; t < part.faces.rows(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = part.faces(t, k), b = part.faces(t, (k + 1) % 3),
+                          d = part.faces(t, (k + 2) % 3);
+      opposite[{a, b}] = d;
+      const Eigen::Vector3d u = corner(b) - corner(a), w = corner(d) - corner(a);
+      angles[a] += std::atan2(u.cross(w).norm(), u.dot(w));
+    }
+  for (double angle : angles)
+    if (angle > 2.0 * M_PI + 1e-6) return false;
+  for (const auto& [edge, d] : opposite) {
+    const auto other = opposite.find({edge.second, edge.first});
+    if (other == opposite.end()) return false;
+    const Eigen::Vector3d a = corner(edge.first);
+    const Eigen::Vector3d n = (corner(edge.second) - a).cross(corner(d) - a);
+    const double area2 = n.norm();
+    if (area2 > tolerance * (corner(edge.second) - a).norm() &&
+        n.dot(corner(other->second) - a) > tolerance * area2)
+      return false;
+  }
+  return true;
+}
 
 void checkGeometry(const Checker& c, const ObjectGeometry& g) {
   c.requireFinite(g.center_of_mass, "center_of_mass");
@@ -75,6 +124,47 @@ void checkDistanceGrid(const Checker& c, const ObjectGeometry& g) {
                 (grid.boxMax().array() >= g.bbox_max.array()).all(),
             "distance_grid does not cover the bounding box");
   c.require(grid.is_signed == g.closed, "distance_grid.signed must equal closed");
+}
+
+/// Closed, outward, convex within `tolerance` (m), at least `minVolume`.
+/// Convex is checked locally (Hadamard): a closed surface of genus 0 whose
+/// every edge bends outward (the far corner of each neighbour is not in
+/// front of a face) and whose face angles around every vertex add up to at
+/// most 2 pi bounds a convex body. That takes time linear in the faces,
+/// where testing every vertex against every face would not.
+void checkConvexPart(const Checker& c, const ConvexPiece& part, const std::string& name,
+                     double tolerance, double minVolume) {
+  const TriangleMesh mesh{part.vertices, part.faces};
+  c.require(part.vertices.rows() >= 4 && part.faces.rows() >= 4,
+            name + " needs at least 4 vertices and 4 faces");
+  c.requireFinite(part.vertices, name + " vertices");
+  c.require(part.faces.maxCoeff() < static_cast<std::uint32_t>(part.vertices.rows()),
+            name + " faces index a vertex that does not exist");
+  c.require(analyzeTopology(mesh).closed(), name + " is not a closed, consistently wound surface");
+  c.require(part.vertices.rows() - part.faces.rows() / 2 == 2,
+            name + " is not one surface of genus 0");
+  const double volume = signedVolume(part);
+  c.require(volume > 0.0, name + " is wound inward");
+  c.require(convexEdges(part, tolerance), name + " is not convex");
+  c.require(volume >= minVolume, name + " holds less than the least volume of a part (" +
+                                     std::to_string(minVolume) + " m^3)");
+}
+
+void checkConvexParts(const Checker& c, const ObjectGeometry& g) {
+  c.require(!g.convex_parts.empty() && g.convex_parts.size() <= kMaxConvexParts,
+            "convex_parts must hold 1 to " + std::to_string(kMaxConvexParts) + " parts");
+  const double diagonal = (g.bbox_max - g.bbox_min).norm();
+  const double slack = 1e-6 * diagonal + 1e-9;
+  for (std::size_t i = 0; i < g.convex_parts.size(); ++i) {
+    const ConvexPiece& part = g.convex_parts[i];
+    const std::string name = "convex part " + std::to_string(i);
+    checkConvexPart(c, part, name, 1e-9 * diagonal,
+                    minimumConvexPartVolume(g.bbox_min, g.bbox_max));
+    const Eigen::Array3d lo = part.vertices.colwise().minCoeff().transpose();
+    const Eigen::Array3d hi = part.vertices.colwise().maxCoeff().transpose();
+    c.require((lo >= g.bbox_min.array() - slack).all() && (hi <= g.bbox_max.array() + slack).all(),
+              name + " reaches outside the bounding box");
+  }
 }
 
 void checkContacts(const Checker& c, const ObjectDatabase& db) {
@@ -171,8 +261,12 @@ void checkHierarchy(const Checker& c, const ObjectDatabase& db) {
 
 void validateObjectDatabase(const ObjectDatabase& db, const std::string& what) {
   const Checker c(what);
+  c.require(std::isfinite(db.density) && db.density >= kMinDensity && db.density <= kMaxDensity,
+            "density must be in [" + std::to_string(kMinDensity) + ", " +
+                std::to_string(kMaxDensity) + "] kg/m^3, got " + std::to_string(db.density));
   checkGeometry(c, db.geometry);
   checkDistanceGrid(c, db.geometry);
+  checkConvexParts(c, db.geometry);
   checkContacts(c, db);
   checkHierarchy(c, db);
 }

@@ -15,6 +15,8 @@
 #include <map>
 #include <set>
 
+#include "preprocess/convex_decomposition.h"
+
 namespace hfts::preprocess {
 namespace {
 
@@ -183,7 +185,7 @@ void canonicalize(db::Points3& vertices, db::Faces3& faces) {
 
 }  // namespace
 
-ConvexHull::ConvexHull(const Vertices& points, const std::string& what) {
+db::ConvexPiece canonicalHull(const Vertices& points, const std::string& what) {
   std::vector<Point> input;
   input.reserve(static_cast<std::size_t>(points.rows()));
   for (Eigen::Index i = 0; i < points.rows(); ++i)
@@ -193,23 +195,31 @@ ConvexHull::ConvexHull(const Vertices& points, const std::string& what) {
   if (hull.number_of_faces() < 4)
     throw MeshError(what + ": the convex hull has no volume (all points in one plane)");
 
+  db::ConvexPiece out;
   std::map<HullMesh::Vertex_index, std::uint32_t> index;
-  vertices_.resize(static_cast<Eigen::Index>(hull.number_of_vertices()), 3);
+  out.vertices.resize(static_cast<Eigen::Index>(hull.number_of_vertices()), 3);
   for (HullMesh::Vertex_index v : hull.vertices()) {
     const auto row = static_cast<std::uint32_t>(index.size());
     index[v] = row;
     const Point& p = hull.point(v);
-    vertices_.row(row) << p.x(), p.y(), p.z();
+    out.vertices.row(row) << p.x(), p.y(), p.z();
   }
-  faces_.resize(static_cast<Eigen::Index>(hull.number_of_faces()), 3);
+  out.faces.resize(static_cast<Eigen::Index>(hull.number_of_faces()), 3);
   Eigen::Index face = 0;
   for (HullMesh::Face_index f : hull.faces()) {
     int k = 0;
     for (HullMesh::Vertex_index v : CGAL::vertices_around_face(hull.halfedge(f), hull))
-      if (k < 3) faces_(face, k++) = index[v];
+      if (k < 3) out.faces(face, k++) = index[v];
     ++face;
   }
-  canonicalize(vertices_, faces_);
+  canonicalize(out.vertices, out.faces);
+  return out;
+}
+
+ConvexHull::ConvexHull(const Vertices& points, const std::string& what) {
+  db::ConvexPiece hull = canonicalHull(points, what);
+  vertices_ = std::move(hull.vertices);
+  faces_ = std::move(hull.faces);
   planes_.resize(faces_.rows(), 4);
   for (Eigen::Index row = 0; row < faces_.rows(); ++row) {
     const Eigen::Vector3d a = vertices_.row(faces_(row, 0)).transpose();
@@ -241,25 +251,6 @@ Eigen::Vector3d ConvexHull::centroid() const {
   return solidProperties(mesh).centroid;
 }
 
-SolidProperties solidProperties(const TriangleMesh& mesh) {
-  // Tetrahedra against a point near the mesh keep the sums well conditioned.
-  const Eigen::Vector3d origin = mesh.vertices.colwise().mean().transpose();
-  double volume6 = 0.0;
-  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
-  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-    const Eigen::Vector3d a = mesh.vertices.row(mesh.triangles(t, 0)).transpose() - origin;
-    const Eigen::Vector3d b = mesh.vertices.row(mesh.triangles(t, 1)).transpose() - origin;
-    const Eigen::Vector3d c = mesh.vertices.row(mesh.triangles(t, 2)).transpose() - origin;
-    const double v6 = a.dot(b.cross(c));
-    volume6 += v6;
-    moment += v6 * (a + b + c) / 4.0;
-  }
-  SolidProperties out;
-  out.volume = std::abs(volume6) / 6.0;
-  out.centroid = volume6 != 0.0 ? Eigen::Vector3d(origin + moment / volume6) : origin;
-  return out;
-}
-
 db::ObjectGeometry objectGeometry(const TriangleMesh& mesh, bool closed, const ConvexHull& hull) {
   db::ObjectGeometry g;
   g.hull_vertices = hull.vertices();
@@ -268,9 +259,10 @@ db::ObjectGeometry objectGeometry(const TriangleMesh& mesh, bool closed, const C
   g.mesh_triangles = mesh.triangles;
   g.closed = closed;
   if (closed) {
-    const SolidProperties solid = solidProperties(mesh);
-    g.volume = solid.volume;
-    g.center_of_mass = solid.centroid;
+    // The centroid counts an overlap of closed parts twice (a small shift
+    // for the bundled objects); the volume counts it once.
+    g.volume = solidVolume(mesh);
+    g.center_of_mass = solidProperties(mesh).centroid;
   } else {
     g.center_of_mass = hull.centroid();
   }

@@ -12,8 +12,10 @@
 #include "hfts_db/invalid_argument.h"
 #include "preprocess/contact_filters.h"
 #include "preprocess/contact_set.h"
+#include "preprocess/convex_decomposition.h"
 #include "preprocess/convex_hull.h"
 #include "preprocess/hierarchy_builder.h"
+#include "preprocess/object_sidecar.h"
 #include "preprocess/surface_sampler.h"
 
 #ifndef HFTS_VERSION
@@ -89,6 +91,13 @@ void checkBuildParameters(const db::BuildParameters& p) {
   if (!(p.distance_grid_margin >= 0.0) || !std::isfinite(p.distance_grid_margin))
     throw InvalidArgument("distance_grid_margin",
                           "must be >= 0, got " + std::to_string(p.distance_grid_margin));
+  if (p.convex_parts_max < 1 || p.convex_parts_max > db::kMaxConvexParts)
+    throw InvalidArgument("convex_parts_max", "must be in 1.." +
+                                                  std::to_string(db::kMaxConvexParts) + ", got " +
+                                                  std::to_string(p.convex_parts_max));
+  if (!(p.convex_parts_tolerance >= 0.0 && p.convex_parts_tolerance < 1.0))
+    throw InvalidArgument("convex_parts_tolerance",
+                          "must be in [0, 1), got " + std::to_string(p.convex_parts_tolerance));
   checkFilterNames(p.filters);
 }
 
@@ -137,15 +146,22 @@ BuildResult buildObjectDatabase(const TriangleMesh& mesh, bool closed,
   result.times.hierarchy = watch.lap();
   db.geometry.distance_grid = distanceGrid(mesh, closed, params);
   result.times.distance_grid = watch.lap();
+  db.geometry.convex_parts =
+      decomposeConvex(mesh, closed, {params.convex_parts_max, params.convex_parts_tolerance}, what)
+          .parts;
+  result.times.convex_parts = watch.lap();
   result.times.total = result.times.sample + result.times.normals + result.times.filter +
-                       result.times.hierarchy + result.times.distance_grid;
+                       result.times.hierarchy + result.times.distance_grid +
+                       result.times.convex_parts;
   db::validateObjectDatabase(db, what);
   return result;
 }
 
 BuildResult buildObjectDatabaseFromFile(const std::filesystem::path& meshPath,
-                                        const db::BuildParameters& params) {
+                                        const db::BuildParameters& params, double density) {
   checkBuildParameters(params);
+  checkDensity(density, "density");
+  const ObjectSidecar sidecar = readSidecar(meshPath);
   Stopwatch watch;
   LoadedMesh loaded = loadMesh(meshPath, params.scale);
   const double loadTime = watch.lap();
@@ -158,6 +174,7 @@ BuildResult buildObjectDatabaseFromFile(const std::filesystem::path& meshPath,
   db.name = meshPath.stem().string();
   db.source_mesh = meshPath.filename().string();
   db.source_sha256 = sha256File(meshPath);
+  db.density = sidecar.density.value_or(density);
   return result;
 }
 

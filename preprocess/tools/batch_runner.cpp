@@ -55,19 +55,21 @@ class ProgressBar {
 };
 
 BatchOutcome buildOne(const std::filesystem::path& mesh, const std::filesystem::path& outDir,
-                      const db::BuildParameters& params) {
+                      const db::BuildParameters& params, double density) {
   BatchOutcome outcome;
   outcome.mesh = mesh;
   outcome.name = mesh.stem().string();
   const auto start = std::chrono::steady_clock::now();
   try {
-    const BuildResult result = buildObjectDatabaseFromFile(mesh, params);
+    const BuildResult result = buildObjectDatabaseFromFile(mesh, params, density);
     db::saveObjectDatabase(result.database, outDir / (outcome.name + ".h5"));
     outcome.warnings = result.warnings;
     outcome.samples = result.database.num_samples;
     outcome.contacts = result.database.numContacts();
     for (const auto& level : result.database.levels)
       outcome.nodes_per_level.push_back(level.size());
+    outcome.convex_parts = result.database.geometry.convex_parts.size();
+    outcome.convex_parts_seconds = result.times.convex_parts;
     outcome.ok = true;
   } catch (const std::exception& e) {
     outcome.error = e.what();
@@ -88,7 +90,8 @@ std::vector<std::filesystem::path> collectMeshes(const std::filesystem::path& in
   for (const auto& entry : std::filesystem::directory_iterator(input)) {
     if (!entry.is_regular_file()) continue;
     const std::string ext = entry.path().extension().string();
-    if (!ext.empty() && importer.IsExtensionSupported(ext)) meshes.push_back(entry.path());
+    if (!ext.empty() && ext != ".json" && importer.IsExtensionSupported(ext))
+      meshes.push_back(entry.path());
   }
   if (meshes.empty())
     throw std::runtime_error("directory '" + input.string() + "' holds no mesh file");
@@ -98,7 +101,7 @@ std::vector<std::filesystem::path> collectMeshes(const std::filesystem::path& in
 
 std::vector<BatchOutcome> runBatch(const std::vector<std::filesystem::path>& meshes,
                                    const std::filesystem::path& outDir,
-                                   const db::BuildParameters& params, unsigned jobs,
+                                   const db::BuildParameters& params, double density, unsigned jobs,
                                    std::ostream& log, bool logIsTerminal, bool showProgress) {
   std::vector<BatchOutcome> outcomes(meshes.size());
   // Two meshes with one stem would write one database: the later ones fail.
@@ -118,7 +121,7 @@ std::vector<BatchOutcome> runBatch(const std::vector<std::filesystem::path>& mes
         outcomes[i].error = "mesh '" + meshes[i].string() + "': another mesh has the stem '" +
                             outcomes[i].name + "' and already writes " + outcomes[i].name + ".h5";
       } else {
-        outcomes[i] = buildOne(meshes[i], outDir, params);
+        outcomes[i] = buildOne(meshes[i], outDir, params, density);
       }
       bar.done(outcomes[i]);
     }
@@ -137,18 +140,20 @@ void printSummaryTable(std::ostream& out, const std::vector<BatchOutcome>& outco
   for (const BatchOutcome& o : outcomes) width = std::max(width, o.name.size());
   out << std::left << std::setw(static_cast<int>(width) + 2) << "object" << std::right
       << std::setw(10) << "contacts" << std::setw(10) << "samples"
-      << "  " << std::left << std::setw(18) << "nodes per level" << std::right << std::setw(9)
-      << "time (s)"
+      << "  " << std::left << std::setw(18) << "nodes per level" << std::right << std::setw(6)
+      << "parts" << std::setw(11) << "parts (s)" << std::setw(10) << "time (s)"
       << "  status\n";
   for (const BatchOutcome& o : outcomes) {
     std::ostringstream nodes;
     for (std::size_t l = 0; l < o.nodes_per_level.size(); ++l)
       nodes << (l ? "/" : "") << o.nodes_per_level[l];
+    const auto ifOk = [&](const std::string& text) { return o.ok ? text : std::string("-"); };
     out << std::left << std::setw(static_cast<int>(width) + 2) << o.name << std::right
-        << std::setw(10) << (o.ok ? std::to_string(o.contacts) : "-") << std::setw(10)
-        << (o.ok ? std::to_string(o.samples) : "-") << "  " << std::left << std::setw(18)
-        << (o.ok ? nodes.str() : "-") << std::right << std::setw(9) << std::fixed
-        << std::setprecision(2) << o.seconds << "  " << (o.ok ? "ok" : "FAILED") << "\n";
+        << std::setw(10) << ifOk(std::to_string(o.contacts)) << std::setw(10)
+        << ifOk(std::to_string(o.samples)) << "  " << std::left << std::setw(18)
+        << ifOk(nodes.str()) << std::right << std::setw(6) << ifOk(std::to_string(o.convex_parts))
+        << std::fixed << std::setprecision(2) << std::setw(11) << o.convex_parts_seconds
+        << std::setw(10) << o.seconds << "  " << (o.ok ? "ok" : "FAILED") << "\n";
   }
   const auto failed =
       std::count_if(outcomes.begin(), outcomes.end(), [](const BatchOutcome& o) { return !o.ok; });

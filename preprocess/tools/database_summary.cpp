@@ -1,5 +1,6 @@
 #include "database_summary.h"
 
+#include <iomanip>
 #include <sstream>
 
 namespace hfts::preprocess {
@@ -25,7 +26,31 @@ nlohmann::json parametersJson(const db::BuildParameters& p) {
           {"kmeans_iterations", p.kmeans_iterations},
           {"seed", p.seed},
           {"distance_grid_spacing", p.distance_grid_spacing},
-          {"distance_grid_margin", p.distance_grid_margin}};
+          {"distance_grid_margin", p.distance_grid_margin},
+          {"convex_parts_max", p.convex_parts_max},
+          {"convex_parts_tolerance", p.convex_parts_tolerance}};
+}
+
+/// The convex parts' volumes added up.
+double partsVolume(const db::ObjectGeometry& g) {
+  double sum = 0.0;
+  for (const db::ConvexPiece& part : g.convex_parts)
+    sum += solidProperties(TriangleMesh{part.vertices, part.faces}).volume;
+  return sum;
+}
+
+nlohmann::json convexPartsJson(const db::ObjectGeometry& g) {
+  std::size_t vertices = 0, faces = 0;
+  for (const db::ConvexPiece& part : g.convex_parts) {
+    vertices += static_cast<std::size_t>(part.vertices.rows());
+    faces += static_cast<std::size_t>(part.faces.rows());
+  }
+  const double volume = partsVolume(g);
+  return {{"count", g.convex_parts.size()},
+          {"vertices", vertices},
+          {"faces", faces},
+          {"volume", volume},
+          {"volume_ratio", g.volume > 0.0 ? nlohmann::json(volume / g.volume) : nullptr}};
 }
 
 nlohmann::json distanceGridJson(const db::DistanceGrid& grid) {
@@ -66,12 +91,15 @@ nlohmann::json databaseSummaryJson(const db::ObjectDatabase& db,
           {"center_of_mass", vec3(g.center_of_mass)},
           {"rho", g.rho},
           {"volume", g.volume},
+          {"density", db.density},
+          {"mass", db.density * g.volume},
           {"closed", g.closed},
           {"bbox_min", vec3(g.bbox_min)},
           {"bbox_max", vec3(g.bbox_max)},
           {"hull_vertices", g.hull_vertices.rows()},
           {"hull_faces", g.hull_faces.rows()},
           {"distance_grid", distanceGridJson(g.distance_grid)},
+          {"convex_parts", convexPartsJson(g)},
           {"parameters", parametersJson(db.parameters)},
           {"graspability", graspabilityJson(graspability)}};
 }
@@ -96,13 +124,22 @@ std::string databaseSummaryText(const db::ObjectDatabase& db,
       << (g.closed ? "volume centroid" : "hull centroid, open mesh") << ")\n"
       << "rho             " << g.rho << " m\n"
       << "volume          " << g.volume * 1e6 << " cm^3\n"
+      << "density         " << db.density << " kg/m^3 (mass " << db.density * g.volume * 1e3
+      << " g)\n"
       << "bounding box    [" << g.bbox_min.transpose() << "] .. [" << g.bbox_max.transpose()
       << "] m\n"
       << "convex hull     " << g.hull_vertices.rows() << " vertices, " << g.hull_faces.rows()
       << " triangles\n"
       << "distance grid   " << g.distance_grid.dims[0] << " x " << g.distance_grid.dims[1] << " x "
       << g.distance_grid.dims[2] << " nodes, " << 1000.0 * g.distance_grid.spacing << " mm apart, "
-      << (g.distance_grid.is_signed ? "signed" : "unsigned (open mesh)") << "\n";
+      << (g.distance_grid.is_signed ? "signed" : "unsigned (open mesh)") << "\n"
+      << "convex parts    " << g.convex_parts.size();
+  if (g.volume > 0.0) {
+    std::ostringstream ratio;
+    ratio << std::fixed << std::setprecision(3) << partsVolume(g) / g.volume;
+    out << ", their volumes " << ratio.str() << " x the solid's";
+  }
+  out << "\n";
   out << "graspability    ";
   if (const auto& v = graspability.value) {
     out.precision(3);

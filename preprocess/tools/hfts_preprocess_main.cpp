@@ -12,6 +12,7 @@
 #include "preprocess/contact_export.h"
 #include "preprocess/contact_filters.h"
 #include "preprocess/database_builder.h"
+#include "preprocess/object_sidecar.h"
 #include "robot_check.h"
 #include "scene_export_command.h"
 
@@ -24,7 +25,7 @@ void addBuildOptions(CLI::App& app, BuildParameters& p) {
   app.add_option("--scale", p.scale, "Multiply mesh coordinates by this (0.001 for mm)")
       ->check(positive)
       ->capture_default_str();
-  app.add_option("--density", p.sample_density, "Surface samples per square metre")
+  app.add_option("--sample-density", p.sample_density, "Surface samples per square metre")
       ->check(positive)
       ->capture_default_str();
   app.add_option("--max-samples", p.max_samples,
@@ -74,6 +75,13 @@ void addBuildOptions(CLI::App& app, BuildParameters& p) {
                  "Distance grid extent beyond the bounding box on every side (m)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--convex-parts-max", p.convex_parts_max, "Convex decomposition: most parts")
+      ->check(CLI::Range(1u, hfts::db::kMaxConvexParts))
+      ->capture_default_str();
+  app.add_option("--convex-parts-tolerance", p.convex_parts_tolerance,
+                 "Convex decomposition: parts' volumes at most 1 + this times the solid's")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
 }
 
 int inspect(const std::string& file, bool json, const std::string& robotConfig) {
@@ -95,15 +103,16 @@ int exportPly(const std::vector<std::string>& args) {
 }
 
 int build(const std::string& input, const std::string& outDir, BuildParameters params,
-          unsigned jobs, bool quiet) {
+          double density, unsigned jobs, bool quiet) {
   if (params.filters.size() == 1 && params.filters[0] == "none") params.filters.clear();
   hfts::preprocess::checkBuildParameters(params);
+  hfts::preprocess::checkDensity(density, "density");
   const auto meshes = hfts::preprocess::collectMeshes(input);
   std::error_code ec;
   std::filesystem::create_directories(outDir, ec);
   if (!std::filesystem::is_directory(outDir))
     throw std::runtime_error("cannot create output directory '" + outDir + "'");
-  const auto outcomes = hfts::preprocess::runBatch(meshes, outDir, params, jobs, std::cerr,
+  const auto outcomes = hfts::preprocess::runBatch(meshes, outDir, params, density, jobs, std::cerr,
                                                    ::isatty(STDERR_FILENO) != 0, !quiet);
   hfts::preprocess::printSummaryTable(std::cout, outcomes);
   for (const auto& o : outcomes)
@@ -127,6 +136,7 @@ int main(int argc, char** argv) {
   bool json = false, quiet = false;
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
   BuildParameters params;
+  double density = hfts::db::kDefaultDensity;
   app.add_option("input", input, "Mesh file or directory of meshes");
   app.add_option("-o,--output", outDir, "Directory for the <mesh stem>.h5 databases");
   app.add_option("-j,--jobs", jobs, "Objects built in parallel")
@@ -160,6 +170,11 @@ int main(int argc, char** argv) {
                  "With --export-scene: directory of object databases (default build/databases)")
       ->needs(sceneOpt);
   addBuildOptions(app, params);
+  app.add_option("--density", density,
+                 "Density of the objects' material (kg/m^3); a <mesh stem>.json sidecar with "
+                 "{\"density\": ...} overrides it for its mesh")
+      ->check(CLI::Range(hfts::db::kMinDensity, hfts::db::kMaxDensity))
+      ->capture_default_str();
   app.set_version_flag("--version", hfts::preprocess::producerName());
   inspectOpt->excludes(plyOpt);
   handOpt->excludes(inspectOpt)->excludes(plyOpt)->excludes(sceneOpt);
@@ -189,7 +204,7 @@ int main(int argc, char** argv) {
       std::cerr << "hfts-preprocess: give a mesh or directory and -o OUTDIR (see --help)\n";
       return 2;
     }
-    return build(input, outDir, params, jobs, quiet);
+    return build(input, outDir, params, density, jobs, quiet);
   } catch (const std::invalid_argument& e) {
     std::cerr << "hfts-preprocess: " << e.what() << "\n";
     return 2;

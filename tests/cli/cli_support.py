@@ -23,12 +23,20 @@ def run(binary, *args, check=None, timeout=240):
     return result
 
 
+def bundled_meshes(source_dir):
+    """The file names of the bundled meshes (objects/meshes), sorted; not
+    their sidecars (<mesh stem>.json, which hfts-preprocess reads beside a
+    mesh)."""
+    meshes = os.path.join(source_dir, "objects", "meshes")
+    return sorted(f for f in os.listdir(meshes) if not f.endswith(".json"))
+
+
 def build_databases(preprocess, source_dir, out_dir, objects, robots=("kr5_sdh",)):
     """The databases of the named bundled objects and the hand maps of the
     named bundled robots (default the KR5 + SDH), written into `out_dir` with
     hfts-preprocess (what hfts-bench and hfts-server read)."""
     meshes = os.path.join(source_dir, "objects", "meshes")
-    for mesh in sorted(os.listdir(meshes)):
+    for mesh in bundled_meshes(source_dir):
         if os.path.splitext(mesh)[0] in objects:
             run(preprocess, os.path.join(meshes, mesh), "-o", out_dir, "-q", check=0)
     for robot in robots:

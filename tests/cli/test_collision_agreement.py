@@ -8,7 +8,7 @@ import sys
 import tempfile
 import unittest
 
-from cli_support import bench_options, run
+from cli_support import bench_options, bundled_meshes, run
 
 BINARY = None
 PREPROCESS = None
@@ -22,7 +22,7 @@ class CollisionAgreement(unittest.TestCase):
         cls.tmp = tempfile.mkdtemp(prefix="hfts-agreement-")
         cls.db = os.path.join(cls.tmp, "db")
         meshes = os.path.join(SOURCE_DIR, "objects", "meshes")
-        for mesh in sorted(os.listdir(meshes)):
+        for mesh in bundled_meshes(SOURCE_DIR):
             if os.path.splitext(mesh)[0] in TARGETS:
                 run(PREPROCESS, os.path.join(meshes, mesh), "-o", cls.db, "-q", check=0)
 

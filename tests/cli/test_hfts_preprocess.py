@@ -36,20 +36,38 @@ class PreprocessCli(unittest.TestCase):
     def tearDownClass(cls):
         shutil.rmtree(cls.tmp, ignore_errors=True)
 
+    def assert_usage_errors(self, mesh, out, cases):
+        """Each (option, value) is a usage error (exit 2) naming the option."""
+        for option, value in cases:
+            result = run(mesh, "-o", out, option, value)
+            self.assertEqual(result.returncode, 2, (option, value))
+            self.assertIn(option, result.stderr)
+
     def test_directory_builds_every_bundled_object_with_a_summary(self):
         self.assertEqual(self.build.returncode, 0, self.build.stderr)
-        names = sorted(os.path.splitext(f)[0] for f in os.listdir(self.meshes))
+        # The sidecars (kettlebell.json, washer.json) are not meshes.
+        names = sorted(os.path.splitext(f)[0] for f in os.listdir(self.meshes)
+                       if not f.endswith(".json"))
         self.assertEqual(sorted(os.path.splitext(f)[0] for f in os.listdir(self.out)), names)
         self.assertIn("nodes per level", self.build.stdout)
         for name in names:
-            self.assertRegex(self.build.stdout, rf"{name}\s+\d+\s+\d+\s+20/80/\d+\s+[\d.]+\s+ok")
+            self.assertRegex(self.build.stdout,
+                             rf"{name}\s+\d+\s+\d+\s+20/80/\d+\s+\d+\s+[\d.]+\s+[\d.]+\s+ok")
+        self.assertRegex(self.build.stdout, r"box\s+\d+\s+\d+\s+20/80/\d+\s+1\s")
         self.assertIn(f"{len(names)} built, 0 failed", self.build.stdout)
 
     def test_inspect_json_has_the_documented_keys(self):
         result = run("--inspect", os.path.join(self.out, "mug.h5"), "--json", check=0)
         summary = json.loads(result.stdout)
         self.assertEqual(summary["branching"], [20, 4, 4])
-        self.assertEqual(summary["format_version"], 3)
+        self.assertEqual(summary["format_version"], 4)
+        parts = summary["convex_parts"]
+        self.assertGreater(parts["count"], 10)  # the mug is far from convex
+        self.assertGreaterEqual(parts["volume_ratio"], 1.0 - 1e-9)  # the parts cover the solid
+        self.assertLessEqual(parts["volume_ratio"], 1.05)
+        self.assertEqual(summary["density"], 1000.0)
+        self.assertAlmostEqual(summary["mass"], 1000.0 * summary["volume"])
+        self.assertEqual(summary["parameters"]["convex_parts_max"], 1024)
         grid = summary["distance_grid"]
         self.assertTrue(grid["signed"])
         self.assertEqual(len(grid["dims"]), 3)
@@ -61,6 +79,67 @@ class PreprocessCli(unittest.TestCase):
         self.assertGreater(summary["rho"], 0.04)
         text = run("--inspect", os.path.join(self.out, "mug.h5"), check=0).stdout
         self.assertIn("nodes per level 20 / 80 /", text)
+        self.assertRegex(text, r"convex parts    \d+, their volumes 1\.0\d* x the solid's")
+        self.assertRegex(text, r"density         1000 kg/m\^3 \(mass 1\d\d(\.\d+)? g\)")
+
+    def test_the_bundled_sidecars_set_the_density_of_their_objects(self):
+        for name, density in (("kettlebell", 7200.0), ("washer", 7850.0), ("mug", 1000.0)):
+            summary = json.loads(run("--inspect", os.path.join(self.out, name + ".h5"), "--json",
+                                     check=0).stdout)
+            self.assertEqual(summary["density"], density, name)
+
+    def test_density_comes_from_the_option_unless_a_sidecar_says_otherwise(self):
+        src = os.path.join(self.tmp, "dense")
+        os.makedirs(src)
+        for mesh in ("box.stl", "l_bracket.ply"):
+            shutil.copy(os.path.join(self.meshes, mesh), src)
+        with open(os.path.join(src, "l_bracket.json"), "w") as f:
+            json.dump({"density": 2700}, f)
+        out = os.path.join(self.tmp, "dense-out")
+        result = run(src, "-o", out, "--density", "1200", check=0)
+        self.assertIn("2 built, 0 failed", result.stdout)  # the sidecar is no mesh
+        density = {name: json.loads(run("--inspect", os.path.join(out, name + ".h5"), "--json",
+                                        check=0).stdout)["density"]
+                   for name in ("box", "l_bracket")}
+        self.assertEqual(density, {"box": 1200.0, "l_bracket": 2700.0})
+
+    def test_a_bad_sidecar_fails_its_object_naming_the_file_and_the_key(self):
+        cases = [({"density": -5}, "density: must be in [10, 25000] kg/m^3, got -5"),
+                 ({"density": "heavy"}, "density: must be a number (kg/m^3), got \"heavy\""),
+                 ({"densty": 900}, "densty: unknown key (a sidecar may hold: density)"),
+                 ([2300], "must be a JSON object")]
+        for content, message in cases:
+            src = os.path.join(self.tmp, "sidecar-" + str(len(os.listdir(self.tmp))))
+            os.makedirs(src)
+            shutil.copy(os.path.join(self.meshes, "box.stl"), src)
+            with open(os.path.join(src, "box.json"), "w") as f:
+                json.dump(content, f)
+            result = run(src, "-o", os.path.join(src, "out"))
+            self.assertEqual(result.returncode, 1, content)
+            self.assertIn("sidecar '" + os.path.join(src, "box.json") + "'", result.stderr)
+            self.assertIn(message, result.stderr)
+            self.assertIn("0 built, 1 failed", result.stdout)
+        with open(os.path.join(src, "box.json"), "w") as f:
+            f.write("{density: 2300")
+        self.assertIn("is not valid JSON", run(src, "-o", os.path.join(src, "out")).stderr)
+
+    def test_convex_part_options_are_stored_and_checked(self):
+        out = os.path.join(self.tmp, "parts")
+        torus = os.path.join(self.meshes, "torus.stl")
+        run(torus, "-o", out, "--convex-parts-max", "4", "--convex-parts-tolerance", "0.5",
+            check=0)
+        summary = json.loads(run("--inspect", os.path.join(out, "torus.h5"), "--json",
+                                 check=0).stdout)
+        self.assertLessEqual(summary["convex_parts"]["count"], 4)
+        self.assertEqual(summary["parameters"]["convex_parts_max"], 4)
+        self.assertEqual(summary["parameters"]["convex_parts_tolerance"], 0.5)
+        self.assert_usage_errors(torus, out, (("--convex-parts-max", "0"),
+                                              ("--convex-parts-max", "2000"),
+                                              ("--convex-parts-tolerance", "-0.1"),
+                                              ("--density", "5"), ("--density", "30000")))
+        result = run(torus, "-o", out, "--convex-parts-tolerance", "1")
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("convex_parts_tolerance: must be in [0, 1)", result.stderr)
 
     def test_export_ply_writes_every_contact_coloured_by_cluster(self):
         ply = os.path.join(self.tmp, "mug.ply")
@@ -95,7 +174,8 @@ class PreprocessCli(unittest.TestCase):
         self.assertEqual(result.returncode, 2)
         self.assertIn("unknown contact filter 'magic'", result.stderr)
         self.assertNotEqual(run(self.meshes, "-o", self.tmp, "--branching", "20,0").returncode, 0)
-        self.assertNotEqual(run(self.meshes, "-o", self.tmp, "--density", "-3").returncode, 0)
+        self.assertNotEqual(run(self.meshes, "-o", self.tmp, "--sample-density", "-3").returncode,
+                            0)
         result = run(os.path.join(self.tmp, "nothing-here"), "-o", self.tmp)
         self.assertEqual(result.returncode, 1)
         self.assertIn("neither a mesh file nor a directory", result.stderr)
@@ -116,11 +196,9 @@ class PreprocessCli(unittest.TestCase):
         self.assertEqual(summary["distance_grid"]["spacing"], 0.004)
         self.assertEqual(summary["parameters"]["distance_grid_margin"], 0.01)
         self.assertIn("distance grid", run("--inspect", os.path.join(out, "box.h5"), check=0).stdout)
-        for option, value in (("--distance-grid-spacing", "-1"), ("--distance-grid-margin", "-0.1"),
-                              ("--distance-grid-margin", "x")):
-            result = run(box, "-o", out, option, value)
-            self.assertEqual(result.returncode, 2, (option, value))
-            self.assertIn(option, result.stderr)
+        self.assert_usage_errors(box, out, (("--distance-grid-spacing", "-1"),
+                                            ("--distance-grid-margin", "-0.1"),
+                                            ("--distance-grid-margin", "x")))
         result = run(box, "-o", out, "--distance-grid-margin", "nan")
         self.assertEqual(result.returncode, 2)
         self.assertIn("distance_grid_margin: must be >= 0", result.stderr)

@@ -25,7 +25,7 @@ def object_databases(build: pathlib.Path) -> None:
     out = HERE / "corpus" / "object_database"
     for mesh in MESHES:
         subprocess.run([build / "bin" / "hfts-preprocess", SOURCE / "objects" / "meshes" / mesh,
-                        "-o", out, "--max-samples", "300", "--density", "2000000",
+                        "-o", out, "--max-samples", "300", "--sample-density", "2000000",
                         "--min-neighbours", "2", "--branching", "4", "2",
                         "--distance-grid-spacing", "0.01", "--distance-grid-margin", "0.005",
                         "-q"], check=True)

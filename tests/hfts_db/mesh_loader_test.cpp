@@ -161,5 +161,11 @@ TEST(MeshChecks, InconsistentWindingIsDetected) {
   EXPECT_FALSE(t.closed());
 }
 
+TEST(SolidProperties, InvertedWindingGivesThePositiveVolume) {
+  const SolidProperties s = solidProperties(test::flipped(test::cube(0.2)));
+  EXPECT_NEAR(s.volume, 0.008, 1e-12);
+  EXPECT_LT(s.centroid.norm(), 1e-12);
+}
+
 }  // namespace
 }  // namespace hfts

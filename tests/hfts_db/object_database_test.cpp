@@ -57,6 +57,14 @@ void expectSame(const ObjectDatabase& a, const ObjectDatabase& b) {
   EXPECT_EQ(a.geometry.mesh_triangles, b.geometry.mesh_triangles);
   EXPECT_EQ(a.parameters.distance_grid_spacing, b.parameters.distance_grid_spacing);
   EXPECT_EQ(a.parameters.distance_grid_margin, b.parameters.distance_grid_margin);
+  EXPECT_EQ(a.density, b.density);
+  EXPECT_EQ(a.parameters.convex_parts_max, b.parameters.convex_parts_max);
+  EXPECT_EQ(a.parameters.convex_parts_tolerance, b.parameters.convex_parts_tolerance);
+  ASSERT_EQ(a.geometry.convex_parts.size(), b.geometry.convex_parts.size());
+  for (std::size_t i = 0; i < a.geometry.convex_parts.size(); ++i) {
+    EXPECT_EQ(a.geometry.convex_parts[i].vertices, b.geometry.convex_parts[i].vertices);
+    EXPECT_EQ(a.geometry.convex_parts[i].faces, b.geometry.convex_parts[i].faces);
+  }
   const DistanceGrid &ga = a.geometry.distance_grid, &gb = b.geometry.distance_grid;
   EXPECT_EQ(ga.origin, gb.origin);
   EXPECT_EQ(ga.spacing, gb.spacing);
@@ -201,27 +209,110 @@ TEST(ObjectDatabase, VersionOneIsRejectedBeforeItsStringsAreRead) {
   test::setVariableLengthString(dir / "v1.h5", "/", "format", "hfts-object-database");
   test::expectErrorMentioning<DatabaseError>(
       [&] { loadObjectDatabase(dir / "v1.h5"); },
-      {"format version 1 is not supported", "reads version 3", "hfts-preprocess MESH -o DIR"});
+      {"format version 1 is not supported", "reads version 4", "hfts-preprocess MESH -o DIR"});
+}
+
+/// The sample saved as `name`, then made a file of an older version:
+/// `links` and `attributes` ({group, name}) removed, the version set.
+std::filesystem::path olderVersion(
+    const TempDir& dir, const std::string& name, int version, const std::vector<std::string>& links,
+    const std::vector<std::pair<std::string, std::string>>& attributes) {
+  saveObjectDatabase(sample(), dir / name);
+  const hid_t file = H5Fopen((dir / name).c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  for (const std::string& link : links) H5Ldelete(file, link.c_str(), H5P_DEFAULT);
+  for (const auto& [group, attribute] : attributes) {
+    const hid_t g = H5Gopen2(file, group.c_str(), H5P_DEFAULT);
+    H5Adelete(g, attribute.c_str());
+    H5Gclose(g);
+  }
+  H5Fclose(file);
+  test::setFormatVersion(dir / name, version);
+  return dir / name;
+}
+
+void expectRebuildAsked(const std::filesystem::path& path, int version) {
+  test::expectErrorMentioning<DatabaseError>(
+      [&] { loadObjectDatabase(path); },
+      {path.string(), "format version " + std::to_string(version) + " is not supported",
+       "reads version 4", "rebuild it with hfts-preprocess MESH -o DIR"});
 }
 
 TEST(ObjectDatabase, VersionTwoIsRejectedNamingTheCommandThatRebuildsIt) {
   // A version-2 file: no distance grid, no grid parameters.
   TempDir dir;
-  saveObjectDatabase(sample(), dir / "v2.h5");
+  expectRebuildAsked(olderVersion(dir, "v2.h5", 2, {"distance_grid", "convex_parts"},
+                                  {{"parameters", "distance_grid_spacing"},
+                                   {"parameters", "distance_grid_margin"}}),
+                     2);
+}
+
+TEST(ObjectDatabase, VersionThreeIsRejectedNamingTheCommandThatRebuildsIt) {
+  // A version-3 file: no convex parts, no density, no decomposition
+  // parameters. The physics check needs the parts, so it is rebuilt, not
+  // read with the hull in their place.
+  TempDir dir;
+  expectRebuildAsked(olderVersion(dir, "v3.h5", 3, {"convex_parts"},
+                                  {{"parameters", "convex_parts_max"},
+                                   {"parameters", "convex_parts_tolerance"},
+                                   {"object", "density"}}),
+                     3);
+}
+
+TEST(ObjectDatabase, ConvexPartsCoverTheSolidAndTheDensityIsWaters) {
+  const ObjectDatabase& db = sample();
+  EXPECT_EQ(db.density, 1000.0);
+  ASSERT_GT(db.geometry.convex_parts.size(), 1u);  // the torus is not convex
+  double volume = 0.0;
+  for (const ConvexPiece& part : db.geometry.convex_parts)
+    volume += solidProperties(TriangleMesh{part.vertices, part.faces}).volume;
+  EXPECT_GE(volume, db.geometry.volume * (1 - 1e-9));
+  EXPECT_LE(volume, db.geometry.volume * (1 + db.parameters.convex_parts_tolerance));
+}
+
+TEST(ObjectDatabase, ConvexPartViolationsNameThePartAndTheProblem) {
+  const ObjectDatabase& good = sample();
+  ObjectDatabase db = good;
+  db.geometry.convex_parts.clear();
+  expectInvalid(db, "convex_parts must hold 1 to 1024 parts");
+  db = good;
+  Faces3& faces = db.geometry.convex_parts[1].faces;
+  faces.conservativeResize(faces.rows() - 1, 3);
+  expectInvalid(db, "convex part 1 is not a closed, consistently wound surface");
+  db = good;
+  db.geometry.convex_parts[0].faces.col(1).swap(db.geometry.convex_parts[0].faces.col(2));
+  expectInvalid(db, "convex part 0 is wound inward");
+  db = good;
   {
-    const hid_t file = H5Fopen((dir / "v2.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-    H5Ldelete(file, "distance_grid", H5P_DEFAULT);
-    const hid_t parameters = H5Gopen2(file, "parameters", H5P_DEFAULT);
-    H5Adelete(parameters, "distance_grid_spacing");
-    H5Adelete(parameters, "distance_grid_margin");
-    H5Gclose(parameters);
-    H5Fclose(file);
+    // A corner pushed to the centroid makes a dent.
+    ConvexPiece& part = db.geometry.convex_parts[2];
+    const Eigen::RowVector3d centroid = part.vertices.colwise().mean();
+    part.vertices.row(0) = 0.5 * (part.vertices.row(0) + centroid);
   }
-  test::setFormatVersion(dir / "v2.h5", 2);
-  test::expectErrorMentioning<DatabaseError>(
-      [&] { loadObjectDatabase(dir / "v2.h5"); },
-      {(dir / "v2.h5").string(), "format version 2 is not supported", "reads version 3",
-       "rebuild it with hfts-preprocess MESH -o DIR"});
+  expectInvalid(db, "convex part 2 is not convex");
+  db = good;
+  db.geometry.convex_parts[0].vertices *= 1e-3;  // convex, closed, almost no volume
+  expectInvalid(db, "convex part 0 holds less than the least volume of a part");
+  db = good;
+  db.geometry.convex_parts[0].vertices.col(2).array() += 1.0;
+  expectInvalid(db, "convex part 0 reaches outside the bounding box");
+  db = good;
+  db.geometry.convex_parts[3].vertices(0, 0) = std::nan("");
+  expectInvalid(db, "convex part 3 vertices holds non-finite values");
+  db = good;
+  db.geometry.convex_parts.push_back(db.geometry.convex_parts[0]);
+  db.geometry.convex_parts.back().faces(0, 0) = 100000;
+  expectInvalid(db, "convex part " + std::to_string(good.geometry.convex_parts.size()) +
+                        " faces index a vertex that does not exist");
+}
+
+TEST(ObjectDatabase, DensityOutsideTenTo25000IsRejected) {
+  ObjectDatabase db = sample();
+  for (double density : {0.0, 9.9, 25001.0, std::nan(""), -1000.0}) {
+    db.density = density;
+    expectInvalid(db, "density must be in");
+  }
+  db.density = 7850.0;
+  EXPECT_NO_THROW(validateObjectDatabase(db, "x"));
 }
 
 TEST(ObjectDatabase, DistanceGridValuesStoredAsDoublesAreRejected) {

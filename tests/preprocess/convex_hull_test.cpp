@@ -121,12 +121,6 @@ TEST(ObjectGeometry, OpenMeshUsesTheHullCentroid) {
   EXPECT_NEAR(g.rho, std::sqrt(3.0) * 0.05, 1e-12);
 }
 
-TEST(SolidProperties, InvertedWindingGivesThePositiveVolume) {
-  const SolidProperties s = solidProperties(test::flipped(test::cube(0.2)));
-  EXPECT_NEAR(s.volume, 0.008, 1e-12);
-  EXPECT_LT(s.centroid.norm(), 1e-12);
-}
-
 TEST(ConvexHull, IsShallowAgreesWithDepthInside) {
   const TriangleMesh mesh = test::merged(test::cube(0.1), test::cube(0.1, {0.1, 0.05, 0.02}));
   const ConvexHull hull(mesh.vertices, "two cubes");

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 #include <thread>
+#include <tuple>
 
 #include "bundled_objects.h"
 #include "hfts_db/invalid_argument.h"
@@ -14,13 +15,7 @@ namespace {
 
 using test::TempDir;
 
-std::vector<std::filesystem::path> bundledMeshes() {
-  std::vector<std::filesystem::path> out;
-  for (const auto& entry : std::filesystem::directory_iterator(test::bundledMeshDir()))
-    out.push_back(entry.path());
-  std::sort(out.begin(), out.end());
-  return out;
-}
+using test::bundledMeshes;
 
 TEST(DatabaseBuilder, AtLeastEightObjectsAreBundled) {
   EXPECT_GE(bundledMeshes().size(), 8u);
@@ -69,7 +64,8 @@ TEST(DatabaseBuilder, SameInputAndParametersGiveIdenticalBytes) {
   // memory addresses; the stored hull must not). With the fixtures' coarse
   // distance grid: the default one made this the slowest test of the suite.
   TempDir dir;
-  const db::BuildParameters params = test::fixtureParameters();
+  db::BuildParameters params = test::fixtureParameters();
+  params.convex_parts_max = 64;  // as deterministic as 1024 parts, 5 times faster for the vase
   const auto meshes = bundledMeshes();
   auto buildAll = [&](const std::string& suffix, bool concurrent) {
     std::vector<std::thread> threads;
@@ -186,6 +182,53 @@ TEST(DatabaseBuilder, TheDistanceGridFollowsItsParameters) {
   EXPECT_GT(grid.origin.x(), -0.06 - 0.004);  // the margin, not a node more
   EXPECT_GT(r.times.distance_grid, 0.0);
   EXPECT_LT(grid.lowerBound(Eigen::Vector3d::Zero()), -0.05 + 0.004 * std::sqrt(3.0));
+}
+
+TEST(DatabaseBuilder, TheConvexPartsFollowTheirParametersAndAreTimed) {
+  const TriangleMesh torus = loadMesh(test::bundledMeshDir() / "torus.stl").mesh;
+  db::BuildParameters params = test::fixtureParameters();
+  params.convex_parts_max = 4;
+  const BuildResult r = buildObjectDatabase(torus, true, params, "torus");
+  EXPECT_EQ(r.database.geometry.convex_parts.size(), 4u);
+  EXPECT_GT(r.times.convex_parts, 0.0);
+  EXPECT_EQ(r.database.density, db::kDefaultDensity);
+  // A convex object is one part, and its volume is the mesh's.
+  const BuildResult cube = buildObjectDatabase(test::cube(0.1), true, params, "cube");
+  EXPECT_EQ(cube.database.geometry.convex_parts.size(), 1u);
+  EXPECT_NEAR(cube.database.geometry.volume, 0.001, 1e-15);
+}
+
+TEST(DatabaseBuilder, TheDensityIsTheSidecarsElseTheOneGivenElseWaters) {
+  TempDir dir;
+  test::writeBinaryStl(dir / "a.stl", test::cube(0.1));
+  test::writeBinaryStl(dir / "b.stl", test::cube(0.1));
+  test::writeText(dir / "b.json", "{\"density\": 2300}");
+  const db::BuildParameters params = test::fixtureParameters();
+  EXPECT_EQ(buildObjectDatabaseFromFile(dir / "a.stl", params).database.density, 1000.0);
+  EXPECT_EQ(buildObjectDatabaseFromFile(dir / "a.stl", params, 700.0).database.density, 700.0);
+  EXPECT_EQ(buildObjectDatabaseFromFile(dir / "b.stl", params, 700.0).database.density, 2300.0);
+  test::expectErrorMentioning<InvalidArgument>(
+      [&] { buildObjectDatabaseFromFile(dir / "a.stl", params, 5.0); },
+      {"density: must be in [10, 25000] kg/m^3, got 5"});
+  test::writeText(dir / "b.json", "{\"density\": -1}");
+  test::expectErrorMentioning<InvalidArgument>(
+      [&] { buildObjectDatabaseFromFile(dir / "b.stl", params); },
+      {(dir / "b.json").string(), "density: must be in"});
+}
+
+TEST(DatabaseBuilder, RejectsBadConvexPartParametersByName) {
+  for (const auto& [max, tolerance, field] :
+       std::vector<std::tuple<std::uint32_t, double, std::string>>{
+           {0, 0.04, "convex_parts_max"},
+           {2000, 0.04, "convex_parts_max"},
+           {64, 1.0, "convex_parts_tolerance"},
+           {64, std::nan(""), "convex_parts_tolerance"}}) {
+    db::BuildParameters params;
+    params.convex_parts_max = max;
+    params.convex_parts_tolerance = tolerance;
+    test::expectErrorMentioning<InvalidArgument>([&] { checkBuildParameters(params); },
+                                                 {field + ": must be in"});
+  }
 }
 
 TEST(Sha256, MatchesAKnownDigest) {

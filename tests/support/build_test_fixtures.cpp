@@ -18,9 +18,9 @@ int main(int argc, char** argv) {
     const std::filesystem::path out = argv[1];
     std::filesystem::create_directories(out);
     int built = 0;
-    for (const auto& entry : std::filesystem::directory_iterator(hfts::test::bundledMeshDir())) {
-      hfts::db::saveObjectDatabase(hfts::test::buildBundledObject(entry.path()),
-                                   hfts::test::fixtureFile(out, entry.path()));
+    for (const std::filesystem::path& mesh : hfts::test::bundledMeshes()) {
+      hfts::db::saveObjectDatabase(hfts::test::buildBundledObject(mesh),
+                                   hfts::test::fixtureFile(out, mesh));
       ++built;
     }
     std::cout << built << " fixture databases in " << out.string() << "\n";

@@ -48,8 +48,8 @@ inline db::ObjectDatabase bundledObject(const std::filesystem::path& mesh) {
 inline const std::map<std::string, db::ObjectDatabase>& bundledObjects() {
   static const std::map<std::string, db::ObjectDatabase> all = [] {
     std::map<std::string, db::ObjectDatabase> out;
-    for (const auto& entry : std::filesystem::directory_iterator(bundledMeshDir())) {
-      auto database = bundledObject(entry.path());
+    for (const std::filesystem::path& mesh : bundledMeshes()) {
+      auto database = bundledObject(mesh);
       out.emplace(database.name, std::move(database));
     }
     return out;

@@ -32,6 +32,13 @@ TriangleMesh cube(double size, const Eigen::Vector3d& center) {
   return mesh;
 }
 
+TriangleMesh block(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  TriangleMesh mesh = cube(1.0, Eigen::Vector3d::Constant(0.5));  // corners 0 and 1
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v)
+    for (int c = 0; c < 3; ++c) mesh.vertices(v, c) = mesh.vertices(v, c) == 0.0 ? lo[c] : hi[c];
+  return mesh;
+}
+
 TriangleMesh merged(const TriangleMesh& a, const TriangleMesh& b) {
   TriangleMesh out;
   out.vertices.resize(a.vertices.rows() + b.vertices.rows(), 3);
@@ -198,6 +205,14 @@ double windingNumber(const TriangleMesh& mesh, const Eigen::Vector3d& p) {
 
 std::filesystem::path bundledMeshDir() {
   return std::filesystem::path(HFTS_SOURCE_DIR) / "objects" / "meshes";
+}
+
+std::vector<std::filesystem::path> bundledMeshes() {
+  std::vector<std::filesystem::path> out;
+  for (const auto& entry : std::filesystem::directory_iterator(bundledMeshDir()))
+    if (entry.path().extension() != ".json") out.push_back(entry.path());
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 }  // namespace hfts::test

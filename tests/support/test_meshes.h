@@ -14,6 +14,9 @@ namespace hfts::test {
 /// Axis-aligned cube of edge `size` centred at `center`, outward winding.
 TriangleMesh cube(double size, const Eigen::Vector3d& center = Eigen::Vector3d::Zero());
 
+/// Axis-aligned box from corner `lo` to corner `hi`, outward winding.
+TriangleMesh block(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
+
 /// Concatenates two meshes.
 TriangleMesh merged(const TriangleMesh& a, const TriangleMesh& b);
 
@@ -69,5 +72,9 @@ void expectErrorMentioning(Action&& action, const std::vector<std::string>& part
 
 /// The bundled object meshes (objects/meshes).
 std::filesystem::path bundledMeshDir();
+
+/// The mesh files of bundledMeshDir(), sorted; not their sidecars (`.json`,
+/// preprocess/object_sidecar.h).
+std::vector<std::filesystem::path> bundledMeshes();
 
 }  // namespace hfts::test

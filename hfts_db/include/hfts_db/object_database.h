@@ -24,7 +24,10 @@ class DatabaseError : public std::runtime_error {
 
 /// Name and version of the file format written by this library.
 inline constexpr const char* kObjectFormatName = "hfts-object-database";
-inline constexpr std::uint32_t kObjectFormatVersion = 3;
+inline constexpr std::uint32_t kObjectFormatVersion = 4;
+
+/// Most convex parts an object database holds.
+inline constexpr std::uint32_t kMaxConvexParts = 1024;
 
 using Points3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 using Faces3 = Eigen::Matrix<std::uint32_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
@@ -49,6 +52,12 @@ struct BuildParameters {
   std::uint64_t seed = 1;                ///< seeds sampling and k-means
   double distance_grid_spacing = 0.0;    ///< m; 0 = automatic (DistanceGridOptions::spacing)
   double distance_grid_margin = 0.03;    ///< m beyond the bounding box on every side
+  /// Convex decomposition (preprocess::decomposeConvex): at most this many
+  /// parts, 1..kMaxConvexParts.
+  std::uint32_t convex_parts_max = 1024;
+  /// ... splitting until the parts' volumes add up to at most 1 + this
+  /// times the solid's volume, [0, 1).
+  double convex_parts_tolerance = 0.04;
 };
 
 /// What the contact filters did: how many samples each removed, in order.
@@ -57,11 +66,40 @@ struct FilterReport {
   std::uint64_t removed = 0;
 };
 
+/// Density of water (kg/m^3), the density of an object unless its build
+/// says otherwise: most of the household objects a hand grasps weigh
+/// within a factor of a few of the water they displace.
+inline constexpr double kDefaultDensity = 1000.0;
+/// The densities a database accepts (kg/m^3): from foams (polystyrene is
+/// 15-30) to the densest metals (osmium, 22 590). Anything outside is a
+/// mistake of units.
+inline constexpr double kMinDensity = 10.0;
+inline constexpr double kMaxDensity = 25000.0;
+
+/// A closed convex polytope stored as its own convex hull: one piece of the
+/// object's convex decomposition (object frame, metres).
+struct ConvexPiece {
+  Points3 vertices;  ///< corners, sorted lexicographically (x, then y, then z)
+  Faces3 faces;      ///< triangles as rows of `vertices`, counter-clockwise seen from outside
+};
+
+/// The least volume (m^3) of a convex part of an object with this bounding
+/// box: 1e-9 of the cube of its diagonal. Slivers below it are not stored,
+/// since simulators refuse meshes of almost no volume (MuJoCo below
+/// 1e-15 m^3) and they cover next to nothing.
+inline double minimumConvexPartVolume(const Eigen::Vector3d& bbox_min,
+                                      const Eigen::Vector3d& bbox_max) {
+  const double diagonal = (bbox_max - bbox_min).norm();
+  return 1e-9 * diagonal * diagonal * diagonal;
+}
+
 /// Geometry of the whole object (object frame, metres).
 struct ObjectGeometry {
   Eigen::Vector3d center_of_mass = Eigen::Vector3d::Zero();
-  double rho = 0.0;     ///< largest distance from center_of_mass to the surface
-  double volume = 0.0;  ///< enclosed volume (m^3); 0 for open meshes
+  double rho = 0.0;  ///< largest distance from center_of_mass to the surface
+  /// Volume of the solid (m^3), where the mesh's winding number is not 0:
+  /// closed parts that overlap count their overlap once; 0 for open meshes.
+  double volume = 0.0;
   bool closed = false;  ///< mesh is closed and edge-manifold (volume centroid used)
   Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d bbox_max = Eigen::Vector3d::Zero();
@@ -72,6 +110,11 @@ struct ObjectGeometry {
   /// Distances from the mesh's surface (buildDistanceGrid): signed exactly
   /// when `closed`; covers the bounding box plus the build's margin.
   DistanceGrid distance_grid;
+  /// The solid as convex parts that do not overlap and whose union covers
+  /// it (preprocess::decomposeConvex), for simulators that collide a mesh
+  /// as its convex hull. At least one; an open mesh's single part is its
+  /// hull. Their volumes add up to at least `volume`.
+  std::vector<ConvexPiece> convex_parts;
 };
 
 /// One node of the Hierarchical Fingertip Space partition. Contacts are
@@ -93,6 +136,10 @@ struct ObjectDatabase {
   std::string source_sha256;  ///< SHA-256 of the mesh file bytes (hex)
   std::string producer;       ///< program and version that wrote it
   BuildParameters parameters;
+  /// Density of the object's material (kg/m^3), kMinDensity..kMaxDensity:
+  /// a physical property, not a build parameter. Its mass is density *
+  /// geometry.volume (not stored: derived).
+  double density = kDefaultDensity;
   std::uint64_t num_samples = 0;  ///< surface samples before filtering
   std::vector<FilterReport> filter_reports;
   ObjectGeometry geometry;
@@ -108,8 +155,9 @@ struct ObjectDatabase {
 
 /// Checks every invariant of the schema (shapes, finite values, unit
 /// normals, exact partition at every level, representatives inside their
-/// node, a distance grid covering the mesh). Throws DatabaseError naming `what` and the first
-/// violation.
+/// node, a distance grid covering the mesh, closed convex parts inside the
+/// bounding box, a plausible density). Throws DatabaseError naming `what`
+/// and the first violation.
 void validateObjectDatabase(const ObjectDatabase& db, const std::string& what);
 
 /// Writes `db` to `path` atomically (temporary file in the same directory,
@@ -118,7 +166,8 @@ void validateObjectDatabase(const ObjectDatabase& db, const std::string& what);
 void saveObjectDatabase(const ObjectDatabase& db, const std::filesystem::path& path);
 
 /// Reads and validates a database. Throws DatabaseError for a missing,
-/// truncated, corrupt (checksum), foreign or newer-format file.
+/// truncated, corrupt (checksum), foreign, older- or newer-format file (the
+/// message says how to rebuild it).
 ObjectDatabase loadObjectDatabase(const std::filesystem::path& path);
 
 }  // namespace hfts::db

@@ -77,4 +77,13 @@ MeshTopology analyzeTopology(const TriangleMesh& mesh);
 /// Total surface area (m^2).
 double surfaceArea(const TriangleMesh& mesh);
 
+/// Volume and centroid of the solid bounded by a closed mesh (divergence
+/// theorem over signed tetrahedra). The volume is returned positive. Closed
+/// parts that overlap count their overlap once per part.
+struct SolidProperties {
+  double volume = 0.0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+};
+SolidProperties solidProperties(const TriangleMesh& mesh);
+
 }  // namespace hfts

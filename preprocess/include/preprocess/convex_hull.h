@@ -12,6 +12,13 @@
 
 namespace hfts::preprocess {
 
+/// CGAL's 3-D hull of the points in canonical order: vertices sorted
+/// lexicographically, only the corners of the facets kept, every polygonal
+/// facet a fan from its smallest corner, the triangles sorted. So it is a
+/// function of the points alone, whatever their order. Throws MeshError
+/// (naming `what`) if the points do not span a volume.
+db::ConvexPiece canonicalHull(const Vertices& points, const std::string& what);
+
 /// A convex polytope as triangles plus one outward plane per triangle.
 class ConvexHull {
  public:
@@ -40,14 +47,6 @@ class ConvexHull {
   Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> planes_;  // n.x, n.y, n.z, d
   std::unique_ptr<db::TriangleBvh> bvh_;
 };
-
-/// Volume and centroid of the solid bounded by a closed mesh (divergence
-/// theorem over signed tetrahedra). The volume is returned positive.
-struct SolidProperties {
-  double volume = 0.0;
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-};
-SolidProperties solidProperties(const TriangleMesh& mesh);
 
 /// Hull, centre of mass (volume centroid of a closed mesh, hull centroid
 /// otherwise), rho (largest distance from the centre of mass to the

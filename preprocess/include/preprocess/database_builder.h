@@ -16,7 +16,8 @@ std::string producerName();
 
 /// Wall time of each stage (seconds).
 struct StageTimes {
-  double load = 0, sample = 0, normals = 0, filter = 0, hierarchy = 0, distance_grid = 0, total = 0;
+  double load = 0, sample = 0, normals = 0, filter = 0, hierarchy = 0, distance_grid = 0,
+         convex_parts = 0, total = 0;
 };
 
 struct BuildResult {
@@ -29,17 +30,22 @@ struct BuildResult {
 /// hfts::InvalidArgument naming the offending parameter.
 void checkBuildParameters(const db::BuildParameters& params);
 
-/// Builds the database of an in-memory mesh (already scaled to metres).
-/// `closed` selects the volume centroid (true) or the hull centroid as the
-/// centre of mass. `what` names the object in errors. Throws MeshError if
-/// nothing graspable remains and std::invalid_argument for bad parameters.
+/// Builds the database of an in-memory mesh (already scaled to metres),
+/// of the default density (db::kDefaultDensity). `closed` selects the
+/// volume centroid (true) or the hull centroid as the centre of mass.
+/// `what` names the object in errors. Throws MeshError if nothing graspable
+/// remains and std::invalid_argument for bad parameters.
 BuildResult buildObjectDatabase(const TriangleMesh& mesh, bool closed,
                                 const db::BuildParameters& params, const std::string& what);
 
 /// Loads `meshPath` (scaled by params.scale), builds its database and fills
-/// the name, source and checksum fields.
+/// the name, source and checksum fields. The density is the one of the
+/// mesh's sidecar (readSidecar) if it has one, else `density` (kg/m^3; a
+/// run's --density). Throws hfts::InvalidArgument for a bad `density`
+/// ("density") or a bad sidecar (naming its file and key).
 BuildResult buildObjectDatabaseFromFile(const std::filesystem::path& meshPath,
-                                        const db::BuildParameters& params);
+                                        const db::BuildParameters& params,
+                                        double density = db::kDefaultDensity);
 
 /// SHA-256 of a file's bytes as lowercase hex (OpenSSL).
 std::string sha256File(const std::filesystem::path& path);
