@@ -9,12 +9,11 @@
 namespace hfts::physics {
 namespace {
 
-// The shape collisionPieces() gives. Switching to the convex decomposition
-// once db::ObjectGeometry has `convex_parts` is this one line:
-//   return !object.geometry.convex_parts.empty();
-// and collisionPieces() then copies those parts.
-bool usesConvexParts(const db::ObjectDatabase& /*object*/) {
-  return false;
+// The convex decomposition when the database has one (every database
+// hfts-preprocess writes does); the hull otherwise (a database built in
+// memory without one).
+bool usesConvexParts(const db::ObjectDatabase& object) {
+  return !object.geometry.convex_parts.empty();
 }
 
 void checkFaces(const db::Points3& vertices, const db::Faces3& faces) {
@@ -27,7 +26,12 @@ void checkFaces(const db::Points3& vertices, const db::Faces3& faces) {
 }  // namespace
 
 std::vector<ConvexPiece> collisionPieces(const db::ObjectDatabase& object) {
-  return {ConvexPiece{object.geometry.hull_vertices, object.geometry.hull_faces}};
+  if (!usesConvexParts(object))
+    return {ConvexPiece{object.geometry.hull_vertices, object.geometry.hull_faces}};
+  std::vector<ConvexPiece> pieces;
+  for (const db::ConvexPiece& part : object.geometry.convex_parts)
+    pieces.push_back({part.vertices, part.faces});
+  return pieces;
 }
 
 std::string collisionShapeName(const db::ObjectDatabase& object) {
@@ -71,14 +75,29 @@ MassProperties solidMassProperties(const db::Points3& vertices, const db::Faces3
 MassProperties objectMassProperties(const db::ObjectDatabase& object, double density) {
   const db::ObjectGeometry& g = object.geometry;
   if (g.closed) return solidMassProperties(g.mesh_vertices, g.mesh_triangles, density);
-  return solidMassProperties(g.hull_vertices, g.hull_faces, density);
+  if (g.convex_parts.empty()) return solidMassProperties(g.hull_vertices, g.hull_faces, density);
+  // A mesh that is not closed (a scan) bounds no volume of its own: the
+  // convex parts cover its solid (within the decomposition's tolerance).
+  MassProperties sum;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  std::vector<MassProperties> parts;
+  for (const db::ConvexPiece& part : g.convex_parts) {
+    parts.push_back(solidMassProperties(part.vertices, part.faces, density));
+    sum.volume += parts.back().volume;
+    sum.mass += parts.back().mass;
+    moment += parts.back().mass * parts.back().center_of_mass;
+  }
+  sum.center_of_mass = moment / sum.mass;
+  for (const MassProperties& p : parts) {  // parallel axis theorem
+    const Eigen::Vector3d r = p.center_of_mass - sum.center_of_mass;
+    sum.inertia +=
+        p.inertia + p.mass * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+  }
+  return sum;
 }
 
-double objectDensity(const db::ObjectDatabase& /*object*/, const std::optional<double>& requested) {
-  if (requested) return *requested;
-  // When databases carry a density (another branch), it goes here:
-  //   if (object.density > 0) return object.density;
-  return kDefaultDensity;
+double objectDensity(const db::ObjectDatabase& object, const std::optional<double>& requested) {
+  return requested ? *requested : object.density;
 }
 
 }  // namespace hfts::physics

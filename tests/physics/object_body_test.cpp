@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "bundled_objects.h"
 #include "hfts_db/invalid_argument.h"
 #include "panda_cube.h"
 #include "test_meshes.h"
@@ -66,12 +67,16 @@ TEST(ObjectBody, AMeshThatBoundsNoVolumeIsRefusedNamingTheField) {
   EXPECT_EQ(fieldOf([&] { solidMassProperties(vertices, past, 1.0); }), "faces");
 }
 
-TEST(ObjectBody, TheCubeCollidesAsItsHullWithTheDatabasesMassAndCentre) {
+TEST(ObjectBody, TheCubeCollidesAsItsOnePieceWithTheDatabasesMassAndCentre) {
   const db::ObjectDatabase& cube = test::smallCube();
   const std::vector<ConvexPiece> pieces = collisionPieces(cube);
-  ASSERT_EQ(pieces.size(), 1u);
+  ASSERT_EQ(pieces.size(), 1u);  // a convex object is one piece: its hull
   EXPECT_EQ(pieces[0].vertices.rows(), cube.geometry.hull_vertices.rows());
-  EXPECT_EQ(collisionShapeName(cube), "hull");
+  EXPECT_EQ(collisionShapeName(cube), "convex_parts");
+  db::ObjectDatabase withoutParts = cube;
+  withoutParts.geometry.convex_parts.clear();
+  EXPECT_EQ(collisionShapeName(withoutParts), "hull");
+  EXPECT_EQ(collisionPieces(withoutParts).size(), 1u);
   const MassProperties p = objectMassProperties(cube, 1000.0);
   EXPECT_NEAR(p.volume, cube.geometry.volume, 1e-12);
   EXPECT_TRUE(p.center_of_mass.isApprox(cube.geometry.center_of_mass, 1e-9));
@@ -79,8 +84,28 @@ TEST(ObjectBody, TheCubeCollidesAsItsHullWithTheDatabasesMassAndCentre) {
 }
 
 TEST(ObjectBody, TheRequestedDensityWinsOverTheDefault) {
-  EXPECT_EQ(objectDensity(test::smallCube(), std::nullopt), kDefaultDensity);
+  EXPECT_EQ(objectDensity(test::smallCube(), std::nullopt), db::kDefaultDensity);
   EXPECT_EQ(objectDensity(test::smallCube(), 250.0), 250.0);
+}
+
+TEST(ObjectBody, TheMugCollidesAsItsConvexPartsAndAnOpenMeshWeighsAsThem) {
+  const db::ObjectDatabase mug = test::bundledObject(test::bundledMeshDir() / "mug.ply");
+  const std::vector<ConvexPiece> pieces = collisionPieces(mug);
+  EXPECT_GT(pieces.size(), 10u);
+  double volume = 0.0;
+  for (const ConvexPiece& p : pieces)
+    volume += solidMassProperties(p.vertices, p.faces, 1.0).volume;
+  // The parts cover the solid within the decomposition's tolerance, where
+  // its hull is four times its volume.
+  EXPECT_GE(volume, mug.geometry.volume * (1 - 1e-9));
+  EXPECT_LE(volume, mug.geometry.volume * 1.05);
+  // Taken as not closed (a scan with holes), the mug weighs as its parts.
+  db::ObjectDatabase open = mug;
+  open.geometry.closed = false;
+  const MassProperties parts = objectMassProperties(open, 1000.0);
+  EXPECT_NEAR(parts.mass, 1000.0 * volume, 1e-9);
+  const MassProperties solid = objectMassProperties(mug, 1000.0);
+  EXPECT_LT((parts.center_of_mass - solid.center_of_mass).norm(), 0.003);
 }
 
 }  // namespace

@@ -66,8 +66,8 @@ TEST(SimulateGrasp, PandaSqueezingTheCubeHoldsItThroughLiftHoldAndAllSixDisturba
     EXPECT_EQ(t.fingers_in_contact, 2) << t.name;
   }
   EXPECT_EQ(v.lift_direction, "up");
-  EXPECT_EQ(v.collision_shape, "hull");
-  EXPECT_NEAR(v.shape_fidelity, 1.0, 1e-9);  // a cube is its own hull
+  EXPECT_EQ(v.collision_shape, "convex_parts");
+  EXPECT_NEAR(v.shape_fidelity, 1.0, 1e-9);  // a cube is one piece, its hull
   EXPECT_NEAR(v.mass, 1000 * 0.046 * 0.046 * 0.046, 1e-4);
 }
 

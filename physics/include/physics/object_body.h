@@ -12,21 +12,15 @@
 
 namespace hfts::physics {
 
-/// The object's density when neither the options nor the object give one
-/// (kg/m^3): water, the middle of everyday solids and filled containers
-/// (plastics 900-1400, wood 500-800).
-inline constexpr double kDefaultDensity = 1000.0;
-
 /// A convex piece of the object's collision shape, in the object frame.
 struct ConvexPiece {
   db::Points3 vertices;
   db::Faces3 faces;  ///< outward winding
 };
 
-/// What the object collides as, today its convex hull (the database's
-/// hull_vertices / hull_faces). When ObjectGeometry gains `convex_parts`
-/// (the convex decomposition), this returns those instead and
-/// collisionShapeName() says "convex_parts".
+/// What the object collides as: its convex decomposition
+/// (ObjectGeometry::convex_parts, every database hfts-preprocess writes has
+/// one), else its convex hull (hull_vertices / hull_faces).
 std::vector<ConvexPiece> collisionPieces(const db::ObjectDatabase& object);
 
 /// "hull" or "convex_parts": which shape collisionPieces() returns.
@@ -51,12 +45,13 @@ MassProperties solidMassProperties(const db::Points3& vertices, const db::Faces3
                                    double density);
 
 /// The object's solid: its mesh when the database says it is closed, else
-/// its convex hull (an open mesh bounds no volume).
+/// the union of its convex parts (an open mesh bounds no volume), else its
+/// convex hull.
 MassProperties objectMassProperties(const db::ObjectDatabase& object, double density);
 
 /// The one place where the object's density is chosen: `requested` (the
-/// options') when set, else the object's own (once databases carry one),
-/// else kDefaultDensity.
+/// options') when set, else the object's own (db::ObjectDatabase::density,
+/// db::kDefaultDensity unless its build or sidecar said otherwise).
 double objectDensity(const db::ObjectDatabase& object, const std::optional<double>& requested);
 
 }  // namespace hfts::physics

@@ -20,9 +20,9 @@ namespace hfts::physics {
 /// docs/physics.md. Checked by simulateGrasp (InvalidArgument naming
 /// "options.<field>").
 struct SimulationOptions {
-  /// The object's density (kg/m^3, > 0). Unset: the object's own once
-  /// databases carry one, else kDefaultDensity, 1000 (object_body.h,
-  /// objectDensity()).
+  /// The object's density (kg/m^3, > 0). Unset: the object's own
+  /// (db::ObjectDatabase::density: water, 1000, unless its sidecar says
+  /// otherwise; object_body.h, objectDensity()).
   std::optional<double> density;
   /// Sliding friction of every contact (>= 0): the planner's mu. Soft
   /// fingers get torsional friction in proportion (docs/physics.md).
