@@ -305,6 +305,10 @@ void writeAttribute(hid_t object, const std::string& name,
   writeAttributeRaw(object, name, H5T_STD_U64LE, values, false);
 }
 
+bool hasAttribute(hid_t object, const std::string& name) {
+  return H5Aexists(object, name.c_str()) > 0;
+}
+
 std::string readStringAttribute(hid_t object, const std::string& name) {
   if (H5Aexists(object, name.c_str()) <= 0) fail("missing attribute '" + name + "'");
   Handle attr(H5Aopen(object, name.c_str(), H5P_DEFAULT), H5Aclose,

@@ -102,6 +102,9 @@ void writeAttribute(hid_t object, const std::string& name, std::uint64_t value);
 void writeAttribute(hid_t object, const std::string& name, const std::vector<double>& values);
 void writeAttribute(hid_t object, const std::string& name,
                     const std::vector<std::uint64_t>& values);
+/// Whether `object` carries the attribute (for attributes added to a schema
+/// version after files of it were written).
+bool hasAttribute(hid_t object, const std::string& name);
 std::string readStringAttribute(hid_t object, const std::string& name);
 std::vector<double> readDoubleAttribute(hid_t object, const std::string& name);
 std::vector<std::uint64_t> readUInt64Attribute(hid_t object, const std::string& name);

@@ -84,6 +84,8 @@ void writeGeometry(hid_t file, const ObjectGeometry& geometry) {
   h5::writeAttribute(g, "rho", geometry.rho);
   h5::writeAttribute(g, "volume", geometry.volume);
   h5::writeAttribute(g, "closed", std::uint64_t{geometry.closed ? 1u : 0u});
+  h5::writeAttribute(g, "center_of_mass_method",
+                     centerOfMassMethodName(geometry.center_of_mass_method));
   h5::writeAttribute(g, "bbox_min", asVector(geometry.bbox_min));
   h5::writeAttribute(g, "bbox_max", asVector(geometry.bbox_max));
   const Points3& v = geometry.hull_vertices;
@@ -114,6 +116,12 @@ ObjectGeometry readGeometry(hid_t file) {
   geometry.rho = h5::readDouble(g, "rho");
   geometry.volume = h5::readDouble(g, "volume");
   geometry.closed = h5::readUInt64(g, "closed") != 0;
+  // Files written before the attribute existed used the volume centroid
+  // exactly when the mesh was closed.
+  geometry.center_of_mass_method =
+      h5::hasAttribute(g, "center_of_mass_method")
+          ? parseCenterOfMassMethod(h5::readStringAttribute(g, "center_of_mass_method"))
+          : (geometry.closed ? CenterOfMassMethod::kClosedMesh : CenterOfMassMethod::kConvexHull);
   geometry.bbox_min = asVector3(h5::readDoubleAttribute(g, "bbox_min"), "bbox_min");
   geometry.bbox_max = asVector3(h5::readDoubleAttribute(g, "bbox_max"), "bbox_max");
   geometry.hull_vertices = toMatrix<Points3>(h5::readDoubles(g, "hull_vertices"), "hull_vertices");

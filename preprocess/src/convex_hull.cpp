@@ -1,6 +1,8 @@
 // CGAL is confined to this file: its headers are heavy.
 #include "preprocess/convex_hull.h"
 
+#include "preprocess/center_of_mass.h"
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_3.h>
@@ -241,39 +243,17 @@ Eigen::Vector3d ConvexHull::centroid() const {
   return solidProperties(mesh).centroid;
 }
 
-SolidProperties solidProperties(const TriangleMesh& mesh) {
-  // Tetrahedra against a point near the mesh keep the sums well conditioned.
-  const Eigen::Vector3d origin = mesh.vertices.colwise().mean().transpose();
-  double volume6 = 0.0;
-  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
-  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-    const Eigen::Vector3d a = mesh.vertices.row(mesh.triangles(t, 0)).transpose() - origin;
-    const Eigen::Vector3d b = mesh.vertices.row(mesh.triangles(t, 1)).transpose() - origin;
-    const Eigen::Vector3d c = mesh.vertices.row(mesh.triangles(t, 2)).transpose() - origin;
-    const double v6 = a.dot(b.cross(c));
-    volume6 += v6;
-    moment += v6 * (a + b + c) / 4.0;
-  }
-  SolidProperties out;
-  out.volume = std::abs(volume6) / 6.0;
-  out.centroid = volume6 != 0.0 ? Eigen::Vector3d(origin + moment / volume6) : origin;
-  return out;
-}
-
-db::ObjectGeometry objectGeometry(const TriangleMesh& mesh, bool closed, const ConvexHull& hull) {
+db::ObjectGeometry objectGeometry(const TriangleMesh& mesh, bool closed, const ConvexHull& hull,
+                                  const CenterOfMass& com) {
   db::ObjectGeometry g;
   g.hull_vertices = hull.vertices();
   g.hull_faces = hull.faces();
   g.mesh_vertices = mesh.vertices;
   g.mesh_triangles = mesh.triangles;
   g.closed = closed;
-  if (closed) {
-    const SolidProperties solid = solidProperties(mesh);
-    g.volume = solid.volume;
-    g.center_of_mass = solid.centroid;
-  } else {
-    g.center_of_mass = hull.centroid();
-  }
+  g.center_of_mass = com.point;
+  g.volume = com.volume;
+  g.center_of_mass_method = com.method;
   // The farthest surface point from any point is a hull vertex.
   g.rho = (hull.vertices().rowwise() - g.center_of_mass.transpose()).rowwise().norm().maxCoeff();
   g.bbox_min = mesh.vertices.colwise().minCoeff().transpose();

@@ -10,6 +10,7 @@
 
 #include "hfts_db/distance_grid.h"
 #include "hfts_db/invalid_argument.h"
+#include "preprocess/center_of_mass.h"
 #include "preprocess/contact_filters.h"
 #include "preprocess/contact_set.h"
 #include "preprocess/convex_hull.h"
@@ -101,7 +102,9 @@ BuildResult buildObjectDatabase(const TriangleMesh& mesh, bool closed,
   db::ObjectDatabase& db = result.database;
   db.producer = producerName();
   db.parameters = params;
-  db.geometry = objectGeometry(mesh, closed, hull);
+  const CenterOfMass com = centerOfMass(mesh, closed, hull);
+  db.geometry = objectGeometry(mesh, closed, hull, com);
+  if (!closed) result.warnings.push_back(describeCenterOfMass(com, what));
 
   const SurfaceSamples samples = sampleVisibleSurface(
       mesh, {params.sample_density, params.max_samples, params.viewpoints, params.seed});

@@ -28,6 +28,19 @@ nlohmann::json parametersJson(const db::BuildParameters& p) {
           {"distance_grid_margin", p.distance_grid_margin}};
 }
 
+/// Where the centre of mass came from, in words.
+std::string centerOfMassSource(const db::ObjectGeometry& g) {
+  switch (g.center_of_mass_method) {
+    case db::CenterOfMassMethod::kClosedMesh:
+      return "volume centroid, closed mesh";
+    case db::CenterOfMassMethod::kRepairedMesh:
+      return "volume centroid of the mesh with its holes capped; not closed";
+    case db::CenterOfMassMethod::kConvexHull:
+      break;
+  }
+  return "hull centroid: the mesh bounds no volume";
+}
+
 nlohmann::json distanceGridJson(const db::DistanceGrid& grid) {
   return {{"origin", vec3(grid.origin)},
           {"spacing", grid.spacing},
@@ -67,6 +80,7 @@ nlohmann::json databaseSummaryJson(const db::ObjectDatabase& db,
           {"rho", g.rho},
           {"volume", g.volume},
           {"closed", g.closed},
+          {"center_of_mass_method", db::centerOfMassMethodName(g.center_of_mass_method)},
           {"bbox_min", vec3(g.bbox_min)},
           {"bbox_max", vec3(g.bbox_max)},
           {"hull_vertices", g.hull_vertices.rows()},
@@ -92,8 +106,8 @@ std::string databaseSummaryText(const db::ObjectDatabase& db,
     out << (l ? "-" : "") << db.parameters.branching[l];
   out << "\nnodes per level ";
   for (std::size_t l = 0; l < db.levels.size(); ++l) out << (l ? " / " : "") << db.levels[l].size();
-  out << "\ncentre of mass  [" << g.center_of_mass.transpose() << "] m ("
-      << (g.closed ? "volume centroid" : "hull centroid, open mesh") << ")\n"
+  out << "\ncentre of mass  [" << g.center_of_mass.transpose() << "] m (" << centerOfMassSource(g)
+      << ")\n"
       << "rho             " << g.rho << " m\n"
       << "volume          " << g.volume * 1e6 << " cm^3\n"
       << "bounding box    [" << g.bbox_min.transpose() << "] .. [" << g.bbox_max.transpose()

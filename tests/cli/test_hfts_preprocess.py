@@ -62,6 +62,33 @@ class PreprocessCli(unittest.TestCase):
         text = run("--inspect", os.path.join(self.out, "mug.h5"), check=0).stdout
         self.assertIn("nodes per level 20 / 80 /", text)
 
+    def test_a_mesh_with_a_hole_gets_the_volume_centroid_of_its_capped_surface(self):
+        # A 6 x 4 x 2 cm box without its top face (a flat hole of 38 % of
+        # what is left): exact float coordinates, ten triangles.
+        corners = [(x, y, z) for z in (0, 0.02) for y in (0, 0.04) for x in (0, 0.06)]
+        faces = [(0, 2, 1), (1, 2, 3), (0, 1, 4), (1, 5, 4), (2, 6, 3), (3, 6, 7),
+                 (0, 4, 2), (2, 4, 6), (1, 3, 5), (3, 7, 5)]  # no (4, 5, 6), (5, 7, 6)
+        folder = os.path.join(self.tmp, "holed")
+        os.makedirs(folder, exist_ok=True)
+        with open(os.path.join(folder, "holed_box.obj"), "w") as f:
+            f.writelines(f"v {x} {y} {z}\n" for x, y, z in corners)
+            f.writelines(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in faces)
+        out = os.path.join(self.tmp, "holed_db")
+        result = run(folder, "-o", out, check=0)
+        self.assertIn("holed_box.obj' is not a closed manifold (4 boundary, 0 non-manifold",
+                      result.stderr)
+        self.assertIn("holed_box.obj': the centre of mass is the volume centroid of the mesh with "
+                      "its boundary capped (1 boundary part capped, caps 38 % of the surface, "
+                      "volume ambiguous by 0 %)", result.stderr)
+        summary = json.loads(run("--inspect", os.path.join(out, "holed_box.h5"), "--json",
+                                 check=0).stdout)
+        self.assertEqual(summary["center_of_mass_method"], "repaired_mesh")
+        self.assertFalse(summary["closed"])
+        # assimp reads single precision: exact up to float rounding.
+        self.assertAlmostEqual(summary["volume"], 0.06 * 0.04 * 0.02, delta=1e-11)
+        for got, want in zip(summary["center_of_mass"], (0.03, 0.02, 0.01)):
+            self.assertAlmostEqual(got, want, delta=1e-8)
+
     def test_export_ply_writes_every_contact_coloured_by_cluster(self):
         ply = os.path.join(self.tmp, "mug.ply")
         run("--export-ply", os.path.join(self.out, "mug.h5"), ply, check=0)

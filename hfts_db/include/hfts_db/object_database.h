@@ -57,12 +57,44 @@ struct FilterReport {
   std::uint64_t removed = 0;
 };
 
+/// How ObjectGeometry::center_of_mass (and volume) were found, from the
+/// most exact to the last resort (docs/preprocess.md#2-centre-of-mass-volume-and-rho).
+enum class CenterOfMassMethod {
+  kClosedMesh,    ///< "closed_mesh": the volume centroid of a closed mesh
+  kRepairedMesh,  ///< "repaired_mesh": the volume centroid once the boundary of a nearly
+                  ///< closed mesh (holes, dropped triangles, unwelded vertices) is capped
+  kConvexHull,    ///< "convex_hull": the solid hull's centroid; the mesh bounds no volume
+};
+
+/// The name a database stores for `method` (see the enumerators).
+inline std::string centerOfMassMethodName(CenterOfMassMethod method) {
+  switch (method) {
+    case CenterOfMassMethod::kClosedMesh:
+      return "closed_mesh";
+    case CenterOfMassMethod::kRepairedMesh:
+      return "repaired_mesh";
+    case CenterOfMassMethod::kConvexHull:
+      break;
+  }
+  return "convex_hull";
+}
+
+/// The method a stored name means. Throws DatabaseError naming an unknown one.
+inline CenterOfMassMethod parseCenterOfMassMethod(const std::string& name) {
+  for (const auto method : {CenterOfMassMethod::kClosedMesh, CenterOfMassMethod::kRepairedMesh,
+                            CenterOfMassMethod::kConvexHull})
+    if (centerOfMassMethodName(method) == name) return method;
+  throw DatabaseError("unknown center_of_mass_method '" + name +
+                      "' (known: closed_mesh, repaired_mesh, convex_hull)");
+}
+
 /// Geometry of the whole object (object frame, metres).
 struct ObjectGeometry {
   Eigen::Vector3d center_of_mass = Eigen::Vector3d::Zero();
   double rho = 0.0;     ///< largest distance from center_of_mass to the surface
-  double volume = 0.0;  ///< enclosed volume (m^3); 0 for open meshes
-  bool closed = false;  ///< mesh is closed and edge-manifold (volume centroid used)
+  double volume = 0.0;  ///< enclosed volume (m^3); 0 when the hull gave the centre of mass
+  bool closed = false;  ///< mesh is closed and edge-manifold (no boundary, no non-manifold edge)
+  CenterOfMassMethod center_of_mass_method = CenterOfMassMethod::kConvexHull;
   Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d bbox_max = Eigen::Vector3d::Zero();
   Points3 hull_vertices;  ///< convex hull (CGAL), vertices
