@@ -29,6 +29,7 @@ void writeParameters(hid_t file, const BuildParameters& p) {
   h5::writeAttribute(g, "sample_density", p.sample_density);
   h5::writeAttribute(g, "max_samples", std::uint64_t{p.max_samples});
   h5::writeAttribute(g, "viewpoints", std::uint64_t{p.viewpoints});
+  h5::writeAttribute(g, "pad_radius", p.pad_radius);
   h5::writeAttribute(g, "patch_radius", p.patch_radius);
   h5::writeAttribute(g, "filters", h5::joinNames(p.filters));
   h5::writeAttribute(g, "max_curvature", p.max_curvature);
@@ -51,6 +52,8 @@ BuildParameters readParameters(hid_t file) {
   p.sample_density = h5::readDouble(g, "sample_density");
   p.max_samples = narrowed(h5::readUInt64(g, "max_samples"), "max_samples");
   p.viewpoints = narrowed(h5::readUInt64(g, "viewpoints"), "viewpoints");
+  // 0: a file from before pad_radius existed, whose filters had fixed scales.
+  p.pad_radius = h5::hasAttribute(g, "pad_radius") ? h5::readDouble(g, "pad_radius") : 0.0;
   p.patch_radius = h5::readDouble(g, "patch_radius");
   p.filters = h5::splitNames(h5::readStringAttribute(g, "filters"));
   p.max_curvature = h5::readDouble(g, "max_curvature");

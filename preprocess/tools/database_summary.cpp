@@ -14,6 +14,7 @@ nlohmann::json parametersJson(const db::BuildParameters& p) {
           {"sample_density", p.sample_density},
           {"max_samples", p.max_samples},
           {"viewpoints", p.viewpoints},
+          {"pad_radius", p.pad_radius},
           {"patch_radius", p.patch_radius},
           {"filters", p.filters},
           {"max_curvature", p.max_curvature},

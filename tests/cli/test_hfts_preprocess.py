@@ -89,6 +89,28 @@ class PreprocessCli(unittest.TestCase):
         for got, want in zip(summary["center_of_mass"], (0.03, 0.02, 0.01)):
             self.assertAlmostEqual(got, want, delta=1e-8)
 
+    def test_robot_scales_the_filters_to_its_smallest_fingertip_pad(self):
+        robot = os.path.join(SOURCE_DIR, "robots", "kr5_sdh", "kr5_sdh.json")
+        mesh = os.path.join(self.meshes, "small_cube.stl")
+        out = os.path.join(self.tmp, "sdh_db")
+        result = run(mesh, "-o", out, "--robot", robot, check=0)
+        self.assertIn("filters scaled to the smallest fingertip pad of kr5_sdh: 14 mm",
+                      result.stderr)
+        parameters = json.loads(run("--inspect", os.path.join(out, "small_cube.h5"), "--json",
+                                    check=0).stdout)["parameters"]
+        self.assertAlmostEqual(parameters["pad_radius"], 0.014, places=9)
+        self.assertAlmostEqual(parameters["patch_radius"], 0.007, places=9)
+        self.assertAlmostEqual(parameters["max_hull_distance"], 0.014, places=9)
+        self.assertEqual(parameters["min_neighbours"], 10)
+        self.assertEqual(parameters["filters"], ["curvature", "concavity", "clearance",
+                                                 "neighbours"])
+        default = json.loads(run("--inspect", os.path.join(self.out, "small_cube.h5"), "--json",
+                                 check=0).stdout)["parameters"]
+        self.assertEqual((default["pad_radius"], default["patch_radius"]), (0.008, 0.004))
+        both = run(mesh, "-o", out, "--robot", robot, "--pad-radius", "0.01")
+        self.assertEqual(both.returncode, 2)
+        self.assertRegex(both.stderr, r"--(robot|pad-radius) excludes --(pad-radius|robot)")
+
     def test_export_ply_writes_every_contact_coloured_by_cluster(self):
         ply = os.path.join(self.tmp, "mug.ply")
         run("--export-ply", os.path.join(self.out, "mug.h5"), ply, check=0)

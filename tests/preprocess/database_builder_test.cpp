@@ -143,9 +143,22 @@ TEST(DatabaseBuilder, AMeshThatIsNotClosedSaysWhereItsCentreOfMassCameFrom) {
       << hull.warnings[0];
 }
 
+TEST(DatabaseBuilder, StoresTheFilterScalesItResolvedFromThePad) {
+  db::BuildParameters params;
+  params.pad_radius = 0.012;
+  params.max_hull_distance = 0.02;  // given: kept
+  const db::BuildParameters& stored =
+      buildObjectDatabase(test::cube(0.1), true, params, "cube").database.parameters;
+  EXPECT_EQ(stored.pad_radius, 0.012);
+  EXPECT_DOUBLE_EQ(stored.patch_radius, 0.006);
+  EXPECT_EQ(stored.max_hull_distance, 0.02);
+  EXPECT_EQ(stored.min_neighbours, 8u);  // a third of 22.6 samples in a 6 mm disc
+}
+
 TEST(DatabaseBuilder, ExplainsWhenFiltersLeaveNothing) {
   db::BuildParameters params;
   params.max_curvature = 0.0;
+  params.patch_radius = 0.01;  // every patch of a 1 cm cube reaches an edge
   params.filters = {"curvature"};
   try {
     buildObjectDatabase(test::merged(test::cube(0.01), test::cube(0.01, {0.03, 0, 0})), true,
@@ -171,6 +184,10 @@ TEST(DatabaseBuilder, RejectsBadParametersByName) {
   db::BuildParameters params;
   params.patch_radius = -1;
   EXPECT_THROW(checkBuildParameters(params), std::invalid_argument);
+  params = {};
+  params.pad_radius = 0;
+  test::expectErrorMentioning<InvalidArgument>([&] { checkBuildParameters(params); },
+                                               {"pad_radius"});
   params = {};
   params.branching = {20, 0};
   EXPECT_THROW(checkBuildParameters(params), std::invalid_argument);

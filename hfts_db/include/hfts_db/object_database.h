@@ -31,17 +31,22 @@ using Faces3 = Eigen::Matrix<std::uint32_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
 /// Every parameter that shaped a database, stored with it so a database can
 /// be rebuilt and compared. Defaults are the documented defaults of
-/// hfts-preprocess (docs/preprocess.md).
+/// hfts-preprocess (docs/preprocess.md). A database stores the filter
+/// scales the build resolved (preprocess::resolveFilterScales), not 0.
 struct BuildParameters {
   double scale = 1.0;                 ///< mesh units -> metres
   double sample_density = 200000.0;   ///< contacts per square metre of mesh surface
   std::uint32_t max_samples = 20000;  ///< cap on the area-uniform candidates drawn
   std::uint32_t viewpoints = 64;      ///< directions of the visibility test
-  double patch_radius = 0.01;         ///< fingertip patch radius (m)
-  std::vector<std::string> filters = {"curvature", "concavity", "neighbours"};
-  double max_curvature = 0.03;        ///< PCL surface variation limit
-  double max_hull_distance = 0.01;    ///< concavity limit (m)
-  std::uint32_t min_neighbours = 10;  ///< within patch_radius
+  /// Radius of the fingertip pad that will touch the contacts (m); the
+  /// filters' scales follow it. The default is the smallest pad of the
+  /// bundled robots (the Panda gripper's; robot::padRadius).
+  double pad_radius = 0.008;
+  double patch_radius = 0.0;  ///< normals, curvature, neighbours (m); 0 = pad_radius / 2
+  std::vector<std::string> filters = {"curvature", "concavity", "clearance", "neighbours"};
+  double max_curvature = 0.03;       ///< PCL surface variation limit (scale-free)
+  double max_hull_distance = 0.0;    ///< concavity limit (m); 0 = pad_radius
+  std::uint32_t min_neighbours = 0;  ///< within patch_radius; 0 = a third of a patch's samples
   std::vector<std::uint32_t> branching = {20, 4, 4};
   double length_scale = 0.0;             ///< k-means position scale (m); 0 = rho
   double normal_weight = 0.5;            ///< k-means weight of the unit normal
