@@ -88,8 +88,6 @@ void checkScales(const db::BuildParameters& p) {
   };
   if ((uses("curvature") || uses("neighbours")) && !(p.patch_radius > 0.0))
     throw InvalidArgument("patch_radius", "must be resolved to a positive radius");
-  if (uses("concavity") && !(p.max_hull_distance > 0.0))
-    throw InvalidArgument("max_hull_distance", "must be resolved to a positive depth");
   if (uses("clearance") && !(p.pad_radius > 0.0))
     throw InvalidArgument("pad_radius", "must be positive");
   if (uses("neighbours") && p.min_neighbours == 0)

@@ -80,7 +80,7 @@ void checkBuildParameters(const db::BuildParameters& p) {
   if (p.viewpoints < 8) throw InvalidArgument("viewpoints", "must be at least 8");
   if (!(p.max_curvature >= 0.0)) throw InvalidArgument("max_curvature", "must be >= 0");
   if (!(p.max_hull_distance >= 0.0) || !std::isfinite(p.max_hull_distance))
-    throw InvalidArgument("max_hull_distance", "must be >= 0 (0 = pad_radius)");
+    throw InvalidArgument("max_hull_distance", "must be >= 0");
   if (!(p.length_scale >= 0.0) || !std::isfinite(p.length_scale))
     throw InvalidArgument("length_scale", "must be >= 0 (0 selects rho)");
   if (!(p.normal_weight >= 0.0) || !std::isfinite(p.normal_weight))

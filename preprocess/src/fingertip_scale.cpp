@@ -16,7 +16,6 @@ db::BuildParameters resolveFilterScales(db::BuildParameters p, double samplesPer
     throw InvalidArgument("samplesPerSquareMetre", "must be positive and finite, got " +
                                                        std::to_string(samplesPerSquareMetre));
   if (p.patch_radius == 0.0) p.patch_radius = kPatchPerPad * p.pad_radius;
-  if (p.max_hull_distance == 0.0) p.max_hull_distance = kDepthPerPad * p.pad_radius;
   if (p.min_neighbours == 0) {
     const double perPatch = samplesPerSquareMetre * M_PI * p.patch_radius * p.patch_radius;
     p.min_neighbours =

@@ -53,7 +53,7 @@ void addBuildOptions(CLI::App& app, BuildParameters& p) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--max-hull-distance", p.max_hull_distance,
-                 "Concavity filter: max depth below the convex hull (m); 0 = pad radius")
+                 "Concavity filter: max depth below the convex hull (m)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--min-neighbours", p.min_neighbours,

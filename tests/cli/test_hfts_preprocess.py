@@ -100,7 +100,7 @@ class PreprocessCli(unittest.TestCase):
                                     check=0).stdout)["parameters"]
         self.assertAlmostEqual(parameters["pad_radius"], 0.014, places=9)
         self.assertAlmostEqual(parameters["patch_radius"], 0.007, places=9)
-        self.assertAlmostEqual(parameters["max_hull_distance"], 0.014, places=9)
+        self.assertEqual(parameters["max_hull_distance"], 0.01)
         self.assertEqual(parameters["min_neighbours"], 10)
         self.assertEqual(parameters["filters"], ["curvature", "concavity", "clearance",
                                                  "neighbours"])

@@ -146,13 +146,12 @@ TEST(DatabaseBuilder, AMeshThatIsNotClosedSaysWhereItsCentreOfMassCameFrom) {
 TEST(DatabaseBuilder, StoresTheFilterScalesItResolvedFromThePad) {
   db::BuildParameters params;
   params.pad_radius = 0.012;
-  params.max_hull_distance = 0.02;  // given: kept
+  params.min_neighbours = 4;  // given: kept
   const db::BuildParameters& stored =
       buildObjectDatabase(test::cube(0.1), true, params, "cube").database.parameters;
   EXPECT_EQ(stored.pad_radius, 0.012);
   EXPECT_DOUBLE_EQ(stored.patch_radius, 0.006);
-  EXPECT_EQ(stored.max_hull_distance, 0.02);
-  EXPECT_EQ(stored.min_neighbours, 8u);  // a third of 22.6 samples in a 6 mm disc
+  EXPECT_EQ(stored.min_neighbours, 4u);
 }
 
 TEST(DatabaseBuilder, ExplainsWhenFiltersLeaveNothing) {

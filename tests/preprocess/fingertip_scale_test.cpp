@@ -13,7 +13,7 @@ TEST(FingertipScale, TheScalesLeftZeroFollowThePad) {
   params.pad_radius = 0.014;  // the SDH's
   const db::BuildParameters r = resolveFilterScales(params, 200000.0);
   EXPECT_DOUBLE_EQ(r.patch_radius, 0.007);
-  EXPECT_DOUBLE_EQ(r.max_hull_distance, 0.014);
+  EXPECT_EQ(r.max_hull_distance, params.max_hull_distance);  // the finger's reach, not the pad's
   // A third of the 30.8 samples a 7 mm disc holds at 200 000 per m^2.
   EXPECT_EQ(r.min_neighbours, 10u);
   EXPECT_EQ(r.max_curvature, params.max_curvature);  // scale-free
@@ -23,18 +23,15 @@ TEST(FingertipScale, TheDefaultsSuitTheSmallestBundledPad) {
   const db::BuildParameters r = resolveFilterScales({}, 200000.0);
   EXPECT_DOUBLE_EQ(r.pad_radius, 0.008);  // the Panda gripper's finger pads
   EXPECT_DOUBLE_EQ(r.patch_radius, 0.004);
-  EXPECT_DOUBLE_EQ(r.max_hull_distance, 0.008);
   EXPECT_EQ(r.min_neighbours, 3u);
 }
 
 TEST(FingertipScale, ScalesGivenAreKept) {
   db::BuildParameters params;
   params.patch_radius = 0.01;
-  params.max_hull_distance = 0.02;
   params.min_neighbours = 7;
   const db::BuildParameters r = resolveFilterScales(params, 200000.0);
   EXPECT_EQ(r.patch_radius, 0.01);
-  EXPECT_EQ(r.max_hull_distance, 0.02);
   EXPECT_EQ(r.min_neighbours, 7u);
 }
 

@@ -45,7 +45,7 @@ struct BuildParameters {
   double patch_radius = 0.0;  ///< normals, curvature, neighbours (m); 0 = pad_radius / 2
   std::vector<std::string> filters = {"curvature", "concavity", "clearance", "neighbours"};
   double max_curvature = 0.03;       ///< PCL surface variation limit (scale-free)
-  double max_hull_distance = 0.0;    ///< concavity limit (m); 0 = pad_radius
+  double max_hull_distance = 0.01;   ///< concavity limit (m)
   std::uint32_t min_neighbours = 0;  ///< within patch_radius; 0 = a third of a patch's samples
   std::vector<std::uint32_t> branching = {20, 4, 4};
   double length_scale = 0.0;             ///< k-means position scale (m); 0 = rho

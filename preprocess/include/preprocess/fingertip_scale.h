@@ -16,21 +16,19 @@ namespace hfts::preprocess {
 /// one nearly flat piece of surface.
 inline constexpr double kPatchPerPad = 0.5;
 
-/// Concavity limit over pad radius: a contact no deeper below the convex
-/// hull than the pad's radius is touched by the pad alone; deeper, the
-/// finger itself must enter the object's hull.
-inline constexpr double kDepthPerPad = 1.0;
-
 /// The share of a flat patch's samples that must lie around a contact for
 /// it to stand on a surface, not on an island or a sliver.
 inline constexpr double kNeighbourShare = 1.0 / 3.0;
 
 /// `params` with the filter scales left 0 filled in from params.pad_radius:
-/// patch_radius = kPatchPerPad x pad_radius, max_hull_distance =
-/// kDepthPerPad x pad_radius, min_neighbours = kNeighbourShare x the samples
-/// a disc of radius patch_radius holds at `samplesPerSquareMetre`, rounded,
-/// at least 1. Scales given (non-zero) are kept. Throws InvalidArgument
-/// unless pad_radius and samplesPerSquareMetre are positive and finite.
+/// patch_radius = kPatchPerPad x pad_radius, min_neighbours =
+/// kNeighbourShare x the samples a disc of radius patch_radius holds at
+/// `samplesPerSquareMetre`, rounded, at least 1. Scales given (non-zero)
+/// are kept. (The concavity filter's depth is not the pad's: how deep a
+/// finger reaches into a pocket depends on the finger and the pocket's
+/// opening, which the clearance filter checks with the pad itself.)
+/// Throws InvalidArgument unless pad_radius and samplesPerSquareMetre are
+/// positive and finite.
 db::BuildParameters resolveFilterScales(db::BuildParameters params, double samplesPerSquareMetre);
 
 }  // namespace hfts::preprocess
