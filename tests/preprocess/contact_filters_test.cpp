@@ -224,9 +224,10 @@ TEST(ContactFilters, ABoxLosesItsEdgesAndKeepsItsFaces) {
 TEST(ContactFilters, UnresolvedScalesAreRejected) {
   ContactSet c = syntheticContacts({{0, 0, 0.05}});
   const Geometry cube(test::cube(0.1));
-  for (const char* filter : {"curvature", "concavity", "neighbours"}) {
+  for (const char* filter : {"curvature", "clearance", "neighbours"}) {
     db::BuildParameters params;  // scales 0: resolveFilterScales was not called
     params.filters = {filter};
+    if (params.filters[0] == "clearance") params.pad_radius = 0.0;
     EXPECT_THROW(applyFilters(c, params, cube), std::invalid_argument) << filter;
   }
 }
