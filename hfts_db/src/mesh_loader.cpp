@@ -183,12 +183,10 @@ LoadedMesh loadMesh(const std::filesystem::path& path, double scale,
   loaded.topology = analyzeTopology(mesh);
   const MeshTopology& t = loaded.topology;
   if (!t.closed())
-    loaded.warnings.push_back(what + " is not a closed manifold (" +
-                              std::to_string(t.boundary_edges) + " boundary, " +
-                              std::to_string(t.non_manifold_edges) + " non-manifold, " +
-                              std::to_string(t.inconsistent_edges) +
-                              " inconsistently wound edges): the centre of mass is the hull "
-                              "centroid, not the volume centroid");
+    loaded.warnings.push_back(
+        what + " is not a closed manifold (" + std::to_string(t.boundary_edges) + " boundary, " +
+        std::to_string(t.non_manifold_edges) + " non-manifold, " +
+        std::to_string(t.inconsistent_edges) + " inconsistently wound edges)");
   if (loaded.dropped_degenerate > 0)
     loaded.warnings.push_back(what + ": dropped " + std::to_string(loaded.dropped_degenerate) +
                               " zero-area triangles");

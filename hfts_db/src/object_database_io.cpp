@@ -29,6 +29,7 @@ void writeParameters(hid_t file, const BuildParameters& p) {
   h5::writeAttribute(g, "sample_density", p.sample_density);
   h5::writeAttribute(g, "max_samples", std::uint64_t{p.max_samples});
   h5::writeAttribute(g, "viewpoints", std::uint64_t{p.viewpoints});
+  h5::writeAttribute(g, "pad_radius", p.pad_radius);
   h5::writeAttribute(g, "patch_radius", p.patch_radius);
   h5::writeAttribute(g, "filters", h5::joinNames(p.filters));
   h5::writeAttribute(g, "max_curvature", p.max_curvature);
@@ -53,6 +54,7 @@ BuildParameters readParameters(hid_t file) {
   p.sample_density = h5::readDouble(g, "sample_density");
   p.max_samples = narrowed(h5::readUInt64(g, "max_samples"), "max_samples");
   p.viewpoints = narrowed(h5::readUInt64(g, "viewpoints"), "viewpoints");
+  p.pad_radius = h5::readDouble(g, "pad_radius");
   p.patch_radius = h5::readDouble(g, "patch_radius");
   p.filters = h5::splitNames(h5::readStringAttribute(g, "filters"));
   p.max_curvature = h5::readDouble(g, "max_curvature");
@@ -89,6 +91,8 @@ void writeGeometry(hid_t file, const ObjectGeometry& geometry, double density) {
   h5::writeAttribute(g, "rho", geometry.rho);
   h5::writeAttribute(g, "volume", geometry.volume);
   h5::writeAttribute(g, "closed", std::uint64_t{geometry.closed ? 1u : 0u});
+  h5::writeAttribute(g, "center_of_mass_method",
+                     centerOfMassMethodName(geometry.center_of_mass_method));
   h5::writeAttribute(g, "bbox_min", asVector(geometry.bbox_min));
   h5::writeAttribute(g, "bbox_max", asVector(geometry.bbox_max));
   const Points3& v = geometry.hull_vertices;
@@ -120,6 +124,8 @@ ObjectGeometry readGeometry(hid_t file, double& density) {
   geometry.rho = h5::readDouble(g, "rho");
   geometry.volume = h5::readDouble(g, "volume");
   geometry.closed = h5::readUInt64(g, "closed") != 0;
+  geometry.center_of_mass_method =
+      parseCenterOfMassMethod(h5::readStringAttribute(g, "center_of_mass_method"));
   geometry.bbox_min = asVector3(h5::readDoubleAttribute(g, "bbox_min"), "bbox_min");
   geometry.bbox_max = asVector3(h5::readDoubleAttribute(g, "bbox_max"), "bbox_max");
   geometry.hull_vertices = toMatrix<Points3>(h5::readDoubles(g, "hull_vertices"), "hull_vertices");

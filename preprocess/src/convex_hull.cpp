@@ -1,6 +1,8 @@
 // CGAL is confined to this file: its headers are heavy.
 #include "preprocess/convex_hull.h"
 
+#include "preprocess/center_of_mass.h"
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_3.h>
@@ -251,21 +253,19 @@ Eigen::Vector3d ConvexHull::centroid() const {
   return solidProperties(mesh).centroid;
 }
 
-db::ObjectGeometry objectGeometry(const TriangleMesh& mesh, bool closed, const ConvexHull& hull) {
+db::ObjectGeometry objectGeometry(const TriangleMesh& mesh, bool closed, const ConvexHull& hull,
+                                  const CenterOfMass& com) {
   db::ObjectGeometry g;
   g.hull_vertices = hull.vertices();
   g.hull_faces = hull.faces();
   g.mesh_vertices = mesh.vertices;
   g.mesh_triangles = mesh.triangles;
   g.closed = closed;
-  if (closed) {
-    // The centroid counts an overlap of closed parts twice (a small shift
-    // for the bundled objects); the volume counts it once.
-    g.volume = solidVolume(mesh);
-    g.center_of_mass = solidProperties(mesh).centroid;
-  } else {
-    g.center_of_mass = hull.centroid();
-  }
+  // The centroid counts an overlap of closed parts twice (a small shift
+  // for the bundled objects); the volume counts it once.
+  g.center_of_mass = com.point;
+  g.volume = closed ? solidVolume(mesh) : com.volume;
+  g.center_of_mass_method = com.method;
   // The farthest surface point from any point is a hull vertex.
   g.rho = (hull.vertices().rowwise() - g.center_of_mass.transpose()).rowwise().norm().maxCoeff();
   g.bbox_min = mesh.vertices.colwise().minCoeff().transpose();

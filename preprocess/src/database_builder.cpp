@@ -10,10 +10,13 @@
 
 #include "hfts_db/distance_grid.h"
 #include "hfts_db/invalid_argument.h"
+#include "hfts_db/triangle_bvh.h"
+#include "preprocess/center_of_mass.h"
 #include "preprocess/contact_filters.h"
 #include "preprocess/contact_set.h"
 #include "preprocess/convex_decomposition.h"
 #include "preprocess/convex_hull.h"
+#include "preprocess/fingertip_scale.h"
 #include "preprocess/hierarchy_builder.h"
 #include "preprocess/object_sidecar.h"
 #include "preprocess/surface_sampler.h"
@@ -72,11 +75,14 @@ std::string producerName() {
 void checkBuildParameters(const db::BuildParameters& p) {
   requirePositive(p.scale, "scale");
   requirePositive(p.sample_density, "sample_density");
-  requirePositive(p.patch_radius, "patch_radius");
+  requirePositive(p.pad_radius, "pad_radius");
+  if (!(p.patch_radius >= 0.0) || !std::isfinite(p.patch_radius))
+    throw InvalidArgument("patch_radius", "must be >= 0 (0 = pad_radius / 2)");
   if (p.max_samples == 0) throw InvalidArgument("max_samples", "must be at least 1");
   if (p.viewpoints < 8) throw InvalidArgument("viewpoints", "must be at least 8");
   if (!(p.max_curvature >= 0.0)) throw InvalidArgument("max_curvature", "must be >= 0");
-  if (!(p.max_hull_distance >= 0.0)) throw InvalidArgument("max_hull_distance", "must be >= 0");
+  if (!(p.max_hull_distance >= 0.0) || !std::isfinite(p.max_hull_distance))
+    throw InvalidArgument("max_hull_distance", "must be >= 0");
   if (!(p.length_scale >= 0.0) || !std::isfinite(p.length_scale))
     throw InvalidArgument("length_scale", "must be >= 0 (0 selects rho)");
   if (!(p.normal_weight >= 0.0) || !std::isfinite(p.normal_weight))
@@ -109,18 +115,24 @@ BuildResult buildObjectDatabase(const TriangleMesh& mesh, bool closed,
   const ConvexHull hull(mesh.vertices, what);
   db::ObjectDatabase& db = result.database;
   db.producer = producerName();
-  db.parameters = params;
-  db.geometry = objectGeometry(mesh, closed, hull);
+  const CenterOfMass com = centerOfMass(mesh, closed, hull);
+  db.geometry = objectGeometry(mesh, closed, hull, com);
+  if (!closed) result.warnings.push_back(describeCenterOfMass(com, what));
 
   const SurfaceSamples samples = sampleVisibleSurface(
       mesh, {params.sample_density, params.max_samples, params.viewpoints, params.seed});
   db.num_samples = static_cast<std::uint64_t>(samples.positions.rows());
   result.times.sample = watch.lap();
+  // The scales follow the pad, the neighbour count the density really drawn.
+  db.parameters =
+      resolveFilterScales(params, static_cast<double>(samples.candidates) / surfaceArea(mesh));
+  const db::BuildParameters& resolved = db.parameters;
 
-  ContactSet contacts = estimateNormals(samples.positions, samples.normals, params.patch_radius);
+  ContactSet contacts = estimateNormals(samples.positions, samples.normals, resolved.patch_radius);
   result.times.normals = watch.lap();
 
-  db.filter_reports = applyFilters(contacts, params, hull);
+  const db::TriangleBvh surface(mesh);
+  db.filter_reports = applyFilters(contacts, resolved, {hull, surface});
   result.times.filter = watch.lap();
   if (contacts.size() == 0) {
     std::string detail;

@@ -45,27 +45,31 @@ static pcl::PointCloud<pcl::PointXYZ>::Ptr toCloud(const Vertices& positions) {
 }
 
 ContactSet estimateNormals(const Vertices& positions, const Vertices& sideNormals,
-                           double patch_radius) {
+                           const SurfacePoints& support, double patch_radius) {
   if (!(patch_radius > 0.0)) throw std::invalid_argument("patch radius must be positive");
+  if (support.positions.rows() != support.sides.rows())
+    throw std::invalid_argument("support points and sides differ in number");
   ContactSet contacts;
   contacts.positions = positions;
   contacts.normals = sideNormals;
   contacts.curvature = Eigen::VectorXd::Constant(positions.rows(), 1.0 / 3.0);
-  if (positions.rows() == 0) return contacts;
+  if (positions.rows() == 0 || support.positions.rows() == 0) return contacts;
 
-  const pcl::PointCloud<pcl::PointXYZ>::Ptr cloud = toCloud(positions);
+  const pcl::PointCloud<pcl::PointXYZ>::Ptr cloud = toCloud(support.positions);
+  const pcl::PointCloud<pcl::PointXYZ>::Ptr queries = toCloud(positions);
   pcl::search::KdTree<pcl::PointXYZ> tree;
   tree.setInputCloud(cloud);
   pcl::Indices neighbours, sameSide;
   std::vector<float> squaredDistances;
   for (Eigen::Index i = 0; i < positions.rows(); ++i) {
     const Eigen::Vector3d side = sideNormals.row(i).transpose();
-    tree.radiusSearch(static_cast<pcl::index_t>(i), patch_radius, neighbours, squaredDistances);
+    tree.radiusSearch((*queries)[static_cast<std::size_t>(i)], patch_radius, neighbours,
+                      squaredDistances);
     // Only neighbours seen from the same side belong to the patch: the far
     // side of a thin wall lies within the radius but is another surface.
     sameSide.clear();
     for (const pcl::index_t j : neighbours)
-      if (side.dot(sideNormals.row(j).transpose()) > kSameSideCosine) sameSide.push_back(j);
+      if (side.dot(support.sides.row(j).transpose()) > kSameSideCosine) sameSide.push_back(j);
     Eigen::Vector4f plane;
     float curvature = 0.0f;
     if (sameSide.size() < 3 || !pcl::computePointNormal(*cloud, sameSide, plane, curvature))
@@ -78,6 +82,11 @@ ContactSet estimateNormals(const Vertices& positions, const Vertices& sideNormal
     contacts.curvature(i) = curvature;
   }
   return contacts;
+}
+
+ContactSet estimateNormals(const Vertices& positions, const Vertices& sideNormals,
+                           double patch_radius) {
+  return estimateNormals(positions, sideNormals, {positions, sideNormals}, patch_radius);
 }
 
 }  // namespace hfts::preprocess

@@ -126,4 +126,18 @@ SurfaceSamples sampleVisibleSurface(const TriangleMesh& mesh, const SamplingOpti
   return out;
 }
 
+SurfaceSamples supportSamples(const TriangleMesh& mesh, const SurfaceSamples& contacts,
+                              double patchRadius, const SamplingOptions& options) {
+  if (!(patchRadius > 0.0) || !std::isfinite(patchRadius))
+    throw std::invalid_argument("the patch radius must be a positive number of metres");
+  const double drawn = static_cast<double>(contacts.candidates) / surfaceArea(mesh);
+  const double wanted = kSupportPerPatch / (M_PI * patchRadius * patchRadius);
+  if (drawn >= wanted) return contacts;
+  SamplingOptions dense = options;
+  dense.density = wanted;
+  dense.max_samples = kMaxSupportSamples;
+  dense.seed = options.seed + 1;
+  return sampleVisibleSurface(mesh, dense);
+}
+
 }  // namespace hfts::preprocess

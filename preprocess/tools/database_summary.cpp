@@ -15,6 +15,7 @@ nlohmann::json parametersJson(const db::BuildParameters& p) {
           {"sample_density", p.sample_density},
           {"max_samples", p.max_samples},
           {"viewpoints", p.viewpoints},
+          {"pad_radius", p.pad_radius},
           {"patch_radius", p.patch_radius},
           {"filters", p.filters},
           {"max_curvature", p.max_curvature},
@@ -51,6 +52,19 @@ nlohmann::json convexPartsJson(const db::ObjectGeometry& g) {
           {"faces", faces},
           {"volume", volume},
           {"volume_ratio", g.volume > 0.0 ? nlohmann::json(volume / g.volume) : nullptr}};
+}
+
+/// Where the centre of mass came from, in words.
+std::string centerOfMassSource(const db::ObjectGeometry& g) {
+  switch (g.center_of_mass_method) {
+    case db::CenterOfMassMethod::kClosedMesh:
+      return "volume centroid, closed mesh";
+    case db::CenterOfMassMethod::kRepairedMesh:
+      return "volume centroid of the mesh with its holes capped; not closed";
+    case db::CenterOfMassMethod::kConvexHull:
+      break;
+  }
+  return "hull centroid: the mesh bounds no volume";
 }
 
 nlohmann::json distanceGridJson(const db::DistanceGrid& grid) {
@@ -94,6 +108,7 @@ nlohmann::json databaseSummaryJson(const db::ObjectDatabase& db,
           {"density", db.density},
           {"mass", db.density * g.volume},
           {"closed", g.closed},
+          {"center_of_mass_method", db::centerOfMassMethodName(g.center_of_mass_method)},
           {"bbox_min", vec3(g.bbox_min)},
           {"bbox_max", vec3(g.bbox_max)},
           {"hull_vertices", g.hull_vertices.rows()},
@@ -120,8 +135,8 @@ std::string databaseSummaryText(const db::ObjectDatabase& db,
     out << (l ? "-" : "") << db.parameters.branching[l];
   out << "\nnodes per level ";
   for (std::size_t l = 0; l < db.levels.size(); ++l) out << (l ? " / " : "") << db.levels[l].size();
-  out << "\ncentre of mass  [" << g.center_of_mass.transpose() << "] m ("
-      << (g.closed ? "volume centroid" : "hull centroid, open mesh") << ")\n"
+  out << "\ncentre of mass  [" << g.center_of_mass.transpose() << "] m (" << centerOfMassSource(g)
+      << ")\n"
       << "rho             " << g.rho << " m\n"
       << "volume          " << g.volume * 1e6 << " cm^3\n"
       << "density         " << db.density << " kg/m^3 (mass " << db.density * g.volume * 1e3

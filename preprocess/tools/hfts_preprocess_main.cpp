@@ -13,6 +13,8 @@
 #include "preprocess/contact_filters.h"
 #include "preprocess/database_builder.h"
 #include "preprocess/object_sidecar.h"
+#include "robot/fingertip_geometry.h"
+#include "robot/robot_model.h"
 #include "robot_check.h"
 #include "scene_export_command.h"
 
@@ -35,11 +37,17 @@ void addBuildOptions(CLI::App& app, BuildParameters& p) {
   app.add_option("--viewpoints", p.viewpoints, "Directions of the visibility test")
       ->check(CLI::Range(8u, 4096u))
       ->capture_default_str();
-  app.add_option("--patch-radius", p.patch_radius, "Fingertip patch radius (m)")
+  app.add_option("--pad-radius", p.pad_radius,
+                 "Radius of the fingertip pad the filters are scaled to (m); see also --robot")
       ->check(positive)
       ->capture_default_str();
+  app.add_option("--patch-radius", p.patch_radius,
+                 "Normals, curvature and neighbours patch radius (m); 0 = pad radius / 2")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--filters", p.filters,
-                 "Contact filters in order (curvature, concavity, neighbours; 'none' for none)")
+                 "Contact filters in order (curvature, concavity, clearance, neighbours; 'none' "
+                 "for none)")
       ->delimiter(',')
       ->capture_default_str();
   app.add_option("--max-curvature", p.max_curvature, "Curvature filter: max surface variation")
@@ -50,7 +58,8 @@ void addBuildOptions(CLI::App& app, BuildParameters& p) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--min-neighbours", p.min_neighbours,
-                 "Neighbours filter: min other contacts within the patch radius")
+                 "Neighbours filter: min other contacts within the patch radius; 0 = a third of "
+                 "the samples a patch holds")
       ->check(CLI::Range(0u, 1000000u))
       ->capture_default_str();
   app.add_option("--branching", p.branching, "Branching factor per level, e.g. 20,4,4")
@@ -100,6 +109,21 @@ int exportPly(const std::vector<std::string>& args) {
   std::cout << "wrote " << db.numContacts() << " contacts in " << db.levels.front().size()
             << " colours to " << args.at(1) << "\n";
   return 0;
+}
+
+/// The smallest fingertip pad of a robot (robot::smallestPadRadius): the
+/// pad the database's filters are scaled to with --robot.
+double padRadiusOf(const std::string& robotConfig, bool quiet) {
+  const hfts::robot::RobotModel robot = hfts::robot::RobotModel::load(robotConfig);
+  const double pad = hfts::robot::smallestPadRadius(robot);
+  if (!(pad > 0.0))
+    throw std::invalid_argument("--robot " + robotConfig + ": no fingertip of '" + robot.name() +
+                                "' lies on the surface of its link's collision shapes, so it has "
+                                "no pad radius to scale the filters to (give --pad-radius)");
+  if (!quiet)
+    std::cerr << "filters scaled to the smallest fingertip pad of " << robot.name() << ": "
+              << 1000.0 * pad << " mm\n";
+  return pad;
 }
 
 int build(const std::string& input, const std::string& outDir, BuildParameters params,
@@ -163,9 +187,11 @@ int main(int argc, char** argv) {
                  "With --export-scene: robot configuration (13 values, comma-separated)")
       ->delimiter(',')
       ->needs(sceneOpt);
-  app.add_option("--robot", sceneOptions.robot,
-                 "Robot config, of --export-scene and of --inspect's graspability (default "
-                 "robots/kr5_sdh/kr5_sdh.json)");
+  auto* robotOpt = app.add_option(
+      "--robot", sceneOptions.robot,
+      "Robot config: of --export-scene and of --inspect's graspability (default "
+      "robots/kr5_sdh/kr5_sdh.json); when building, the filters are scaled to its smallest "
+      "fingertip pad instead of --pad-radius");
   app.add_option("--db", sceneOptions.databases,
                  "With --export-scene: directory of object databases (default build/databases)")
       ->needs(sceneOpt);
@@ -175,6 +201,7 @@ int main(int argc, char** argv) {
                  "{\"density\": ...} overrides it for its mesh")
       ->check(CLI::Range(hfts::db::kMinDensity, hfts::db::kMaxDensity))
       ->capture_default_str();
+  app.get_option("--pad-radius")->excludes(robotOpt);
   app.set_version_flag("--version", hfts::preprocess::producerName());
   inspectOpt->excludes(plyOpt);
   handOpt->excludes(inspectOpt)->excludes(plyOpt)->excludes(sceneOpt);
@@ -204,6 +231,7 @@ int main(int argc, char** argv) {
       std::cerr << "hfts-preprocess: give a mesh or directory and -o OUTDIR (see --help)\n";
       return 2;
     }
+    if (!sceneOptions.robot.empty()) params.pad_radius = padRadiusOf(sceneOptions.robot, quiet);
     return build(input, outDir, params, density, jobs, quiet);
   } catch (const std::invalid_argument& e) {
     std::cerr << "hfts-preprocess: " << e.what() << "\n";

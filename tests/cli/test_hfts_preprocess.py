@@ -141,6 +141,55 @@ class PreprocessCli(unittest.TestCase):
         self.assertEqual(result.returncode, 2)
         self.assertIn("convex_parts_tolerance: must be in [0, 1)", result.stderr)
 
+    def test_a_mesh_with_a_hole_gets_the_volume_centroid_of_its_capped_surface(self):
+        # A 6 x 4 x 2 cm box without its top face (a flat hole of 38 % of
+        # what is left): exact float coordinates, ten triangles.
+        corners = [(x, y, z) for z in (0, 0.02) for y in (0, 0.04) for x in (0, 0.06)]
+        faces = [(0, 2, 1), (1, 2, 3), (0, 1, 4), (1, 5, 4), (2, 6, 3), (3, 6, 7),
+                 (0, 4, 2), (2, 4, 6), (1, 3, 5), (3, 7, 5)]  # no (4, 5, 6), (5, 7, 6)
+        folder = os.path.join(self.tmp, "holed")
+        os.makedirs(folder, exist_ok=True)
+        with open(os.path.join(folder, "holed_box.obj"), "w") as f:
+            f.writelines(f"v {x} {y} {z}\n" for x, y, z in corners)
+            f.writelines(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in faces)
+        out = os.path.join(self.tmp, "holed_db")
+        result = run(folder, "-o", out, check=0)
+        self.assertIn("holed_box.obj' is not a closed manifold (4 boundary, 0 non-manifold",
+                      result.stderr)
+        self.assertIn("holed_box.obj': the centre of mass is the volume centroid of the mesh with "
+                      "its boundary capped (1 boundary part capped, caps 38 % of the surface, "
+                      "volume ambiguous by 0 %)", result.stderr)
+        summary = json.loads(run("--inspect", os.path.join(out, "holed_box.h5"), "--json",
+                                 check=0).stdout)
+        self.assertEqual(summary["center_of_mass_method"], "repaired_mesh")
+        self.assertFalse(summary["closed"])
+        # assimp reads single precision: exact up to float rounding.
+        self.assertAlmostEqual(summary["volume"], 0.06 * 0.04 * 0.02, delta=1e-11)
+        for got, want in zip(summary["center_of_mass"], (0.03, 0.02, 0.01)):
+            self.assertAlmostEqual(got, want, delta=1e-8)
+
+    def test_robot_scales_the_filters_to_its_smallest_fingertip_pad(self):
+        robot = os.path.join(SOURCE_DIR, "robots", "kr5_sdh", "kr5_sdh.json")
+        mesh = os.path.join(self.meshes, "small_cube.stl")
+        out = os.path.join(self.tmp, "sdh_db")
+        result = run(mesh, "-o", out, "--robot", robot, check=0)
+        self.assertIn("filters scaled to the smallest fingertip pad of kr5_sdh: 14 mm",
+                      result.stderr)
+        parameters = json.loads(run("--inspect", os.path.join(out, "small_cube.h5"), "--json",
+                                    check=0).stdout)["parameters"]
+        self.assertAlmostEqual(parameters["pad_radius"], 0.014, places=9)
+        self.assertAlmostEqual(parameters["patch_radius"], 0.007, places=9)
+        self.assertEqual(parameters["max_hull_distance"], 0.01)
+        self.assertEqual(parameters["min_neighbours"], 10)
+        self.assertEqual(parameters["filters"], ["curvature", "concavity", "clearance",
+                                                 "neighbours"])
+        default = json.loads(run("--inspect", os.path.join(self.out, "small_cube.h5"), "--json",
+                                 check=0).stdout)["parameters"]
+        self.assertEqual((default["pad_radius"], default["patch_radius"]), (0.008, 0.004))
+        both = run(mesh, "-o", out, "--robot", robot, "--pad-radius", "0.01")
+        self.assertEqual(both.returncode, 2)
+        self.assertRegex(both.stderr, r"--(robot|pad-radius) excludes --(pad-radius|robot)")
+
     def test_export_ply_writes_every_contact_coloured_by_cluster(self):
         ply = os.path.join(self.tmp, "mug.ply")
         run("--export-ply", os.path.join(self.out, "mug.h5"), ply, check=0)

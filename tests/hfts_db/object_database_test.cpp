@@ -51,6 +51,7 @@ void expectSame(const ObjectDatabase& a, const ObjectDatabase& b) {
   EXPECT_EQ(a.geometry.rho, b.geometry.rho);
   EXPECT_EQ(a.geometry.volume, b.geometry.volume);
   EXPECT_EQ(a.geometry.closed, b.geometry.closed);
+  EXPECT_EQ(a.geometry.center_of_mass_method, b.geometry.center_of_mass_method);
   EXPECT_EQ(a.geometry.hull_vertices, b.geometry.hull_vertices);
   EXPECT_EQ(a.geometry.hull_faces, b.geometry.hull_faces);
   EXPECT_EQ(a.geometry.mesh_vertices, b.geometry.mesh_vertices);
@@ -313,6 +314,55 @@ TEST(ObjectDatabase, DensityOutsideTenTo25000IsRejected) {
   }
   db.density = 7850.0;
   EXPECT_NO_THROW(validateObjectDatabase(db, "x"));
+}
+
+/// Deletes attribute `name` of group `group` in a database file.
+void deleteAttribute(const std::filesystem::path& path, const char* group, const char* name) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  const hid_t g = H5Gopen2(file, group, H5P_DEFAULT);
+  H5Adelete(g, name);
+  H5Gclose(g);
+  H5Fclose(file);
+}
+
+TEST(ObjectDatabase, AFileWithoutTheCentreOfMassMethodGetsTheOneItWasBuiltWith) {
+  // Version-3 files written before the attribute existed used the volume
+  // centroid exactly for closed meshes.
+  TempDir dir;
+  ObjectDatabase open = sample();
+  open.geometry.closed = false;
+  open.geometry.distance_grid.is_signed = false;
+  for (const ObjectDatabase& db : {sample(), open}) {
+    saveObjectDatabase(db, dir / "old.h5");
+    deleteAttribute(dir / "old.h5", "object", "center_of_mass_method");
+    EXPECT_EQ(
+        loadObjectDatabase(dir / "old.h5").geometry.center_of_mass_method,
+        db.geometry.closed ? CenterOfMassMethod::kClosedMesh : CenterOfMassMethod::kConvexHull);
+  }
+}
+
+TEST(ObjectDatabase, AnUnknownCentreOfMassMethodIsRejectedByName) {
+  TempDir dir;
+  saveObjectDatabase(sample(), dir / "odd.h5");
+  deleteAttribute(dir / "odd.h5", "object", "center_of_mass_method");
+  {
+    const hid_t file = H5Fopen((dir / "odd.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    const hid_t g = H5Gopen2(file, "object", H5P_DEFAULT);
+    const hid_t type = H5Tcopy(H5T_C_S1);
+    H5Tset_size(type, 8);
+    const hid_t space = H5Screate(H5S_SCALAR);
+    const hid_t attribute =
+        H5Acreate2(g, "center_of_mass_method", type, space, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(attribute, type, "guessed");
+    H5Aclose(attribute);
+    H5Sclose(space);
+    H5Tclose(type);
+    H5Gclose(g);
+    H5Fclose(file);
+  }
+  test::expectErrorMentioning<DatabaseError>(
+      [&] { loadObjectDatabase(dir / "odd.h5"); },
+      {(dir / "odd.h5").string(), "'guessed'", "center_of_mass_method"});
 }
 
 TEST(ObjectDatabase, DistanceGridValuesStoredAsDoublesAreRejected) {

@@ -241,10 +241,13 @@ TEST(HftsGoalSampler, StoppedCallsDrainAThenReturnNothing) {
   HftsGoalSamplerOptions options;
   options.samples = 16;
   HftsGoalSampler sampler(setup.context, options);
-  for (int call = 0; call < 60 && sampler.approximateGoals().size() < 4; ++call)
+  // How many calls that takes depends on the mug's database: 93 with the
+  // default filters (19 with the filters of before they were scaled to the
+  // fingertip, 6 with filters scaled to the SDH's own pads).
+  for (int call = 0; call < 500 && sampler.approximateGoals().size() < 4; ++call)
     sampler.sample(setup.knowledge, kNever);
   std::vector<Eigen::VectorXd> a = sampler.approximateGoals();
-  ASSERT_GE(a.size(), 4u);  // after 19 calls
+  ASSERT_GE(a.size(), 4u);
   const std::size_t held = a.size();
   const std::size_t cached = sampler.cache().size();
   const GoalSamplerStatistics before = sampler.statistics();

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include "preprocess/center_of_mass.h"
 #include "preprocess/convex_hull.h"
 #include "test_meshes.h"
 
@@ -101,7 +102,7 @@ TEST(ObjectGeometry, ClosedMeshUsesTheVolumeCentroid) {
       test::merged(test::cube(0.1), test::cube(0.1, Eigen::Vector3d(0.1, 0, 0)));
   const TriangleMesh l = test::merged(mesh, test::cube(0.1, Eigen::Vector3d(0, 0.1, 0)));
   const ConvexHull hull(l.vertices, "L");
-  const db::ObjectGeometry g = objectGeometry(l, true, hull);
+  const db::ObjectGeometry g = objectGeometry(l, true, hull, centerOfMass(l, true, hull));
   EXPECT_NEAR(g.volume, 3e-3, 1e-12);
   EXPECT_TRUE(g.center_of_mass.isApprox(Eigen::Vector3d(0.1 / 3, 0.1 / 3, 0), 1e-9));
   EXPECT_FALSE(g.center_of_mass.isApprox(hull.centroid(), 1e-3));
@@ -110,15 +111,27 @@ TEST(ObjectGeometry, ClosedMeshUsesTheVolumeCentroid) {
   EXPECT_NEAR(g.rho, (corner - g.center_of_mass).norm(), 1e-9);
 }
 
-TEST(ObjectGeometry, OpenMeshUsesTheHullCentroid) {
-  TriangleMesh open = test::cube(0.1, Eigen::Vector3d(0.2, 0, 0));
+TEST(ObjectGeometry, RecordsHowTheCentreOfMassWasFound) {
+  const TriangleMesh cube = test::cube(0.1, Eigen::Vector3d(0.2, 0, 0));
+  const ConvexHull hull(cube.vertices, "cube");
+  EXPECT_EQ(objectGeometry(cube, true, hull, centerOfMass(cube, true, hull)).center_of_mass_method,
+            db::CenterOfMassMethod::kClosedMesh);
+  // Without one face the cube is nearly closed: capped, the same solid.
+  TriangleMesh open = cube;
   open.triangles.conservativeResize(10, 3);
-  const ConvexHull hull(open.vertices, "open");
-  const db::ObjectGeometry g = objectGeometry(open, false, hull);
+  const db::ObjectGeometry g = objectGeometry(open, false, hull, centerOfMass(open, false, hull));
   EXPECT_FALSE(g.closed);
-  EXPECT_EQ(g.volume, 0.0);
+  EXPECT_EQ(g.center_of_mass_method, db::CenterOfMassMethod::kRepairedMesh);
+  EXPECT_NEAR(g.volume, 1e-3, 1e-15);
   EXPECT_TRUE(g.center_of_mass.isApprox(Eigen::Vector3d(0.2, 0, 0), 1e-12));
   EXPECT_NEAR(g.rho, std::sqrt(3.0) * 0.05, 1e-12);
+  // A single face bounds nothing: the hull's centroid, no volume.
+  open.triangles.conservativeResize(2, 3);
+  const db::ObjectGeometry sheet =
+      objectGeometry(open, false, hull, centerOfMass(open, false, hull));
+  EXPECT_EQ(sheet.center_of_mass_method, db::CenterOfMassMethod::kConvexHull);
+  EXPECT_EQ(sheet.volume, 0.0);
+  EXPECT_TRUE(sheet.center_of_mass.isApprox(hull.centroid(), 1e-12));
 }
 
 TEST(ConvexHull, IsShallowAgreesWithDepthInside) {

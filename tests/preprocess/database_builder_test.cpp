@@ -32,6 +32,7 @@ TEST(DatabaseBuilder, EveryBundledObjectGivesAValid20_4_4Hierarchy) {
     EXPECT_EQ(db.levels[1].size(), 80u);
     EXPECT_GT(db.levels[2].size(), 250u);  // small clusters may split in fewer
     EXPECT_TRUE(db.geometry.closed);
+    EXPECT_EQ(db.geometry.center_of_mass_method, db::CenterOfMassMethod::kClosedMesh);
     // Realistic sizes for the hand: 4-20 cm.
     const double size = (db.geometry.bbox_max - db.geometry.bbox_min).maxCoeff();
     EXPECT_GE(size, 0.04);
@@ -107,9 +108,52 @@ TEST(DatabaseBuilder, InternalGeometryNeverProducesContacts) {
     EXPECT_NEAR(r.database.positions.row(i).cwiseAbs().maxCoeff(), 0.05, 1e-9);
 }
 
+TEST(DatabaseBuilder, AMeshThatIsNotClosedSaysWhereItsCentreOfMassCameFrom) {
+  const TriangleMesh cup = test::cup();
+  TriangleMesh holed{cup.vertices, cup.triangles.topRows(cup.triangles.rows() - 1)};
+  const BuildResult repaired = buildObjectDatabase(holed, false, {}, "mesh 'holed cup'");
+  const BuildResult closed = buildObjectDatabase(cup, true, {}, "mesh 'cup'");
+  EXPECT_TRUE(closed.warnings.empty());
+  EXPECT_EQ(repaired.database.geometry.center_of_mass_method,
+            db::CenterOfMassMethod::kRepairedMesh);
+  EXPECT_LT(
+      (repaired.database.geometry.center_of_mass - closed.database.geometry.center_of_mass).norm(),
+      1e-9);
+  EXPECT_NEAR(repaired.database.geometry.volume, closed.database.geometry.volume, 1e-12);
+  ASSERT_EQ(repaired.warnings.size(), 1u);
+  EXPECT_NE(repaired.warnings[0].find("mesh 'holed cup': the centre of mass is the volume "
+                                      "centroid of the mesh with its boundary capped (1 boundary "
+                                      "part"),
+            std::string::npos)
+      << repaired.warnings[0];
+
+  // Two faces of a box meeting at an edge are a folded sheet: no solid.
+  TriangleMesh sheet = test::cube(0.1);
+  sheet.triangles.middleRows(2, 2) = sheet.triangles.middleRows(4, 2).eval();
+  sheet.triangles.conservativeResize(4, 3);
+  const BuildResult hull = buildObjectDatabase(sheet, false, {}, "mesh 'sheet'");
+  EXPECT_EQ(hull.database.geometry.center_of_mass_method, db::CenterOfMassMethod::kConvexHull);
+  EXPECT_EQ(hull.database.geometry.volume, 0.0);
+  ASSERT_EQ(hull.warnings.size(), 1u);
+  EXPECT_NE(hull.warnings[0].find("convex hull's centroid, a last resort"), std::string::npos)
+      << hull.warnings[0];
+}
+
+TEST(DatabaseBuilder, StoresTheFilterScalesItResolvedFromThePad) {
+  db::BuildParameters params;
+  params.pad_radius = 0.012;
+  params.min_neighbours = 4;  // given: kept
+  const db::BuildParameters& stored =
+      buildObjectDatabase(test::cube(0.1), true, params, "cube").database.parameters;
+  EXPECT_EQ(stored.pad_radius, 0.012);
+  EXPECT_DOUBLE_EQ(stored.patch_radius, 0.006);
+  EXPECT_EQ(stored.min_neighbours, 4u);
+}
+
 TEST(DatabaseBuilder, ExplainsWhenFiltersLeaveNothing) {
   db::BuildParameters params;
   params.max_curvature = 0.0;
+  params.patch_radius = 0.01;  // every patch of a 1 cm cube reaches an edge
   params.filters = {"curvature"};
   try {
     buildObjectDatabase(test::merged(test::cube(0.01), test::cube(0.01, {0.03, 0, 0})), true,
@@ -135,6 +179,10 @@ TEST(DatabaseBuilder, RejectsBadParametersByName) {
   db::BuildParameters params;
   params.patch_radius = -1;
   EXPECT_THROW(checkBuildParameters(params), std::invalid_argument);
+  params = {};
+  params.pad_radius = 0;
+  test::expectErrorMentioning<InvalidArgument>([&] { checkBuildParameters(params); },
+                                               {"pad_radius"});
   params = {};
   params.branching = {20, 0};
   EXPECT_THROW(checkBuildParameters(params), std::invalid_argument);

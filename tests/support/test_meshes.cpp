@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -62,6 +63,58 @@ TriangleMesh square(double size, double z) {
   mesh.triangles.resize(2, 3);
   mesh.triangles << 0, 1, 2, 0, 2, 3;
   return mesh;
+}
+
+TriangleMesh revolved(const std::vector<Eigen::Vector2d>& profile, int segments) {
+  TriangleMesh mesh;
+  std::vector<std::vector<std::uint32_t>> rings;
+  std::vector<Eigen::Vector3d> vertices;
+  for (const Eigen::Vector2d& rz : profile) {
+    std::vector<std::uint32_t> ring;
+    for (int j = 0; j < segments; ++j) {
+      if (rz.x() <= 0.0 && j > 0) {  // a point on the axis is one vertex
+        ring.push_back(ring.front());
+        continue;
+      }
+      const double a = 2.0 * M_PI * j / segments;
+      ring.push_back(static_cast<std::uint32_t>(vertices.size()));
+      vertices.emplace_back(rz.x() * std::cos(a), rz.x() * std::sin(a), rz.y());
+    }
+    rings.push_back(ring);
+  }
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  for (std::size_t i = 0; i + 1 < rings.size(); ++i)
+    for (int j = 0; j < segments; ++j) {
+      const auto next = static_cast<std::size_t>((j + 1) % segments),
+                 at = static_cast<std::size_t>(j);
+      const std::uint32_t a = rings[i][at], b = rings[i][next], c = rings[i + 1][next],
+                          d = rings[i + 1][at];
+      if (a != b && b != c && c != a) triangles.push_back({a, b, c});
+      if (a != c && c != d && d != a) triangles.push_back({a, c, d});
+    }
+  mesh.vertices.resize(static_cast<Eigen::Index>(vertices.size()), 3);
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    mesh.vertices.row(static_cast<Eigen::Index>(i)) = vertices[i].transpose();
+  mesh.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
+  for (std::size_t i = 0; i < triangles.size(); ++i)
+    mesh.triangles.row(static_cast<Eigen::Index>(i)) << triangles[i][0], triangles[i][1],
+        triangles[i][2];
+  return mesh;
+}
+
+TriangleMesh cup(double radius, double height, double wall, double floor) {
+  // Rings every 5 mm up the walls, so a removed triangle is a small hole.
+  std::vector<Eigen::Vector2d> profile = {{0.0, 0.0}};
+  const auto segment = [&](const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+    const int steps = std::max(1, static_cast<int>(std::ceil((to - from).norm() / 0.005)));
+    for (int k = 1; k <= steps; ++k) profile.push_back(from + (to - from) * k / steps);
+  };
+  segment({0.0, 0.0}, {radius, 0.0});
+  segment({radius, 0.0}, {radius, height});
+  segment({radius, height}, {radius - wall, height});
+  segment({radius - wall, height}, {radius - wall, floor});
+  segment({radius - wall, floor}, {0.0, floor});
+  return revolved(profile, 64);
 }
 
 TempDir::TempDir() {

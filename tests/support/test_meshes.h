@@ -26,6 +26,18 @@ TriangleMesh flipped(TriangleMesh mesh);
 /// A horizontal square of edge `size` at height z (two triangles).
 TriangleMesh square(double size, double z);
 
+/// The closed surface of revolution about z of an (r, z) profile that starts
+/// and ends on the axis (r = 0) and runs counter-clockwise (the solid on its
+/// left), outward wound; `segments` vertices per ring.
+TriangleMesh revolved(const std::vector<Eigen::Vector2d>& profile, int segments);
+
+/// A mug-like cup standing on z = 0: outer radius `radius`, height
+/// `height`, side wall `wall` and floor `floor` thick, a cavity open at
+/// the top; 64 segments, rings every few millimetres (a few thousand
+/// triangles).
+TriangleMesh cup(double radius = 0.04, double height = 0.1, double wall = 0.005,
+                 double floor = 0.006);
+
 /// Distance from p to the nearest point of any triangle, by trying them all.
 double bruteForceDistance(const TriangleMesh& mesh, const Eigen::Vector3d& p);
 

@@ -34,17 +34,22 @@ using Faces3 = Eigen::Matrix<std::uint32_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
 /// Every parameter that shaped a database, stored with it so a database can
 /// be rebuilt and compared. Defaults are the documented defaults of
-/// hfts-preprocess (docs/preprocess.md).
+/// hfts-preprocess (docs/preprocess.md). A database stores the filter
+/// scales the build resolved (preprocess::resolveFilterScales), not 0.
 struct BuildParameters {
   double scale = 1.0;                 ///< mesh units -> metres
   double sample_density = 200000.0;   ///< contacts per square metre of mesh surface
   std::uint32_t max_samples = 20000;  ///< cap on the area-uniform candidates drawn
   std::uint32_t viewpoints = 64;      ///< directions of the visibility test
-  double patch_radius = 0.01;         ///< fingertip patch radius (m)
-  std::vector<std::string> filters = {"curvature", "concavity", "neighbours"};
-  double max_curvature = 0.03;        ///< PCL surface variation limit
-  double max_hull_distance = 0.01;    ///< concavity limit (m)
-  std::uint32_t min_neighbours = 10;  ///< within patch_radius
+  /// Radius of the fingertip pad that will touch the contacts (m); the
+  /// filters' scales follow it. The default is the smallest pad of the
+  /// bundled robots (the Panda gripper's; robot::padRadius).
+  double pad_radius = 0.008;
+  double patch_radius = 0.0;  ///< normals, curvature, neighbours (m); 0 = pad_radius / 2
+  std::vector<std::string> filters = {"curvature", "concavity", "clearance", "neighbours"};
+  double max_curvature = 0.03;       ///< PCL surface variation limit (scale-free)
+  double max_hull_distance = 0.01;   ///< concavity limit (m)
+  std::uint32_t min_neighbours = 0;  ///< within patch_radius; 0 = a third of a patch's samples
   std::vector<std::uint32_t> branching = {20, 4, 4};
   double length_scale = 0.0;             ///< k-means position scale (m); 0 = rho
   double normal_weight = 0.5;            ///< k-means weight of the unit normal
@@ -93,14 +98,47 @@ inline double minimumConvexPartVolume(const Eigen::Vector3d& bbox_min,
   return 1e-9 * diagonal * diagonal * diagonal;
 }
 
+/// How ObjectGeometry::center_of_mass (and volume) were found, from the
+/// most exact to the last resort (docs/preprocess.md#2-centre-of-mass-volume-and-rho).
+enum class CenterOfMassMethod {
+  kClosedMesh,    ///< "closed_mesh": the volume centroid of a closed mesh
+  kRepairedMesh,  ///< "repaired_mesh": the volume centroid once the boundary of a nearly
+                  ///< closed mesh (holes, dropped triangles, unwelded vertices) is capped
+  kConvexHull,    ///< "convex_hull": the solid hull's centroid; the mesh bounds no volume
+};
+
+/// The name a database stores for `method` (see the enumerators).
+inline std::string centerOfMassMethodName(CenterOfMassMethod method) {
+  switch (method) {
+    case CenterOfMassMethod::kClosedMesh:
+      return "closed_mesh";
+    case CenterOfMassMethod::kRepairedMesh:
+      return "repaired_mesh";
+    case CenterOfMassMethod::kConvexHull:
+      break;
+  }
+  return "convex_hull";
+}
+
+/// The method a stored name means. Throws DatabaseError naming an unknown one.
+inline CenterOfMassMethod parseCenterOfMassMethod(const std::string& name) {
+  for (const auto method : {CenterOfMassMethod::kClosedMesh, CenterOfMassMethod::kRepairedMesh,
+                            CenterOfMassMethod::kConvexHull})
+    if (centerOfMassMethodName(method) == name) return method;
+  throw DatabaseError("unknown center_of_mass_method '" + name +
+                      "' (known: closed_mesh, repaired_mesh, convex_hull)");
+}
+
 /// Geometry of the whole object (object frame, metres).
 struct ObjectGeometry {
   Eigen::Vector3d center_of_mass = Eigen::Vector3d::Zero();
   double rho = 0.0;  ///< largest distance from center_of_mass to the surface
-  /// Volume of the solid (m^3), where the mesh's winding number is not 0:
-  /// closed parts that overlap count their overlap once; 0 for open meshes.
+  /// Volume of the solid (m^3): where a closed mesh's winding number is not
+  /// 0 (closed parts that overlap count their overlap once); of the capped
+  /// mesh when its boundary was repaired; 0 when the hull gave the centre.
   double volume = 0.0;
-  bool closed = false;  ///< mesh is closed and edge-manifold (volume centroid used)
+  bool closed = false;  ///< mesh is closed and edge-manifold (no boundary, no non-manifold edge)
+  CenterOfMassMethod center_of_mass_method = CenterOfMassMethod::kConvexHull;
   Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d bbox_max = Eigen::Vector3d::Zero();
   Points3 hull_vertices;  ///< convex hull (CGAL), vertices

@@ -23,11 +23,22 @@ struct ContactSet {
 };
 
 /// Smoothed normals and curvature by PCL's normal estimation
-/// (pcl::computePointNormal) over the points within `patch_radius` that were
-/// seen from the same side (side normals less than 120 degrees apart),
-/// oriented to agree with `sideNormals` (the outward side each sample was
-/// seen from). Points with fewer than three such neighbours keep their side
-/// normal and get the largest curvature, 1/3.
+/// (pcl::computePointNormal) over the points of `support` within
+/// `patch_radius` that were seen from the same side (side normals less than
+/// 120 degrees apart), oriented to agree with `sideNormals` (the outward
+/// side each sample was seen from). The support is a sampling of the same
+/// surface dense enough for a patch to hold tens of points whatever the
+/// contacts' density (a plane fitted to ten points tells an edge from a
+/// face by chance). Points with fewer than three such neighbours keep their
+/// side normal and get the largest curvature, 1/3.
+struct SurfacePoints {
+  Vertices positions;
+  Vertices sides;  ///< the outward side each point was seen from
+};
+ContactSet estimateNormals(const Vertices& positions, const Vertices& sideNormals,
+                           const SurfacePoints& support, double patch_radius);
+
+/// The same with the contacts as their own support.
 ContactSet estimateNormals(const Vertices& positions, const Vertices& sideNormals,
                            double patch_radius);
 

@@ -31,10 +31,11 @@ struct BuildResult {
 void checkBuildParameters(const db::BuildParameters& params);
 
 /// Builds the database of an in-memory mesh (already scaled to metres),
-/// of the default density (db::kDefaultDensity). `closed` selects the
-/// volume centroid (true) or the hull centroid as the centre of mass.
-/// `what` names the object in errors. Throws MeshError if nothing graspable
-/// remains and std::invalid_argument for bad parameters.
+/// of the default density (db::kDefaultDensity). `closed` (the mesh's
+/// topology) selects the exact volume centroid; a mesh that is not closed
+/// gets centerOfMass's repair or last resort, and a warning saying which.
+/// `what` names the object in errors and warnings. Throws MeshError if
+/// nothing graspable remains and std::invalid_argument for bad parameters.
 BuildResult buildObjectDatabase(const TriangleMesh& mesh, bool closed,
                                 const db::BuildParameters& params, const std::string& what);
 

@@ -32,6 +32,21 @@ struct SurfaceSamples {
 /// options and std::runtime_error if Embree fails.
 SurfaceSamples sampleVisibleSurface(const TriangleMesh& mesh, const SamplingOptions& options);
 
+/// Samples a patch of normal estimation should hold (estimateNormals'
+/// support): over ten points a fitted plane tells an edge from a face by
+/// chance, over forty reliably.
+inline constexpr double kSupportPerPatch = 40.0;
+/// At most this many support samples (2 x 2 m of surface at 4 mm patches).
+inline constexpr std::uint32_t kMaxSupportSamples = 500000;
+
+/// The points normals are fitted to: `contacts` themselves if they were
+/// drawn densely enough to put kSupportPerPatch of them in a disc of radius
+/// `patchRadius`, else a denser visible sampling of the same surface with
+/// the same options but that density, at most kMaxSupportSamples and seed
+/// options.seed + 1.
+SurfaceSamples supportSamples(const TriangleMesh& mesh, const SurfaceSamples& contacts,
+                              double patchRadius, const SamplingOptions& options);
+
 /// `count` unit directions spread evenly over the sphere (Fibonacci lattice).
 Vertices fibonacciSphere(std::uint32_t count);
 
