@@ -20,7 +20,8 @@ std::string clock(double seconds) {
 
 struct AlgorithmSummary {
   std::size_t runs = 0;
-  std::size_t successes = 0;
+  std::size_t successes = 0;  ///< planned and held
+  std::size_t planned = 0;
   double mean_time = 0.0;
   double median_time = 0.0;
   double mean_gs = 0.0;
@@ -42,6 +43,7 @@ AlgorithmSummary summarize(const std::vector<RunRecord>& records, const std::str
     if (r.algorithm != algorithm) continue;
     times.push_back(r.stats.planning_time);
     s.successes += r.success ? 1 : 0;
+    s.planned += r.planned ? 1 : 0;
     gs += static_cast<double>(r.stats.goal_sampling_calls);
     vgs += static_cast<double>(r.stats.valid_goal_samples);
     gns += static_cast<double>(r.stats.hfts_nodes_explored);
@@ -59,18 +61,19 @@ AlgorithmSummary summarize(const std::vector<RunRecord>& records, const std::str
 
 void printSummaryRow(std::ostream& out, const std::string& name, const AlgorithmSummary& s,
                      int width) {
-  const double rate =
-      s.runs == 0 ? 0.0 : 100.0 * static_cast<double>(s.successes) / static_cast<double>(s.runs);
+  const auto percent = [&](std::size_t k) {
+    return s.runs == 0 ? 0.0 : 100.0 * static_cast<double>(k) / static_cast<double>(s.runs);
+  };
   std::ostringstream ratio;
   if (s.vgs_per_gs < 0.0)
     ratio << "-";
   else
     ratio << std::fixed << std::setprecision(3) << s.vgs_per_gs;
   out << std::left << std::setw(width) << name << std::right << std::setw(6) << s.runs << std::fixed
-      << std::setprecision(1) << std::setw(9) << rate << "%" << std::setprecision(3)
-      << std::setw(12) << s.mean_time << std::setw(14) << s.median_time << std::setprecision(1)
-      << std::setw(10) << s.mean_gs << std::setw(9) << ratio.str() << std::setw(11) << s.mean_gns
-      << "\n";
+      << std::setprecision(1) << std::setw(9) << percent(s.successes) << "%" << std::setw(9)
+      << percent(s.planned) << "%" << std::setprecision(3) << std::setw(12) << s.mean_time
+      << std::setw(14) << s.median_time << std::setprecision(1) << std::setw(10) << s.mean_gs
+      << std::setw(9) << ratio.str() << std::setw(11) << s.mean_gns << "\n";
 }
 
 }  // namespace
@@ -80,6 +83,7 @@ std::string describeRun(const RunRecord& r) {
   text << r.scene << " " << r.object << " " << r.algorithm << " seed " << r.seed << ": "
        << (r.success ? "success" : "failure " + r.failure) << " " << std::fixed
        << std::setprecision(2) << r.stats.planning_time << " s";
+  if (r.held) text << " (held in " << std::setprecision(2) << r.held_fraction << " of the trials)";
   return text.str();
 }
 
@@ -120,9 +124,9 @@ void printSummary(std::ostream& out, const std::vector<RunRecord>& records,
   for (const std::string& a : algorithms) width = std::max(width, a.size());
   const int w = static_cast<int>(width) + 2;
   out << std::left << std::setw(w) << "algorithm" << std::right << std::setw(6) << "runs"
-      << std::setw(10) << "success" << std::setw(12) << "mean t (s)" << std::setw(14)
-      << "median t (s)" << std::setw(10) << "mean GS" << std::setw(9) << "VGS/GS" << std::setw(11)
-      << "mean GNS"
+      << std::setw(10) << "success" << std::setw(10) << "planned" << std::setw(12) << "mean t (s)"
+      << std::setw(14) << "median t (s)" << std::setw(10) << "mean GS" << std::setw(9) << "VGS/GS"
+      << std::setw(11) << "mean GNS"
       << "\n";
   for (const std::string& a : algorithms) printSummaryRow(out, a, summarize(records, a), w);
 }

@@ -36,12 +36,13 @@ class Progress {
   std::chrono::steady_clock::time_point began_;
 };
 
-/// "table mug coupled seed 3: success 0.82 s" (or "failure time_limit").
+/// "table mug coupled seed 3: success 0.82 s (held in 1.00 of the trials)"
+/// (or "failure time_limit", "failure not_held").
 std::string describeRun(const RunRecord& record);
 
-/// One row per algorithm, in `algorithms` order: runs, success rate, mean
-/// and median time over all runs (failures count at their time), mean GS,
-/// VGS/GS, mean GNS.
+/// One row per algorithm, in `algorithms` order: runs, success rate
+/// (planned and held), planned rate, mean and median time over all runs
+/// (failures count at their time), mean GS, VGS/GS, mean GNS.
 void printSummary(std::ostream& out, const std::vector<RunRecord>& records,
                   const std::vector<std::string>& algorithms);
 

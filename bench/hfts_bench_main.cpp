@@ -42,7 +42,7 @@ struct Options {
   int runs = 10;
   int firstSeed = 1;
   double timeLimit = 60.0;
-  bool quick = false, noPlots = false, holdableOnly = false;
+  bool quick = false, noPlots = false, holdableOnly = false, noPhysics = false;
   std::string commandLine;
   std::vector<hfts::bench::SceneObjects> designCases;  ///< --experiment's objects per scene
 };
@@ -62,6 +62,9 @@ struct Case {
 
 /// Everything the runs need, checked: a bad argument never costs a run.
 struct Experiment {
+  /// Every plan's grasp is checked again and simulated: success is a plan
+  /// that holds (planner::Validation::holds).
+  bool physics = true;
   std::vector<Algorithm> algorithms;
   std::vector<Case> cases;
   std::shared_ptr<const PlanningWorld> world;
@@ -122,6 +125,8 @@ Given addOptions(CLI::App& app, Options& o) {
       ->needs(experiment)
       ->capture_default_str();
   app.add_flag("--no-plots", o.noPlots, "With --experiment: skip the plots")->needs(experiment);
+  app.add_flag("--no-physics", o.noPhysics,
+               "Do not simulate the plans (success is then a plan, not a plan that holds)");
   app.add_flag("--holdable-only", o.holdableOnly,
                "Plan only where the robot can hold the object (a collision-free grasp "
                "configuration exists, docs/robots.md#which-objects-a-robot-can-hold); the "
@@ -278,6 +283,7 @@ void sortOutHoldable(Experiment& e, const Options& o) {
 
 Experiment prepare(const Options& o) {
   Experiment e;
+  e.physics = !o.noPhysics;
   e.algorithms = hfts::bench::parseAlgorithms(o.algorithms);
   hfts::bench::checkRunsAndTimeLimit(o.runs, o.timeLimit);
   const std::vector<Scene> scenes = loadScenes(o);
@@ -313,6 +319,7 @@ RunRecord runOnce(const Experiment& e, const Case& c, const Algorithm& algorithm
   request.parameters = algorithm.parameters;
   request.seed = static_cast<std::uint64_t>(seed);
   request.time_limit = e.timeLimit;
+  request.validate = e.physics;
   const double cpu = processCpuSeconds();
   const auto result = hfts::planner::planGrasp(*e.world, request);
   return hfts::bench::makeRunRecord({c.scene.name, c.object, c.placement}, algorithm.name,

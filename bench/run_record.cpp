@@ -15,7 +15,8 @@ constexpr const char* kHeader =
     "scene,object,algorithm,seed,success,failure,time,gs,vgs,gns,epsilon,path_length,"
     "collision_checks,cpu_time,placement,rejected_unstable,rejected_no_arm_ik,"
     "rejected_out_of_hand_reach,rejected_colliding,rejected_closing_blocked,fingertip_error,"
-    "planned_epsilon,penetration,rejected_no_pad_contact,rejected_weak_at_contacts";
+    "planned_epsilon,penetration,rejected_no_pad_contact,rejected_weak_at_contacts,planned,held,"
+    "held_fraction,physics_failure,lift";
 
 /// RFC 4180 quoting; names from file stems may hold commas or quotes.
 std::string csvField(const std::string& text) {
@@ -67,9 +68,9 @@ void writeRow(std::ostream& out, const RunRecord& r) {
       << r.seed << ',' << (r.success ? 1 : 0) << ',' << r.failure << ',' << std::fixed
       << std::setprecision(6) << s.planning_time << ',' << s.goal_sampling_calls << ','
       << s.valid_goal_samples << ',' << s.hfts_nodes_explored << ',';
-  // A failed run has no grasp and no path: empty fields, not zeros that
-  // would pull averages down.
-  if (r.success)
+  // A run without a plan has no grasp and no path: empty fields, not
+  // zeros that would pull averages down.
+  if (r.planned)
     out << std::setprecision(8) << r.epsilon << ',' << s.path_length_smoothed;
   else
     out << ',';
@@ -81,12 +82,19 @@ void writeRow(std::ostream& out, const RunRecord& r) {
         rejected.closing_blocked})
     out << ',' << count;
   out << ',';
-  if (r.success)
+  if (r.planned)
     out << std::setprecision(8) << r.fingertip_error << ',' << r.planned_epsilon << ','
         << r.penetration;
   else
     out << ",,";
-  out << ',' << rejected.no_pad_contact << ',' << rejected.weak_at_contacts << '\n';
+  out << ',' << rejected.no_pad_contact << ',' << rejected.weak_at_contacts << ','
+      << (r.planned ? 1 : 0) << ',';
+  if (r.held)
+    out << (*r.held ? 1 : 0) << ',' << std::setprecision(4) << r.held_fraction << ','
+        << csvField(r.physics_failure) << ',' << csvField(r.lift);
+  else
+    out << ",,,";
+  out << '\n';
 }
 
 }  // namespace
@@ -99,8 +107,18 @@ RunRecord makeRunRecord(const CaseName& c, const std::string& algorithm, std::ui
   r.placement = c.placement;
   r.algorithm = algorithm;
   r.seed = seed;
-  r.success = result.success;
-  r.failure = planner::toString(result.failure);
+  r.planned = result.success;
+  r.success = result.success && (!result.validation || result.validation->holds());
+  r.failure = r.planned && !r.success ? "not_held" : planner::toString(result.failure);
+  if (result.validation && result.validation->physics) {
+    const physics::GraspVerdict& v = *result.validation->physics;
+    r.held = v.held && result.validation->check.valid();
+    r.held_fraction = v.held_fraction;
+    r.lift = v.lift_direction;
+    r.physics_failure = result.validation->check.problem;
+    for (const physics::TrialResult& t : v.trials)
+      if (r.physics_failure.empty() && !t.held) r.physics_failure = t.name + ": " + t.failure;
+  }
   r.cpu_time = cpuTime;
   r.epsilon = result.grasp.epsilon;
   r.fingertip_error = result.grasp.fingertip_error;

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -26,7 +27,17 @@ struct RunRecord {
   std::string placement = "target";
   std::string algorithm;
   std::uint64_t seed = 0;
+  /// The plan holds: planned and, where physics ran, the grasp as executed
+  /// passed its checks and held (planner::Validation::holds).
   bool success = false;
+  bool planned = false;  ///< the planner returned a plan
+  /// With physics: the verdict of a plan (nullopt without a plan or physics).
+  std::optional<bool> held;
+  double held_fraction = 0.0;
+  /// The first thing that failed: the check's problem, else the first
+  /// dropping trial's "name: failure"; the lift direction taken.
+  std::string physics_failure;
+  std::string lift;
   std::string failure;    ///< toString(PlanFailure): "none" on success
   double cpu_time = 0.0;  ///< s, CPU time of the process during the run (all threads)
   /// PlannedGrasp's epsilon (at the contacts the closed hand touches),

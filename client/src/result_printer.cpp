@@ -114,6 +114,23 @@ void printScenes(const json& scenes, std::ostream& out) {
         << " obstacles: " << s.at("description").get<std::string>() << "\n";
 }
 
+/// The validate block: the grasp checked again and its physics verdict.
+void printPhysics(const json& validation, const json& physics, std::ostream& out) {
+  int held = 0;
+  for (const json& t : physics.at("trials")) held += t.at("held").get<bool>() ? 1 : 0;
+  out << "physics: " << (physics.at("held").get<bool>() ? "held" : "NOT held") << " (held in "
+      << held << " of " << physics.at("trials").size() << " trials; mass "
+      << physics.at("mass").get<double>() << " kg, lift "
+      << physics.at("lift_direction").get<std::string>() << ")";
+  if (!validation.at("valid").get<bool>())
+    out << "; the grasp as executed: " << validation.at("problem").get<std::string>();
+  out << "\n";
+  for (const json& t : physics.at("trials"))
+    if (!t.at("held").get<bool>())
+      out << "  " << t.at("name").get<std::string>() << ": " << t.at("failure").get<std::string>()
+          << "\n";
+}
+
 void printPlan(const json& plan, std::ostream& out) {
   const json& stats = plan.at("stats");
   const std::string what =
@@ -131,6 +148,7 @@ void printPlan(const json& plan, std::ostream& out) {
     if (const json& t = plan.value("trajectory", json()); t.is_object())
       out << "trajectory: " << t.at("duration").get<double>() << " s, " << t.at("points").size()
           << " points, the hand closes from " << t.at("closing_start").get<double>() << " s\n";
+    if (plan.contains("physics")) printPhysics(plan.at("validation"), plan.at("physics"), out);
   } else {
     out << "plan: no plan, " << plan.at("reason").get<std::string>() << ": "
         << plan.at("message").get<std::string>() << " (" << what << ") after "

@@ -41,6 +41,7 @@ struct PlanOptions {
   std::string trajectory_csv, gltf;
   int iterations = 0;
   bool explored = false;
+  bool validate = false;
   std::uint64_t seed = 1;
 };
 
@@ -117,6 +118,7 @@ json planParams(const PlanOptions& p, const CLI::App& cmd) {
   if (cmd.count("--trajectory-rate")) params["trajectory_rate"] = p.trajectory_rate;
   if (!p.gltf.empty()) params["gltf"] = true;
   if (p.explored) params["explored"] = true;
+  if (p.validate) params["validate"] = true;
   if (!p.parameters.empty()) {
     params["parameters"] = json::object();
     for (const std::string& a : p.parameters) addParameter(params["parameters"], a);
@@ -152,6 +154,8 @@ void addPlanOptions(CLI::App& cmd, PlanOptions& p) {
       ->type_name("FILE");
   cmd.add_flag("--explored", p.explored,
                "Include the HFTS nodes the goal sampler visited (coupled; the viewer draws them)");
+  cmd.add_flag("--validate", p.validate,
+               "Check the grasp as executed again and simulate it: does it hold? (seconds)");
   cmd.add_option("--gltf", p.gltf, "Write the plan as an animated binary glTF to FILE (.glb)")
       ->type_name("FILE");
 }

@@ -2,6 +2,8 @@
 #include "physics/lift_path.h"
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "hfts_db/invalid_argument.h"
 #include "robot/collision_checker.h"
@@ -70,6 +72,61 @@ std::string firstCollision(robot::CollisionChecker& checker, const PalmLine& lin
   return {};
 }
 
+struct LiftCandidate {
+  std::string name;
+  Eigen::Vector3d direction;  ///< world frame
+};
+
+/// Where a lift may go, in order: straight up; straight back against the
+/// palm's approach axis; up at 45 degrees towards that retreat, towards the
+/// robot's base and towards the four horizontal axes (the way out of a
+/// shelf or from under a lamp).
+std::vector<LiftCandidate> liftCandidates(const Eigen::Isometry3d& palm,
+                                          const robot::Scene& scene) {
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d back = -palm.linear().col(2);
+  std::vector<LiftCandidate> out{{"up", up}, {"retreat", back}};
+  const auto tilted = [&](const std::string& name, Eigen::Vector3d horizontal) {
+    horizontal.z() = 0.0;
+    if (horizontal.norm() > 1e-6) out.push_back({name, up + horizontal.normalized()});
+  };
+  tilted("up_retreat", back);
+  tilted("up_to_base", scene.robot_base.translation() - palm.translation());
+  tilted("up_x", Eigen::Vector3d::UnitX());
+  tilted("up_minus_x", -Eigen::Vector3d::UnitX());
+  tilted("up_y", Eigen::Vector3d::UnitY());
+  tilted("up_minus_y", -Eigen::Vector3d::UnitY());
+  return out;
+}
+
+/// The object carried along the palm line (its pose fixed in the palm
+/// frame): where it first meets an obstacle, from its second centimetre
+/// on (it starts on its support), checked every 2.5 cm and at the end;
+/// empty when it meets none.
+std::string objectCollision(const robot::RobotModel& robot, const robot::Scene& scene,
+                            const db::ObjectGeometry& object, const PalmLine& line) {
+  constexpr double kFrom = 0.01, kEvery = 0.025;
+  const auto palmAt = [&](const Eigen::VectorXd& q) {
+    return scene.robot_base *
+           robot::forwardKinematics(robot, q)[static_cast<std::size_t>(robot.palmLink())];
+  };
+  const Eigen::Isometry3d start = palmAt(line.waypoints.front());
+  const Eigen::Isometry3d inPalm = start.inverse() * scene.target_pose;
+  double next = kFrom;
+  for (std::size_t k = 1; k < line.waypoints.size(); ++k) {
+    const Eigen::Isometry3d palm = palmAt(line.waypoints[k]);
+    const double travelled = (palm.translation() - start.translation()).norm();
+    if (travelled < next && k + 1 < line.waypoints.size()) continue;
+    next = travelled + kEvery;
+    robot::Scene moved = scene;
+    moved.target_pose = palm * inPalm;
+    robot::CollisionPair pair;
+    if (robot::CollisionChecker(robot, moved, &object).targetTouchesObstacles(&pair))
+      return "the object touches " + pair.second;
+  }
+  return {};
+}
+
 }  // namespace
 
 PalmLine straightPalmLine(const robot::RobotModel& robot, const Eigen::Isometry3d& robotBase,
@@ -99,22 +156,25 @@ PalmLine straightPalmLine(const robot::RobotModel& robot, const Eigen::Isometry3
 }
 
 LiftPlan planLift(const robot::RobotModel& robot, const robot::Scene& scene,
-                  const Eigen::VectorXd& grasp, double height) {
+                  const Eigen::VectorXd& grasp, double height, const db::ObjectGeometry* object) {
   robot::CollisionChecker checker(robot, scene, nullptr);
-  LiftPlan up{
-      "up", straightPalmLine(robot, scene.robot_base, grasp, Eigen::Vector3d::UnitZ(), height), {}};
-  std::string upProblem = up.line.problem;
-  if (upProblem.empty()) upProblem = firstCollision(checker, up.line);
-  if (upProblem.empty()) return up;
   const Eigen::Isometry3d palm =
       scene.robot_base *
       robot::forwardKinematics(robot, grasp)[static_cast<std::size_t>(robot.palmLink())];
-  LiftPlan back{"retreat",
-                straightPalmLine(robot, scene.robot_base, grasp, -palm.linear().col(2), height),
-                {}};
-  if (back.line.problem.empty() && firstCollision(checker, back.line).empty()) return back;
-  up.direction = "up_blocked";
-  up.blocked_by = upProblem;
+  std::string upProblem;
+  for (const LiftCandidate& c : liftCandidates(palm, scene)) {
+    LiftPlan plan{
+        c.name, straightPalmLine(robot, scene.robot_base, grasp, c.direction, height), {}};
+    std::string problem = plan.line.problem;
+    if (problem.empty()) problem = firstCollision(checker, plan.line);
+    if (problem.empty() && object != nullptr)
+      problem = objectCollision(robot, scene, *object, plan.line);
+    if (problem.empty()) return plan;
+    if (upProblem.empty()) upProblem = problem;  // the first candidate is up
+  }
+  LiftPlan up{"up_blocked",
+              straightPalmLine(robot, scene.robot_base, grasp, Eigen::Vector3d::UnitZ(), height),
+              upProblem};
   return up;
 }
 

@@ -1,6 +1,8 @@
 // The object's collision pieces, density and solid mass properties.
 #include "physics/object_body.h"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <string>
 

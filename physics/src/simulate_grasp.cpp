@@ -91,7 +91,7 @@ GraspVerdict simulateGrasp(const robot::RobotModel& robot, const robot::Scene& s
   verdict.collision_shape = collisionShapeName(object);
   verdict.shape_fidelity = shapeFidelity(object, body.pieces, body.mass.volume);
 
-  const LiftPlan lift = planLift(robot, scene, grasp, options.lift_height);
+  const LiftPlan lift = planLift(robot, scene, grasp, options.lift_height, &object.geometry);
   verdict.lift_direction = lift.direction;
 
   const ModelPtr nominal =

@@ -523,12 +523,37 @@ std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world) 
 PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
                      const std::atomic<bool>* cancel) {
   const auto began = std::chrono::steady_clock::now();
+  if (request.validate) physics::validateOptions(request.simulation);
   const int copies = threadsOf(request);
   PlanResult result = copies == 1 ? planFrom(began, world, request, cancel)
                                   : race(began, world, request, cancel, copies);
   result.stats.planning_time =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+  if (request.validate && result.success) result.validation = validatePlan(world, request, result);
   return result;
+}
+
+Validation validatePlan(const PlanningWorld& world, const PlanRequest& request,
+                        const PlanResult& plan) {
+  if (!plan.success || plan.path.size() < 2)
+    throw InvalidArgument("plan", "only a successful plan has a grasp to validate");
+  ValidationRequest v;
+  v.scene = request.scene;
+  v.scene.target_object = objectNameOf(request);
+  v.scene.target_pose = plan.object_pose;
+  v.scene.target_rest_on.clear();
+  v.pregrasp = plan.path[plan.path.size() - 2];
+  v.grasp = plan.path.back();
+  v.simulation = request.simulation;
+  // The request's criteria, as the planner read them.
+  robot::CollisionChecker checker(world.robot(), robot::Scene{}, nullptr);
+  const PlanParameters parameters(makeSpaceInformation(world.robot(), checker, kTreeResolution),
+                                  request, world.robot());
+  v.check.min_epsilon = parameters.goals.min_epsilon;
+  v.check.max_penetration = parameters.goals.max_penetration;
+  v.check.resolution = parameters.planner->smoothing().final_resolution;
+  v.check.friction = parameters.goals.objective.friction;
+  return validateGrasp(world, v);
 }
 
 namespace {

@@ -70,6 +70,23 @@ void checkStart(const JsonFields& f, const robot::RobotModel& robot,
   if (!robot.withinLimits(start, 1e-9, &why)) f.fail(field, "outside the joint limits: " + why);
 }
 
+/// The `physics` object: options of the physics check that `validate` runs.
+physics::SimulationOptions simulationOptionsOf(const JsonFields& f) {
+  if (!f.at("physics").is_object()) f.fail("physics", "must be an object");
+  const JsonFields p(f.at("physics"), "physics");
+  p.allowOnly({"density", "friction", "perturb"});
+  physics::SimulationOptions o;
+  if (p.has("density")) o.density = p.positive("density");
+  if (p.has("friction")) o.friction = p.finite("friction");
+  if (p.has("perturb")) o.perturb = p.boolean("perturb");
+  try {
+    physics::validateOptions(o);
+  } catch (const InvalidArgument& e) {
+    p.fail(e.field().substr(e.field().find('.') + 1), e.problem());
+  }
+  return o;
+}
+
 std::map<std::string, std::string> parametersOf(const JsonFields& f, const CatalogRobot& robot) {
   const JsonFields p(f.at("parameters"), "parameters");
   std::map<std::string, std::string> out;
@@ -105,7 +122,8 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
                                          const PlanLimits& limits) {
   const JsonFields f(params, "");
   f.allowOnly({"robot", "scene", "object", "object_pose", "start", "time_limit", "algorithm",
-               "iterations", "seed", "parameters", "trajectory_rate", "gltf", "explored"});
+               "iterations", "seed", "parameters", "trajectory_rate", "gltf", "explored",
+               "validate", "physics"});
   const CatalogRobot& planned = requestedRobot(params, catalog);
   planner::PlanRequest r;
   r.scene = sceneOf(f, catalog);
@@ -135,6 +153,8 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
   }
   if (f.has("seed")) r.seed = f.unsignedInteger("seed");
   if (f.has("explored")) r.explored = f.boolean("explored");
+  if (f.has("validate")) r.validate = f.boolean("validate");
+  if (f.has("physics")) r.simulation = simulationOptionsOf(f);
   if (f.has("trajectory_rate")) {
     r.trajectory_rate = f.finite("trajectory_rate");
     if (!(r.trajectory_rate >= 0.0 && r.trajectory_rate <= planner::kMaxTrajectoryRate))

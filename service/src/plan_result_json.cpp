@@ -1,6 +1,7 @@
 #include "service/plan_result_json.h"
 
 #include "json_geometry.h"
+#include "service/validation_json.h"
 
 namespace hfts::service {
 namespace {
@@ -101,6 +102,11 @@ json planResultToJson(const planner::PlanResult& result, const planner::PlanRequ
                                  : trajectoryJson(result.trajectory, result.joint_names)},
               {"stats", statsJson(result.stats)}};
   if (request.explored) out["explored"] = exploredJson(result.explored);
+  if (result.validation) {
+    out["validation"] = graspCheckToJson(result.validation->check);
+    if (result.validation->physics)
+      out["physics"] = physicsToJson(*result.validation->physics, /*motion=*/true);
+  }
   return out;
 }
 

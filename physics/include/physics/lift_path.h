@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "hfts_db/object_database.h"
 #include "robot/robot_model.h"
 #include "robot/scene.h"
 
@@ -35,21 +36,27 @@ PalmLine straightPalmLine(const robot::RobotModel& robot, const Eigen::Isometry3
                           const Eigen::VectorXd& start, const Eigen::Vector3d& direction,
                           double distance, double step = 0.005);
 
-/// The lift of a grasp: world up when that palm line is complete and
-/// collision-free for the robot in the scene without the object (the hand
-/// at `grasp`; robot::CollisionChecker), else straight back against the
+/// The lift of a grasp: the first of these palm lines that is complete
+/// and collision-free for the robot in the scene without the object (the
+/// hand at `grasp`; robot::CollisionChecker) and, when the object is given,
+/// for the object carried along it: world up; straight back against the
 /// palm's approach axis (its -z, which points out of the hand towards the
-/// fingers for every bundled hand) if that one is, else world up
-/// regardless ("up_blocked").
+/// fingers for every bundled hand); up at 45 degrees towards that retreat,
+/// towards the robot's base, or towards +-x, +-y of the world. None: world
+/// up regardless ("up_blocked").
 struct LiftPlan {
-  std::string direction;  ///< "up", "retreat" or "up_blocked"
+  /// "up", "retreat", "up_retreat", "up_to_base", "up_x", "up_minus_x",
+  /// "up_y", "up_minus_y" or "up_blocked"
+  std::string direction;
   PalmLine line;
   std::string blocked_by;  ///< for "up_blocked": why up was refused
 };
 
-/// Plans the lift of `height` (m) from `grasp` (a full configuration).
-/// Throws as straightPalmLine.
+/// Plans the lift of `height` (m) from `grasp` (a full configuration), the
+/// object (may be null: not checked) at scene.target_pose. Throws as
+/// straightPalmLine.
 LiftPlan planLift(const robot::RobotModel& robot, const robot::Scene& scene,
-                  const Eigen::VectorXd& grasp, double height);
+                  const Eigen::VectorXd& grasp, double height,
+                  const db::ObjectGeometry* object = nullptr);
 
 }  // namespace hfts::physics

@@ -15,6 +15,7 @@
 
 #include "grasp/hfts_space.h"
 #include "planner/grasp_trajectory.h"
+#include "planner/grasp_validation.h"
 #include "planner/plan_statistics.h"
 #include "planner/planning_world.h"
 #include "robot/scene.h"
@@ -49,6 +50,11 @@ struct PlanRequest {
   double trajectory_rate = 100.0;
   /// Record the HFTS nodes the coupled goal sampler visited (PlanResult::explored).
   bool explored = false;
+  /// Check a plan's grasp again and simulate it (grasp_validation.h):
+  /// PlanResult::validation. Takes a few seconds of physics.
+  bool validate = false;
+  /// The physics check's options (with `validate`).
+  physics::SimulationOptions simulation;
 };
 
 inline constexpr double kMaxTrajectoryRate = 1000.0;
@@ -134,6 +140,9 @@ struct PlanResult {
   /// racing (parameter `threads` > 1) the winning copy's. A request with
   /// this seed and one thread plans the same path again.
   std::uint64_t seed = 0;
+  /// With PlanRequest::validate and success: the grasp checked again and
+  /// simulated (its time is not in stats.planning_time).
+  std::optional<Validation> validation;
 };
 
 /// A declared planner parameter: name, default value and the range a value
@@ -214,5 +223,13 @@ std::string planGlb(const PlanningWorld& world, const PlanRequest& request,
 /// limit, an unknown parameter or a value outside its range.
 PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
                      const std::atomic<bool>* cancel = nullptr);
+
+/// A successful plan's grasp checked again and simulated
+/// (grasp_validation.h) with the request's planner parameters
+/// (min_epsilon, max_penetration, final_resolution, friction) and
+/// simulation options: what PlanRequest::validate adds to a result.
+/// Throws InvalidArgument ("plan") for a plan without a grasp.
+Validation validatePlan(const PlanningWorld& world, const PlanRequest& request,
+                        const PlanResult& plan);
 
 }  // namespace hfts::planner
