@@ -105,15 +105,23 @@ GraspVerdict simulateGrasp(const robot::RobotModel& robot, const robot::Scene& s
                  lift.line.waypoints,
                  scene.target_pose,
                  options};
-  int held = 0;
-  for (const Perturbation& perturbation : perturbations(options.perturb)) {
+  const std::vector<Perturbation> trials = perturbations(options.perturb);
+  const auto total = static_cast<double>(trials.size());
+  int held = 0, dropped = 0;
+  for (const Perturbation& perturbation : trials) {
+    if (options.stop && options.stop()) {
+      verdict.stopped = true;
+      break;
+    }
     const ModelPtr model = perturbedModel(*nominal, plan.index, robot.numArmDofs(), perturbation);
     std::vector<MotionSample>* motion = verdict.trials.empty() ? &verdict.nominal_motion : nullptr;
     verdict.trials.push_back(runTrial(*model, plan, perturbation.name, motion));
-    held += verdict.trials.back().held ? 1 : 0;
+    (verdict.trials.back().held ? held : dropped) += 1;
+    if (options.stop_when_lost && (total - dropped) / total < options.min_held_fraction - 1e-12)
+      break;
   }
-  verdict.held_fraction = static_cast<double>(held) / static_cast<double>(verdict.trials.size());
-  verdict.held = verdict.held_fraction >= options.min_held_fraction - 1e-12;
+  verdict.held_fraction = static_cast<double>(held) / total;
+  verdict.held = !verdict.stopped && verdict.held_fraction >= options.min_held_fraction - 1e-12;
   return verdict;
 }
 

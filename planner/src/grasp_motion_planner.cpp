@@ -11,6 +11,7 @@
 #include <iomanip>
 #include <limits>
 #include <mutex>
+#include <set>
 #include <sstream>
 #include <thread>
 #include <utility>
@@ -83,6 +84,7 @@ struct PlanParameters {
     declareParameters(all, goals);
     declareParameter(all, "sphere_tier", {0, 1, 1}, sphereTier);
     declareParameter(all, "threads", kThreadsRange, threads);  // planGrasp reads it
+    declareParameter(all, "physics_check", {0, 1, 1}, physicsCheck);
     goals.objective.torsional_friction = robot.torsionalFriction();
     goals.objective.unstable_by_reach = robot.fingertips().size() == 2 ? 1 : 0;
     goals.objective.fit_check = robot.fingertips().size() == 2 ? 1 : 0;
@@ -122,6 +124,11 @@ struct PlanParameters {
   int sphereTier = 1;
   /// Racing copies of the search (planGrasp); each copy is one thread.
   int threads = 1;
+  /// 1: a goal the trees reach ends the search only when its grasp holds
+  /// in physics (physics::simulateGrasp with the request's simulation
+  /// options); else its tree is dropped and the search goes on. 0: every
+  /// reached goal ends it (the paper's Algorithm 1).
+  int physicsCheck = 0;
   ob::ParamSet all;
 };
 
@@ -154,6 +161,7 @@ struct Problem {
         start(std::move(q0)),
         seed(request.seed),
         explored(request.explored),
+        simulation(request.simulation),
         checker(w.robot(), scene, &o.geometry, w.collisionMesh(o.name), w.surface(o.name)),
         si(makeSpaceInformation(w.robot(), checker, kTreeResolution)),
         parameters(si, request, w.robot()),
@@ -185,7 +193,8 @@ struct Problem {
   const robot::Scene scene;
   const Eigen::VectorXd start;
   const std::uint64_t seed;
-  const bool explored;  ///< record the goal hierarchy cache's nodes
+  const bool explored;                          ///< record the goal hierarchy cache's nodes
+  const physics::SimulationOptions simulation;  ///< of physics_check and validate
   robot::CollisionChecker checker;
   const ob::SpaceInformationPtr si;
   PlanParameters parameters;
@@ -247,7 +256,33 @@ struct SearchOutcome {
   GoalSample goal;
   GoalSamplerStatistics goals;
   PlanStatistics stats;
+  /// With physics_check: the verdict of the goal the search ended at.
+  std::optional<physics::GraspVerdict> verdict;
 };
+
+/// The goal check of physics_check: the reached goal's grasp simulated
+/// (its verdict kept for the result). A grasp that failed is not simulated
+/// again for another arm configuration with the same closed hand.
+MultiTreeCBiRRT::GoalCheck physicsGoalCheck(const Problem& p, SearchOutcome& out,
+                                            const ob::PlannerTerminationCondition& ptc) {
+  auto failed = std::make_shared<std::set<const grasp::HandClosure*>>();
+  return [&p, &out, &ptc, failed](const GoalSample& goal) {
+    if (failed->count(goal.closure.get()) > 0) return false;
+    // Within the time limit: a plan whose grasp could not be checked in
+    // time is no plan.
+    physics::SimulationOptions options = p.simulation;
+    options.stop_when_lost = true;
+    options.stop = [&ptc] { return ptc(); };
+    physics::GraspVerdict verdict = physics::simulateGrasp(p.world.robot(), p.scene, p.object,
+                                                           goal.configuration, goal.grasp, options);
+    if (!verdict.held) {
+      failed->insert(goal.closure.get());
+      return false;
+    }
+    out.verdict = std::move(verdict);
+    return true;
+  };
+}
 
 std::vector<ExploredNode> exploredNodes(const GoalHierarchyCache& cache, SamplingTools& tools) {
   std::vector<ExploredNode> out;
@@ -288,6 +323,8 @@ SearchOutcome searchMultiTree(Problem& p, bool coupled,
   planner.setup();
 
   SearchOutcome out;
+  planner.setGoalCheck(p.parameters.physicsCheck != 0 ? physicsGoalCheck(p, out, ptc)
+                                                      : MultiTreeCBiRRT::GoalCheck{});
   out.solved = planner.solve(ptc) == ob::PlannerStatus::EXACT_SOLUTION;
   out.goals = sampler->statistics();
   out.stats = planStatistics(planner.statistics(), out.goals, tools.objective.evaluations(),
@@ -334,8 +371,9 @@ std::string rejectionText(const GraspRejections& r) {
 }
 
 /// Why a search found nothing.
-std::pair<PlanFailure, std::string> failureOf(const GoalSamplerStatistics& goals,
+std::pair<PlanFailure, std::string> failureOf(const SearchOutcome& found,
                                               const std::atomic<bool>* cancel) {
+  const GoalSamplerStatistics& goals = found.goals;
   if (cancel != nullptr && cancel->load()) return {PlanFailure::kCancelled, "cancelled"};
   if (goals.configured_nodes > 0 && goals.kinematic_solutions == 0)
     return {PlanFailure::kObjectUnreachable,
@@ -345,8 +383,12 @@ std::pair<PlanFailure, std::string> failureOf(const GoalSamplerStatistics& goals
     return {PlanFailure::kNoValidGoal, "no valid goal within the time limit; of the " +
                                            std::to_string(goals.rejected.total()) +
                                            " leaf grasps tried: " + rejectionText(goals.rejected)};
+  std::string dropped;
+  if (found.stats.dropped_goals > 0)
+    dropped = " (the paths to " + std::to_string(found.stats.dropped_goals) +
+              " of them ended in grasps that did not hold in physics)";
   return {PlanFailure::kTimeLimit, "no path to any of the " + std::to_string(goals.valid_goals) +
-                                       " goals found within the time limit"};
+                                       " goals found within the time limit" + dropped};
 }
 
 /// How deep the robot's fingertip links at q reach into the target (m, >= 0).
@@ -385,6 +427,11 @@ PlannedGrasp describeGrasp(const Problem& p, const GoalSample& goal) {
   g.hand_configuration = goal.grasp.tail(robot.numHandDofs());
   return g;
 }
+
+/// What validating a successful plan checks, with the request's criteria
+/// (defined with validatePlan).
+ValidationRequest validationRequest(const PlanningWorld& world, const PlanRequest& request,
+                                    const PlanResult& plan);
 
 PlanResult failed(PlanResult result, std::pair<PlanFailure, std::string> why) {
   result.failure = why.first;
@@ -426,11 +473,18 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
           : searchMultiTree(problem, request.algorithm == PlanAlgorithm::kCoupled, ptc);
   result.stats = found.stats;
   result.explored = std::move(found.explored);
-  if (!found.solved) return failed(std::move(result), failureOf(found.goals, cancel));
+  if (!found.solved) return failed(std::move(result), failureOf(found, cancel));
   result.success = true;
   result.path = std::move(found.path);
   result.path.push_back(found.goal.grasp);
   result.grasp = describeGrasp(problem, found.goal);
+  if (found.verdict) {
+    // The search simulated this grasp already: the same verdict.
+    ValidationRequest v = validationRequest(world, request, result);
+    v.physics = false;
+    result.validation = validateGrasp(world, v);
+    result.validation->physics = std::move(found.verdict);
+  }
   if (request.trajectory_rate > 0.0 && world.robot().maxAccelerations().size() > 0)
     result.trajectory = graspTrajectory(result.path, problem.checker,
                                         problem.parameters.planner->smoothing().final_resolution,
@@ -529,7 +583,8 @@ PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
                                   : race(began, world, request, cancel, copies);
   result.stats.planning_time =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
-  if (request.validate && result.success) result.validation = validatePlan(world, request, result);
+  if (request.validate && result.success && !result.validation)
+    result.validation = validatePlan(world, request, result);
   return result;
 }
 
@@ -537,6 +592,13 @@ Validation validatePlan(const PlanningWorld& world, const PlanRequest& request,
                         const PlanResult& plan) {
   if (!plan.success || plan.path.size() < 2)
     throw InvalidArgument("plan", "only a successful plan has a grasp to validate");
+  return validateGrasp(world, validationRequest(world, request, plan));
+}
+
+namespace {
+
+ValidationRequest validationRequest(const PlanningWorld& world, const PlanRequest& request,
+                                    const PlanResult& plan) {
   ValidationRequest v;
   v.scene = request.scene;
   v.scene.target_object = objectNameOf(request);
@@ -553,8 +615,10 @@ Validation validatePlan(const PlanningWorld& world, const PlanRequest& request,
   v.check.max_penetration = parameters.goals.max_penetration;
   v.check.resolution = parameters.planner->smoothing().final_resolution;
   v.check.friction = parameters.goals.objective.friction;
-  return validateGrasp(world, v);
+  return v;
 }
+
+}  // namespace
 
 namespace {
 

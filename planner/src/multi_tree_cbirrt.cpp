@@ -475,6 +475,11 @@ bool MultiTreeCBiRRT::extractAndShortcutPath(int index, Motion* forwardEnd, Moti
     dropTree(index);
     return false;
   }
+  if (goalCheck_ && !goalCheck_(trees_[static_cast<std::size_t>(index)]->root)) {
+    ++stats_.dropped_goals;
+    dropTree(index);
+    return false;
+  }
   stats_.path_length_raw = pathLength(space_, path);
   stats_.path_length_smoothed = pathLength(space_, *checked);
   solution_ = std::move(*checked);

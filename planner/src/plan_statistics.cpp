@@ -14,6 +14,7 @@ PlanStatistics planStatistics(const TreeStatistics& trees, const GoalSamplerStat
   s.approximate_trees = trees.approximate_trees;
   s.merged_trees = trees.merged_trees;
   s.rejected_paths = trees.rejected_paths;
+  s.dropped_goals = trees.dropped_goals;
   s.collision_checks = collisionChecks;
   s.forward_tree_size = trees.forward_tree_size;
   s.backward_tree_nodes = trees.backward_tree_nodes;

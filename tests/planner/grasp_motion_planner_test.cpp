@@ -514,7 +514,8 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
                                             // A goal is a grasp that holds
                                             // (docs/planning.md#what-a-goal-is).
                                             {"min_epsilon", 0.002},
-                                            {"max_penetration", 0.001}};
+                                            {"max_penetration", 0.001},
+                                            {"physics_check", 0}};
   for (const PlannerParameterInfo& p : plannerParameters(world())) {
     const auto it = expected.find(p.name);
     if (it == expected.end()) continue;
@@ -522,7 +523,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
     expected.erase(it);
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
-  EXPECT_EQ(plannerParameters(world()).size(), 37u) << "a parameter was added or removed";
+  EXPECT_EQ(plannerParameters(world()).size(), 38u) << "a parameter was added or removed";
 }
 
 /// The bundled KR5 + SDH with these `planner_defaults` instead of its own.

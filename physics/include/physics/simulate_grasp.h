@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -53,6 +54,13 @@ struct SimulationOptions {
   /// Object poses of the nominal trial per second of simulated time for
   /// GraspVerdict::nominal_motion (>= 0; 0: none).
   double record_rate = 50.0;
+  /// Stop at the first trial after which the grasp can no longer reach
+  /// min_held_fraction (the remaining trials are not run): for a planner
+  /// that only needs the verdict.
+  bool stop_when_lost = false;
+  /// Polled before each trial; when it returns true the remaining trials
+  /// are not run and the verdict is "not held" (GraspVerdict::stopped).
+  std::function<bool()> stop;
 };
 
 /// One run of the protocol (one perturbation).
@@ -83,7 +91,10 @@ struct MotionSample {
 struct GraspVerdict {
   /// held_fraction >= options.min_held_fraction.
   bool held = false;
+  /// Trials held over the trials of the protocol (1 or 7), run or not.
   double held_fraction = 0.0;
+  /// SimulationOptions::stop ended the simulation before every trial ran.
+  bool stopped = false;
   std::vector<TrialResult> trials;  ///< the nominal trial first
   double mass = 0.0;                ///< the object's nominal mass (kg)
   double density = 0.0;             ///< the density that gave it (kg/m^3)

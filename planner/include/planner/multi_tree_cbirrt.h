@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 
 #include <deque>
+#include <functional>
 #include <memory>
 #include <random>
 #include <vector>
@@ -55,6 +56,11 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   void setProjection(std::shared_ptr<BackwardProjection> projection);
   /// Seeds every random decision of the next solve().
   void setSeed(std::uint64_t seed) { seed_ = seed; }
+  /// Whether a goal the trees reached may end the search (e.g. its grasp
+  /// holds in physics); a goal it refuses has its tree dropped and the
+  /// search goes on. None (the default): every reached goal does.
+  using GoalCheck = std::function<bool(const GoalSample&)>;
+  void setGoalCheck(GoalCheck check) { goalCheck_ = std::move(check); }
   std::mt19937_64& rng() { return rng_; }
 
   // Parameters: set them by name through params() (checked against their
@@ -145,6 +151,7 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   Eigen::VectorXd lower_, upper_;  // joint limits
   std::shared_ptr<CollisionMotionValidator> validator_;
   std::shared_ptr<BackwardProjection> projection_;
+  GoalCheck goalCheck_;
   std::uint64_t seed_ = 1;
   std::mt19937_64 rng_;
 

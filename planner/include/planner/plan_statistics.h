@@ -15,8 +15,10 @@ struct TreeStatistics {
   std::uint64_t approximate_trees = 0;
   std::uint64_t merged_trees = 0;    ///< approximate trees joined to T_f
   std::uint64_t rejected_paths = 0;  ///< paths that failed the dense re-check
-  std::uint64_t projections = 0;     ///< backward steps bent by the heuristic
-  std::uint64_t retreat_nodes = 0;   ///< nodes of straight retreats from new roots
+  /// Reached goals whose grasp did not hold in physics (their trees dropped).
+  std::uint64_t dropped_goals = 0;
+  std::uint64_t projections = 0;    ///< backward steps bent by the heuristic
+  std::uint64_t retreat_nodes = 0;  ///< nodes of straight retreats from new roots
   std::uint64_t forward_tree_size = 0;
   std::uint64_t backward_tree_nodes = 0;  ///< in live backward trees
   double path_length_raw = 0.0;           ///< Eq. (3) metric, before smoothing
@@ -72,6 +74,9 @@ struct PlanStatistics {
   std::uint64_t merged_trees = 0;
   /// Connections whose path failed the dense re-check (its goal tree dropped).
   std::uint64_t rejected_paths = 0;
+  /// Goals reached whose grasp did not hold in physics (parameter
+  /// physics_check; their goal trees dropped).
+  std::uint64_t dropped_goals = 0;
   std::uint64_t collision_checks = 0;
   std::uint64_t forward_tree_size = 0;
   std::uint64_t backward_tree_nodes = 0;
@@ -99,6 +104,7 @@ void forEachStatistic(const PlanStatistics& s, F&& f) {
   f("approximate_trees", s.approximate_trees);
   f("merged_trees", s.merged_trees);
   f("rejected_paths", s.rejected_paths);
+  f("dropped_goals", s.dropped_goals);
   f("collision_checks", s.collision_checks);
   f("forward_tree_size", s.forward_tree_size);
   f("backward_tree_nodes", s.backward_tree_nodes);
@@ -108,6 +114,8 @@ void forEachStatistic(const PlanStatistics& s, F&& f) {
   f("rejected_no_arm_ik", s.rejected.no_arm_ik);
   f("rejected_out_of_hand_reach", s.rejected.out_of_hand_reach);
   f("rejected_colliding", s.rejected.colliding);
+  f("rejected_no_pad_contact", s.rejected.no_pad_contact);
+  f("rejected_weak_at_contacts", s.rejected.weak_at_contacts);
   f("rejected_closing_blocked", s.rejected.closing_blocked);
 }
 
