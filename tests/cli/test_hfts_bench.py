@@ -21,7 +21,8 @@ HEADER = ["scene", "object", "algorithm", "seed", "success", "failure", "time", 
           "rejected_unstable", "rejected_no_arm_ik", "rejected_out_of_hand_reach",
           "rejected_colliding", "rejected_closing_blocked", "fingertip_error",
           "planned_epsilon", "penetration", "rejected_no_pad_contact",
-          "rejected_weak_at_contacts"]
+          "rejected_weak_at_contacts", "planned", "held", "held_fraction", "physics_failure",
+          "lift"]
 TIME_LIMIT = 10
 
 
@@ -47,7 +48,7 @@ class BenchCli(unittest.TestCase):
         return run(BENCH, "--db", cls.db, *args, check=check)
 
     def usage_error(self, *args):
-        result = self.run_bench("--out", os.path.join(self.tmp, "bad.csv"), *args)
+        result = self.run_bench("--no-physics", "--out", os.path.join(self.tmp, "bad.csv"), *args)
         self.assertEqual(result.returncode, 2, (result.stdout, result.stderr))
         self.assertFalse(os.path.exists(os.path.join(self.tmp, "bad.csv")))
         return result.stderr
@@ -68,8 +69,19 @@ class BenchCli(unittest.TestCase):
         for row in self.rows[1:]:
             r = dict(zip(HEADER, row))
             self.assertIn(r["success"], ("0", "1"))
-            success = r["success"] == "1"
+            self.assertIn(r["planned"], ("0", "1"))
+            success, planned = r["success"] == "1", r["planned"] == "1"
             self.assertEqual(r["failure"] == "none", success, r)
+            # Success is a plan that holds in physics.
+            self.assertEqual(r["failure"] == "not_held", planned and not success, r)
+            if planned:
+                self.assertIn(r["held"], ("0", "1"), r)
+                self.assertEqual(r["held"] == "1", success, r)
+                self.assertTrue(0.0 <= float(r["held_fraction"]) <= 1.0, r)
+                self.assertNotEqual(r["lift"], "", r)
+                self.assertEqual(r["physics_failure"] == "", float(r["held_fraction"]) == 1.0, r)
+            else:
+                self.assertEqual((r["held"], r["held_fraction"], r["lift"]), ("", "", ""), r)
             # The planner stops within 0.1 s of its limit (slower under a sanitizer).
             self.assertLessEqual(float(r["time"]), TIME_LIMIT + 0.1 * sanitizer_slowdown(), r)
             self.assertGreater(float(r["time"]), 0.0)
@@ -78,9 +90,10 @@ class BenchCli(unittest.TestCase):
             self.assertGreaterEqual(gns, 0)
             self.assertGreater(int(r["collision_checks"]), 0)
             self.assertGreater(float(r["cpu_time"]), 0.0)
-            if success:
+            if planned:
                 self.assertGreaterEqual(float(r["epsilon"]), 0.0)
                 self.assertGreater(float(r["path_length"]), 0.0)
+                self.assertLessEqual(float(r["penetration"]), 0.001 + 1e-12)
                 self.assertGreaterEqual(vgs, 1)
             else:
                 self.assertEqual((r["epsilon"], r["path_length"]), ("", ""))
@@ -89,7 +102,8 @@ class BenchCli(unittest.TestCase):
         lines = [l for l in self.bench.stderr.splitlines() if l.startswith("[")]
         self.assertEqual(len(lines), 4, self.bench.stderr)
         self.assertRegex(lines[0], r"^\[1/4\] table mug coupled seed 1: "
-                                   r"(success|failure \w+) [\d.]+ s$")
+                                   r"(success|failure \w+) [\d.]+ s"
+                                   r"( \(held in [\d.]+ of the trials\))?$")
         self.assertTrue(lines[3].startswith("[4/4] table mug decoupled20 seed 2: "))
 
     def test_summary_matches_the_csv(self):
@@ -101,11 +115,14 @@ class BenchCli(unittest.TestCase):
             rows = [r for r in self.rows[1:] if r[2] == algorithm]
             rate = 100.0 * sum(r[4] == "1" for r in rows) / len(rows)
             mean = sum(float(r[6]) for r in rows) / len(rows)
-            match = re.search(rf"^{algorithm}\s+(\d+)\s+([\d.]+)%\s+([\d.]+)\s+([\d.]+)", out, re.M)
+            planned = 100.0 * sum(dict(zip(HEADER, r))["planned"] == "1" for r in rows) / len(rows)
+            match = re.search(rf"^{algorithm}\s+(\d+)\s+([\d.]+)%\s+([\d.]+)%\s+([\d.]+)\s+",
+                              out, re.M)
             self.assertIsNotNone(match, out)
             self.assertEqual(int(match.group(1)), 2)
             self.assertAlmostEqual(float(match.group(2)), rate, places=1)
-            self.assertAlmostEqual(float(match.group(3)), mean, delta=0.001)
+            self.assertAlmostEqual(float(match.group(3)), planned, places=1)
+            self.assertAlmostEqual(float(match.group(4)), mean, delta=0.001)
 
     def test_unknown_scene_is_a_usage_error_naming_the_valid_ones(self):
         scenes = sorted(f[:-5] for f in os.listdir(os.path.join(SOURCE_DIR, "objects", "scenes"))
@@ -127,7 +144,7 @@ class BenchCli(unittest.TestCase):
         err = self.usage_error("--algorithms", "coupled:p_max=1:p_max=0")
         self.assertIn("sets 'p_max' twice", err)
         csv_path = os.path.join(self.tmp, "variants.csv")
-        result = self.run_bench("--out", csv_path, "--scenes", "table", "--runs", "1",
+        result = self.run_bench("--no-physics", "--out", csv_path, "--scenes", "table", "--runs", "1",
                                 "--time-limit", "5",
                                 "--algorithms", "coupled:smoothing_steps=0,coupled")
         self.assertEqual(result.returncode, 0, result.stderr)
@@ -154,7 +171,7 @@ class BenchCli(unittest.TestCase):
 
     def test_first_seed_continues_a_series(self):
         csv_path = os.path.join(self.tmp, "seed2.csv")
-        result = self.run_bench("--out", csv_path, "--scenes", "table", "--objects", "mug",
+        result = self.run_bench("--no-physics", "--out", csv_path, "--scenes", "table", "--objects", "mug",
                                 "--algorithms", "coupled", "--runs", "1", "--first-seed", "2",
                                 "--time-limit", TIME_LIMIT)
         self.assertEqual(result.returncode, 0, result.stderr)
@@ -175,7 +192,7 @@ class BenchCli(unittest.TestCase):
         with open(os.path.join(SOURCE_DIR, "objects", "scenes", "bin.json")) as f:
             target = json.load(f)["target"]["object"]
         self.assertNotEqual(target, "mug")
-        result = self.run_bench("--scenes", "bin", "--out", os.path.join(self.tmp, "bin.csv"))
+        result = self.run_bench("--no-physics", "--scenes", "bin", "--out", os.path.join(self.tmp, "bin.csv"))
         self.assertEqual(result.returncode, 1)
         self.assertIn(f"scene 'bin' targets '{target}', which has no database", result.stderr)
 
@@ -194,7 +211,7 @@ class BenchCli(unittest.TestCase):
                 json.dump(scene, f)
         out = os.path.join(self.tmp, "held.csv")
         holdability = os.path.join(self.tmp, "holdability.csv")
-        result = self.run_bench("--scene-dir", scenes, "--scenes", "far,table", "--algorithms",
+        result = self.run_bench("--no-physics", "--scene-dir", scenes, "--scenes", "far,table", "--algorithms",
                                 "coupled", "--runs", "1", "--time-limit", TIME_LIMIT,
                                 "--holdable-only", "--holdability", holdability, "--out", out)
         self.assertEqual(result.returncode, 0, result.stderr)
@@ -213,7 +230,7 @@ class BenchCli(unittest.TestCase):
         self.assertEqual([(r["scene"], r["object"]) for r in rows], [("table", "mug")])
         # The file read back gives the same cases without deciding again.
         again = os.path.join(self.tmp, "held-again.csv")
-        result = self.run_bench("--scene-dir", scenes, "--scenes", "far,table", "--algorithms",
+        result = self.run_bench("--no-physics", "--scene-dir", scenes, "--scenes", "far,table", "--algorithms",
                                 "coupled", "--runs", "1", "--time-limit", TIME_LIMIT,
                                 "--holdable-from", holdability, "--out", again)
         self.assertEqual(result.returncode, 0, result.stderr)
@@ -235,7 +252,7 @@ class BenchCli(unittest.TestCase):
             json.dump(far, f)
         out = os.path.join(self.tmp, "all.csv")
         holdability = os.path.join(self.tmp, "holdability-alone.csv")
-        result = self.run_bench("--scene-dir", scenes, "--scenes", "far", "--algorithms",
+        result = self.run_bench("--no-physics", "--scene-dir", scenes, "--scenes", "far", "--algorithms",
                                 "coupled", "--runs", "1", "--time-limit", "1",
                                 "--holdability", holdability, "--out", out)
         self.assertEqual(result.returncode, 0, result.stderr)
@@ -263,7 +280,7 @@ class BenchCli(unittest.TestCase):
             'shelf,mug,target,0,9,900,80,9,0,0,9.0,"no grasp, ""really"", in 9 climbs"\n'
             .replace("\n", "\r\n"))
         out = os.path.join(self.tmp, "from-file.csv")
-        result = self.run_bench("--scenes", "table,shelf", "--objects", "mug", "--algorithms",
+        result = self.run_bench("--no-physics", "--scenes", "table,shelf", "--objects", "mug", "--algorithms",
                                 "coupled", "--runs", "1", "--time-limit", TIME_LIMIT,
                                 "--holdable-from", answers, "--out", out)
         self.assertEqual(result.returncode, 0, result.stderr)
@@ -290,7 +307,7 @@ class BenchCli(unittest.TestCase):
         for i, (message, text) in enumerate(cases.items()):
             path = self.write_holdability(f"bad{i}.csv", text)
             out = os.path.join(self.tmp, f"bad{i}-runs.csv")
-            result = self.run_bench("--scenes", "table,shelf", "--objects", "mug",
+            result = self.run_bench("--no-physics", "--scenes", "table,shelf", "--objects", "mug",
                                     "--holdable-from", path, "--out", out)
             self.assertEqual(result.returncode, 1, (message, result.stderr))
             self.assertIn(f"holdability file '{path}'", result.stderr)
@@ -298,7 +315,7 @@ class BenchCli(unittest.TestCase):
             self.assertNotIn("[1/", result.stderr)
             self.assertFalse(os.path.exists(out), message)
         missing = os.path.join(self.tmp, "no-such-answers.csv")
-        result = self.run_bench("--scenes", "table", "--objects", "mug",
+        result = self.run_bench("--no-physics", "--scenes", "table", "--objects", "mug",
                                 "--holdable-from", missing, "--out", out)
         self.assertEqual(result.returncode, 1, result.stderr)
         self.assertIn(f"holdability file '{missing}': cannot be read", result.stderr)
@@ -307,7 +324,7 @@ class BenchCli(unittest.TestCase):
 
     def test_unwritable_output_fails_before_planning(self):
         out = os.path.join(self.tmp, "no-such-dir", "results.csv")
-        result = self.run_bench("--scenes", "table", "--out", out)
+        result = self.run_bench("--no-physics", "--scenes", "table", "--out", out)
         self.assertEqual(result.returncode, 1)
         self.assertIn("cannot write", result.stderr)
         self.assertNotIn("[1/", result.stderr)
