@@ -8,7 +8,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
-scripts/build.sh --target hfts-preprocess hfts-server hfts-client hfts-bench
+scripts/build.sh --target hfts-preprocess hfts-server hfts-client hfts-bench hfts-validate
 echo
 echo "== Building the HFTS databases of objects/meshes into build/databases"
 build/bin/hfts-preprocess objects/meshes -o build/databases
@@ -47,11 +47,17 @@ fi
 cat build/demo_server.out
 build/bin/hfts-client --port "$port" info
 echo
-echo "== A grasp and a path in the table scene: build/bin/hfts-client --port $port plan --scene table"
+echo "== A grasp and a path in the table scene, checked in physics:"
+echo "   build/bin/hfts-client --port $port plan --scene table --validate"
 rm -f build/demo_plan.glb build/demo_plan.html build/demo_trajectory.csv
 build/bin/hfts-client --port "$port" --out build/demo_plan.json plan --scene table --seed 1 \
-  --time-limit 30 --gltf build/demo_plan.glb --trajectory-csv build/demo_trajectory.csv ||
+  --time-limit 30 --validate --gltf build/demo_plan.glb --trajectory-csv build/demo_trajectory.csv ||
   [[ $? -eq 3 ]]  # 3: no plan within the time limit (printed above)
+if [[ -f build/demo_plan.json ]] && grep -q '"success": true' build/demo_plan.json; then
+  echo
+  echo "== The plan's grasp in physics, trial by trial: build/bin/hfts-validate build/demo_plan.json"
+  build/bin/hfts-validate --db build/databases build/demo_plan.json || [[ $? -eq 1 ]]  # 1: not held
+fi
 echo "(the whole result as JSON: build/demo_plan.json; the server's log: build/demo_server.log)"
 if [[ -f build/demo_plan.glb ]]; then
   build/bin/hfts-client view build/demo_plan.json -o build/demo_plan.html
@@ -67,7 +73,8 @@ build/bin/hfts-client --port "$port" shutdown
 wait "$server"
 trap - EXIT
 echo
-echo "== Grasp and motion planning in each bundled scene with hfts-bench (coupled planner, seed 1)"
+echo "== Grasp and motion planning in each bundled scene with hfts-bench (coupled planner, seed 1;"
+echo "   success is a plan whose grasp holds in physics)"
 build/bin/hfts-bench --db build/databases --algorithms coupled --runs 1 --time-limit 30 \
   --out build/demo_plans.csv
 echo
