@@ -74,6 +74,12 @@ PlaneFit fitPlane(const Vertices& v, const std::vector<std::uint32_t>& indices) 
   return fit;
 }
 
+/// A capped solid smaller than this fraction of its hull is a sheet, not a
+/// body (a 10 cm cup of 0.1 mm foil still fills 5 thousandths of its hull).
+constexpr double kMinVolumeOfHull = 1e-3;
+
+}  // namespace
+
 TriangleMesh withCaps(const TriangleMesh& mesh, const TriangleMesh& caps) {
   TriangleMesh out;
   out.vertices = caps.vertices;  // the mesh's vertices come first
@@ -81,12 +87,6 @@ TriangleMesh withCaps(const TriangleMesh& mesh, const TriangleMesh& caps) {
   out.triangles << mesh.triangles, caps.triangles;
   return out;
 }
-
-/// A capped solid smaller than this fraction of its hull is a sheet, not a
-/// body (a 10 cm cup of 0.1 mm foil still fills 5 thousandths of its hull).
-constexpr double kMinVolumeOfHull = 1e-3;
-
-}  // namespace
 
 BoundaryCaps boundaryCaps(const TriangleMesh& mesh) {
   const std::vector<ChainEdge> chain = boundaryChain(mesh.triangles);

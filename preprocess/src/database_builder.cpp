@@ -158,8 +158,12 @@ BuildResult buildObjectDatabase(const TriangleMesh& mesh, bool closed,
   result.times.hierarchy = watch.lap();
   db.geometry.distance_grid = distanceGrid(mesh, closed, params);
   result.times.distance_grid = watch.lap();
+  // A repaired scan is decomposed as the solid its capped mesh bounds (its
+  // own mesh bounds none), as its centre of mass was found.
+  const bool capped = !closed && com.method == db::CenterOfMassMethod::kRepairedMesh;
   db.geometry.convex_parts =
-      decomposeConvex(mesh, closed, {params.convex_parts_max, params.convex_parts_tolerance}, what)
+      decomposeConvex(capped ? withCaps(mesh, boundaryCaps(mesh).caps) : mesh, closed || capped,
+                      {params.convex_parts_max, params.convex_parts_tolerance}, what)
           .parts;
   result.times.convex_parts = watch.lap();
   result.times.total = result.times.sample + result.times.normals + result.times.filter +

@@ -59,6 +59,25 @@ TEST(DatabaseBuilder, ConvexObjectsHaveOutwardNormals) {
   }
 }
 
+TEST(DatabaseBuilder, AScanWithAHoleIsDecomposedAsItsCappedSolid) {
+  // An L of two blocks (the shape needs two convex parts), two triangles
+  // of its top face missing, as a scan leaves it: the mesh bounds nothing,
+  // its capped mesh does.
+  TriangleMesh l = test::merged(test::block({0, 0, 0}, {0.08, 0.03, 0.03}),
+                                test::block({0, 0, 0.03}, {0.03, 0.03, 0.08}));
+  const double volume = 0.08 * 0.03 * 0.03 + 0.03 * 0.03 * 0.05;
+  l.triangles.conservativeResize(l.triangles.rows() - 2, 3);
+  const db::ObjectDatabase d =
+      buildObjectDatabase(l, false, test::fixtureParameters(), "L").database;
+  EXPECT_FALSE(d.geometry.closed);
+  EXPECT_EQ(d.geometry.center_of_mass_method, db::CenterOfMassMethod::kRepairedMesh);
+  ASSERT_GE(d.geometry.convex_parts.size(), 2u) << "not the hull alone";
+  double parts = 0.0;
+  for (const db::ConvexPiece& p : d.geometry.convex_parts)
+    parts += solidProperties(TriangleMesh{p.vertices, p.faces}).volume;
+  EXPECT_NEAR(parts, volume, 0.05 * volume);
+}
+
 TEST(DatabaseBuilder, SameInputAndParametersGiveIdenticalBytes) {
   // Sequential and concurrent builds of every bundled object, in one
   // process, must write the same bytes (CGAL's hull order depends on

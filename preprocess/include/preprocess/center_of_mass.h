@@ -32,6 +32,10 @@ struct BoundaryCaps {
 };
 BoundaryCaps boundaryCaps(const TriangleMesh& mesh);
 
+/// The mesh with its caps (BoundaryCaps::caps, whose vertices start with
+/// the mesh's): a mesh that bounds a solid.
+TriangleMesh withCaps(const TriangleMesh& mesh, const TriangleMesh& caps);
+
 /// The caps are trusted while their ambiguity is at most this fraction of
 /// the capped volume: a flat hole of any size (a scan without its bottom)
 /// is filled exactly, a small hole in a curved wall nearly so, but closing
