@@ -37,8 +37,11 @@ import numpy as np  # noqa: E402
 Z95 = 1.959963984540054
 # The experiments name the goal sampling explicitly: a plain "coupled" is
 # the robot config's defaults (the KR5's and UR5e's are the support options).
+# PAPER turns off the four switches of Algorithm 2's goal sampling only: the
+# planner's other beyond-paper defaults (p_local, mask_contacts, palm_turns,
+# the grasp as executed) stay, so its label does not say "paper".
 PAPER = "coupled:stable_nodes=0:other_postures=0:hand_clearance=0:retreat=0"
-LABELS = {PAPER: "coupled (paper)", "coupled": "coupled (robot defaults)",
+LABELS = {PAPER: "coupled (Alg. 2 goal sampling)", "coupled": "coupled (robot defaults)",
           "rrtconnect": "RRTConnect + lazy goals",
           "coupled:stable_nodes=1:other_postures=1:hand_clearance=1":
               "coupled + support options, retreat"}
