@@ -37,6 +37,9 @@ ob::PlannerStatus::StatusType statusOf(const std::string& failure) {
       // Ran to the time limit without a grasp the arm reaches collision-free.
       {"no_valid_goal", ob::PlannerStatus::TIMEOUT},
       {"no_stable_grasp_clear_of_support", ob::PlannerStatus::INVALID_GOAL},
+      // A path to a grasp the physics check did not see hold: OMPL's
+      // nearest status is a solution that does not reach the goal.
+      {"not_held", ob::PlannerStatus::APPROXIMATE_SOLUTION},
       {"cancelled", ob::PlannerStatus::ABORT},
       {"start_in_collision", ob::PlannerStatus::INVALID_START},
       {"object_in_collision", ob::PlannerStatus::INVALID_GOAL},

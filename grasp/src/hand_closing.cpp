@@ -223,9 +223,12 @@ HandCloser::Touch HandCloser::firstTouch(const Finger& finger, const Eigen::Isom
       const auto l = static_cast<std::size_t>(finger.links[i]);
       gap[i] = clearance(l, poses[l]);
       // Apart from the surface a link is outside or wholly inside: at the
-      // start, tell which (later it cannot have passed through it).
-      if (step == 0 && gap[i].distance > 0.0 &&
-          surface_.nearest(gap[i].on_link).signed_distance < 0.0) {
+      // start, tell which (later it cannot have passed through it). A link
+      // crossing the surface at the start is inside when it is deeper than
+      // a touch.
+      if (step == 0 &&
+          (gap[i].distance > 0.0 ? surface_.nearest(gap[i].on_link).signed_distance < 0.0
+                                 : startsDeep(linkOf(i), poses[l]))) {
         out.stop = FingerStop::kInside;
         out.link = finger.links[i];
         return out;
@@ -267,6 +270,13 @@ HandCloser::Touch HandCloser::firstTouch(const Finger& finger, const Eigen::Isom
   }
   out.stop = FingerStop::kStuck;
   return out;
+}
+
+bool HandCloser::startsDeep(const robot::Link& link, const Eigen::Isometry3d& pose) const {
+  return surface_
+             .linkDistance(link, pose, options_.contact_distance / 4, -options_.contact_distance,
+                           -options_.contact_distance)
+             .lower < -options_.contact_distance;
 }
 
 robot::Clearance HandCloser::clearance(std::size_t link, const Eigen::Isometry3d& pose) const {

@@ -166,8 +166,9 @@ class BenchExperiment(unittest.TestCase):
             self.assertEqual(values["seed INTEGER"], row["seed"])
             self.assertAlmostEqual(float(values["time REAL"]), float(row["time"]), places=5)
             self.assertEqual(values["goal sampling calls INTEGER"], row["gs"])
-            # OMPL's PlannerStatus: EXACT_SOLUTION 6, TIMEOUT 4, INVALID_GOAL 2.
-            status = {"none": "6", "time_limit": "4", "no_valid_goal": "4",
+            # OMPL's PlannerStatus: EXACT_SOLUTION 6, APPROXIMATE_SOLUTION 5,
+            # TIMEOUT 4, INVALID_GOAL 2.
+            status = {"none": "6", "not_held": "5", "time_limit": "4", "no_valid_goal": "4",
                       "no_stable_grasp_clear_of_support": "2"}
             self.assertEqual(values["status ENUM"], status[row["failure"]], row)
         self.assertEqual(log.next(), ".")

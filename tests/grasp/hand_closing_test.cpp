@@ -132,6 +132,23 @@ TEST(HandCloser, AFingerThatMeetsTheObjectWithAnotherPartIsNotAPadContact) {
       << closed.failure(panda());
 }
 
+TEST(HandCloser, AFingerThatStartsDeeperThanATouchInsideTheObjectIsInside) {
+  // Jaws opened to 4 cm on a 5 cm cube: each pad starts 5 mm inside it.
+  const db::ObjectGeometry box = cube(0.05);
+  const robot::ObjectSurface surface(box);
+  const HandCloser closer(panda(), surface);
+  const HandClosure deep = closer.close(palmAroundOrigin(), Eigen::VectorXd::Constant(1, 0.02),
+                                        Eigen::VectorXd::Constant(1, 0.015));
+  EXPECT_FALSE(deep.touches());
+  EXPECT_EQ(deep.fingers[0].stop, FingerStop::kInside) << toString(deep.fingers[0].stop);
+  // Starting within a touch of the faces is a touch already.
+  const HandClosure touching =
+      closer.close(palmAroundOrigin(), Eigen::VectorXd::Constant(1, 0.02505),
+                   Eigen::VectorXd::Constant(1, 0.02));
+  ASSERT_TRUE(touching.touches()) << touching.failure(panda());
+  EXPECT_NEAR(touching.hand(0), 0.02505, 1e-9);
+}
+
 TEST(HandCloser, TheSdhClosesOnTheMugWithEveryPadOnTheSurface) {
   // Leaf grasps of the mug as the thorough hand map answers them: where
   // every pad touches, each fingertip link is within the contact distance

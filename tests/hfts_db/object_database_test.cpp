@@ -1,3 +1,4 @@
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
@@ -325,19 +326,16 @@ void deleteAttribute(const std::filesystem::path& path, const char* group, const
   H5Fclose(file);
 }
 
-TEST(ObjectDatabase, AFileWithoutTheCentreOfMassMethodGetsTheOneItWasBuiltWith) {
-  // Version-3 files written before the attribute existed used the volume
-  // centroid exactly for closed meshes.
+TEST(ObjectDatabase, AFileWithoutTheCentreOfMassMethodIsRejectedNamingTheAttribute) {
+  // Version 4 requires it: a file without it was not written by this version.
   TempDir dir;
-  ObjectDatabase open = sample();
-  open.geometry.closed = false;
-  open.geometry.distance_grid.is_signed = false;
-  for (const ObjectDatabase& db : {sample(), open}) {
-    saveObjectDatabase(db, dir / "old.h5");
-    deleteAttribute(dir / "old.h5", "object", "center_of_mass_method");
-    EXPECT_EQ(
-        loadObjectDatabase(dir / "old.h5").geometry.center_of_mass_method,
-        db.geometry.closed ? CenterOfMassMethod::kClosedMesh : CenterOfMassMethod::kConvexHull);
+  saveObjectDatabase(sample(), dir / "old.h5");
+  deleteAttribute(dir / "old.h5", "object", "center_of_mass_method");
+  try {
+    loadObjectDatabase(dir / "old.h5");
+    FAIL() << "a file without center_of_mass_method was loaded";
+  } catch (const std::exception& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("missing attribute 'center_of_mass_method'"));
   }
 }
 

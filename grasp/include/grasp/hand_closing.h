@@ -42,7 +42,7 @@ enum class FingerStop {
   kJointLimit,    ///< it reached its joint limit without touching
   kCoupled,       ///< a finger on the same DoF touched first (a gripper's other jaw)
   kStuck,         ///< max_steps without touching or reaching the limit
-  kInside,        ///< a link of the finger is inside the object at the start
+  kInside,        ///< a link of the finger is inside the object at the start (deeper than a touch)
 };
 const char* toString(FingerStop stop);
 
@@ -127,6 +127,9 @@ class HandCloser {
   /// A link's clearance (object frame pose): exact within kNear of the
   /// surface, else a lower bound above kNear without nearest points.
   robot::Clearance clearance(std::size_t link, const Eigen::Isometry3d& pose) const;
+  /// Whether a link crossing the surface (object frame pose) reaches more
+  /// than the contact distance into the object.
+  bool startsDeep(const robot::Link& link, const Eigen::Isometry3d& pose) const;
   /// Whether the link's point nearest to the surface moves into it.
   bool pushesIn(const robot::Clearance& gap, const Eigen::Isometry3d& pose,
                 const Eigen::Isometry3d& later) const;
