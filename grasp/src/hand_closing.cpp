@@ -7,6 +7,7 @@
 #include <string>
 
 #include "hfts_db/invalid_argument.h"
+#include "robot/fingertip_geometry.h"
 #include "robot/kinematics.h"
 #include "robot/link_spheres.h"
 
@@ -68,6 +69,10 @@ struct HandCloser::Finger {
   /// palm and the link: no point of the link is farther than `lever` from
   /// the joint's axis, whatever the joints in between do.
   std::vector<std::vector<std::pair<int, double>>> levers;
+  /// How far from the fingertip point (m) the pad may touch a face it lies
+  /// flat on: 1.5 pad radii (robot::padRadius), the pad's half-diagonal
+  /// on the bundled hands.
+  double patch_radius = 0.0;
 };
 
 /// Where a finger first touches, moving alone.
@@ -130,6 +135,7 @@ HandCloser::HandCloser(const robot::RobotModel& model, const robot::ObjectSurfac
   for (std::size_t f = 0; f < model.fingertips().size(); ++f) {
     Finger finger;
     finger.tip = static_cast<int>(f);
+    finger.patch_radius = 1.5 * robot::padRadius(model, model.fingertips()[f]);
     finger.chainJoints = jointsBelowPalm(model, model.fingertips()[f].link);
     if (finger.chainJoints.empty()) continue;  // not below the palm: RobotModel forbids it
     for (std::size_t l = 0; l < links.size(); ++l) {
@@ -320,14 +326,55 @@ void HandCloser::stopAt(const Finger& finger, std::size_t i, const robot::LinkPo
                  ? FingerStop::kPadContact
                  : FingerStop::kOtherContact;
   // A pad flat on a face touches along a patch, and FCL names any point of
-  // it: where the fingertip's own point is in the patch, that is the
-  // contact.
+  // it, one that can jump across the patch when the posture changes in its
+  // 15th digit (and the grasp's epsilon with it). Where the fingertip's
+  // own point is in the patch, that is the contact; else the patch's
+  // centre.
   if (out.stop == FingerStop::kPadContact) {
     const robot::SurfacePoint atTip = surface_.nearest(pose * tip.point);
     if (std::abs(atTip.signed_distance) <= 2 * options_.contact_distance &&
         -atTip.normal.dot(pad) >= std::cos(options_.pad_cone))
       out.surface = atTip;
+    else if (const std::optional<robot::SurfacePoint> centre = patchCentre(finger, link, pose, pad))
+      out.surface = *centre;
   }
+}
+
+std::optional<robot::SurfacePoint> HandCloser::patchCentre(const Finger& finger,
+                                                           const robot::Link& link,
+                                                           const Eigen::Isometry3d& pose,
+                                                           const Eigen::Vector3d& pad) const {
+  // The surface points under a grid over the pad's disc (each within half
+  // a grid step of the pad normal's line through its grid point) that
+  // touch the link with the pad's side: their mean, put back on the
+  // surface.
+  constexpr int kHalf = 8;  // a 17 x 17 grid
+  const robot::Fingertip& tip = model_.fingertips()[static_cast<std::size_t>(finger.tip)];
+  const Eigen::Vector3d centre = pose * tip.point;
+  const Eigen::Vector3d u = pad.unitOrthogonal(), v = pad.cross(u);
+  const double step = finger.patch_radius / kHalf;
+  const auto touches = [&](const robot::SurfacePoint& s) {
+    return std::abs(robot::signedDistance(link, pose.inverse() * s.point)) <=
+               2 * options_.contact_distance &&
+           -s.normal.dot(pad) >= std::cos(options_.pad_cone);
+  };
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (int i = -kHalf; i <= kHalf; ++i)
+    for (int j = -kHalf; j <= kHalf; ++j) {
+      if (i * i + j * j > kHalf * kHalf) continue;
+      const Eigen::Vector3d g = centre + step * (i * u + j * v);
+      const robot::SurfacePoint s = surface_.nearest(g);
+      const Eigen::Vector3d off = s.point - g;
+      if ((off - off.dot(pad) * pad).norm() <= step / 2 && touches(s)) {
+        sum += s.point;
+        ++count;
+      }
+    }
+  if (count == 0) return std::nullopt;
+  const robot::SurfacePoint mean = surface_.nearest(sum / count);
+  if (!touches(mean)) return std::nullopt;  // a patch that is not convex
+  return mean;
 }
 
 HandClosure HandCloser::closeAt(const Eigen::Isometry3d& palm, const Eigen::VectorXd& open,

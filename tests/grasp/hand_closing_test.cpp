@@ -149,6 +149,40 @@ TEST(HandCloser, AFingerThatStartsDeeperThanATouchInsideTheObjectIsInside) {
   EXPECT_NEAR(touching.hand(0), 0.02505, 1e-9);
 }
 
+TEST(HandCloser, APadFlatOnAFaceOffItsPointTouchesAtThePatchCentreWhateverTheLastDigit) {
+  // A 6 mm cube beside the fingertip points (4 mm along x): each jaw's pad
+  // lies flat on a face that does not reach its point. FCL's nearest
+  // points are any of the face; the contact is the face's centre, and a
+  // palm moved by 1e-12 m closes on the same contacts.
+  const db::ObjectGeometry box = cube(0.006, {0.004, 0.0, 0.0});
+  const robot::ObjectSurface surface(box);
+  const HandCloser closer(panda(), surface);
+  // The centre to within the patch grid's step (1.5 pad radii / 8, 1.5 mm
+  // on the Panda's 8 mm pad).
+  std::vector<Eigen::Vector3d> first;
+  for (const double nudge : {0.0, 1e-12, -1e-12}) {
+    SCOPED_TRACE(nudge);
+    const Eigen::Isometry3d palm = Eigen::Translation3d(nudge, nudge, 0.0) * palmAroundOrigin();
+    const HandClosure closed =
+        closer.close(palm, Eigen::VectorXd::Constant(1, 0.04), Eigen::VectorXd::Constant(1, 0.03));
+    ASSERT_TRUE(closed.touches()) << closed.failure(panda());
+    for (std::size_t f = 0; f < 2; ++f) {
+      const Eigen::Vector3d& c = closed.fingers[f].contact;
+      EXPECT_NEAR(c.x(), 0.004, 1e-3) << c.transpose();
+      EXPECT_NEAR(std::abs(c.y()), 0.003, 1e-9);
+      EXPECT_NEAR(c.z(), 0.0, 1e-3) << c.transpose();
+      if (first.size() < 2)
+        first.push_back(c);
+      else
+        EXPECT_LT((c - first[f]).norm(), 1e-9) << "moved with the last digit";
+    }
+  }
+  // Both jaws' contacts on one line across the cube: a pinch through it.
+  ASSERT_EQ(first.size(), 2u);
+  EXPECT_NEAR(first[0].x(), first[1].x(), 1e-9);
+  EXPECT_NEAR(first[0].z(), first[1].z(), 1e-9);
+}
+
 TEST(HandCloser, TheSdhClosesOnTheMugWithEveryPadOnTheSurface) {
   // Leaf grasps of the mug as the thorough hand map answers them: where
   // every pad touches, each fingertip link is within the contact distance

@@ -133,6 +133,12 @@ class HandCloser {
   /// Whether the link's point nearest to the surface moves into it.
   bool pushesIn(const robot::Clearance& gap, const Eigen::Isometry3d& pose,
                 const Eigen::Isometry3d& later) const;
+  /// The centre of the patch where a pad (`pad`: its normal, object frame)
+  /// lies flat on a face: the mean of the surface points that touch the
+  /// link under a grid over the pad, when that touches it too.
+  std::optional<robot::SurfacePoint> patchCentre(const Finger& finger, const robot::Link& link,
+                                                 const Eigen::Isometry3d& pose,
+                                                 const Eigen::Vector3d& pad) const;
   /// Fills `out` for the finger stopped by its link `i` (index into
   /// Finger::links): pad contact or another part, where.
   void stopAt(const Finger& finger, std::size_t i, const robot::LinkPoses& poses,
