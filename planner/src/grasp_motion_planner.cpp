@@ -128,7 +128,7 @@ struct PlanParameters {
   /// in physics (physics::simulateGrasp with the request's simulation
   /// options); else its tree is dropped and the search goes on. 0: every
   /// reached goal ends it (the paper's Algorithm 1).
-  int physicsCheck = 0;
+  int physicsCheck = 1;
   ob::ParamSet all;
 };
 

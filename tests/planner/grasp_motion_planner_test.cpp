@@ -336,12 +336,32 @@ TEST(Holdability, AParallelGripperHoldsTheBoxButNotTheWideCarton) {
       << carton.reason;
 }
 
+TEST(GraspMotionPlanner, ByDefaultEveryPlanIsAGraspThatHeldInPhysics) {
+  PlanRequest r = request("shelf", "bottle", 1);
+  r.validate = true;
+  const PlanResult result = planGrasp(world(), r);
+  ASSERT_TRUE(result.success) << result.message;
+  ASSERT_TRUE(result.validation && result.validation->physics);
+  const physics::GraspVerdict& verdict = *result.validation->physics;
+  EXPECT_TRUE(verdict.held) << verdict.held_fraction;
+  EXPECT_GE(verdict.held_fraction, physics::SimulationOptions{}.min_held_fraction);
+  EXPECT_TRUE(result.validation->holds());
+  // Off, the search ends at the first goal it reaches and drops none.
+  r.parameters["physics_check"] = "0";
+  r.validate = false;
+  const PlanResult unchecked = planGrasp(world(), r);
+  ASSERT_TRUE(unchecked.success) << unchecked.message;
+  EXPECT_EQ(unchecked.stats.dropped_goals, 0u);
+  EXPECT_FALSE(unchecked.validation);
+}
+
 TEST(GraspMotionPlanner, MaskedGraspsNeverUseContactsAFingertipCannotTouch) {
   // The box on the bare table: its lowest 13 mm are out of a fingertip's
   // reach; every planned contact lies higher.
   PlanRequest r = request("table", "box", 1);
   r.scene.obstacles.erase(r.scene.obstacles.begin() + 1, r.scene.obstacles.end());
   r.scene.target_rest_on = "table";
+  r.parameters["physics_check"] = "0";  // which contacts, not whether they hold
   for (std::uint64_t seed = 1; seed <= 3; ++seed) {
     r.seed = seed;
     const PlanResult result = planGrasp(world(), r);
@@ -515,7 +535,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
                                             // (docs/planning.md#what-a-goal-is).
                                             {"min_epsilon", 0.002},
                                             {"max_penetration", 0.001},
-                                            {"physics_check", 0}};
+                                            {"physics_check", 1}};
   for (const PlannerParameterInfo& p : plannerParameters(world())) {
     const auto it = expected.find(p.name);
     if (it == expected.end()) continue;
