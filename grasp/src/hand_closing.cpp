@@ -214,6 +214,11 @@ HandCloser::Touch HandCloser::firstTouch(const Finger& finger, const Eigen::Isom
   const auto linkOf = [&](std::size_t i) -> const robot::Link& {
     return model_.links()[static_cast<std::size_t>(finger.links[i])];
   };
+  // A point of link i (its first shape's centre): a clearance from the
+  // distance grid names none.
+  const auto pointOf = [&](std::size_t i, const Eigen::Isometry3d& pose) -> Eigen::Vector3d {
+    return pose * linkOf(i).shapes.front().origin.translation();
+  };
   std::vector<robot::Clearance> gap(finger.links.size());
   Touch out;
   double t = 0.0;
@@ -233,7 +238,7 @@ HandCloser::Touch HandCloser::firstTouch(const Finger& finger, const Eigen::Isom
       // crossing the surface at the start is inside when it is deeper than
       // a touch.
       if (step == 0 &&
-          (gap[i].distance > 0.0 ? surface_.nearest(gap[i].on_link).signed_distance < 0.0
+          (gap[i].distance > 0.0 ? surface_.nearest(pointOf(i, poses[l])).signed_distance < 0.0
                                  : startsDeep(linkOf(i), poses[l]))) {
         out.stop = FingerStop::kInside;
         out.link = finger.links[i];
