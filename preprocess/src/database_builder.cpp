@@ -107,10 +107,36 @@ void checkBuildParameters(const db::BuildParameters& p) {
   checkFilterNames(p.filters);
 }
 
-BuildResult buildObjectDatabase(const TriangleMesh& mesh, bool closed,
+namespace {
+
+/// A closed mesh with its faces wound outwards: `mesh`, or it with every
+/// face turned when its signed volume is negative (faces wound inwards,
+/// which would put every signed distance's inside out), with a warning.
+TriangleMesh woundOutwards(const TriangleMesh& mesh, bool closed, const std::string& what,
+                           std::vector<std::string>& warnings) {
+  if (!closed) return mesh;
+  double signedVolume = 0.0;
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+    const auto corner = [&](int k) -> Eigen::Vector3d {
+      return mesh.vertices.row(mesh.triangles(t, k)).transpose();
+    };
+    signedVolume += corner(0).dot(corner(1).cross(corner(2))) / 6.0;
+  }
+  if (signedVolume >= 0.0) return mesh;
+  TriangleMesh turned = mesh;
+  turned.triangles.col(1).swap(turned.triangles.col(2));
+  warnings.push_back(what + ": the faces are wound inwards (negative volume); every face was " +
+                     "turned outwards");
+  return turned;
+}
+
+}  // namespace
+
+BuildResult buildObjectDatabase(const TriangleMesh& input, bool closed,
                                 const db::BuildParameters& params, const std::string& what) {
   checkBuildParameters(params);
   BuildResult result;
+  const TriangleMesh mesh = woundOutwards(input, closed, what, result.warnings);
   Stopwatch watch;
   const ConvexHull hull(mesh.vertices, what);
   db::ObjectDatabase& db = result.database;

@@ -59,6 +59,22 @@ TEST(DatabaseBuilder, ConvexObjectsHaveOutwardNormals) {
   }
 }
 
+TEST(DatabaseBuilder, AClosedMeshWoundInwardsIsTurnedOutwardsWithAWarning) {
+  // Wound inwards, every signed distance would have its inside out.
+  const TriangleMesh outward = test::cube(0.06);
+  const BuildResult turned = buildObjectDatabase(test::flipped(outward), true,
+                                                 test::fixtureParameters(), "inside-out cube");
+  ASSERT_EQ(turned.warnings.size(), 1u);
+  EXPECT_NE(turned.warnings[0].find("inside-out cube: the faces are wound inwards"),
+            std::string::npos)
+      << turned.warnings[0];
+  const BuildResult same = buildObjectDatabase(outward, true, test::fixtureParameters(), "cube");
+  EXPECT_TRUE(same.warnings.empty());
+  EXPECT_EQ(turned.database.geometry.mesh_triangles, same.database.geometry.mesh_triangles);
+  EXPECT_EQ(turned.database.geometry.distance_grid.values,
+            same.database.geometry.distance_grid.values);
+}
+
 TEST(DatabaseBuilder, AScanWithAHoleIsDecomposedAsItsCappedSolid) {
   // An L of two blocks (the shape needs two convex parts), two triangles
   // of its top face missing, as a scan leaves it: the mesh bounds nothing,
