@@ -34,12 +34,22 @@ class Trial {
     setRobotConfiguration(d, plan_.index, plan_.pregrasp);
     setObjectPose(d, plan_.index, plan_.object_pose);
     mj_forward(&m_, &d);
-    result_.held = settleAndClose() && lift() && hold() && disturb();
+    try {
+      result_.held = settleAndClose() && lift() && hold() && disturb();
+    } catch (const Stopped&) {
+      result_.held = false;
+      result_.stopped = true;
+      result_.failure = "stopped";
+      return result_;
+    }
     if (!result_.held && !held_through_hold_) result_.fingers_in_contact = fingersInContact();
     return result_;
   }
 
  private:
+  /// Thrown by step() when SimulationOptions::stop says so.
+  struct Stopped {};
+
   const SimulationOptions& options() const { return plan_.options; }
   int arm() const { return plan_.robot->numArmDofs(); }
 
@@ -141,6 +151,7 @@ class Trial {
   /// servos with gravity compensation (as the arms' own controllers do;
   /// MuJoCo 2.2 has no attribute for it), the hand's without.
   void step(const Eigen::VectorXd& target, const char* phase) {
+    if (++steps_ % kStopPollSteps == 0 && options().stop && options().stop()) throw Stopped{};
     mjData& d = *data_;
     for (std::size_t i = 0; i < plan_.index.actuator.size(); ++i)
       d.ctrl[plan_.index.actuator[i]] = target(static_cast<Eigen::Index>(i));
@@ -248,6 +259,7 @@ class Trial {
   Eigen::VectorXd hand_target_;  ///< the hand servos' targets, held after closing
   TrialResult result_;
   double elapsed_ = 0.0;
+  long steps_ = 0;  ///< time steps taken, for polling the stop
   double next_sample_ = 0.0;
   bool held_through_hold_ = false;
 };

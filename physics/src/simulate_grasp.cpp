@@ -116,6 +116,10 @@ GraspVerdict simulateGrasp(const robot::RobotModel& robot, const robot::Scene& s
     const ModelPtr model = perturbedModel(*nominal, plan.index, robot.numArmDofs(), perturbation);
     std::vector<MotionSample>* motion = verdict.trials.empty() ? &verdict.nominal_motion : nullptr;
     verdict.trials.push_back(runTrial(*model, plan, perturbation.name, motion));
+    if (verdict.trials.back().stopped) {
+      verdict.stopped = true;
+      break;
+    }
     (verdict.trials.back().held ? held : dropped) += 1;
     if (options.stop_when_lost && (total - dropped) / total < options.min_held_fraction - 1e-12)
       break;

@@ -71,6 +71,26 @@ TEST(SimulateGrasp, PandaSqueezingTheCubeHoldsItThroughLiftHoldAndAllSixDisturba
   EXPECT_NEAR(v.mass, 1000 * 0.046 * 0.046 * 0.046, 1e-4);
 }
 
+TEST(SimulateGrasp, AStopEndsTheTrialItIsInWithinAPollAndRunsNoOther) {
+  // The stop says "now" on its fifth poll: once before the first trial,
+  // then every kStopPollSteps time steps within it, far before its end.
+  const test::PandaCube world;
+  SimulationOptions options;
+  int polls = 0;
+  options.stop = [&polls] { return ++polls >= 5; };
+  const GraspVerdict v = simulate(test::panda(), world, world.pregrasp, world.grasp, options);
+  EXPECT_EQ(polls, 5);
+  EXPECT_TRUE(v.stopped);
+  EXPECT_FALSE(v.held);
+  ASSERT_EQ(v.trials.size(), 1u) << describe(v);
+  EXPECT_TRUE(v.trials[0].stopped);
+  EXPECT_EQ(v.trials[0].failure, "stopped");
+  // It ended 4 x 64 steps of 2 ms in, early in the closing.
+  ASSERT_FALSE(v.nominal_motion.empty());
+  EXPECT_LE(v.nominal_motion.back().time,
+            4.0 * kStopPollSteps * SimulationOptions{}.timestep + 0.05);
+}
+
 TEST(SimulateGrasp, TheNominalMotionFollowsTheLift) {
   const test::PandaCube world;
   SimulationOptions options;

@@ -58,15 +58,24 @@ struct SimulationOptions {
   /// min_held_fraction (the remaining trials are not run): for a planner
   /// that only needs the verdict.
   bool stop_when_lost = false;
-  /// Polled before each trial; when it returns true the remaining trials
-  /// are not run and the verdict is "not held" (GraspVerdict::stopped).
+  /// Polled before each trial and every kStopPollSteps time steps within
+  /// one; when it returns true the trial ends there ("stopped") and the
+  /// remaining trials are not run: the verdict is "not held"
+  /// (GraspVerdict::stopped).
   std::function<bool()> stop;
 };
 
 /// One run of the protocol (one perturbation).
+/// How often (time steps, 0.128 s of simulated time at the default step)
+/// a trial polls SimulationOptions::stop: a few milliseconds of wall time.
+inline constexpr int kStopPollSteps = 64;
+
 struct TrialResult {
   std::string name;  ///< the perturbation ("nominal", "friction_low", ...)
   bool held = false;
+  /// SimulationOptions::stop ended the trial before its verdict (failure
+  /// "stopped").
+  bool stopped = false;
   /// The first failure, "<phase>: <what happened>" (e.g. "lift: object
   /// slipped 23 mm in the palm"); empty when held. A trial stops there.
   std::string failure;
