@@ -59,6 +59,7 @@ TEST(GraspMotionPlanner, DecoupledBaselinePlansToo) {
 
 TEST(GraspMotionPlanner, ExploredNodesAreTheCachedNodesOnTheObjectsContacts) {
   PlanRequest r = request("bin", "blob", 5);
+  r.parameters["physics_check"] = "0";  // the cache's nodes, not whether they hold
   const PlanResult quiet = planGrasp(world(), r);
   ASSERT_TRUE(quiet.success) << quiet.message;
   EXPECT_TRUE(quiet.explored.empty()) << "only when asked";
@@ -86,7 +87,10 @@ TEST(GraspMotionPlanner, ExploredNodesAreTheCachedNodesOnTheObjectsContacts) {
 }
 
 TEST(GraspMotionPlanner, SameSeedGivesTheSamePath) {
-  const PlanRequest r = request("bin", "blob", 5);
+  // Without the physics check: a check cut short by the time limit makes
+  // the search depend on the machine's speed (docs/planning.md).
+  PlanRequest r = request("bin", "blob", 5);
+  r.parameters["physics_check"] = "0";
   const PlanResult a = planGrasp(world(), r);
   const PlanResult b = planGrasp(world(), r);
   ASSERT_TRUE(a.success && b.success);
