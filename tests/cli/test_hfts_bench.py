@@ -146,11 +146,13 @@ class BenchCli(unittest.TestCase):
         csv_path = os.path.join(self.tmp, "variants.csv")
         result = self.run_bench("--no-physics", "--out", csv_path, "--scenes", "table", "--runs", "1",
                                 "--time-limit", "5",
-                                "--algorithms", "coupled:smoothing_steps=0,coupled")
+                                "--algorithms",
+                                "coupled:smoothing_steps=0:physics_check=0,coupled:physics_check=0")
         self.assertEqual(result.returncode, 0, result.stderr)
         with open(csv_path) as f:
             rows = list(csv.DictReader(f))
-        self.assertEqual([r["algorithm"] for r in rows], ["coupled:smoothing_steps=0", "coupled"])
+        self.assertEqual([r["algorithm"] for r in rows],
+                         ["coupled:smoothing_steps=0:physics_check=0", "coupled:physics_check=0"])
         unsmoothed = rows[0]
         self.assertEqual(unsmoothed["success"], "1")
 

@@ -8,8 +8,8 @@ import os
 import socket
 import threading
 
-from hfts_server_fixture import (BIN, CONFIG, ENDLESS, QUALITY, QUALITY_EPSILON, TABLE,
-                                 RunningServer, ServerTest, run_tests)
+from hfts_server_fixture import (BIN, CONFIG, ENDLESS, NO_PHYSICS, QUALITY, QUALITY_EPSILON,
+                                 TABLE, RunningServer, ServerTest, run_tests)
 
 
 class Methods(ServerTest):
@@ -73,20 +73,20 @@ class Methods(ServerTest):
         with open(os.path.join(CONFIG.source_dir, "objects", "scenes", "bin.json")) as f:
             scene = json.load(f)
         params = {"scene": scene, "algorithm": "decoupled", "iterations": 30, "seed": 2,
-                  "time_limit": 20, "parameters": {"step_size": 0.12, "kappa": 4}}
+                  "time_limit": 20, "parameters": {"step_size": 0.12, "kappa": 4, **NO_PHYSICS}}
         plan = self.server.call("plan", params)["result"]
         self.assertValidPlan(plan, "bin", self.server.call("server.info")["result"])
         self.assertEqual((plan["algorithm"], plan["object"]), ("decoupled", "blob"))
 
     def test_a_racing_plan_names_the_seed_that_replays_it(self):
         info = self.server.call("server.info")["result"]
-        raced = self.server.call("plan", dict(BIN, parameters={"threads": 2}))["result"]
+        raced = self.server.call("plan", dict(BIN, parameters={"threads": 2, **NO_PHYSICS}))["result"]
         self.assertValidPlan(raced, "bin", info)
         self.assertEqual(raced["seed"], 1)
         replayed = self.server.call("plan", dict(BIN, seed=raced["plan_seed"]))["result"]
         self.assertEqual(replayed["plan_seed"], raced["plan_seed"])
         self.assertEqual(replayed["path"], raced["path"])
-        error = self.server.call("plan", dict(BIN, parameters={"threads": 3}))["error"]
+        error = self.server.call("plan", dict(BIN, parameters={"threads": 3, **NO_PHYSICS}))["error"]
         self.assertEqual(error["data"]["field"], "parameters.threads")
         self.assertIn("at most 2 on this server", error["message"])
 
