@@ -91,8 +91,12 @@ GraspVerdict simulateGrasp(const robot::RobotModel& robot, const robot::Scene& s
   verdict.collision_shape = collisionShapeName(object);
   verdict.shape_fidelity = shapeFidelity(object, body.pieces, body.mass.volume);
 
+  // Polled between the set-up's costly steps too (tens of milliseconds each).
+  const auto stopped = [&] { return verdict.stopped = options.stop && options.stop(); };
+  if (stopped()) return verdict;
   const LiftPlan lift = planLift(robot, scene, grasp, options.lift_height, &object.geometry);
   verdict.lift_direction = lift.direction;
+  if (stopped()) return verdict;
 
   const ModelPtr nominal =
       compileMjcf(mjcfScene(robot, scene, body, modelSettings(robot, options)));
@@ -109,10 +113,7 @@ GraspVerdict simulateGrasp(const robot::RobotModel& robot, const robot::Scene& s
   const auto total = static_cast<double>(trials.size());
   int held = 0, dropped = 0;
   for (const Perturbation& perturbation : trials) {
-    if (options.stop && options.stop()) {
-      verdict.stopped = true;
-      break;
-    }
+    if (stopped()) break;
     const ModelPtr model = perturbedModel(*nominal, plan.index, robot.numArmDofs(), perturbation);
     std::vector<MotionSample>* motion = verdict.trials.empty() ? &verdict.nominal_motion : nullptr;
     verdict.trials.push_back(runTrial(*model, plan, perturbation.name, motion));

@@ -72,8 +72,9 @@ TEST(SimulateGrasp, PandaSqueezingTheCubeHoldsItThroughLiftHoldAndAllSixDisturba
 }
 
 TEST(SimulateGrasp, AStopEndsTheTrialItIsInWithinAPollAndRunsNoOther) {
-  // The stop says "now" on its fifth poll: once before the first trial,
-  // then every kStopPollSteps time steps within it, far before its end.
+  // The stop says "now" on its fifth poll: three before the first trial
+  // (before and after planning the lift, before the trial), then every
+  // kStopPollSteps time steps within it, far before its end.
   const test::PandaCube world;
   SimulationOptions options;
   int polls = 0;
@@ -85,10 +86,10 @@ TEST(SimulateGrasp, AStopEndsTheTrialItIsInWithinAPollAndRunsNoOther) {
   ASSERT_EQ(v.trials.size(), 1u) << describe(v);
   EXPECT_TRUE(v.trials[0].stopped);
   EXPECT_EQ(v.trials[0].failure, "stopped");
-  // It ended 4 x 64 steps of 2 ms in, early in the closing.
+  // It ended 2 x 64 steps of 2 ms in, in the settle.
   ASSERT_FALSE(v.nominal_motion.empty());
   EXPECT_LE(v.nominal_motion.back().time,
-            4.0 * kStopPollSteps * SimulationOptions{}.timestep + 0.05);
+            2.0 * kStopPollSteps * SimulationOptions{}.timestep + 0.05);
 }
 
 TEST(SimulateGrasp, TheNominalMotionFollowsTheLift) {

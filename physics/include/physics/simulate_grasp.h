@@ -58,8 +58,9 @@ struct SimulationOptions {
   /// min_held_fraction (the remaining trials are not run): for a planner
   /// that only needs the verdict.
   bool stop_when_lost = false;
-  /// Polled before each trial and every kStopPollSteps time steps within
-  /// one; when it returns true the trial ends there ("stopped") and the
+  /// Polled before and after planning the lift, before each trial and
+  /// every kStopPollSteps time steps within one; when it returns true the
+  /// simulation ends there (a trial in progress fails as "stopped") and the
   /// remaining trials are not run: the verdict is "not held"
   /// (GraspVerdict::stopped).
   std::function<bool()> stop;
