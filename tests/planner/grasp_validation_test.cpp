@@ -7,6 +7,7 @@
 
 #include "bundled_objects.h"
 #include "grasp/hand_map_builder.h"
+#include "panda_cube.h"
 #include "robot/kinematics.h"
 #include "robot_fixture.h"
 #include "test_meshes.h"
@@ -14,11 +15,7 @@
 namespace hfts::planner {
 namespace {
 
-const robot::RobotModel& panda() {
-  static const robot::RobotModel model =
-      robot::RobotModel::load(test::sourcePath("robots/panda_gripper/panda_gripper.json"));
-  return model;
-}
+using test::panda;
 
 /// A prism along x whose cross-section is a triangle standing on its apex:
 /// apex at the origin, its top face `height` out along +z and as wide as
