@@ -3,6 +3,11 @@
 #include "physics/simulate_grasp.h"
 
 #include <cmath>
+#include <list>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <utility>
 
 #include "grasp_trial.h"
 #include "hfts_db/invalid_argument.h"
@@ -74,6 +79,34 @@ void validateOptions(const SimulationOptions& options) {
     throw InvalidArgument("options.timestep", "must be in (0, 0.005] s");
 }
 
+namespace {
+
+/// The compiled model of an MJCF scene, from the last few compiled: a
+/// planner's goal checks in one request share the robot, the scene and the
+/// object (the configurations are not in the model). Measured with the KR5
+/// in the table scene: a second simulation of the mug took 0.47 s against
+/// 0.67-0.76 s, of the vase (872 convex parts) 1.16 s against 1.44 s.
+std::shared_ptr<const mjModel> compiledScene(const std::string& xml) {
+  constexpr std::size_t kKept = 4;
+  static std::mutex mutex;
+  static std::list<std::pair<std::string, std::shared_ptr<const mjModel>>> kept;  // newest first
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    for (auto it = kept.begin(); it != kept.end(); ++it)
+      if (it->first == xml) {
+        kept.splice(kept.begin(), kept, it);
+        return it->second;
+      }
+  }
+  std::shared_ptr<const mjModel> model(compileMjcf(xml).release(), ModelDeleter{});
+  const std::lock_guard<std::mutex> lock(mutex);
+  kept.emplace_front(xml, model);
+  if (kept.size() > kKept) kept.pop_back();
+  return model;
+}
+
+}  // namespace
+
 GraspVerdict simulateGrasp(const robot::RobotModel& robot, const robot::Scene& scene,
                            const db::ObjectDatabase& object, const Eigen::VectorXd& pregrasp,
                            const Eigen::VectorXd& grasp, const SimulationOptions& options) {
@@ -98,8 +131,8 @@ GraspVerdict simulateGrasp(const robot::RobotModel& robot, const robot::Scene& s
   verdict.lift_direction = lift.direction;
   if (stopped()) return verdict;
 
-  const ModelPtr nominal =
-      compileMjcf(mjcfScene(robot, scene, body, modelSettings(robot, options)));
+  const std::shared_ptr<const mjModel> nominal =
+      compiledScene(mjcfScene(robot, scene, body, modelSettings(robot, options)));
   TrialPlan plan{&robot,
                  indexWorld(*nominal, robot),
                  pregrasp,
