@@ -1,0 +1,73 @@
+#!/usr/bin/python3
+"""Do the plans hold? A summary of hfts-bench CSVs written with physics
+(docs/benchmarks.md, docs/experiments/2026-11-27-physics-check.md).
+
+  scripts/held_summary.py LABEL=RUNS.csv [LABEL=RUNS.csv ...] [--by scene]
+
+One row per CSV (or per CSV and scene with --by scene), every run in the
+denominator: planned-and-held (hfts-bench's success), planned, held among
+the plans, each with a Wilson 95 % interval; the mean held fraction of the
+plans' physics trials; the median and largest fingertip penetration of the
+plans (mm); and why plans did not hold: the physics trials, or the check of
+the grasp as executed (the hand closed again from the pre-grasp) while the
+physics held.
+"""
+import argparse
+import csv
+import os
+import statistics
+import sys
+from collections import defaultdict
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from compare_runs import wilson  # noqa: E402  (same directory)
+
+
+def rate(k, n):
+    lo, hi = wilson(k, n)
+    return f"{k}/{n} = {k / n:.2f} [{lo:.2f}, {hi:.2f}]" if n else "0/0"
+
+
+def summarise(label, runs):
+    yes = lambda r, column: r[column] in ("1", "true", "True")
+    plans = [r for r in runs if yes(r, "planned")]
+    held = [r for r in plans if yes(r, "held")]
+    fractions = [float(r["held_fraction"]) for r in plans if r["held_fraction"]]
+    depth = [1000 * float(r["penetration"]) for r in plans if r["penetration"]]
+    not_held = [r for r in plans if not yes(r, "held")]
+    physics = sum(1 for r in not_held if r["held_fraction"] and
+                  float(r["held_fraction"]) < 6 / 7 - 1e-9)
+    fraction = f"{statistics.mean(fractions):.3f}" if fractions else "-"
+    median = f"{statistics.median(depth):.2f} / {max(depth):.2f}" if depth else "-"
+    return (f"| {label} | {rate(sum(1 for r in runs if yes(r, 'success')), len(runs))} "
+            f"| {rate(len(plans), len(runs))} | {rate(len(held), len(plans))} | {fraction} "
+            f"| {median} | {physics} / {len(not_held) - physics} |")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("csv", nargs="+", help="LABEL=FILE")
+    parser.add_argument("--by", choices=["scene"], help="one row per scene as well")
+    args = parser.parse_args()
+    print("| runs | planned and held | planned | held among plans | mean held fraction "
+          "| penetration median / max mm | not held: physics / grasp check |")
+    print("| --- | --- | --- | --- | --- | --- | --- |")
+    for item in args.csv:
+        label, _, name = item.rpartition("=")
+        if not label:
+            label = os.path.basename(name)
+        with open(name, newline="") as f:
+            runs = list(csv.DictReader(f))
+        if not runs:
+            sys.exit(f"{name}: no runs")
+        print(summarise(label, runs))
+        if args.by == "scene":
+            scenes = defaultdict(list)
+            for r in runs:
+                scenes[r["scene"]].append(r)
+            for scene, rows in sorted(scenes.items()):
+                print(summarise(f"{label}, {scene}", rows))
+
+
+if __name__ == "__main__":
+    main()
