@@ -99,7 +99,7 @@ class CommandLine(ClientTest):
             "--json", "plan", "--scene", "bin", "--object", "mug",
             "--object-pose", "0.55,0.05,0.02,0,0,0,1", "--start", start, "--algorithm",
             "decoupled", "--iterations", "40", "--seed", "3", "--time-limit", "20",
-            "--param", "step_size=0.12", "--param", "kappa=4"))
+            "--param", "step_size=0.12", "--param", "kappa=4", "--param", "physics_check=0"))
         self.assertEqual((plan["object"], plan["algorithm"], plan["seed"], plan["time_limit"]),
                          ("mug", "decoupled", 3, 20))
         self.assertEqual(plan["object_pose"]["position"], [0.55, 0.05, 0.02])

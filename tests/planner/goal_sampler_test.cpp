@@ -187,6 +187,15 @@ TEST(HftsGoalSampler, StableNodesKeepsUnstableInnerNodesOutOfTheHierarchy) {
   EXPECT_GT(stableInner[1], 10);
 }
 
+/// Configurations in lexicographic order.
+std::vector<Eigen::VectorXd> sorted(std::vector<Eigen::VectorXd> v) {
+  std::sort(v.begin(), v.end(), [](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    return std::lexicographical_compare(a.data(), a.data() + a.size(), b.data(),
+                                        b.data() + b.size());
+  });
+  return v;
+}
+
 TEST(HftsGoalSampler, WithoutAGoalACallReturnsAnApproximateGoalTakenOutOfA) {
   // Alg. 2 lines 25-26 put the free configuration of each new child without
   // a goal into A; lines 28-32 return one of A when the call finds no goal,
@@ -207,9 +216,10 @@ TEST(HftsGoalSampler, WithoutAGoalACallReturnsAnApproximateGoalTakenOutOfA) {
                        [](const CachedConfiguration& c) { return c.goal; }))
         pool.push_back(configurations.front().pregrasp);
     }
-    const std::vector<Eigen::VectorXd>& after = sampler.approximateGoals();
+    // A is a set (line 28 draws from it at random): compared as one.
+    const std::vector<Eigen::VectorXd> after = sorted(sampler.approximateGoals());
     if (s.kind == GoalKind::kGoal) {
-      EXPECT_EQ(after, pool);
+      EXPECT_EQ(after, sorted(pool));
       continue;
     }
     if (s.kind == GoalKind::kNone) {
@@ -223,7 +233,7 @@ TEST(HftsGoalSampler, WithoutAGoalACallReturnsAnApproximateGoalTakenOutOfA) {
     const auto taken = std::find(pool.begin(), pool.end(), s.configuration);
     ASSERT_NE(taken, pool.end()) << "not from A";
     pool.erase(taken);
-    EXPECT_EQ(after, pool);
+    EXPECT_EQ(after, sorted(pool));
     // The node it came from, whose first configuration it is.
     const int n = cacheIndexOf(sampler, s.node);
     ASSERT_NE(n, GoalHierarchyCache::kNone);

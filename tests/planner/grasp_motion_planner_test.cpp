@@ -39,7 +39,11 @@ class PlansInBundledScenes : public ::testing::TestWithParam<test::SceneObject> 
 TEST_P(PlansInBundledScenes, PathsAreFreeAndEndInAStableGrasp) {
   for (std::uint64_t seed = 1; seed <= 2; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
-    const PlanRequest r = request(GetParam().scene, GetParam().object, seed);
+    // The paths and the grasp's checks, without the physics check (seconds
+    // per goal; whether plans hold: ByDefaultEveryPlanIsAGraspThatHeldInPhysics
+    // and docs/experiments/2026-11-27-physics-check.md).
+    PlanRequest r = request(GetParam().scene, GetParam().object, seed);
+    r.parameters["physics_check"] = "0";
     expectValidPlan(r, planGrasp(world(), r));
   }
 }
