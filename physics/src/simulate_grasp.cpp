@@ -107,6 +107,14 @@ std::shared_ptr<const mjModel> compiledScene(const std::string& xml) {
 
 }  // namespace
 
+void prepareSimulation(const robot::RobotModel& robot, const robot::Scene& scene,
+                       const db::ObjectDatabase& object, const SimulationOptions& options) {
+  validateOptions(options);
+  if (!robot.handActuation()) return;
+  const ObjectBody body = objectBody(object, scene, objectDensity(object, options.density));
+  compiledScene(mjcfScene(robot, scene, body, modelSettings(robot, options)));
+}
+
 GraspVerdict simulateGrasp(const robot::RobotModel& robot, const robot::Scene& scene,
                            const db::ObjectDatabase& object, const Eigen::VectorXd& pregrasp,
                            const Eigen::VectorXd& grasp, const SimulationOptions& options) {

@@ -323,6 +323,10 @@ SearchOutcome searchMultiTree(Problem& p, bool coupled,
   planner.setup();
 
   SearchOutcome out;
+  // The goal checks' model, compiled before the search (a simulation's
+  // set-up cannot be stopped; its stop is polled only once it runs).
+  if (p.parameters.physicsCheck != 0)
+    physics::prepareSimulation(p.world.robot(), p.scene, p.object, p.simulation);
   planner.setGoalCheck(p.parameters.physicsCheck != 0 ? physicsGoalCheck(p, out, ptc)
                                                       : MultiTreeCBiRRT::GoalCheck{});
   out.solved = planner.solve(ptc) == ob::PlannerStatus::EXACT_SOLUTION;

@@ -122,13 +122,22 @@ struct GraspVerdict {
   std::vector<MotionSample> nominal_motion;  ///< at options.record_rate
 };
 
+/// Builds and keeps the compiled model that simulateGrasp builds for this
+/// robot, scene and object (it keeps the last few), so that a later
+/// simulateGrasp with them does not pay for it; nothing for a robot
+/// without hand_actuation. A planner calls it before its search, where
+/// the time it takes cannot overrun the search's time limit.
+void prepareSimulation(const robot::RobotModel& robot, const robot::Scene& scene,
+                       const db::ObjectDatabase& object, const SimulationOptions& options);
+
 /// Simulates the grasp: the object (a free body of density x its volume,
 /// colliding as collisionPieces()) at scene.target_pose, the robot at the
 /// pre-grasp, then close, lift, hold and disturb, under every perturbation
 /// (docs/physics.md). `pregrasp` and `grasp` are full configurations
 /// (robot.numDofs() values): the hand open with the arm at the grasp, and
 /// the hand closed until its pads touch. Deterministic; safe to call from
-/// several threads at once (each call builds its own MuJoCo model).
+/// several threads at once (calls share a compiled model read-only, each
+/// simulates in its own copies).
 /// Throws InvalidArgument naming the field ("pregrasp", "grasp",
 /// "options.<field>", "robot.hand_actuation" for a robot config without
 /// one) for bad input, and std::runtime_error when MuJoCo rejects the
