@@ -83,9 +83,8 @@ namespace {
 
 /// The compiled model of an MJCF scene, from the last few compiled: a
 /// planner's goal checks in one request share the robot, the scene and the
-/// object (the configurations are not in the model). Measured with the KR5
-/// in the table scene: a second simulation of the mug took 0.47 s against
-/// 0.67-0.76 s, of the vase (872 convex parts) 1.16 s against 1.44 s.
+/// object (the configurations are not in the model), and an object of
+/// hundreds of convex parts is slow to compile.
 std::shared_ptr<const mjModel> compiledScene(const std::string& xml) {
   constexpr std::size_t kKept = 4;
   static std::mutex mutex;
