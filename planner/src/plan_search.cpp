@@ -1,0 +1,118 @@
+#include "plan_search.h"
+
+#include <ompl/base/ProblemDefinition.h>
+
+#include <algorithm>
+#include <memory>
+#include <set>
+
+#include "planner/backward_projection.h"
+#include "planner/lazy_goal_baseline.h"
+#include "planner/sampling_tools.h"
+
+namespace hfts::planner {
+
+namespace {
+
+/// The goal check of physics_check: the reached goal's grasp simulated
+/// (its verdict kept for the result). A grasp that failed is not simulated
+/// again for another arm configuration with the same closed hand.
+MultiTreeCBiRRT::GoalCheck physicsGoalCheck(const Problem& p, SearchOutcome& out,
+                                            const ob::PlannerTerminationCondition& ptc) {
+  auto failed = std::make_shared<std::set<const grasp::HandClosure*>>();
+  return [&p, &out, &ptc, failed](const GoalSample& goal) {
+    if (failed->count(goal.closure.get()) > 0) return false;
+    // Within the time limit: a plan whose grasp could not be checked in
+    // time is no plan.
+    physics::SimulationOptions options = p.simulation;
+    options.stop_when_lost = true;
+    options.stop = [&ptc] { return ptc(); };
+    physics::GraspVerdict verdict = physics::simulateGrasp(p.world.robot(), p.scene, p.object,
+                                                           goal.configuration, goal.grasp, options);
+    if (!verdict.held) {
+      failed->insert(goal.closure.get());
+      return false;
+    }
+    out.verdict = std::move(verdict);
+    return true;
+  };
+}
+
+std::vector<ExploredNode> exploredNodes(const GoalHierarchyCache& cache, SamplingTools& tools) {
+  std::vector<ExploredNode> out;
+  for (std::size_t n = 1; n < cache.size(); ++n) {
+    const CacheNode& node = cache.node(static_cast<int>(n));
+    const grasp::GraspEvaluation e = tools.objective.evaluate(node.hfts);
+    ExploredNode x;
+    x.level = node.hfts.level;
+    x.contacts_object = tools.space.representative(node.hfts).positions;
+    x.value = e.value;
+    x.quality = e.quality;
+    x.goal = std::any_of(node.configurations.begin(), node.configurations.end(),
+                         [](const CachedConfiguration& c) { return c.goal; });
+    out.push_back(std::move(x));
+  }
+  return out;
+}
+
+}  // namespace
+
+/// The multi-tree CBiRRT (Algorithm 1) with the coupled goal sampler
+/// (Algorithm 2) or the decoupled one.
+SearchOutcome searchMultiTree(Problem& p, bool coupled,
+                              const ob::PlannerTerminationCondition& ptc) {
+  MultiTreeCBiRRT& planner = *p.parameters.planner;
+  SamplingTools tools(p.world, p.scene, p.space, p.checker, p.parameters.goals);
+  tools.configurator.setArmReference(p.start.head(p.world.robot().numArmDofs()));
+  const std::unique_ptr<GraspGoalSampler> sampler = tools.makeSampler(
+      coupled, planner.rng(), p.parameters.goals, planner.smoothing().final_resolution);
+  planner.setProjection(std::make_shared<BackwardProjection>(
+      p.world.robot(), p.scene.robot_base, p.scene.target_pose * p.object.geometry.center_of_mass,
+      planner.getProjectionDistance()));
+  auto pdef = std::make_shared<ob::ProblemDefinition>(p.si);
+  ob::ScopedState<> startState(p.si);
+  weightedSpace(p.si).fromVector(p.start, startState.get());
+  pdef->addStartState(startState);
+  pdef->setGoal(std::make_shared<GraspGoal>(p.si, *sampler));
+  planner.setProblemDefinition(pdef);
+  planner.setSeed(p.seed);
+  planner.setup();
+
+  SearchOutcome out;
+  // The goal checks' model, compiled before the search (a simulation's
+  // set-up cannot be stopped; its stop is polled only once it runs).
+  if (p.parameters.physicsCheck != 0)
+    physics::prepareSimulation(p.world.robot(), p.scene, p.object, p.simulation);
+  planner.setGoalCheck(p.parameters.physicsCheck != 0 ? physicsGoalCheck(p, out, ptc)
+                                                      : MultiTreeCBiRRT::GoalCheck{});
+  out.solved = planner.solve(ptc) == ob::PlannerStatus::EXACT_SOLUTION;
+  out.goals = sampler->statistics();
+  out.stats = planStatistics(planner.statistics(), out.goals, tools.objective.evaluations(),
+                             p.checker.checkCount());
+  if (const auto* hfts = dynamic_cast<const HftsGoalSampler*>(sampler.get());
+      hfts != nullptr && p.explored)
+    out.explored = exploredNodes(hfts->cache(), tools);
+  if (out.solved) {
+    out.path = planner.solutionPath();
+    out.goal = planner.reachedGoal();
+  }
+  return out;
+}
+
+/// The outside baseline: OMPL's RRTConnect towards lazily sampled
+/// decoupled goals.
+SearchOutcome searchBaseline(Problem& p, const ob::PlannerTerminationCondition& ptc) {
+  LazyGoalRrtConnect baseline(p.si, p.world, p.scene, p.object, p.space,
+                              {p.parameters.goals, p.parameters.planner->smoothing(), p.seed});
+  LazyGoalOutcome found = baseline.solve(p.start, ptc);
+  SearchOutcome out;
+  out.solved = found.solved;
+  out.path = std::move(found.path);
+  out.goal = std::move(found.goal);
+  out.goals = found.goals;
+  out.stats = planStatistics(found.trees, found.goals, found.objective_evaluations,
+                             p.checker.checkCount() + found.sampling_collision_checks);
+  return out;
+}
+
+}  // namespace hfts::planner

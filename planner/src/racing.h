@@ -1,0 +1,27 @@
+#pragma once
+// Racing (parameter `threads`), internal to the planner library: copies of
+// one search, each with its own seed in its own thread; the first plan
+// stops the others.
+
+#include <atomic>
+#include <functional>
+
+#include "planner/grasp_motion_planner.h"
+
+namespace hfts::planner {
+
+/// The request's `threads` parameter, checked as the full set checks it.
+int threadsOf(const PlanRequest& request);
+
+/// One copy of a race: plans `request` until `stop` is set.
+using PlanOne =
+    std::function<PlanResult(const PlanRequest& request, const std::atomic<bool>* stop)>;
+
+/// `copies` searches race (planGrasp): copy i plans with racingSeed(seed,
+/// i) in its own thread; the first plan stops the others. `cancel` stops
+/// all of them. An exception of a copy is rethrown (every copy checks the
+/// same request).
+PlanResult race(const PlanRequest& request, const std::atomic<bool>* cancel, int copies,
+                const PlanOne& planOne);
+
+}  // namespace hfts::planner
