@@ -1,6 +1,6 @@
 #pragma once
 // Runs bench/plot_results.py, which turns a results CSV into the figures
-// and the summary of docs/results.md.
+// and the summary of docs/experiments/2026-11-21-paper-experiment.md.
 
 #include <filesystem>
 #include <string>

@@ -281,7 +281,7 @@ int HftsGoalSampler::sampleNewChild(int parent, int iterations) {
   ++stats_.nodes_explored;
   const double epsilon = best.evaluation.quality;
   // Below an unstable inner node most leaves are unstable too (measured:
-  // docs/results.md#options-for-low-objects).
+  // docs/experiments/2026-11-23-options-for-low-objects.md).
   if (options_.stable_nodes != 0 && !(epsilon > 0.0) && !context_.space->isLeaf(best.best))
     return GoalHierarchyCache::kNone;
   bool otherHands = false;
