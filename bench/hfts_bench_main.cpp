@@ -21,6 +21,7 @@
 #include "experiment_design.h"
 #include "ompl_benchmark_log.h"
 #include "planner/grasp_motion_planner.h"
+#include "planner/holdability.h"
 #include "plot_script.h"
 #include "robot/scene.h"
 #include "run_record.h"

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "planner/grasp_motion_planner.h"
+#include "planner/holdability.h"
 
 namespace hfts::bench {
 

@@ -13,30 +13,6 @@
 
 namespace hfts::planner {
 
-const char* toString(PlanFailure failure) {
-  switch (failure) {
-    case PlanFailure::kNone:
-      return "none";
-    case PlanFailure::kTimeLimit:
-      return "time_limit";
-    case PlanFailure::kCancelled:
-      return "cancelled";
-    case PlanFailure::kStartInCollision:
-      return "start_in_collision";
-    case PlanFailure::kObjectInCollision:
-      return "object_in_collision";
-    case PlanFailure::kObjectUnreachable:
-      return "object_unreachable";
-    case PlanFailure::kUnknownObject:
-      return "unknown_object";
-    case PlanFailure::kNoValidGoal:
-      return "no_valid_goal";
-    case PlanFailure::kNoStableGraspClearOfSupport:
-      return "no_stable_grasp_clear_of_support";
-  }
-  return "unknown";
-}
-
 namespace {
 
 /// What validating a successful plan checks, with the request's criteria
@@ -100,14 +76,7 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
 }  // namespace
 
 std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world) {
-  quietOmpl();
-  robot::CollisionChecker checker(world.robot(), robot::Scene{}, nullptr);
-  const PlanParameters parameters(makeSpaceInformation(world.robot(), checker, kTreeResolution),
-                                  world.robot());
-  std::vector<PlannerParameterInfo> out;
-  for (const auto& [name, param] : parameters.all.getParams())
-    out.push_back({name, param->getValue(), param->getRangeSuggestion()});
-  return out;
+  return plannerParameterInfo(world.robot());
 }
 
 PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,

@@ -1,4 +1,4 @@
-// planner::holdability (grasp_motion_planner.h): can the robot hold the
+// planner::holdability (holdability.h): can the robot hold the
 // object where it stands at all? Used by hfts-bench to list the cases.
 #include <algorithm>
 #include <random>
@@ -9,7 +9,7 @@
 #include "grasp/grasp_optimizer.h"
 #include "grasp/grasp_quality.h"
 #include "plan_problem.h"
-#include "planner/grasp_motion_planner.h"
+#include "planner/holdability.h"
 #include "planner/sampling_tools.h"
 
 namespace hfts::planner {

@@ -1,19 +1,9 @@
 #include "plan_problem.h"
 
-#include <ompl/util/Console.h>
-
 #include <iomanip>
 #include <sstream>
 
 namespace hfts::planner {
-
-void quietOmpl() {
-  static const bool once = [] {
-    ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
-    return true;
-  }();
-  (void)once;
-}
 
 Eigen::VectorXd startOf(const robot::RobotModel& robot, const PlanRequest& request) {
   const Eigen::VectorXd start =

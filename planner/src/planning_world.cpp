@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "planner/grasp_motion_planner.h"
+#include "planner_parameters.h"
 #include "robot/collision_checker.h"
 #include "robot/fingertip_geometry.h"
 #include "robot/object_surface.h"
@@ -121,7 +121,7 @@ std::shared_ptr<const PlanningWorld> PlanningWorld::load(const fs::path& robotCo
   auto [robot, map] = robotAndHandMap(robotConfig, dbDir);
   auto world = std::make_shared<const PlanningWorld>(std::move(robot), std::move(map),
                                                      ObjectLibrary::load(dbDir, skipped));
-  plannerParameters(*world);  // the config's planner_defaults, checked now
+  plannerParameterInfo(world->robot());  // the config's planner_defaults, checked now
   return world;
 }
 
@@ -131,7 +131,7 @@ std::shared_ptr<const PlanningWorld> PlanningWorld::load(
   auto [robot, map] = robotAndHandMap(robotConfig, dbDir);
   auto world =
       std::make_shared<const PlanningWorld>(std::move(robot), std::move(map), std::move(objects));
-  plannerParameters(*world);
+  plannerParameterInfo(world->robot());
   return world;
 }
 

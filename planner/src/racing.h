@@ -6,7 +6,8 @@
 #include <atomic>
 #include <functional>
 
-#include "planner/grasp_motion_planner.h"
+#include "planner/plan_request.h"
+#include "planner/plan_result.h"
 
 namespace hfts::planner {
 

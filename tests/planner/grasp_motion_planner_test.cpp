@@ -1,4 +1,5 @@
 #include "planner/grasp_motion_planner.h"
+#include "planner/holdability.h"
 
 #include <gtest/gtest.h>
 

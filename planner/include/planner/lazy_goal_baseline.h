@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "planner/goal_sampler.h"
-#include "planner/grasp_motion_planner.h"
 #include "planner/path_smoothing.h"
+#include "planner/planning_world.h"
 
 namespace hfts::planner {
 

@@ -1,0 +1,105 @@
+#pragma once
+// What a plan returns (planGrasp, grasp_motion_planner.h): success or why
+// not, the path, the grasp as executed, the trajectory, the statistics.
+
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "grasp/hfts_space.h"
+#include "planner/grasp_trajectory.h"
+#include "planner/grasp_validation.h"
+#include "planner/plan_statistics.h"
+
+namespace hfts::planner {
+
+enum class PlanFailure {
+  kNone,
+  kTimeLimit,
+  kCancelled,
+  kStartInCollision,
+  kObjectInCollision,  ///< the target object intersects an obstacle
+  kObjectUnreachable,  ///< no sampled grasp had an arm IK solution
+  kUnknownObject,
+  /// The time ran out without one valid goal; the statistics' `rejected`
+  /// counts say why the grasps tried were rejected.
+  kNoValidGoal,
+  /// No grasp can be stable with the contacts a fingertip can touch where
+  /// the object stands (mask_contacts): decided before any search.
+  kNoStableGraspClearOfSupport,
+};
+
+/// Snake-case name used in JSON and CSV ("time_limit", ...).
+const char* toString(PlanFailure failure);
+
+/// An HFTS node the coupled goal sampler cached (the paper's Fig. 5): its
+/// representative contacts and how Eq. (1) rated it.
+struct ExploredNode {
+  int level = 0;
+  Eigen::Matrix3Xd contacts_object;  ///< one column per finger, object frame
+  double value = 0.0;                ///< Eq. (1): Q / (R + alpha)
+  double quality = 0.0;              ///< epsilon of the representative grasp
+  bool goal = false;                 ///< it gave a collision-free goal configuration
+};
+
+/// The grasp a plan ends in: the grasp as executed, the hand closed from
+/// the pre-grasp until every fingertip pad touches the object.
+struct PlannedGrasp {
+  grasp::HftsNode node;
+  /// Where the closed hand's fingertips touch the object's surface, one
+  /// column per fingertip (robot order), and the mesh's normals there.
+  Eigen::Matrix3Xd contacts_object;
+  Eigen::Matrix3Xd contacts_world;
+  Eigen::Matrix3Xd inward_normals_object;
+  Eigen::Matrix3Xd inward_normals_world;
+  /// Ferrari-Canny epsilon at those contacts (>= min_epsilon).
+  double epsilon = 0.0;
+  /// The HFTS node's representative contacts (object frame, one column
+  /// per contact) and their epsilon: the grasp the search planned.
+  Eigen::Matrix3Xd planned_contacts_object;
+  double planned_epsilon = 0.0;
+  double reachability = 0.0;  ///< R(h) (m)
+  /// Largest distance of the planned hand posture's fingertips from the
+  /// planned contacts (m; at most max_fingertip_error).
+  double fingertip_error = 0.0;
+  /// How deep the deepest fingertip link is inside the object at the
+  /// grasp (m, >= 0, at most max_penetration); no other link touches it.
+  double penetration = 0.0;
+  Eigen::VectorXd hand_configuration;  ///< the closed hand
+};
+
+struct PlanResult {
+  bool success = false;
+  PlanFailure failure = PlanFailure::kNone;
+  std::string message;  ///< human-readable reason when unsuccessful
+  /// Start, ..., pre-grasp, grasp (the hand closed until its pads touch
+  /// the object): the last segment was checked with the grasp rule, all
+  /// others with the full rule at the planner's final resolution.
+  std::vector<Eigen::VectorXd> path;
+  std::vector<std::string> joint_names;
+  /// Where the object was: the request's object_pose, or the scene's
+  /// target pose (resting on its support when the scene says so).
+  Eigen::Isometry3d object_pose = Eigen::Isometry3d::Identity();
+  PlannedGrasp grasp;
+  /// The path as a time-optimal trajectory (grasp_trajectory.h): empty
+  /// points when not asked for, when the robot has no acceleration limits,
+  /// or (never seen) when no collision-free one was found or it would hold
+  /// more than kMaxTrajectorySamples states.
+  GraspTrajectory trajectory;
+  /// With PlanRequest::explored and the coupled planner: every node of the
+  /// goal hierarchy cache but the root, in the order cached.
+  std::vector<ExploredNode> explored;
+  PlanStatistics stats;
+  /// The seed of the search this result is from: the request's, or with
+  /// racing (parameter `threads` > 1) the winning copy's. A request with
+  /// this seed and one thread plans the same path again.
+  std::uint64_t seed = 0;
+  /// With PlanRequest::validate and success: the grasp checked again and
+  /// simulated (its time is not in stats.planning_time).
+  std::optional<Validation> validation;
+};
+
+}  // namespace hfts::planner

@@ -1,0 +1,29 @@
+#include "planner/plan_result.h"
+
+namespace hfts::planner {
+
+const char* toString(PlanFailure failure) {
+  switch (failure) {
+    case PlanFailure::kNone:
+      return "none";
+    case PlanFailure::kTimeLimit:
+      return "time_limit";
+    case PlanFailure::kCancelled:
+      return "cancelled";
+    case PlanFailure::kStartInCollision:
+      return "start_in_collision";
+    case PlanFailure::kObjectInCollision:
+      return "object_in_collision";
+    case PlanFailure::kObjectUnreachable:
+      return "object_unreachable";
+    case PlanFailure::kUnknownObject:
+      return "unknown_object";
+    case PlanFailure::kNoValidGoal:
+      return "no_valid_goal";
+    case PlanFailure::kNoStableGraspClearOfSupport:
+      return "no_stable_grasp_clear_of_support";
+  }
+  return "unknown";
+}
+
+}  // namespace hfts::planner
