@@ -18,6 +18,7 @@
 #include "preprocess/convex_hull.h"
 #include "preprocess/fingertip_scale.h"
 #include "preprocess/hierarchy_builder.h"
+#include "preprocess/object_geometry.h"
 #include "preprocess/object_sidecar.h"
 #include "preprocess/surface_sampler.h"
 

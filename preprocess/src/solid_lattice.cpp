@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "preprocess/convex_decomposition.h"
-
 namespace hfts::preprocess {
 namespace {
 

@@ -4,7 +4,7 @@
 
 #include <stdexcept>
 
-#include "robot/scene_export.h"
+#include "robot/primitive_meshes.h"
 
 namespace hfts::robot::glb {
 namespace {

@@ -5,7 +5,7 @@
 #include "hfts_db/atomic_file.h"
 #include "hfts_db/invalid_argument.h"
 #include "robot/kinematics.h"
-#include "robot/scene_export.h"
+#include "robot/primitive_meshes.h"
 
 #include "glb_builder.h"
 

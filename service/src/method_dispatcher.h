@@ -18,7 +18,7 @@
 #include "request_log.h"
 #include "service/plan_request_json.h"
 #include "service/planning_catalog.h"
-#include "service/server.h"
+#include "service/server_options.h"
 #include "worker_pool.h"
 
 namespace hfts::service {

@@ -5,6 +5,7 @@
 
 #include "preprocess/center_of_mass.h"
 #include "preprocess/convex_hull.h"
+#include "preprocess/object_geometry.h"
 #include "test_meshes.h"
 
 namespace hfts::preprocess {

@@ -48,11 +48,4 @@ class ConvexHull {
   std::unique_ptr<db::TriangleBvh> bvh_;
 };
 
-/// Hull, centre of mass and volume (`com`, from centerOfMass in
-/// center_of_mass.h), rho (largest distance from the centre of mass to the
-/// surface) and bounding box. `closed` is the mesh's topology.
-struct CenterOfMass;
-db::ObjectGeometry objectGeometry(const TriangleMesh& mesh, bool closed, const ConvexHull& hull,
-                                  const CenterOfMass& com);
-
 }  // namespace hfts::preprocess

@@ -21,9 +21,4 @@ namespace hfts::robot {
 void exportSceneGlb(const RobotModel& model, const Scene& scene, const db::ObjectGeometry* target,
                     const Eigen::VectorXd& q, const std::filesystem::path& path);
 
-/// Triangle meshes of the primitives (unit tessellation used by the export).
-TriangleMesh boxMesh(const Eigen::Vector3d& size);
-TriangleMesh cylinderMesh(double radius, double length, int segments = 32);
-TriangleMesh sphereMesh(double radius, int segments = 24);
-
 }  // namespace hfts::robot
