@@ -35,6 +35,9 @@ namespace {
 /// The algorithm part of a name (without ":parameter=value" settings).
 Algorithm parseBase(const std::string& text) {
   if (text == "coupled") return {text, planner::PlanAlgorithm::kCoupled, std::nullopt, {}};
+  if (text == "paper")
+    return {
+        text, planner::PlanAlgorithm::kCoupled, std::nullopt, {}, planner::PlannerPreset::kPaper};
   if (text == "rrtconnect") return {text, planner::PlanAlgorithm::kRrtConnect, std::nullopt, {}};
   for (const auto& [prefix, algorithm] :
        {std::pair{std::string("decoupled"), planner::PlanAlgorithm::kDecoupled},
@@ -43,10 +46,11 @@ Algorithm parseBase(const std::string& text) {
     if (const auto n = positiveInteger(text.substr(prefix.size()))) return {text, algorithm, n, {}};
   }
   throw UsageError("unknown algorithm '" + text +
-                   "' (valid: coupled, decoupledN and rrtconnect[N] with N = 1.." +
+                   "' (valid: coupled, paper, decoupledN and rrtconnect[N] with N = 1.." +
                    std::to_string(kMaxIterations) +
                    " iterations per level, e.g. decoupled20, rrtconnect; any of them with "
-                   "planner parameters as :name=value, e.g. coupled:mask_contacts=0)");
+                   "planner parameters as :name=value, e.g. coupled:mask_contacts=0, or the "
+                   "paper's settings as :preset=paper, e.g. decoupled20:preset=paper)");
 }
 
 }  // namespace
@@ -62,7 +66,14 @@ Algorithm parseAlgorithm(const std::string& text) {
     if (equals == std::string::npos || equals == 0 || equals + 1 == setting.size())
       throw UsageError("algorithm '" + text + "': '" + setting +
                        "' is not a planner parameter setting name=value");
-    if (!a.parameters.emplace(setting.substr(0, equals), setting.substr(equals + 1)).second)
+    if (setting.substr(0, equals) == "preset") {
+      const std::string preset = setting.substr(equals + 1);
+      if (preset != "paper" && preset != "default")
+        throw UsageError("algorithm '" + text + "': preset must be paper or default, got '" +
+                         preset + "'");
+      a.preset =
+          preset == "paper" ? planner::PlannerPreset::kPaper : planner::PlannerPreset::kDefault;
+    } else if (!a.parameters.emplace(setting.substr(0, equals), setting.substr(equals + 1)).second)
       throw UsageError("algorithm '" + text + "' sets '" + setting.substr(0, equals) + "' twice");
     colon = next;
   }

@@ -26,9 +26,13 @@ struct Algorithm {
   std::optional<int> iterations;  ///< decoupled only: N iterations per level
   /// Planner parameters of every run (the ":name=value" settings).
   std::map<std::string, std::string> parameters;
+  /// "paper" (or a ":preset=paper" setting): the paper's settings under
+  /// the parameters (planner::PlannerPreset).
+  planner::PlannerPreset preset = planner::PlannerPreset::kDefault;
 };
 
-/// Parses "coupled", "decoupledN" or "rrtconnect[N]" (N >= 1), each
+/// Parses "coupled", "paper" (coupled with the paper's settings),
+/// "decoupledN" or "rrtconnect[N]" (N >= 1), each
 /// optionally followed by planner parameter settings ":name=value", e.g.
 /// "coupled:mask_contacts=0:other_postures=1" (names and values are
 /// checked by the planner). Throws UsageError.

@@ -5,12 +5,10 @@
 namespace hfts::bench {
 namespace {
 
-/// The coupled planner as in the paper (Algorithm 1 without the retreat,
-/// Algorithm 2's goal sampling), whatever the planner's and the robot
-/// config's defaults: the bundled KR5 and UR5e default to the options for
-/// objects on supports.
-const std::string kCoupledPaper =
-    "coupled:stable_nodes=0:other_postures=0:hand_clearance=0:retreat=0";
+/// The coupled planner as in the paper (planner::PlannerPreset::kPaper:
+/// every addition beyond the paper off), whatever the planner's and the
+/// robot config's defaults.
+const std::string kCoupledPaper = "paper";
 
 /// The coupled planner with the options for objects on supports
 /// (docs/planning.md): stable inner nodes only, the hand's other postures,
@@ -18,11 +16,11 @@ const std::string kCoupledPaper =
 const std::string kCoupledForSupports = "coupled:stable_nodes=1:other_postures=1:hand_clearance=1";
 
 /// The paper's algorithms: its coupled planner, its decoupled baseline on
-/// the same multi-tree planner (so without the retreat either), and the
-/// outside baseline.
-const std::vector<std::string> kAllAlgorithms = {kCoupledPaper, "decoupled20:retreat=0",
-                                                 "decoupled60:retreat=0", "decoupled100:retreat=0",
-                                                 "rrtconnect"};
+/// the same multi-tree planner with the paper's settings, and the outside
+/// baseline.
+const std::vector<std::string> kAllAlgorithms = {kCoupledPaper, "decoupled20:preset=paper",
+                                                 "decoupled60:preset=paper",
+                                                 "decoupled100:preset=paper", "rrtconnect"};
 
 /// The paper's comparison over what users bring (issue 15): every object
 /// of the databases at every placement of every bundled scene, the coupled
@@ -35,7 +33,7 @@ ExperimentDesign zooDesign(bool quick) {
   // paper) and the coupled planner with the project's additions (the
   // options for supports and the planner's default retreat).
   const std::vector<std::string> algorithms = {kCoupledPaper, kCoupledForSupports,
-                                               "decoupled20:retreat=0"};
+                                               "decoupled20:preset=paper"};
   if (quick)
     return {"zoo-quick", {{"table", {"plate", "small_cube"}}, {"bin", {"small_cube"}}},
             {"all"},     algorithms,

@@ -318,6 +318,7 @@ RunRecord runOnce(const Experiment& e, const Case& c, const Algorithm& algorithm
   request.algorithm = algorithm.algorithm;
   request.iterations = algorithm.iterations;
   request.parameters = algorithm.parameters;
+  request.preset = algorithm.preset;
   request.seed = static_cast<std::uint64_t>(seed);
   request.time_limit = e.timeLimit;
   request.validate = e.physics;

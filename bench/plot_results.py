@@ -35,13 +35,14 @@ import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
 Z95 = 1.959963984540054
-# The experiments name the goal sampling explicitly: a plain "coupled" is
-# the robot config's defaults (the KR5's and UR5e's are the support options).
-# PAPER turns off the four switches of Algorithm 2's goal sampling only: the
-# planner's other beyond-paper defaults (p_local, mask_contacts, palm_turns,
-# the grasp as executed) stay, so its label does not say "paper".
-PAPER = "coupled:stable_nodes=0:other_postures=0:hand_clearance=0:retreat=0"
-LABELS = {PAPER: "coupled (Alg. 2 goal sampling)", "coupled": "coupled (robot defaults)",
+# "paper" is the coupled planner with every addition beyond the paper off
+# (planner::PlannerPreset::kPaper); a plain "coupled" is the planner's and
+# the robot config's defaults. CSVs written before the preset name the
+# older setting, which turned off the goal sampling's switches only.
+PAPER = "paper"
+OLD_PAPER = "coupled:stable_nodes=0:other_postures=0:hand_clearance=0:retreat=0"
+LABELS = {PAPER: "coupled (paper)", OLD_PAPER: "coupled (Alg. 2 goal sampling)",
+          "coupled": "coupled (defaults)",
           "rrtconnect": "RRTConnect + lazy goals",
           "coupled:stable_nodes=1:other_postures=1:hand_clearance=1":
               "coupled + support options, retreat"}
@@ -56,7 +57,7 @@ def label(algorithm):
         # The paper experiment's decoupled runs keep the paper's multi-tree
         # planner (no retreat): that is what "decoupled" means in its plots.
         base, _, settings = algorithm.partition(":")
-        shown = "" if settings in ("", "retreat=0") else " " + settings
+        shown = "" if settings in ("", "retreat=0", "preset=paper") else " " + settings
         return "decoupled i=" + base[len("decoupled"):] + shown
     if algorithm.startswith("rrtconnect"):
         return "RRTConnect + lazy goals i=" + algorithm[len("rrtconnect"):]
@@ -343,7 +344,7 @@ def welch(runs, reference, key, digits):
 def reference_of(algorithms):
     """The algorithm the others are compared with: the paper's coupled planner, else a plain
     coupled one (None when neither ran)."""
-    return next((a for a in (PAPER, "coupled") if a in algorithms), None)
+    return next((a for a in (PAPER, OLD_PAPER, "coupled") if a in algorithms), None)
 
 
 def difference_rows(runs, algorithms, reference):

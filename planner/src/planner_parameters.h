@@ -65,8 +65,10 @@ struct PlanParameters {
   PlanParameters(const PlanParameters&) = delete;
   PlanParameters& operator=(const PlanParameters&) = delete;
 
-  /// The request's parameters, then its top-level `iterations`.
+  /// The request's preset, its parameters, then its top-level `iterations`.
   void set(const PlanRequest& request) {
+    if (request.preset == PlannerPreset::kPaper)
+      for (const auto& [name, value] : paperSettings()) setParameter(all, name, value);
     for (const auto& [name, value] : request.parameters) setParameter(all, name, value);
     if (!request.iterations) return;
     try {

@@ -142,10 +142,14 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
   r.time_limit = std::min(f.has("time_limit") ? f.positive("time_limit") : limits.max_time_limit,
                           limits.max_time_limit);
   const std::string algorithm = f.has("algorithm") ? f.string("algorithm") : "coupled";
-  if (algorithm == "decoupled")
+  if (algorithm == "decoupled") {
     r.algorithm = planner::PlanAlgorithm::kDecoupled;
-  else if (algorithm != "coupled")
-    f.fail("algorithm", "must be \"coupled\" or \"decoupled\", got \"" + algorithm + "\"");
+  } else if (algorithm == "paper") {  // the coupled planner as the paper has it
+    r.preset = planner::PlannerPreset::kPaper;
+  } else if (algorithm != "coupled") {
+    f.fail("algorithm",
+           "must be \"coupled\", \"paper\" or \"decoupled\", got \"" + algorithm + "\"");
+  }
   if (f.has("iterations")) {
     if (r.algorithm != planner::PlanAlgorithm::kDecoupled)
       f.fail("iterations", "only the decoupled algorithm takes iterations");

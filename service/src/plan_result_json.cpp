@@ -84,13 +84,16 @@ json planResultToJson(const planner::PlanResult& result, const planner::PlanRequ
   json path = json::array();
   for (const Eigen::VectorXd& q : result.path) path.push_back(vectorJson(q));
   const bool coupled = request.algorithm == planner::PlanAlgorithm::kCoupled;
+  const bool paper = coupled && request.preset == planner::PlannerPreset::kPaper;
   json out = {{"success", result.success},
               {"reason", planner::toString(result.failure)},
               {"message", result.message},
               {"scene", request.scene.name},
               {"object", request.object},
               {"object_pose", poseJson(result.object_pose)},
-              {"algorithm", coupled ? "coupled" : "decoupled"},
+              {"algorithm", paper     ? "paper"
+                            : coupled ? "coupled"
+                                      : "decoupled"},
               {"seed", request.seed},
               {"plan_seed", result.seed},
               {"time_limit", request.time_limit},

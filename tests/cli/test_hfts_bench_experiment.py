@@ -19,9 +19,10 @@ from cli_support import bench_options, build_databases, run
 BENCH = None
 PREPROCESS = None
 SOURCE_DIR = None
-# The paper's goal sampling named explicitly: the KR5's defaults are the support options.
-PAPER = "coupled:stable_nodes=0:other_postures=0:hand_clearance=0:retreat=0"
-ALGORITHMS = [PAPER, "decoupled20:retreat=0", "decoupled60:retreat=0", "decoupled100:retreat=0",
+# The paper's planner (every addition beyond the paper off), and its decoupled baseline.
+PAPER = "paper"
+ALGORITHMS = [PAPER, "decoupled20:preset=paper", "decoupled60:preset=paper",
+              "decoupled100:preset=paper",
               "rrtconnect"]
 CASES = [("table", "mug"), ("bin", "blob")]
 RUNS = 2
@@ -239,7 +240,7 @@ class BenchExperiment(unittest.TestCase):
         # (as in the paper and with the options for supports) against
         # decoupled20, one run each.
         algorithms = [PAPER, "coupled:stable_nodes=1:other_postures=1:hand_clearance=1",
-                      "decoupled20:retreat=0"]
+                      "decoupled20:preset=paper"]
         self.assertEqual([(r["placement"], r["object"], r["algorithm"]) for r in rows],
                          [(p, o, a) for p in ["target", "lying", "turned_near_box"]
                           for o in ["blob", "mug"] for a in algorithms])

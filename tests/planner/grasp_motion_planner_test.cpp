@@ -106,6 +106,42 @@ TEST(GraspMotionPlanner, SameSeedGivesTheSamePath) {
   EXPECT_EQ(a.stats.collision_checks, b.stats.collision_checks);
 }
 
+TEST(GraspMotionPlanner, ThePaperPresetTurnsEveryAdditionOffWhateverTheRobotConfigSays) {
+  // Every setting is a declared parameter, at a value inside its range.
+  std::map<std::string, std::string> declared;
+  for (const PlannerParameterInfo& p : plannerParameters(world()))
+    declared[p.name] = p.default_value;
+  for (const auto& [name, value] : paperSettings()) {
+    EXPECT_EQ(declared.count(name), 1u) << name;
+    PlanRequest r = request("table", "mug", 1);
+    r.parameters[name] = value;
+    r.time_limit = 0.0;
+    EXPECT_NO_THROW(planGrasp(world(), r)) << name << "=" << value;
+  }
+  // The bundled KR5's config turns additions on (stable_nodes 1, ...) and
+  // physics_check defaults to 1: the preset turns them off again, as
+  // naming every setting in the request does.
+  EXPECT_EQ(declared.at("physics_check"), "1");
+  EXPECT_EQ(declared.at("stable_nodes"), "1");
+  PlanRequest paper = request("table", "mug", 3);
+  paper.preset = PlannerPreset::kPaper;
+  PlanRequest named = request("table", "mug", 3);
+  named.parameters = paperSettings();
+  const PlanResult a = planGrasp(world(), paper);
+  const PlanResult b = planGrasp(world(), named);
+  ASSERT_TRUE(a.success && b.success) << a.message << " / " << b.message;
+  ASSERT_EQ(a.path.size(), b.path.size());
+  for (std::size_t i = 0; i < a.path.size(); ++i) EXPECT_EQ(a.path[i], b.path[i]);
+  EXPECT_EQ(a.stats.collision_checks, b.stats.collision_checks);
+  EXPECT_FALSE(a.validation.has_value()) << "no physics check ran";
+  // The request's parameters still apply over the preset.
+  paper.parameters["physics_check"] = "1";
+  const PlanResult checked = planGrasp(world(), paper);
+  ASSERT_TRUE(checked.success) << checked.message;
+  ASSERT_TRUE(checked.validation.has_value() && checked.validation->physics.has_value());
+  EXPECT_TRUE(checked.validation->physics->held);
+}
+
 TEST(GraspMotionPlanner, RacingCopiesPlanAndTheWinnersSeedReplaysItsPlan) {
   PlanRequest r = request("table", "mug", 4);
   r.parameters["threads"] = "3";

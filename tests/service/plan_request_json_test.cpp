@@ -77,6 +77,15 @@ TEST(PlanRequestJson, MapsEveryField) {
                               {"kappa", "3"}, {"p_max", "0.8"}, {"step_size", "0.2"}}));
 }
 
+TEST(PlanRequestJson, AlgorithmPaperIsTheCoupledPlannerWithThePapersSettings) {
+  const planner::PlanRequest paper = parse({{"scene", "table"}, {"algorithm", "paper"}});
+  EXPECT_EQ(paper.algorithm, planner::PlanAlgorithm::kCoupled);
+  EXPECT_EQ(paper.preset, planner::PlannerPreset::kPaper);
+  const planner::PlanRequest coupled = parse({{"scene", "table"}, {"algorithm", "coupled"}});
+  EXPECT_EQ(coupled.preset, planner::PlannerPreset::kDefault);
+  EXPECT_EQ(parse({{"scene", "table"}}).preset, planner::PlannerPreset::kDefault);
+}
+
 TEST(PlanRequestJson, CapsTheTimeLimit) {
   EXPECT_EQ(parse({{"scene", "bin"}, {"time_limit", 100}}, 10.0).time_limit, 10.0);
   EXPECT_EQ(parse({{"scene", "bin"}}, 10.0).time_limit, 10.0);

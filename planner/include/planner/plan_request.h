@@ -23,6 +23,23 @@ enum class PlanAlgorithm {
   kRrtConnect,
 };
 
+/// Which defaults a request's parameters start from.
+enum class PlannerPreset {
+  /// The planner as measured best: the code's defaults, then the robot
+  /// config's planner_defaults (docs/planning.md).
+  kDefault,
+  /// The paper's algorithm exactly (Algorithms 1-4 with Fig. 6's values):
+  /// every addition beyond the paper off (paperSettings()), whatever the
+  /// robot config says. The goal is still the grasp as executed (the hand
+  /// closed until its pads touch, min_epsilon, max_penetration).
+  kPaper,
+};
+
+/// The parameters kPaper sets, name and value: the switches and values
+/// this project added to the paper's algorithm, each at the value that
+/// turns it off.
+const std::map<std::string, std::string>& paperSettings();
+
 struct PlanRequest {
   robot::Scene scene;  ///< obstacles, robot base, target pose and start
   std::string object;  ///< object database name; empty: scene.target_object
@@ -30,6 +47,8 @@ struct PlanRequest {
   std::optional<Eigen::Isometry3d> object_pose;
   std::optional<Eigen::VectorXd> start;  ///< overrides the scene's start
   PlanAlgorithm algorithm = PlanAlgorithm::kCoupled;
+  /// The defaults `parameters` apply over.
+  PlannerPreset preset = PlannerPreset::kDefault;
   std::optional<int> iterations;  ///< decoupled, rrtconnect: i per level (default 20)
   std::uint64_t seed = 1;
   /// s, counted from the call; feeds the search's termination condition
