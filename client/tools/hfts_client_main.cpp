@@ -144,7 +144,8 @@ void addPlanOptions(CLI::App& cmd, PlanOptions& p) {
                  "Start configuration, one value per robot DoF (default: the scene's)")
       ->delimiter(',');
   cmd.add_option("--time-limit", p.time_limit, "Seconds (default and maximum: the server's)");
-  cmd.add_option("--algorithm", p.algorithm, "coupled (default) or decoupled");
+  cmd.add_option("--algorithm", p.algorithm,
+                 "coupled (default), paper (the paper's settings) or decoupled");
   cmd.add_option("--iterations", p.iterations, "Decoupled: iterations per level");
   cmd.add_option("--seed", p.seed, "Random seed")->capture_default_str();
   cmd.add_option("--param", p.parameters, "Planner parameter NAME=VALUE (repeatable)");
