@@ -5,12 +5,16 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "grasp/grasp_quality.h"
+#include "grasp/hand_map_builder.h"
+#include "planner/grasp_motion_planner.h"
+#include "planner/planning_world.h"
 #include "planner/time_parameterization.h"
 #include "preprocess/database_builder.h"
 #include "robot/arm_ik.h"
@@ -353,6 +357,32 @@ void BM_TimeOptimalTrajectory(benchmark::State& state) {
       benchmark::Counter(seconds / static_cast<double>(state.iterations()));
 }
 BENCHMARK(BM_TimeOptimalTrajectory)->Arg(5)->Arg(20)->Unit(benchmark::kMillisecond);
+
+/// What starting a plan costs before any search: planGrasp with a time
+/// limit of 0 (the request checked, the problem set up: checker, space,
+/// parameters, contact mask, HFTS; the search set up and stopped at once),
+/// for `threads` racing copies (each sets up its own problem in its own
+/// thread). The KR5 in the table scene with the mug.
+void BM_PlanStartUp(benchmark::State& state) {
+  static const std::shared_ptr<const planner::PlanningWorld> world = [] {
+    std::map<std::string, db::ObjectDatabase> objects;
+    objects.emplace(
+        "mug",
+        preprocess::buildObjectDatabaseFromFile(kSource / "objects/meshes/mug.stl", {}).database);
+    return std::make_shared<planner::PlanningWorld>(robot(), grasp::buildHandMap(robot()),
+                                                    std::move(objects));
+  }();
+  planner::PlanRequest request;
+  request.scene = robot::loadScene(kSource / "objects/scenes/table.json");
+  request.object = "mug";
+  request.time_limit = 0.0;
+  request.parameters["threads"] = std::to_string(state.range(0));
+  for (auto _ : state) {
+    const planner::PlanResult result = planner::planGrasp(*world, request);
+    benchmark::DoNotOptimize(result.success);
+  }
+}
+BENCHMARK(BM_PlanStartUp)->Arg(1)->Arg(2)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 
