@@ -1,0 +1,98 @@
+#pragma once
+// The FCL side of the collision checker (collision_checker.cpp), private
+// to the robot library: what a collision object stands for (Tag), FCL
+// geometry of primitives and meshes, the broadphase callbacks of each
+// query (full rule, grasp rule, distance, the target against the
+// obstacles, one object against the environment), and the environment as
+// the sphere tier sees it. FCL's template-heavy headers stay in the
+// robot library's .cpp files that include this.
+
+#include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
+#include <fcl/geometry/bvh/BVH_model.h>
+
+#include <Eigen/Geometry>
+
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hfts_db/object_database.h"
+#include "robot/collision_checker.h"
+#include "robot/object_surface.h"
+#include "robot/robot_model.h"
+#include "robot/scene.h"
+#include "sphere_tier.h"
+
+namespace hfts::robot::fcl_query {
+
+using Object = fcl::CollisionObjectd;
+using Geometry = std::shared_ptr<fcl::CollisionGeometryd>;
+
+/// What a collision object stands for.
+struct Tag {
+  int link = -1;        ///< robot link, or -1 for the environment
+  bool target = false;  ///< the target object
+  bool fingertip = false;
+  std::string name;
+  /// Creation order in the checker. FCL's narrowphase may answer a touching
+  /// pair differently in the two argument orders (cylinder against
+  /// cylinder at distance 0), so every check passes the pair in this order:
+  /// the broadphase and the sphere tier's pairs then get the same answer.
+  std::size_t order = 0;
+  /// A primitive's CollisionShape::Type and size, for provablyApart; -1 for
+  /// a mesh.
+  int primitive_type = -1;
+  Eigen::Vector3d primitive_size = Eigen::Vector3d::Zero();
+};
+
+/// `type`: a CollisionShape::Type or Obstacle::Type value (they agree, see
+/// scene.h) other than kMesh.
+Geometry primitive(int type, const Eigen::Vector3d& size);
+
+/// A mesh as FCL's bounding-volume hierarchy (OBBRSS).
+Geometry meshGeometry(const TriangleMesh& mesh);
+
+/// The grasp rule's view of the target: where it is and how deep a
+/// fingertip may be inside it.
+struct GraspContactRule {
+  const ObjectSurface* surface = nullptr;
+  Eigen::Isometry3d worldToObject = Eigen::Isometry3d::Identity();
+  double maxPenetration = 0.0;
+};
+
+struct QueryData {
+  const RobotModel* model = nullptr;
+  /// The grasp rule: a fingertip link may be inside the target by at most
+  /// `rule.maxPenetration` (exact signed distance); everything else as
+  /// the full rule.
+  bool allowFingertipContact = false;
+  GraspContactRule rule;
+  bool collision = false;
+  CollisionPair pair;
+  double distance = std::numeric_limits<double>::infinity();
+  const void* query = nullptr;  ///< one object against the environment: its tag comes first
+};
+
+/// Full rule: the broadphase's collision callback; stops at the first
+/// contact (the robot's part named first in QueryData::pair). Under
+/// QueryData::allowFingertipContact a fingertip shape may be inside the
+/// target by at most the rule's depth.
+bool collideCallback(Object* o1, Object* o2, void* raw);
+
+/// The smallest distance of a robot link from anything (QueryData::distance).
+bool distanceCallback(Object* o1, Object* o2, void* raw, double& minimum);
+
+/// The target against the obstacles.
+bool targetCallback(Object* o1, Object* o2, void* raw);
+
+/// One object (QueryData::query) against the environment: any collision
+/// except with the target object; the pair names the object first.
+bool obstacleCallback(Object* o1, Object* o2, void* raw);
+
+/// The environment as the sphere tier sees it, in the checker's order:
+/// obstacles, then the target. A mesh becomes its bounding box, refined by
+/// its distance grid when it has one.
+std::vector<SphereTier::Item> sphereTierItems(const Scene& scene, const db::ObjectGeometry* target);
+
+}  // namespace hfts::robot::fcl_query
