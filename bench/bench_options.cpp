@@ -67,12 +67,10 @@ Algorithm parseAlgorithm(const std::string& text) {
       throw UsageError("algorithm '" + text + "': '" + setting +
                        "' is not a planner parameter setting name=value");
     if (setting.substr(0, equals) == "preset") {
-      const std::string preset = setting.substr(equals + 1);
-      if (preset != "paper" && preset != "default")
-        throw UsageError("algorithm '" + text + "': preset must be paper or default, got '" +
-                         preset + "'");
-      a.preset =
-          preset == "paper" ? planner::PlannerPreset::kPaper : planner::PlannerPreset::kDefault;
+      if (setting.substr(equals + 1) != "paper")
+        throw UsageError("algorithm '" + text + "': the only preset is paper, got '" +
+                         setting.substr(equals + 1) + "'");
+      a.preset = planner::PlannerPreset::kPaper;
     } else if (!a.parameters.emplace(setting.substr(0, equals), setting.substr(equals + 1)).second)
       throw UsageError("algorithm '" + text + "' sets '" + setting.substr(0, equals) + "' twice");
     colon = next;

@@ -14,13 +14,15 @@ import csv
 import os
 
 
-def auc(points):
-    held = [e for e, h in points if h]
-    dropped = [e for e, h in points if not h]
-    if not held or not dropped:
+def auc(values, held):
+    """Area under the ROC curve of `values` as a predictor of `held` (ties
+    count a half); nan without both classes."""
+    good = [v for v, h in zip(values, held) if h]
+    bad = [v for v, h in zip(values, held) if not h]
+    if not good or not bad:
         return float("nan")
-    wins = sum((a > b) + 0.5 * (a == b) for a in held for b in dropped)
-    return wins / (len(held) * len(dropped))
+    wins = sum((a > b) + 0.5 * (a == b) for a in good for b in bad)
+    return wins / (len(good) * len(bad))
 
 
 def plans(path):
@@ -35,7 +37,8 @@ def row(label, points, split):
     above = [h for e, h in points if e >= split]
     held = [e for e, h in points if h]
     smallest = f"{min(held):.4f}" if held else "-"
-    return (f"| {label} | {len(points)} | {auc(points):.2f} | {sum(below)}/{len(below)} | "
+    area = auc([e for e, _ in points], [h for _, h in points])
+    return (f"| {label} | {len(points)} | {area:.2f} | {sum(below)}/{len(below)} | "
             f"{sum(above)}/{len(above)} | {smallest} |")
 
 

@@ -26,22 +26,18 @@ Needs Debian's python3-numpy and python3-scipy.
 import argparse
 import csv
 import math
+import os
+import sys
 from collections import defaultdict
 
 import numpy as np
 from scipy.optimize import linprog
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from epsilon_vs_held import auc  # noqa: E402  (same directory)
+
 MU = 0.5
 EDGES = 8
-
-
-def auc(values, held):
-    good = [v for v, h in zip(values, held) if h]
-    bad = [v for v, h in zip(values, held) if not h]
-    if not good or not bad:
-        return float("nan")
-    wins = sum((a > b) + 0.5 * (a == b) for a in good for b in bad)
-    return wins / (len(good) * len(bad))
 
 
 def rotation(q):

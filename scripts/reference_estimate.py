@@ -48,6 +48,8 @@ def main():
         refs = [r for path in sorted(glob.glob(os.path.join(ref_dir, f"{robot}.*.csv")))
                 for r in rows(path)]
         n = len(refs)
+        if n == 0:
+            sys.exit(f"{ref_dir}: no reference runs {robot}.*.csv")
         k = sum(1 for r in refs if r["success"] == "1")
         lo, hi = wilson(k, n)
         rate = lambda p: s / (s + f * p) if s + f * p > 0 else 0.0  # noqa: E731

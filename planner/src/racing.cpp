@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "plan_diagnosis.h"
-#include "plan_problem.h"
+#include "planner_parameters.h"
 
 namespace hfts::planner {
 

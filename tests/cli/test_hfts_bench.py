@@ -143,6 +143,8 @@ class BenchCli(unittest.TestCase):
         self.assertIn("algorithm 'coupled:warp=9': unknown planner parameter 'warp'", err)
         err = self.usage_error("--algorithms", "coupled:p_max=1:p_max=0")
         self.assertIn("sets 'p_max' twice", err)
+        err = self.usage_error("--algorithms", "decoupled20:preset=fast")
+        self.assertIn("algorithm 'decoupled20:preset=fast': the only preset is paper, got 'fast'", err)
         csv_path = os.path.join(self.tmp, "variants.csv")
         result = self.run_bench("--no-physics", "--out", csv_path, "--scenes", "table", "--runs", "1",
                                 "--time-limit", "5",
