@@ -16,7 +16,7 @@ constexpr const char* kHeader =
     "collision_checks,cpu_time,placement,rejected_unstable,rejected_no_arm_ik,"
     "rejected_out_of_hand_reach,rejected_colliding,rejected_closing_blocked,fingertip_error,"
     "planned_epsilon,penetration,rejected_no_pad_contact,rejected_weak_at_contacts,planned,held,"
-    "held_fraction,physics_failure,lift";
+    "held_fraction,physics_failure,lift,dropped_goals,physics_checks,physics_time";
 
 /// RFC 4180 quoting; names from file stems may hold commas or quotes.
 std::string csvField(const std::string& text) {
@@ -94,7 +94,8 @@ void writeRow(std::ostream& out, const RunRecord& r) {
         << csvField(r.physics_failure) << ',' << csvField(r.lift);
   else
     out << ",,,";
-  out << '\n';
+  out << ',' << s.dropped_goals << ',' << s.physics_checks << ',' << std::setprecision(6)
+      << s.physics_time << '\n';
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <ompl/base/ProblemDefinition.h>
 
 #include <algorithm>
+#include <chrono>
 #include <memory>
 #include <set>
 
@@ -16,7 +17,8 @@ namespace {
 
 /// The goal check of physics_check: the reached goal's grasp simulated
 /// (its verdict kept for the result). A grasp that failed is not simulated
-/// again for another arm configuration with the same closed hand.
+/// again for another arm configuration with the same closed hand. The
+/// simulations are counted and timed in `out.stats`.
 MultiTreeCBiRRT::GoalCheck physicsGoalCheck(const Problem& p, SearchOutcome& out,
                                             const ob::PlannerTerminationCondition& ptc) {
   auto failed = std::make_shared<std::set<const grasp::HandClosure*>>();
@@ -27,8 +29,12 @@ MultiTreeCBiRRT::GoalCheck physicsGoalCheck(const Problem& p, SearchOutcome& out
     physics::SimulationOptions options = p.simulation;
     options.stop_when_lost = true;
     options.stop = [&ptc] { return ptc(); };
+    const auto begin = std::chrono::steady_clock::now();
     physics::GraspVerdict verdict = physics::simulateGrasp(p.world.robot(), p.scene, p.object,
                                                            goal.configuration, goal.grasp, options);
+    ++out.stats.physics_checks;
+    out.stats.physics_time +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
     if (!verdict.held) {
       failed->insert(goal.closure.get());
       return false;
@@ -87,8 +93,11 @@ SearchOutcome searchMultiTree(Problem& p, bool coupled,
                                                       : MultiTreeCBiRRT::GoalCheck{});
   out.solved = planner.solve(ptc) == ob::PlannerStatus::EXACT_SOLUTION;
   out.goals = sampler->statistics();
+  const PlanStatistics checked = out.stats;  // the goal checks' counts
   out.stats = planStatistics(planner.statistics(), out.goals, tools.objective.evaluations(),
                              p.checker.checkCount());
+  out.stats.physics_checks = checked.physics_checks;
+  out.stats.physics_time = checked.physics_time;
   if (const auto* hfts = dynamic_cast<const HftsGoalSampler*>(sampler.get());
       hfts != nullptr && p.explored)
     out.explored = exploredNodes(hfts->cache(), tools);

@@ -77,6 +77,10 @@ struct PlanStatistics {
   /// Goals reached whose grasp did not hold in physics (parameter
   /// physics_check; their goal trees dropped).
   std::uint64_t dropped_goals = 0;
+  /// Goals whose grasp was simulated (physics_check): the dropped ones and
+  /// the one that ended the search, if any.
+  std::uint64_t physics_checks = 0;
+  double physics_time = 0.0;  ///< s, wall clock spent in those simulations
   std::uint64_t collision_checks = 0;
   std::uint64_t forward_tree_size = 0;
   std::uint64_t backward_tree_nodes = 0;
@@ -105,6 +109,8 @@ void forEachStatistic(const PlanStatistics& s, F&& f) {
   f("merged_trees", s.merged_trees);
   f("rejected_paths", s.rejected_paths);
   f("dropped_goals", s.dropped_goals);
+  f("physics_checks", s.physics_checks);
+  f("physics_time", s.physics_time);
   f("collision_checks", s.collision_checks);
   f("forward_tree_size", s.forward_tree_size);
   f("backward_tree_nodes", s.backward_tree_nodes);
