@@ -6,6 +6,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "contact_filter.h"
 #include "physics/mjcf_scene.h"
 
 namespace hfts::physics {
@@ -30,6 +31,7 @@ void installMujocoHandlers() {
   std::call_once(installed, [] {
     mju_user_error = throwError;
     mju_user_warning = ignoreWarning;
+    mjcb_contactfilter = filterContactPair;
   });
 }
 

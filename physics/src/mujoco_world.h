@@ -40,9 +40,10 @@ class SimulationError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Installs the process-wide MuJoCo message handlers once: errors throw
+/// Installs the process-wide MuJoCo handlers once: errors throw
 /// SimulationError, warnings are left to mjData::warning (read by the
-/// trials) instead of being printed and logged to MUJOCO_LOG.TXT.
+/// trials) instead of being printed and logged to MUJOCO_LOG.TXT, and the
+/// contact filter of contact_filter.h (the same contacts, found sooner).
 void installMujocoHandlers();
 
 /// Where the parts of mjcfScene()'s model are.
