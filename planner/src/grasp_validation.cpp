@@ -5,7 +5,9 @@
 
 #include "grasp/grasp_quality.h"
 #include "grasp/hand_closing.h"
+#include "grasp/load_capacity.h"
 #include "hfts_db/invalid_argument.h"
+#include "physics/object_body.h"
 #include "robot/kinematics.h"
 #include "robot/object_surface.h"
 
@@ -54,6 +56,18 @@ double contactEpsilon(const robot::RobotModel& robot, const db::ObjectGeometry& 
   q.friction = options.friction;
   q.torsional_friction = robot.torsionalFriction();
   return grasp::graspQuality(q).epsilon;
+}
+
+/// grasp::loadCapacity of the closed hand at the full configuration q.
+double loadCapacityOf(const robot::RobotModel& robot, const robot::Scene& scene,
+                      const db::ObjectDatabase& object, const grasp::HandClosure& closure,
+                      const Eigen::VectorXd& q, const std::optional<double>& density) {
+  const double mass =
+      physics::objectMassProperties(object, physics::objectDensity(object, density)).mass;
+  return grasp::loadCapacity(grasp::loadRequest(robot, q, scene.robot_base, closure,
+                                                scene.target_pose, object.geometry.center_of_mass,
+                                                mass))
+      .factor;
 }
 
 double fingertipDepth(const robot::RobotModel& robot, const robot::ObjectSurface& surface,
@@ -119,6 +133,9 @@ Validation validateGrasp(const PlanningWorld& world, const ValidationRequest& re
   c.pads_touch = closure.touches();
   if (c.pads_touch) c.epsilon = contactEpsilon(robot, object->geometry, closure, request.check);
   c.penetration = fingertipDepth(robot, surface, request.scene, c.executed);
+  if (c.pads_touch && robot.handActuation())
+    c.load_capacity = loadCapacityOf(robot, request.scene, *object, closure, c.executed,
+                                     request.simulation.density);
   robot::CollisionChecker checker(robot, request.scene, &object->geometry,
                                   world.collisionMesh(name), &surface);
   checker.setMaxPenetration(request.check.max_penetration);

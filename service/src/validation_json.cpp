@@ -14,6 +14,7 @@ json graspCheckToJson(const planner::GraspCheck& check) {
           {"problem", check.problem},
           {"pads_touch", check.pads_touch},
           {"epsilon", check.epsilon},
+          {"load_capacity", check.load_capacity ? json(*check.load_capacity) : json(nullptr)},
           {"penetration", check.penetration},
           {"clear", check.clear},
           {"closing_difference", check.closing_difference}};

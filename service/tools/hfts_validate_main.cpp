@@ -70,6 +70,9 @@ void printText(const hfts::planner::Validation& v, const hfts::planner::Validati
             << r.check.min_epsilon << "), penetration " << 1000.0 * c.penetration << " mm (max "
             << 1000.0 * r.check.max_penetration << " mm), " << (c.clear ? "clear" : "colliding")
             << "\n";
+  if (c.load_capacity)
+    std::cout << "  load capacity " << *c.load_capacity
+              << " (times the weight and disturbances the rated efforts can hold)\n";
   if (!v.physics) return;
   const hfts::physics::GraspVerdict& p = *v.physics;
   int held = 0;

@@ -2,11 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <map>
 #include <string>
 
 #include "bundled_objects.h"
 #include "grasp/hand_map_builder.h"
+#include "grasp/load_capacity.h"
 #include "panda_cube.h"
 #include "robot/kinematics.h"
 #include "robot_fixture.h"
@@ -95,6 +97,23 @@ TEST(GraspValidation,
   const Validation weak = validateGrasp(world, r);
   EXPECT_FALSE(weak.check.valid());
   EXPECT_NE(weak.check.problem.find("below min_epsilon"), std::string::npos) << weak.check.problem;
+
+  // The vee slips out between the jaws whatever they push: no load. The
+  // 2 cm cube (8 g at water's density) is light for 35 N per jaw: beyond
+  // the cap. At 16 t/m^3 (128 g, W = 1.26 N) the -z disturbance's 2 W
+  // needs 2 mu F of the pads' friction: 17.5 N / W, less the linearised
+  // cone's share between its edges.
+  ASSERT_TRUE(vee.check.load_capacity.has_value());
+  EXPECT_LT(*vee.check.load_capacity, 1e-6);
+  ASSERT_TRUE(cube.check.load_capacity.has_value());
+  EXPECT_EQ(*cube.check.load_capacity, grasp::kUnboundedLoad);
+  r.check.min_epsilon = 0.0;
+  r.simulation.density = 16000.0;
+  const Validation dense = validateGrasp(world, r);
+  ASSERT_TRUE(dense.check.load_capacity.has_value());
+  const double weight = 8e-6 * 16000.0 * 9.81;
+  EXPECT_LE(*dense.check.load_capacity, 17.5 / weight + 1e-6);
+  EXPECT_GE(*dense.check.load_capacity, 17.5 * std::cos(M_PI / 8.0) / weight - 1e-6);
 }
 
 }  // namespace

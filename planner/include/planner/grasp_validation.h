@@ -42,6 +42,12 @@ struct GraspCheck {
   /// unless every pad touches).
   double epsilon = 0.0;
   double penetration = 0.0;  ///< deepest fingertip link inside the object (m)
+  /// grasp::loadCapacity of the executed grasp with the hand's rated
+  /// efforts and the object's mass (its density as the physics check
+  /// takes it): below 1 the hand cannot hold the object's weight and the
+  /// check's disturbances, whatever its servos do. Unset without
+  /// hand_actuation or when not every pad touches.
+  std::optional<double> load_capacity;
   /// The pre-grasp is free under the full rule, the executed grasp and the
   /// closing motion under the grasp rule (max_penetration).
   bool clear = false;
