@@ -14,7 +14,10 @@
 
 #include "grasp/grasp_quality.h"
 #include "hfts_db/invalid_argument.h"
+#include "robot/fingertip_geometry.h"
 #include "robot/kinematics.h"
+#include "robot/link_spheres.h"
+#include "robot/object_surface.h"
 
 namespace hfts::grasp {
 namespace {
@@ -101,6 +104,76 @@ double largestScale(const Eigen::Matrix<double, 6, Eigen::Dynamic>& wrenches,
   return std::clamp(-CGAL::to_double(solution.objective_value()), 0.0, kUnboundedLoad);
 }
 
+/// A contact point of a fingertip with the mesh's outward normal there
+/// (object frame).
+struct PatchPoint {
+  Eigen::Vector3d point;
+  Eigen::Vector3d outward;
+};
+
+/// Cross product of (b - a) and (c - a) in the plane.
+double turn(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  const Eigen::Vector2d u = b - a, v = c - a;
+  return u.x() * v.y() - u.y() * v.x();
+}
+
+/// The corners of the convex hull of `points` (monotone chain) as indices.
+std::vector<std::size_t> hullCorners(const std::vector<Eigen::Vector2d>& points) {
+  std::vector<std::size_t> order(points.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return points[a].x() < points[b].x() ||
+           (points[a].x() == points[b].x() && points[a].y() < points[b].y());
+  });
+  if (order.size() < 3) return order;
+  std::vector<std::size_t> hull(2 * order.size());
+  std::size_t k = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    const std::size_t start = k;
+    for (std::size_t n = 0; n < order.size(); ++n) {
+      const std::size_t i = pass == 0 ? order[n] : order[order.size() - 1 - n];
+      while (k >= start + 2 && turn(points[hull[k - 2]], points[hull[k - 1]], points[i]) <= 0.0)
+        --k;
+      hull[k++] = i;
+    }
+    --k;  // the last point of a pass starts the next
+  }
+  hull.resize(k);
+  return hull;
+}
+
+/// Where a fingertip pad lying on the surface touches it: the corners of
+/// the patch of surface points within kPatchDepth of the fingertip link,
+/// from a grid over a disc of 1.5 pad radii around the contact; the
+/// contact alone when that patch is a point.
+std::vector<PatchPoint> contactPatch(const robot::ObjectSurface& surface, const robot::Link& link,
+                                     const Eigen::Isometry3d& linkInObject,
+                                     const FingerClosure& finger, double padRadius) {
+  constexpr double kPatchDepth = 5e-4;  // m: about how far servo-pressed pads sink in physics
+  constexpr int kHalf = 4;              // a 9 x 9 grid
+  std::vector<PatchPoint> touching;
+  const Eigen::Vector3d n = finger.outward_normal.normalized();
+  const Eigen::Vector3d u = n.unitOrthogonal(), v = n.cross(u);
+  const double step = 1.5 * padRadius / kHalf;
+  std::vector<Eigen::Vector2d> plane;
+  for (int i = -kHalf; i <= kHalf && step > 0.0; ++i)
+    for (int j = -kHalf; j <= kHalf; ++j) {
+      if (i * i + j * j > kHalf * kHalf) continue;
+      const Eigen::Vector3d g = finger.contact + step * (i * u + j * v);
+      const robot::SurfacePoint s = surface.nearest(g);
+      const Eigen::Vector3d off = s.point - g;
+      if ((off - off.dot(n) * n).norm() > step / 2 || s.normal.dot(n) < 0.5) continue;
+      if (robot::signedDistance(link, linkInObject.inverse() * s.point) > kPatchDepth) continue;
+      touching.push_back({s.point, s.normal});
+      const Eigen::Vector3d d = s.point - finger.contact;
+      plane.emplace_back(d.dot(u), d.dot(v));
+    }
+  if (touching.size() < 2) return {{finger.contact, finger.outward_normal}};
+  std::vector<PatchPoint> corners;
+  for (const std::size_t i : hullCorners(plane)) corners.push_back(touching[i]);
+  return corners;
+}
+
 }  // namespace
 
 LoadCapacity loadCapacity(const LoadCapacityRequest& request) {
@@ -109,7 +182,9 @@ LoadCapacity loadCapacity(const LoadCapacityRequest& request) {
   cone.positions = request.positions;
   cone.normals = request.normals;
   cone.center = request.center;
-  cone.friction = request.friction;
+  // The pyramid around the friction cone, not inside it: the capacity is
+  // then an upper bound, and below 1 the grasp cannot hold.
+  cone.friction = request.friction / std::cos(M_PI / request.cone_edges);
   cone.cone_edges = request.cone_edges;
   cone.torsional_friction = request.torsional_friction;
   const Eigen::Matrix<double, 6, Eigen::Dynamic> wrenches = contactWrenches(cone);
@@ -128,7 +203,8 @@ LoadCapacity loadCapacity(const LoadCapacityRequest& request) {
 LoadCapacityRequest loadRequest(const robot::RobotModel& robot, const Eigen::VectorXd& q,
                                 const Eigen::Isometry3d& base, const HandClosure& closure,
                                 const Eigen::Isometry3d& object_pose,
-                                const Eigen::Vector3d& center_of_mass, double mass) {
+                                const Eigen::Vector3d& center_of_mass, double mass,
+                                const robot::ObjectSurface* surface) {
   if (!robot.handActuation())
     throw InvalidArgument("robot.hand_actuation",
                           "robot '" + robot.name() + "' has no hand_actuation in its config");
@@ -136,22 +212,35 @@ LoadCapacityRequest loadRequest(const robot::RobotModel& robot, const Eigen::Vec
     throw InvalidArgument("closure", "not every pad touches: " + closure.failure(robot));
   constexpr double kGravity = 9.81;
   const robot::LinkPoses poses = robot::forwardKinematics(robot, q);
-  const std::size_t tips = robot.fingertips().size();
   const int arm = robot.numArmDofs(), hand = robot.numHandDofs();
-  LoadCapacityRequest r;
-  r.positions.resize(3, static_cast<Eigen::Index>(tips));
-  r.normals.resize(3, static_cast<Eigen::Index>(tips));
-  const Eigen::Isometry3d baseInverse = base.inverse();
-  for (std::size_t i = 0; i < tips; ++i) {
+  const Eigen::Isometry3d baseInObject = object_pose.inverse() * base;
+  std::vector<PatchPoint> points;
+  std::vector<int> links;  // the fingertip link of each point
+  for (std::size_t i = 0; i < robot.fingertips().size(); ++i) {
+    const robot::Fingertip& tip = robot.fingertips()[i];
     const FingerClosure& finger = closure.fingers[i];
-    const Eigen::Vector3d contact = object_pose * finger.contact;
-    const auto col = static_cast<Eigen::Index>(i);
+    const std::vector<PatchPoint> patch =
+        surface == nullptr
+            ? std::vector<PatchPoint>{{finger.contact, finger.outward_normal}}
+            : contactPatch(*surface, robot.links()[static_cast<std::size_t>(tip.link)],
+                           baseInObject * poses[static_cast<std::size_t>(tip.link)], finger,
+                           robot::padRadius(robot, tip));
+    points.insert(points.end(), patch.begin(), patch.end());
+    links.insert(links.end(), patch.size(), tip.link);
+  }
+  LoadCapacityRequest r;
+  r.positions.resize(3, static_cast<Eigen::Index>(points.size()));
+  r.normals.resize(3, static_cast<Eigen::Index>(points.size()));
+  const Eigen::Isometry3d baseInverse = base.inverse();
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const Eigen::Vector3d contact = object_pose * points[k].point;
+    const auto col = static_cast<Eigen::Index>(k);
     r.positions.col(col) = contact;
-    r.normals.col(col) = -(object_pose.linear() * finger.outward_normal).normalized();
-    const int link = robot.fingertips()[i].link;
-    const Eigen::Vector3d onLink =
-        poses[static_cast<std::size_t>(link)].inverse() * (baseInverse * contact);
-    Eigen::Matrix<double, 6, Eigen::Dynamic> j = robot::jacobian(robot, poses, link, onLink);
+    r.normals.col(col) = -(object_pose.linear() * points[k].outward).normalized();
+    const auto link = static_cast<std::size_t>(links[k]);
+    const Eigen::Vector3d onLink = poses[link].inverse() * (baseInverse * contact);
+    const Eigen::Matrix<double, 6, Eigen::Dynamic> j =
+        robot::jacobian(robot, poses, links[k], onLink);
     Eigen::MatrixXd world(6, hand);
     world.topRows<3>() = base.linear() * j.block(0, arm, 3, hand);
     world.bottomRows<3>() = base.linear() * j.block(3, arm, 3, hand);

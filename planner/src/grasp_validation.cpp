@@ -60,13 +60,14 @@ double contactEpsilon(const robot::RobotModel& robot, const db::ObjectGeometry& 
 
 /// grasp::loadCapacity of the closed hand at the full configuration q.
 double loadCapacityOf(const robot::RobotModel& robot, const robot::Scene& scene,
-                      const db::ObjectDatabase& object, const grasp::HandClosure& closure,
-                      const Eigen::VectorXd& q, const std::optional<double>& density) {
+                      const db::ObjectDatabase& object, const robot::ObjectSurface& surface,
+                      const grasp::HandClosure& closure, const Eigen::VectorXd& q,
+                      const std::optional<double>& density) {
   const double mass =
       physics::objectMassProperties(object, physics::objectDensity(object, density)).mass;
   return grasp::loadCapacity(grasp::loadRequest(robot, q, scene.robot_base, closure,
                                                 scene.target_pose, object.geometry.center_of_mass,
-                                                mass))
+                                                mass, &surface))
       .factor;
 }
 
@@ -134,7 +135,7 @@ Validation validateGrasp(const PlanningWorld& world, const ValidationRequest& re
   if (c.pads_touch) c.epsilon = contactEpsilon(robot, object->geometry, closure, request.check);
   c.penetration = fingertipDepth(robot, surface, request.scene, c.executed);
   if (c.pads_touch && robot.handActuation())
-    c.load_capacity = loadCapacityOf(robot, request.scene, *object, closure, c.executed,
+    c.load_capacity = loadCapacityOf(robot, request.scene, *object, surface, closure, c.executed,
                                      request.simulation.density);
   robot::CollisionChecker checker(robot, request.scene, &object->geometry,
                                   world.collisionMesh(name), &surface);

@@ -36,18 +36,19 @@ LoadCapacityRequest squeeze(double effort, double lever, double weight) {
 TEST(LoadCapacity, TwoPadsHoldWhatTheirFrictionCarries) {
   // 10 N per pad: friction carries 2 mu 10 = 10 N of weight; the -z
   // disturbance doubles the load, so the grasp holds 5 N of weight.
+  // The pyramid is around the cone: mu at most 1 / cos(pi / K) larger.
   const LoadCapacity c = loadCapacity(squeeze(10.0, 1.0, 1.0));
-  const double cone = std::cos(M_PI / 8.0);  // the linearised cone's inscribed share
-  EXPECT_LE(c.per_case[0], 2.0 * kMu * 10.0 + 1e-6);
-  EXPECT_GE(c.per_case[0], 2.0 * kMu * 10.0 * cone - 1e-6);
+  const double outer = kMu / std::cos(M_PI / 8.0);
+  EXPECT_GE(c.per_case[0], 2.0 * kMu * 10.0 - 1e-6);
+  EXPECT_LE(c.per_case[0], 2.0 * outer * 10.0 + 1e-6);
   EXPECT_EQ(c.per_case[5], kUnboundedLoad);  // +z cancels the weight
   EXPECT_NEAR(c.per_case[6], c.per_case[0] / 2.0, 1e-6);
   EXPECT_EQ(c.factor, *std::min_element(c.per_case.begin(), c.per_case.end()));
   // Along the pads' axis (+x) the pad at -x pushes less: F2 = F - lambda W.
   // The torque about the centre splits the weight evenly between the two
   // pads, so lambda W / 2 <= mu (F - lambda W): lambda = mu F / (1/2 + mu).
-  EXPECT_LE(c.per_case[1], kMu * 10.0 / (0.5 + kMu) + 1e-6);
-  EXPECT_GE(c.per_case[1], kMu * 10.0 * cone / (0.5 + kMu * cone) - 1e-6);
+  EXPECT_GE(c.per_case[1], kMu * 10.0 / (0.5 + kMu) - 1e-6);
+  EXPECT_LE(c.per_case[1], outer * 10.0 / (0.5 + outer) + 1e-6);
 }
 
 TEST(LoadCapacity, AFingerDrivenThroughALeverPushesItsTorqueOverTheLever) {
@@ -90,8 +91,8 @@ TEST(LoadCapacity, TheFrankaHandSqueezesTheCubeWithItsRatedForce) {
   // friction of two pads carries 2 mu 35 N = 35 N of twice the weight.
   const double weight = mass * 9.81;
   const LoadCapacity c = loadCapacity(r);
-  EXPECT_LE(c.factor, 35.0 / (2.0 * weight) + 1e-6);
-  EXPECT_GE(c.factor, 35.0 * std::cos(M_PI / 8.0) / (2.0 * weight) - 1e-6);
+  EXPECT_GE(c.factor, 35.0 / (2.0 * weight) - 1e-6);
+  EXPECT_LE(c.factor, 35.0 / std::cos(M_PI / 8.0) / (2.0 * weight) + 1e-6);
   // Too heavy for the hand: 5 kg.
   const LoadCapacity heavy = loadCapacity(
       loadRequest(panda, world.grasp, world.scene.robot_base, closure, world.scene.target_pose,

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "grasp/hand_closing.h"
+#include "robot/object_surface.h"
 #include "robot/robot_model.h"
 
 namespace hfts::grasp {
@@ -60,7 +61,8 @@ inline constexpr double kUnboundedLoad = 100.0;
 
 /// Solves one linear program per load case over the contacts' friction
 /// cones (the primitive wrenches of contactWrenches, so soft fingers resist
-/// a torque about their normal as in epsilon). Throws InvalidArgument
+/// a torque about their normal as in epsilon), each pyramid around its
+/// cone (mu / cos(pi / K) at the edges): the capacity is an upper bound. Throws InvalidArgument
 /// naming the field for mismatched sizes, no contacts, non-finite values or
 /// parameters out of range.
 LoadCapacity loadCapacity(const LoadCapacityRequest& request);
@@ -70,11 +72,17 @@ LoadCapacity loadCapacity(const LoadCapacityRequest& request);
 /// full configuration q (robot base at `base` in the world, the object at
 /// `object_pose`), the robot config's hand efforts (hand_actuation) and
 /// soft-finger gamma, the object's centre of mass (object frame) and mass.
-/// Throws InvalidArgument when the robot has no hand_actuation or the hand
-/// does not touch with every pad.
+/// With the object's `surface`, a pad that lies on it touches along a
+/// patch, as a rigid pad pressed on a face does: the corners of the
+/// surface points within 0.5 mm of the fingertip link near the contact
+/// (a grid over 1.5 pad radii) are its contacts, so the patch resists
+/// twisting and tilting; without it, or where the patch is a point, one
+/// contact per finger. Throws InvalidArgument when the robot has no
+/// hand_actuation or the hand does not touch with every pad.
 LoadCapacityRequest loadRequest(const robot::RobotModel& robot, const Eigen::VectorXd& q,
                                 const Eigen::Isometry3d& base, const HandClosure& closure,
                                 const Eigen::Isometry3d& object_pose,
-                                const Eigen::Vector3d& center_of_mass, double mass);
+                                const Eigen::Vector3d& center_of_mass, double mass,
+                                const robot::ObjectSurface* surface = nullptr);
 
 }  // namespace hfts::grasp

@@ -4,7 +4,9 @@
 // own: the collision checker's FCL objects move on every query and the
 // objective caches, so no two threads may share them.
 
+#include <functional>
 #include <memory>
+#include <optional>
 #include <random>
 
 #include "grasp/grasp_configurations.h"
@@ -23,10 +25,13 @@ struct SamplingTools {
   /// `scene` holds the target's pose and name. The objective is set up from
   /// `settings` (its options, hand_clearance: for a hand with a free turn
   /// blocked only when blocked at each of palm_turns turns), Phi(h) with its
-  /// palm_turns.
+  /// palm_turns. With min_load_capacity, goals are rated by their load
+  /// capacity at the object's mass at `density` (physics::objectDensity:
+  /// the object's own unless given), for a robot with hand_actuation.
   SamplingTools(const PlanningWorld& world, const robot::Scene& scene,
                 const grasp::HftsSpace& space, robot::CollisionChecker& checker,
-                const GoalSamplingSettings& settings);
+                const GoalSamplingSettings& settings,
+                const std::optional<double>& density = std::nullopt);
 
   /// What a goal sampler on these tools works with: random decisions from
   /// `rng`, closing motions checked at `approachResolution`, the fingertip
@@ -48,6 +53,9 @@ struct SamplingTools {
   /// for it: no grasp is then a goal).
   std::unique_ptr<const grasp::HandCloser> closer;
   grasp::GraspConfigurator configurator;
+  /// grasp::loadCapacity of a closed hand at a full configuration; empty
+  /// without min_load_capacity, hand_actuation or the object's surface.
+  std::function<double(const grasp::HandClosure&, const Eigen::VectorXd&)> loadCapacity;
 };
 
 }  // namespace hfts::planner
