@@ -16,8 +16,7 @@ constexpr const char* kHeader =
     "collision_checks,cpu_time,placement,rejected_unstable,rejected_no_arm_ik,"
     "rejected_out_of_hand_reach,rejected_colliding,rejected_closing_blocked,fingertip_error,"
     "planned_epsilon,penetration,rejected_no_pad_contact,rejected_weak_at_contacts,planned,held,"
-    "held_fraction,physics_failure,lift,dropped_goals,physics_checks,physics_time,"
-    "rejected_weak_load";
+    "held_fraction,physics_failure,lift,dropped_goals,physics_checks,physics_time";
 
 /// RFC 4180 quoting; names from file stems may hold commas or quotes.
 std::string csvField(const std::string& text) {
@@ -96,7 +95,7 @@ void writeRow(std::ostream& out, const RunRecord& r) {
   else
     out << ",,,";
   out << ',' << s.dropped_goals << ',' << s.physics_checks << ',' << std::setprecision(6)
-      << s.physics_time << ',' << rejected.weak_load << '\n';
+      << s.physics_time << '\n';
 }
 
 }  // namespace

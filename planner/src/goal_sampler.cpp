@@ -120,7 +120,6 @@ void GraspGoalSampler::label(const grasp::HftsNode& node, double epsilon,
   // One closure per palm pose, shared by its arm solutions: rate it once.
   const grasp::HandClosure* rated = nullptr;
   double contactEpsilon = 0.0;
-  double closureLoad = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t k = 0; k < all.configurations.size(); ++k) {
     const grasp::GraspConfiguration& c = all.configurations[k];
     if (c.label == grasp::ConfigurationLabel::kNoKinematicSolution) continue;
@@ -133,18 +132,11 @@ void GraspGoalSampler::label(const grasp::HftsNode& node, double epsilon,
     if (c.closure && c.closure.get() != rated) {
       rated = c.closure.get();
       contactEpsilon = c.closure->touches() ? contactQuality(*c.closure) : 0.0;
-      closureLoad = std::numeric_limits<double>::quiet_NaN();
     }
     out.contact_epsilon = c.closure ? contactEpsilon : 0.0;
     // A whole-turn variant closes the hand where its twin does.
     out.goal = c.same_poses_as >= 0 ? goals[static_cast<std::size_t>(c.same_poses_as)] != 0
                                     : out.collision_free && stableLeaf && isGoal(out);
-    if (out.goal && context_.load_capacity && c.same_poses_as < 0) {
-      // Last, and once per closure: a few milliseconds of linear programs.
-      if (std::isnan(closureLoad)) closureLoad = context_.load_capacity(*c.closure, c.grasp);
-      out.load_capacity = closureLoad;
-      out.goal = closureLoad >= context_.min_load_capacity;
-    }
     goals[k] = out.goal ? 1 : 0;
     (out.collision_free ? free : colliding).push_back(std::move(out));
   }
@@ -192,13 +184,6 @@ void GraspGoalSampler::countRejection(double epsilon,
                     c.contact_epsilon >= context_.min_epsilon;
            }))
     ++r.weak_at_contacts;
-  else if (std::any_of(free.begin(), free.end(),
-                       [&](const CachedConfiguration& c) {
-                         return c.load_capacity < context_.min_load_capacity;
-                       }) &&
-           std::none_of(free.begin(), free.end(),
-                        [](const CachedConfiguration& c) { return c.goal; }))
-    ++r.weak_load;
   else if (std::none_of(free.begin(), free.end(),
                         [](const CachedConfiguration& c) { return c.goal; }))
     ++r.closing_blocked;
@@ -373,7 +358,6 @@ void declareParameters(ompl::base::ParamSet& params, GoalSamplingSettings& setti
   declareParameter(params, "max_fingertip_error", {1e-9, 0.001, 0.1}, settings.max_fingertip_error);
   declareParameter(params, "min_epsilon", {0.0, 0.001, 1.0}, settings.min_epsilon);
   declareParameter(params, "max_penetration", {0.0, 0.0005, 0.01}, settings.max_penetration);
-  declareParameter(params, "min_load_capacity", {0.0, 0.1, 100.0}, settings.min_load_capacity);
   declareParameter(params, "mask_contacts", {0, 1, 1}, settings.mask_contacts);
   declareParameter(params, "other_postures", {0, 1, 1}, settings.other_postures);
   declareParameter(params, "hand_clearance", {0, 1, 1}, settings.hand_clearance);

@@ -19,8 +19,7 @@ std::string rejectionText(const GraspRejections& r) {
         std::pair{r.colliding, "colliding"},
         std::pair{r.no_pad_contact, "without every pad on the object when the hand closes"},
         std::pair{r.weak_at_contacts, "below min_epsilon where the pads touch"},
-        std::pair{r.closing_blocked, "closing blocked"},
-        std::pair{r.weak_load, "too weak to carry the object (below min_load_capacity)"}})
+        std::pair{r.closing_blocked, "closing blocked"}})
     if (count > 0) out += (out.empty() ? "" : ", ") + std::to_string(count) + " " + what;
   return out.empty() ? "none tried" : out;
 }

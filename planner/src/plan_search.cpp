@@ -68,8 +68,7 @@ std::vector<ExploredNode> exploredNodes(const GoalHierarchyCache& cache, Samplin
 SearchOutcome searchMultiTree(Problem& p, bool coupled,
                               const ob::PlannerTerminationCondition& ptc) {
   MultiTreeCBiRRT& planner = *p.parameters.planner;
-  SamplingTools tools(p.world, p.scene, p.space, p.checker, p.parameters.goals,
-                      p.simulation.density);
+  SamplingTools tools(p.world, p.scene, p.space, p.checker, p.parameters.goals);
   tools.configurator.setArmReference(p.start.head(p.world.robot().numArmDofs()));
   const std::unique_ptr<GraspGoalSampler> sampler = tools.makeSampler(
       coupled, planner.rng(), p.parameters.goals, planner.smoothing().final_resolution);

@@ -29,8 +29,7 @@ const std::map<std::string, std::string>& paperSettings() {
       {"unstable_by_reach", "0"},  // Eq. (1)'s flat 0 for unstable grasps
       {"fit_check", "0"},          // Q(h) from the friction cones alone
       {"fit_clearance", "0"},
-      {"physics_check", "0"},      // Algorithm 1: a reached goal ends the search
-      {"min_load_capacity", "0"},  // a goal's contacts need not carry the object
+      {"physics_check", "0"},  // Algorithm 1: a reached goal ends the search
   };
   return settings;
 }

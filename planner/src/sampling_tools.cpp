@@ -2,15 +2,11 @@
 
 #include <cmath>
 
-#include "grasp/load_capacity.h"
-#include "physics/object_body.h"
-
 namespace hfts::planner {
 
 SamplingTools::SamplingTools(const PlanningWorld& world, const robot::Scene& scene,
                              const grasp::HftsSpace& hfts, robot::CollisionChecker& robotChecker,
-                             const GoalSamplingSettings& settings,
-                             const std::optional<double>& density)
+                             const GoalSamplingSettings& settings)
     : space(hfts),
       checker(robotChecker),
       objective(hfts, world.handMap(), settings.objective),
@@ -22,20 +18,6 @@ SamplingTools::SamplingTools(const PlanningWorld& world, const robot::Scene& sce
                    scene.target_pose, scene.robot_base, closer.get()) {
   configurator.setTurns(settings.palm_turns);
   configurator.setMaxClosingError(settings.max_fingertip_error);
-  const db::ObjectDatabase* object = world.object(scene.target_object);
-  const robot::ObjectSurface* surface = world.surface(scene.target_object);
-  if (settings.min_load_capacity > 0.0 && world.robot().handActuation() && object != nullptr &&
-      surface != nullptr) {
-    const double mass =
-        physics::objectMassProperties(*object, physics::objectDensity(*object, density)).mass;
-    loadCapacity = [&robot = world.robot(), base = scene.robot_base, pose = scene.target_pose,
-                    centre = object->geometry.center_of_mass, mass,
-                    surface](const grasp::HandClosure& closure, const Eigen::VectorXd& q) {
-      return grasp::loadCapacity(
-                 grasp::loadRequest(robot, q, base, closure, pose, centre, mass, surface))
-          .factor;
-    };
-  }
   if (settings.hand_clearance == 0) return;
   objective.setHandCheck([&robotChecker, object = scene.target_pose,
                           turns = settings.palm_turns](const grasp::HandQuery& hand) {
@@ -61,9 +43,7 @@ GoalSamplingContext SamplingTools::context(std::mt19937_64& rng,
           approachResolution,
           settings.max_fingertip_error,
           settings.min_epsilon,
-          settings.other_postures != 0,
-          loadCapacity,
-          settings.min_load_capacity};
+          settings.other_postures != 0};
 }
 
 std::unique_ptr<GraspGoalSampler> SamplingTools::makeSampler(bool coupled, std::mt19937_64& rng,

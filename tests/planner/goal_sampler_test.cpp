@@ -324,33 +324,5 @@ TEST(HftsGoalSampler, OtherPosturesAreTriedForStableLeavesWithoutAGoal) {
   }
 }
 
-TEST(HftsGoalSampler, MinLoadCapacityRejectsGoalsWhoseHandCannotCarryTheObject) {
-  // The same calls with a capacity above the minimum find the same goals
-  // as without one; below it, none, each counted as weak_load.
-  const auto run = [](std::function<double(const grasp::HandClosure&, const Eigen::VectorXd&)> f) {
-    test::TableMug setup;
-    setup.context.load_capacity = std::move(f);
-    setup.context.min_load_capacity = 1.0;
-    HftsGoalSampler sampler(setup.context, {});
-    for (int call = 0; call < 40; ++call) sampler.sample(setup.knowledge, [] { return false; });
-    return sampler.statistics();
-  };
-  int rated = 0;
-  const GoalSamplerStatistics plain = run({});
-  const GoalSamplerStatistics strong =
-      run([&rated](const grasp::HandClosure&, const Eigen::VectorXd&) {
-        ++rated;
-        return 2.0;
-      });
-  ASSERT_GT(plain.valid_goals, 0u);
-  EXPECT_EQ(strong.valid_goals, plain.valid_goals);
-  EXPECT_EQ(strong.rejected.weak_load, 0u);
-  EXPECT_GT(rated, 0);
-  const GoalSamplerStatistics weak =
-      run([](const grasp::HandClosure&, const Eigen::VectorXd&) { return 0.5; });
-  EXPECT_EQ(weak.valid_goals, 0u);
-  EXPECT_GT(weak.rejected.weak_load, 0u);
-}
-
 }  // namespace
 }  // namespace hfts::planner

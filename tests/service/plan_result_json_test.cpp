@@ -95,7 +95,7 @@ TEST(PlanResultJson, EchoesTheRequestAndStatistics) {
   EXPECT_EQ(j.at("stats").at("planning_time"), 0.5);
   EXPECT_EQ(j.at("stats").at("iterations"), 42);
   EXPECT_EQ(j.at("stats").at("path_length_smoothed"), 1.5);
-  EXPECT_EQ(j.at("stats").size(), 26u);
+  EXPECT_EQ(j.at("stats").size(), 25u);
   EXPECT_EQ(j.at("stats").at("rejected_colliding"), 0);
   for (const char* key : {"dropped_goals", "physics_checks", "physics_time",
                           "rejected_no_pad_contact", "rejected_weak_at_contacts"})

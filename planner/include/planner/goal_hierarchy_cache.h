@@ -67,16 +67,11 @@ struct CachedConfiguration {
   /// Ferrari-Canny epsilon at the contacts the closed hand touches (0
   /// without a closure or when not every pad touches).
   double contact_epsilon = 0.0;
-  /// grasp::loadCapacity of the closed hand, computed only for a
-  /// configuration that met every other criterion of a goal (NaN
-  /// otherwise, or without min_load_capacity).
-  double load_capacity = std::numeric_limits<double>::quiet_NaN();
   bool collision_free = false;
   /// A valid goal: a stable leaf whose free pre-grasp's hand closes to pad
   /// contacts with contact_epsilon >= min_epsilon, the closing motion and
   /// the closed grasp free under the grasp rule, the planned fingertips
-  /// within max_fingertip_error of the contacts, and (with
-  /// min_load_capacity) a load capacity of at least that.
+  /// within max_fingertip_error of the contacts.
   bool goal = false;
   bool returned = false;  ///< already handed to the motion planner
   FreeSpaceMemo memo;     ///< Omega and Gamma of the pre-grasp at the last rating

@@ -66,11 +66,6 @@ struct GoalSamplingContext {
   /// Whether a stable leaf without a goal tries the hand's other postures
   /// (GoalSamplingSettings::other_postures).
   bool other_postures = false;
-  /// The load capacity of a closed hand at a full configuration
-  /// (grasp::loadCapacity); empty: goals are not rated by it.
-  std::function<double(const grasp::HandClosure&, const Eigen::VectorXd&)> load_capacity{};
-  /// Smallest load capacity of a goal (with load_capacity).
-  double min_load_capacity = 0.0;
 };
 
 /// SAMPLEGOAL of Algorithm 1 (line 11): where the multi-tree planner gets
@@ -209,12 +204,6 @@ struct GoalSamplingSettings {
   /// How deep (m) a fingertip may be inside the object at the grasp and
   /// while closing; every other link must stay clear ("max_penetration").
   double max_penetration = robot::kDefaultMaxPenetration;
-  /// Smallest load capacity of a goal's closed hand (grasp::loadCapacity:
-  /// how many times the object's weight and the physics check's
-  /// disturbances its contacts can hold within the hand's rated efforts,
-  /// an upper bound), for a robot with hand_actuation; 0: not rated, as in
-  /// the paper ("min_load_capacity").
-  double min_load_capacity = 0.0;
   /// 1: the HFTS holds only the contacts a fingertip can touch where the
   /// object stands (grasp/contact_mask.h), and a plan fails at once when
   /// those allow no stable grasp; 0: every contact, as in the paper

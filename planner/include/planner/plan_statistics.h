@@ -38,15 +38,11 @@ struct GraspRejections {
   std::uint64_t no_pad_contact = 0;
   /// The contacts the closed hand touches have epsilon below min_epsilon.
   std::uint64_t weak_at_contacts = 0;
-  /// The contacts cannot carry the object's weight and the physics check's
-  /// disturbances within the hand's efforts (load capacity below
-  /// min_load_capacity); the closing motion is free.
-  std::uint64_t weak_load = 0;
   std::uint64_t closing_blocked = 0;  ///< the closing motion (pre-grasp -> grasp) collides
 
   std::uint64_t total() const {
     return unstable + no_arm_ik + out_of_hand_reach + colliding + no_pad_contact +
-           weak_at_contacts + closing_blocked + weak_load;
+           weak_at_contacts + closing_blocked;
   }
 };
 
@@ -127,7 +123,6 @@ void forEachStatistic(const PlanStatistics& s, F&& f) {
   f("rejected_no_pad_contact", s.rejected.no_pad_contact);
   f("rejected_weak_at_contacts", s.rejected.weak_at_contacts);
   f("rejected_closing_blocked", s.rejected.closing_blocked);
-  f("rejected_weak_load", s.rejected.weak_load);
 }
 
 }  // namespace hfts::planner

@@ -4,9 +4,7 @@
 // own: the collision checker's FCL objects move on every query and the
 // objective caches, so no two threads may share them.
 
-#include <functional>
 #include <memory>
-#include <optional>
 #include <random>
 
 #include "grasp/grasp_configurations.h"
@@ -25,13 +23,10 @@ struct SamplingTools {
   /// `scene` holds the target's pose and name. The objective is set up from
   /// `settings` (its options, hand_clearance: for a hand with a free turn
   /// blocked only when blocked at each of palm_turns turns), Phi(h) with its
-  /// palm_turns. With min_load_capacity, goals are rated by their load
-  /// capacity at the object's mass at `density` (physics::objectDensity:
-  /// the object's own unless given), for a robot with hand_actuation.
+  /// palm_turns.
   SamplingTools(const PlanningWorld& world, const robot::Scene& scene,
                 const grasp::HftsSpace& space, robot::CollisionChecker& checker,
-                const GoalSamplingSettings& settings,
-                const std::optional<double>& density = std::nullopt);
+                const GoalSamplingSettings& settings);
 
   /// What a goal sampler on these tools works with: random decisions from
   /// `rng`, closing motions checked at `approachResolution`, the fingertip
@@ -53,9 +48,6 @@ struct SamplingTools {
   /// for it: no grasp is then a goal).
   std::unique_ptr<const grasp::HandCloser> closer;
   grasp::GraspConfigurator configurator;
-  /// grasp::loadCapacity of a closed hand at a full configuration; empty
-  /// without min_load_capacity, hand_actuation or the object's surface.
-  std::function<double(const grasp::HandClosure&, const Eigen::VectorXd&)> loadCapacity;
 };
 
 }  // namespace hfts::planner
