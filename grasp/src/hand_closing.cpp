@@ -251,7 +251,10 @@ HandCloser::Touch HandCloser::firstTouch(const Finger& finger, const Eigen::Isom
           advance = std::min(advance, (gap[i].distance - options_.contact_distance / 2) / speed[i]);
         continue;
       }
-      if (pushesIn(gap[i], poses[l], posesAt(t + kProbeStep)[l])) {
+      // A link the closing does not move (its finger's DoF are still, at
+      // the planned posture already) touches where it is: within the
+      // contact distance it is a wall the other fingers push against.
+      if (!(speed[i] > 0.0) || pushesIn(gap[i], poses[l], posesAt(t + kProbeStep)[l])) {
         stopAt(finger, i, poses, gap[i], out);
         return out;
       }

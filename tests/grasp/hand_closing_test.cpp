@@ -84,6 +84,25 @@ TEST(HandCloser, APadShortOfTheSurfaceClosesOnToContact) {
   EXPECT_TRUE(closed.palm.isApprox(palmAroundOrigin(), 1e-12)) << "centred already";
 }
 
+TEST(HandCloser, AFingerTheClosingDoesNotMoveTouchesWhereItIsWithinTheContactDistance) {
+  // The planned posture is the open one: nothing moves. Jaws 0.05 mm off
+  // the 5 cm cube's faces touch them; 0.3 mm off, they do not. (A still
+  // finger 0.05 mm off once counted as stopped by its joint limit, and one
+  // just on the face as touching, so a plan's re-check from its pre-grasp
+  // could turn on the last digits of the palm.)
+  const db::ObjectGeometry box = cube(0.05);
+  const robot::ObjectSurface surface(box);
+  const HandCloser closer(panda(), surface);
+  for (const double jaw : {0.02505, 0.0253}) {
+    SCOPED_TRACE(jaw);
+    const Eigen::VectorXd still = Eigen::VectorXd::Constant(1, jaw);
+    const HandClosure closed = closer.close(palmAroundOrigin(), still, still);
+    EXPECT_EQ(closed.hand(0), jaw);
+    for (const FingerClosure& finger : closed.fingers)
+      EXPECT_EQ(finger.stop, jaw < 0.0252 ? FingerStop::kPadContact : FingerStop::kJointLimit);
+  }
+}
+
 TEST(HandCloser, AGrippersPalmMovesSoThatBothJawsTouch) {
   // The cube 3 mm towards the left jaw (+y): that jaw would touch first and
   // leave the right one 6 mm off; a gripper centres the object between its
