@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "grasp/hand_map_builder.h"
@@ -33,15 +34,20 @@ struct Case {
   Eigen::VectorXd pregrasp, grasp;
 };
 
+/// The bundled mesh of `object`, whatever its format.
+std::filesystem::path meshFile(const std::string& object) {
+  for (const auto& entry : std::filesystem::directory_iterator(kSource / "objects/meshes"))
+    if (entry.path().stem() == object) return entry.path();
+  throw std::runtime_error("no bundled mesh '" + object + "'");
+}
+
 std::shared_ptr<const planner::PlanningWorld> world(const std::string& robotName,
                                                     const std::string& object) {
   const robot::RobotModel model =
       robot::RobotModel::load(kSource / "robots" / robotName / (robotName + ".json"));
   db::HandMap map = grasp::buildHandMap(model);
   std::map<std::string, db::ObjectDatabase> objects;
-  objects.emplace(object, preprocess::buildObjectDatabaseFromFile(
-                              kSource / "objects/meshes" / (object + ".stl"), {})
-                              .database);
+  objects.emplace(object, preprocess::buildObjectDatabaseFromFile(meshFile(object), {}).database);
   return std::make_shared<planner::PlanningWorld>(model, std::move(map), std::move(objects));
 }
 
@@ -89,7 +95,7 @@ const bool registered = [] {
   const std::pair<const char*, const char*> robots[] = {
       {"panda", "panda_gripper"}, {"kr5", "kr5_sdh"}, {"ur5e", "ur5e_allegro"}};
   for (const auto& [shortName, robotName] : robots)
-    for (const char* object : {"box", "bottle"})
+    for (const char* object : {"box", "bottle", "mug", "bowl"})
       benchmark::RegisterBenchmark(
           (std::string("BM_SimulateGrasp/") + shortName + "_" + object).c_str(),
           [robotName = std::string(robotName), object = std::string(object)](
