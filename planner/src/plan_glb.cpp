@@ -18,6 +18,15 @@ std::string planGlb(const PlanningWorld& world, const PlanRequest& request,
   animation.contacts = result.grasp.contacts_world;
   animation.inward_normals = result.grasp.inward_normals_world;
   animation.path = result.path;
+  // The physics check's nominal trial, when the plan carries one.
+  if (result.validation && result.validation->physics)
+    for (const physics::MotionSample& m : result.validation->physics->nominal_motion) {
+      if (!animation.simulated_times.empty() && !(m.time > animation.simulated_times.back()))
+        continue;
+      animation.simulated_times.push_back(m.time);
+      animation.simulated_configurations.push_back(m.configuration);
+      animation.simulated_object.push_back(m.object);
+    }
   robot::Scene scene = request.scene;
   scene.target_object = request.object.empty() ? request.scene.target_object : request.object;
   const db::ObjectDatabase* object = world.object(scene.target_object);

@@ -1,6 +1,8 @@
 #include "robot/plan_export.h"
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "hfts_db/atomic_file.h"
 #include "hfts_db/invalid_argument.h"
@@ -18,24 +20,35 @@ using namespace glb;
 constexpr int kPathSteps = 16;
 constexpr double kMarkerRadius = 0.004, kNormalLength = 0.03;
 
-void check(const RobotModel& model, const PlanAnimation& plan) {
-  if (plan.times.empty()) throw InvalidArgument("times", "must not be empty");
-  if (plan.times.size() != plan.configurations.size())
-    throw InvalidArgument("configurations",
-                          "one per time expected: " + std::to_string(plan.times.size()) +
-                              " times, " + std::to_string(plan.configurations.size()));
-  for (std::size_t i = 0; i < plan.times.size(); ++i) {
-    if (!std::isfinite(plan.times[i]) || (i > 0 && !(plan.times[i] > plan.times[i - 1])))
-      throw InvalidArgument("times",
+/// Times and configurations of one animation; fields named with `prefix`.
+void checkMotion(const RobotModel& model, const std::vector<double>& times,
+                 const std::vector<Eigen::VectorXd>& configurations, const std::string& prefix) {
+  if (times.size() != configurations.size())
+    throw InvalidArgument(prefix + "configurations",
+                          "one per time expected: " + std::to_string(times.size()) + " times, " +
+                              std::to_string(configurations.size()));
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    if (!std::isfinite(times[i]) || (i > 0 && !(times[i] > times[i - 1])))
+      throw InvalidArgument(prefix + "times",
                             "must be finite and increasing (at " + std::to_string(i) + ")");
-    if (plan.configurations[i].size() != model.numDofs() || !plan.configurations[i].allFinite())
-      throw InvalidArgument("configurations[" + std::to_string(i) + "]",
+    if (configurations[i].size() != model.numDofs() || !configurations[i].allFinite())
+      throw InvalidArgument(prefix + "configurations[" + std::to_string(i) + "]",
                             std::to_string(model.numDofs()) + " finite values expected");
   }
+}
+
+void check(const RobotModel& model, const PlanAnimation& plan) {
+  if (plan.times.empty()) throw InvalidArgument("times", "must not be empty");
+  checkMotion(model, plan.times, plan.configurations, "");
   for (const Eigen::VectorXd& q : plan.path)
     if (q.size() != model.numDofs()) throw InvalidArgument("path", "configuration of wrong size");
   if (plan.contacts.cols() != plan.inward_normals.cols())
     throw InvalidArgument("inward_normals", "one per contact expected");
+  checkMotion(model, plan.simulated_times, plan.simulated_configurations, "simulated_");
+  if (plan.simulated_object.size() != plan.simulated_times.size())
+    throw InvalidArgument("simulated_object", "one pose per simulated time expected");
+  for (const Eigen::Isometry3d& pose : plan.simulated_object)
+    if (!pose.matrix().allFinite()) throw InvalidArgument("simulated_object", "must be finite");
 }
 
 /// A link's collision primitives in its own frame.
@@ -61,38 +74,57 @@ aiMatrix4x4 toAi(const Eigen::Isometry3d& pose) {
                      static_cast<float>(m(2, 2)), static_cast<float>(m(2, 3)), 0.f, 0.f, 0.f, 1.f);
 }
 
-/// One channel per link node: its world pose at every time.
-aiAnimation* animation(const RobotModel& model, const Scene& scene, const PlanAnimation& plan,
-                       const std::vector<std::size_t>& links) {
-  auto* a = new aiAnimation;
-  a->mName = "plan";
-  a->mTicksPerSecond = 1.0;
-  a->mDuration = plan.times.back();
-  a->mNumChannels = static_cast<unsigned>(links.size());
-  a->mChannels = new aiNodeAnim*[links.size()];
-  const auto keys = static_cast<unsigned>(plan.times.size());
-  for (std::size_t c = 0; c < links.size(); ++c) {
-    auto* channel = new aiNodeAnim;
-    channel->mNodeName = model.links()[links[c]].name;
-    channel->mNumPositionKeys = channel->mNumRotationKeys = keys;
-    channel->mPositionKeys = new aiVectorKey[keys];
-    channel->mRotationKeys = new aiQuatKey[keys];
-    a->mChannels[c] = channel;
-  }
+/// A node's channel keyed at `times` with the poses pose(k), world frame.
+template <typename PoseAt>
+aiNodeAnim* channel(const std::string& node, const std::vector<double>& times, PoseAt&& pose) {
+  auto* c = new aiNodeAnim;
+  c->mNodeName = node;
+  const auto keys = static_cast<unsigned>(times.size());
+  c->mNumPositionKeys = c->mNumRotationKeys = keys;
+  c->mPositionKeys = new aiVectorKey[keys];
+  c->mRotationKeys = new aiQuatKey[keys];
   for (unsigned k = 0; k < keys; ++k) {
-    const LinkPoses poses = forwardKinematics(model, plan.configurations[k]);
-    for (std::size_t c = 0; c < links.size(); ++c) {
-      const Eigen::Isometry3d pose = scene.robot_base * poses[links[c]];
-      const Eigen::Vector3d t = pose.translation();
-      const Eigen::Quaterniond q(pose.rotation());
-      a->mChannels[c]->mPositionKeys[k] = aiVectorKey(
-          plan.times[k], aiVector3D(static_cast<float>(t.x()), static_cast<float>(t.y()),
-                                    static_cast<float>(t.z())));
-      a->mChannels[c]->mRotationKeys[k] = aiQuatKey(
-          plan.times[k], aiQuaternion(static_cast<float>(q.w()), static_cast<float>(q.x()),
-                                      static_cast<float>(q.y()), static_cast<float>(q.z())));
-    }
+    const Eigen::Isometry3d p = pose(k);
+    const Eigen::Vector3d t = p.translation();
+    const Eigen::Quaterniond q(p.rotation());
+    c->mPositionKeys[k] =
+        aiVectorKey(times[k], aiVector3D(static_cast<float>(t.x()), static_cast<float>(t.y()),
+                                         static_cast<float>(t.z())));
+    c->mRotationKeys[k] =
+        aiQuatKey(times[k], aiQuaternion(static_cast<float>(q.w()), static_cast<float>(q.x()),
+                                         static_cast<float>(q.y()), static_cast<float>(q.z())));
   }
+  return c;
+}
+
+/// The object's node, moved by `motion(k)` (world frame; the node's mesh
+/// stands where the plan has the object).
+struct ObjectTrack {
+  std::string node;
+  std::function<Eigen::Isometry3d(unsigned)> motion;
+};
+
+/// The animation `name`: a channel per link node with its world pose along
+/// `configurations` at `times`, and one for the object's node when given.
+aiAnimation* animation(const char* name, const RobotModel& model, const Scene& scene,
+                       const std::vector<double>& times,
+                       const std::vector<Eigen::VectorXd>& configurations,
+                       const std::vector<std::size_t>& links, const ObjectTrack* object) {
+  std::vector<LinkPoses> poses;
+  poses.reserve(configurations.size());
+  for (const Eigen::VectorXd& q : configurations) poses.push_back(forwardKinematics(model, q));
+  std::vector<aiNodeAnim*> channels;
+  for (const std::size_t l : links)
+    channels.push_back(channel(model.links()[l].name, times,
+                               [&](unsigned k) { return scene.robot_base * poses[k][l]; }));
+  if (object != nullptr) channels.push_back(channel(object->node, times, object->motion));
+  auto* a = new aiAnimation;
+  a->mName = name;
+  a->mTicksPerSecond = 1.0;
+  a->mDuration = times.back();
+  a->mNumChannels = static_cast<unsigned>(channels.size());
+  a->mChannels = new aiNodeAnim*[channels.size()];
+  std::copy(channels.begin(), channels.end(), a->mChannels);
   return a;
 }
 
@@ -146,8 +178,27 @@ std::string planGlb(const RobotModel& model, const Scene& scene, const db::Objec
   }
   if (plan.path.size() >= 2) builder.addLines("path", palmTrace(model, scene, plan.path), kPath);
   aiScene& ai = builder.scene();
-  ai.mNumAnimations = 1;
-  ai.mAnimations = new aiAnimation* [1] { animation(model, scene, plan, moving) };
+  if (plan.simulated_times.empty() || target == nullptr) {
+    ai.mNumAnimations = 1;
+    ai.mAnimations = new aiAnimation* [1] {
+      animation("plan", model, scene, plan.times, plan.configurations, moving, nullptr)
+    };
+    return builder.glb("the plan");
+  }
+  // The object's mesh stands at the plan's pose: the simulation moves it
+  // from there, the plan holds it still.
+  const Eigen::Isometry3d back = plan.object_pose.inverse();
+  const ObjectTrack still{scene.target_object, [](unsigned) {
+                            return Eigen::Isometry3d(Eigen::Isometry3d::Identity());
+                          }};
+  const ObjectTrack simulated{scene.target_object,
+                              [&](unsigned k) { return plan.simulated_object[k] * back; }};
+  ai.mNumAnimations = 2;
+  ai.mAnimations = new aiAnimation* [2] {
+    animation("plan", model, scene, plan.times, plan.configurations, moving, &still),
+        animation("simulated", model, scene, plan.simulated_times, plan.simulated_configurations,
+                  moving, &simulated)
+  };
   return builder.glb("the plan");
 }
 

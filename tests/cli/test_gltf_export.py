@@ -69,7 +69,8 @@ class GltfExport(ServerTest):
                         "--db", CONFIG.db_dir], check=True, capture_output=True, timeout=120)
         files.append(scene)
         lines = self.validate(*files)
-        self.assertRegex(lines[0], r", 1 animations, ")
+        # The plan, and the physics check's simulated lift of its grasp.
+        self.assertRegex(lines[0], r", 2 animations, ")
 
     def test_every_bundled_robot_is_exported_with_its_links(self):
         links = {"kr5_sdh": ["link_6", "thumb_distal"],
@@ -104,22 +105,37 @@ class GltfExport(ServerTest):
         plan = self.server.call("plan", {"scene": "table", "seed": 1, "time_limit": 20,
                                          "trajectory_rate": 50})["result"]
         self.assertEqual(len(plan["grasp"]["contacts_world"]), 3)
-        [animation] = doc["animations"]
-        animated = {doc["nodes"][c["target"]["node"]]["name"] for c in animation["channels"]}
+        self.assertEqual([a["name"] for a in doc["animations"]], ["plan", "simulated"])
+        animation, simulated = doc["animations"]
         links_with_geometry = {"link_1", "link_2", "palm", "finger_1_distal", "thumb_distal"}
-        self.assertTrue(links_with_geometry <= animated, animated)
-        self.assertNotIn("mug", animated)
-        palm = names.index("palm")
-        [translation] = [c for c in animation["channels"]
-                         if c["target"] == {"node": palm, "path": "translation"}]
-        sampler = animation["samplers"][translation["sampler"]]
-        times = [t[0] for t in accessor_values(doc, data, sampler["input"])]
-        positions = accessor_values(doc, data, sampler["output"])
+        for a in doc["animations"]:
+            animated = {doc["nodes"][c["target"]["node"]]["name"] for c in a["channels"]}
+            self.assertTrue(links_with_geometry | {"mug"} <= animated, animated)
+
+        def keys(a, node):
+            [translation] = [c for c in a["channels"]
+                             if c["target"] == {"node": names.index(node), "path": "translation"}]
+            sampler = a["samplers"][translation["sampler"]]
+            return ([t[0] for t in accessor_values(doc, data, sampler["input"])],
+                    accessor_values(doc, data, sampler["output"]))
+
+        def distance(a, b):
+            return sum((x - y) ** 2 for x, y in zip(a, b)) ** 0.5
+
+        times, positions = keys(animation, "palm")
         self.assertEqual(len(times), len(plan["trajectory"]["points"]))
         self.assertAlmostEqual(times[-1], plan["trajectory"]["duration"], places=4)
         self.assertEqual(times[0], 0.0)
-        moved = sum((a - b) ** 2 for a, b in zip(positions[0], positions[-1])) ** 0.5
-        self.assertGreater(moved, 0.05, "the palm moves from the start to the grasp")
+        self.assertGreater(distance(positions[0], positions[-1]), 0.05,
+                           "the palm moves from the start to the grasp")
+        _, mug = keys(animation, "mug")
+        self.assertEqual(max(distance(m, mug[0]) for m in mug), 0.0, "the plan leaves the mug")
+        # The simulation lifts the mug 10 cm along the arm's retreat, and it
+        # stays in the hand.
+        times, mug = keys(simulated, "mug")
+        self.assertLess(times[0], 0.01, "the simulation's first step")
+        self.assertGreater(times[-1], 2.0)
+        self.assertTrue(0.08 < max(distance(m, mug[0]) for m in mug) < 0.15)
 
     def test_no_gltf_without_a_plan_and_bad_values_are_refused(self):
         glb = os.path.join(self.tmp, "none.glb")

@@ -22,7 +22,7 @@ HEADER = ["scene", "object", "algorithm", "seed", "success", "failure", "time", 
           "rejected_colliding", "rejected_closing_blocked", "fingertip_error",
           "planned_epsilon", "penetration", "rejected_no_pad_contact",
           "rejected_weak_at_contacts", "planned", "held", "held_fraction", "physics_failure",
-          "lift"]
+          "lift", "dropped_goals", "physics_checks", "physics_time"]
 TIME_LIMIT = 10
 
 
@@ -90,6 +90,13 @@ class BenchCli(unittest.TestCase):
             self.assertGreaterEqual(gns, 0)
             self.assertGreater(int(r["collision_checks"]), 0)
             self.assertGreater(float(r["cpu_time"]), 0.0)
+            # A goal is dropped only after a simulation of its hand closure
+            # failed, and simulations take time.
+            dropped, checks = int(r["dropped_goals"]), int(r["physics_checks"])
+            self.assertGreaterEqual(dropped, 0, r)
+            self.assertGreaterEqual(checks, 1 if dropped > 0 else 0, r)
+            self.assertEqual(float(r["physics_time"]) > 0.0, checks > 0, r)
+            self.assertLessEqual(float(r["physics_time"]), float(r["time"]) + 0.5, r)
             if planned:
                 self.assertGreaterEqual(float(r["epsilon"]), 0.0)
                 self.assertGreater(float(r["path_length"]), 0.0)

@@ -3,7 +3,8 @@
 hfts-client, written as one page by `hfts-client view`, opened in headless
 Chromium (Debian's chromium, driven by puppeteer-core from npm; both
 installed by scripts/setup.sh): no console errors, the robot moves between
-the first and the last frame where the palm is, the contacts are drawn.
+the first and the last frame where the palm is, the contacts are drawn, the
+simulated lift plays.
 Run by ctest with /usr/bin/python3; standard library only."""
 
 import json
@@ -52,6 +53,15 @@ class Viewer(ServerTest):
                 # The robot moved: many pixels change near the palm's two places.
                 self.assertGreater(report["changedNearPalm"], 2000, report)
                 self.assertGreater(report["redPixels"], 10, report)
+                # The planner simulated the grasp (physics_check): the page
+                # also plays the simulated lift, the object rising 10 cm.
+                self.assertTrue(plan["physics"]["held"])
+                self.assertEqual(report["clips"], ["plan", "simulated"])
+                self.assertAlmostEqual(report["simulatedDuration"],
+                                       plan["physics"]["motion"][-1]["time"], places=3)
+                self.assertGreater(report["objectMoved"], 0.08, report)
+                self.assertLess(report["objectMoved"], 0.12, report)
+                self.assertIn(report["phaseAtLift"], ("lift", "hold"))
 
     def test_the_explored_nodes_are_drawn_on_the_object(self):
         plan_path = os.path.join(self.tmp, "explored.json")

@@ -11,6 +11,7 @@
 #include "robot/kinematics.h"
 
 #include "robot_fixture.h"
+#include "test_meshes.h"
 
 namespace hfts::robot {
 namespace {
@@ -60,6 +61,59 @@ TEST(PlanExport, EveryLinkWithGeometryIsAnimatedAlongTheGivenTimes) {
   EXPECT_NE(read->mRootNode->FindNode("contacts"), nullptr);
 }
 
+/// `plan` with a simulated motion: the arm still, the object (a cube)
+/// rising 10 cm in 1 s.
+PlanAnimation withSimulatedLift(PlanAnimation plan, const RobotModel& robot) {
+  for (int k = 0; k <= 10; ++k) {
+    plan.simulated_times.push_back(0.1 * k);
+    plan.simulated_configurations.push_back(robot.home());
+    plan.simulated_object.push_back(Eigen::Translation3d(0.5, 0.0, 0.01 * k) *
+                                    Eigen::Isometry3d::Identity());
+  }
+  plan.object_pose = Eigen::Translation3d(0.5, 0.0, 0.0) * Eigen::Isometry3d::Identity();
+  return plan;
+}
+
+const aiNodeAnim* channelOf(const aiAnimation& a, const char* node) {
+  for (unsigned c = 0; c < a.mNumChannels; ++c)
+    if (std::strcmp(a.mChannels[c]->mNodeName.C_Str(), node) == 0) return a.mChannels[c];
+  return nullptr;
+}
+
+TEST(PlanExport, ASimulatedMotionIsASecondAnimationThatMovesTheObjectToo) {
+  const RobotModel& robot = test::kr5Sdh();
+  const TriangleMesh cube = test::cube(0.04);
+  db::ObjectGeometry object;
+  object.mesh_vertices = cube.vertices;
+  object.mesh_triangles = cube.triangles;
+  Scene scene;
+  scene.target_object = "cube";
+  const std::string glb = planGlb(robot, scene, &object, withSimulatedLift(moveA1(robot), robot));
+  Assimp::Importer importer;
+  const aiScene* read = importer.ReadFileFromMemory(glb.data(), glb.size(), 0, "glb");
+  ASSERT_NE(read, nullptr) << importer.GetErrorString();
+  ASSERT_EQ(read->mNumAnimations, 2u);
+  const aiAnimation& plan = *read->mAnimations[0];
+  const aiAnimation& simulated = *read->mAnimations[1];
+  EXPECT_STREQ(plan.mName.C_Str(), "plan");
+  EXPECT_STREQ(simulated.mName.C_Str(), "simulated");
+  // Both move the links and the object's node: the plan holds it where
+  // its mesh stands, the simulation lifts it 10 cm.
+  ASSERT_EQ(plan.mNumChannels, simulated.mNumChannels);
+  const aiNodeAnim* still = channelOf(plan, "cube");
+  const aiNodeAnim* lifted = channelOf(simulated, "cube");
+  ASSERT_NE(still, nullptr);
+  ASSERT_NE(lifted, nullptr);
+  const aiVector3D& held = still->mPositionKeys[still->mNumPositionKeys - 1].mValue;
+  EXPECT_NEAR(held.Length(), 0.0, 1e-6);
+  ASSERT_EQ(lifted->mNumPositionKeys, 11u);
+  const aiVector3D& top = lifted->mPositionKeys[10].mValue;
+  EXPECT_NEAR(top.x, 0.0, 1e-6);
+  EXPECT_NEAR(top.y, 0.0, 1e-6);
+  EXPECT_NEAR(top.z, 0.1, 1e-6);
+  EXPECT_NE(channelOf(simulated, "palm"), nullptr);
+}
+
 TEST(PlanExport, BadAnimationsAreRefusedByField) {
   const RobotModel& robot = test::kr5Sdh();
   const auto field = [&](const PlanAnimation& plan) {
@@ -84,6 +138,15 @@ TEST(PlanExport, BadAnimationsAreRefusedByField) {
   p.inward_normals = Eigen::Matrix3Xd::Zero(3, 1);
   EXPECT_EQ(field(p), "inward_normals");
   EXPECT_EQ(field(PlanAnimation{}), "times");
+  p = withSimulatedLift(moveA1(robot), robot);
+  p.simulated_object.pop_back();
+  EXPECT_EQ(field(p), "simulated_object");
+  p = withSimulatedLift(moveA1(robot), robot);
+  p.simulated_times[4] = p.simulated_times[3];
+  EXPECT_EQ(field(p), "simulated_times");
+  p = withSimulatedLift(moveA1(robot), robot);
+  p.simulated_configurations[2] = Eigen::VectorXd::Zero(2);
+  EXPECT_EQ(field(p), "simulated_configurations[2]");
   EXPECT_THROW(exportPlanGlb(robot, Scene{}, nullptr, moveA1(robot), "plan.gltf"), InvalidArgument);
 }
 

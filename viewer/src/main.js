@@ -1,7 +1,8 @@
 // The plan viewer (docs/viewer.md): a plan's animated glTF (robot, scene,
 // object, path) with its plan JSON (grasp, statistics). Play, pause and
 // scrub the trajectory, orbit the camera, see the contacts with their
-// normals and friction cones. `hfts-client view PLAN.json -o plan.html`
+// normals and friction cones; with a physics verdict, play the simulated
+// lift (the glTF's second animation) instead. `hfts-client view PLAN.json -o plan.html`
 // embeds everything in one page (window.HFTS_PLAN, window.HFTS_GLB_BASE64);
 // without them the page asks for the two files.
 import * as THREE from 'three';
@@ -94,7 +95,26 @@ function statsTable(plan) {
     ['friction cones', `mu = ${FRICTION}`],
   ];
   if (plan.explored) rows.push(['explored nodes', `${plan.explored.length} (blue: low, red: high Eq. 1 value)`]);
+  const p = plan.physics;
+  if (p) {
+    const held = p.trials.filter((trial) => trial.held).length;
+    rows.push(['physics', `${p.held ? 'held' : 'NOT held'}, in ${held} of ${p.trials.length} trials`]);
+    const failed = p.trials.find((trial) => !trial.held);
+    if (failed) rows.push(['first failure', `${failed.name}: ${failed.failure}`]);
+    rows.push(['lift', p.lift_direction]);
+  }
   return rows.map(([k, v]) => `<tr><th>${k}</th><td>${v}</td></tr>`).join('');
+}
+
+/// The phase of the simulated trial at time t (plan.physics.motion).
+function phaseAt(plan, t) {
+  const samples = (plan.physics && plan.physics.motion) || [];
+  let phase = '';
+  for (const s of samples) {
+    if (s.time > t + 1e-9) break;
+    phase = s.phase;
+  }
+  return phase;
 }
 
 function show(plan, glb) {
@@ -137,15 +157,16 @@ function show(plan, glb) {
     grid.position.y = box.min.y;
 
     const mixer = new THREE.AnimationMixer(gltf.scene);
-    const clip = gltf.animations[0];
-    const action = mixer.clipAction(clip);
-    action.setLoop(THREE.LoopOnce);
-    action.clampWhenFinished = true;
-    action.play();
+    // "plan": the trajectory; "simulated": the physics check's nominal
+    // trial (close, lift, hold, disturbances), when the plan has one.
+    const clips = new Map(gltf.animations.map((c) => [c.name, c]));
+    let clip = clips.get('plan') || gltf.animations[0];
+    let action = null;
     const slider = document.getElementById('time');
     const label = document.getElementById('clock');
     const button = document.getElementById('play');
-    slider.max = clip.duration;
+    const chooser = document.getElementById('clip');
+    chooser.parentElement.hidden = !clips.has('simulated');
     let playing = false;
     let last = performance.now();
     const setTime = (t) => {
@@ -154,9 +175,24 @@ function show(plan, glb) {
       action.enabled = true;
       mixer.setTime(clamped);
       slider.value = clamped;
-      label.textContent = `${clamped.toFixed(2)} / ${clip.duration.toFixed(2)} s`;
+      const phase = clip.name === 'simulated' ? ` ${phaseAt(plan, clamped)}` : '';
+      label.textContent = `${clamped.toFixed(2)} / ${clip.duration.toFixed(2)} s${phase}`;
       renderer.render(scene, camera);
     };
+    const selectClip = (name) => {
+      if (!clips.has(name)) return false;
+      mixer.stopAllAction();
+      clip = clips.get(name);
+      action = mixer.clipAction(clip);
+      action.setLoop(THREE.LoopOnce);
+      action.clampWhenFinished = true;
+      action.play();
+      slider.max = clip.duration;
+      chooser.value = name;
+      setTime(0);
+      return true;
+    };
+    selectClip(clip.name);
     const setPlaying = (on) => {
       playing = on;
       button.textContent = on ? 'Pause' : 'Play';
@@ -164,6 +200,10 @@ function show(plan, glb) {
       last = performance.now();
     };
     button.onclick = () => setPlaying(!playing);
+    chooser.onchange = () => {
+      setPlaying(false);
+      selectClip(chooser.value);
+    };
     slider.oninput = () => {
       setPlaying(false);
       setTime(parseFloat(slider.value));
@@ -184,12 +224,23 @@ function show(plan, glb) {
     requestAnimationFrame(frame);
     // For tests and scripts: the state of the page and a way to move in time.
     window.viewer = {
-      duration: clip.duration,
+      get duration() { return clip.duration; },
       contacts: plan.grasp.contacts_world.length,
       markers: markers.children.length,
       explored: explored.children.length,
-      animatedNodes: new Set(clip.tracks.map((t) => t.name.split('.')[0])).size,
+      get animatedNodes() { return new Set(clip.tracks.map((t) => t.name.split('.')[0])).size; },
+      clips: [...clips.keys()],
+      selectClip,
+      phase: () => (clip.name === 'simulated' ? phaseAt(plan, mixer.time) : ''),
       setTime,
+      /// The centre of a node's geometry (a link's or the object's name) in
+      /// the view's world (glTF's y up), in metres.
+      worldPosition: (name) => {
+        const node = gltf.scene.getObjectByName(name);
+        if (!node) return null;
+        const p = new THREE.Box3().setFromObject(node).getCenter(new THREE.Vector3());
+        return {x: p.x, y: p.y, z: p.z};
+      },
       /// Where a node (a link's name) is on the canvas now, in CSS pixels.
       screenPosition: (name) => {
         const node = gltf.scene.getObjectByName(name);

@@ -4,8 +4,10 @@
 // console errors, what the viewer drew (contacts, markers, animated
 // nodes), how many pixels change between the first and the last frame
 // near the palm's two screen positions, and the red (contact) pixels of
-// the first frame (the fingers cover the contacts in the last).
-// Writes first.png and last.png to OUTDIR.
+// the first frame (the fingers cover the contacts in the last). With a
+// simulated lift (the glTF's "simulated" animation), also how far the
+// object's node moves from its start to the end of the lift (m) and the
+// phase shown there. Writes first.png and last.png (and lifted.png) to OUTDIR.
 //   node viewer/tools/check_viewer.js PAGE.html OUTDIR [--chromium PATH]
 'use strict';
 const fs = require('fs');
@@ -34,6 +36,7 @@ async function main() {
     page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
     page.on('pageerror', (e) => errors.push(String(e)));
     await page.goto('file://' + path.resolve(page_));
+    const plan = await page.evaluate(() => window.HFTS_PLAN);
     await page.waitForFunction('window.viewerReady === true', {timeout: 90000});
     const grab = async (time, file) => {
       const palm = await page.evaluate((t) => {
@@ -83,7 +86,20 @@ async function main() {
     });
     await grab(0, 'first.png');
     await grab(viewer.duration, 'last.png');
-    console.log(JSON.stringify({consoleErrors: errors, ...viewer, ...comparison}));
+    const simulated = await page.evaluate((object) => {
+      const v = window.viewer;
+      if (!v.clips.includes('simulated') || !v.selectClip('simulated')) return {clips: v.clips};
+      // The trial's phases: settle 0.3 s, close 1 s, lift 1 s (docs/physics.md).
+      v.setTime(0);
+      const start = v.worldPosition(object);
+      v.setTime(2.3);
+      const lifted = v.worldPosition(object);
+      const moved = Math.hypot(lifted.x - start.x, lifted.y - start.y, lifted.z - start.z);
+      return {clips: v.clips, simulatedDuration: v.duration, objectMoved: moved,
+              phaseAtLift: v.phase()};
+    }, plan.object);
+    if (simulated.objectMoved !== undefined) await page.screenshot({path: path.join(outDir, 'lifted.png')});
+    console.log(JSON.stringify({consoleErrors: errors, ...viewer, ...comparison, ...simulated}));
   } finally {
     await browser.close();
   }

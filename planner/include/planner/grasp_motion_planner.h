@@ -25,7 +25,9 @@ std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world);
 
 /// A successful plan as an animated binary glTF (robot/plan_export.h):
 /// the request's scene, the object where it was planned, the robot moving
-/// along the result's trajectory, the contacts and the path. Throws
+/// along the result's trajectory, the contacts and the path; with a
+/// physics verdict (validate, or the planner's physics_check) also the
+/// simulated lift, its nominal trial, as the animation "simulated". Throws
 /// InvalidArgument ("trajectory") when the result has no trajectory.
 std::string planGlb(const PlanningWorld& world, const PlanRequest& request,
                     const PlanResult& result);

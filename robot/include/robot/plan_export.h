@@ -23,14 +23,25 @@ struct PlanAnimation {
   Eigen::Isometry3d object_pose = Eigen::Isometry3d::Identity();  ///< the target, world frame
   Eigen::Matrix3Xd contacts, inward_normals;  ///< world frame, one column per contact
   std::vector<Eigen::VectorXd> path;          ///< the planned path (drawn through the palm)
+  /// A simulated motion of the grasp (the physics check's nominal trial:
+  /// close, lift, hold, disturbances), shown as a second animation: robot
+  /// configurations and the object's pose (world frame) at
+  /// `simulated_times`, s from 0. Empty: none.
+  std::vector<double> simulated_times;
+  std::vector<Eigen::VectorXd> simulated_configurations;
+  std::vector<Eigen::Isometry3d, Eigen::aligned_allocator<Eigen::Isometry3d>> simulated_object;
 };
 
 /// The .glb bytes (assimp's glTF 2 exporter; world frame turned to glTF's
 /// y up, metres). One animation, "plan", with a translation and a
-/// rotation channel per link node, keyed at `times`. Throws
-/// InvalidArgument naming the field: times and configurations of
+/// rotation channel per link node, keyed at `times`; with a simulated
+/// motion a second one, "simulated", whose channels move the links and
+/// the object's node too (and "plan" then keeps the object still with a
+/// channel of its own, so that either can be played after the other).
+/// Throws InvalidArgument naming the field: times and configurations of
 /// different lengths, empty, not increasing or not finite, a configuration
-/// of the wrong size, contacts and normals of different shapes.
+/// of the wrong size, contacts and normals of different shapes, likewise
+/// for the simulated times, configurations and object poses.
 std::string planGlb(const RobotModel& model, const Scene& scene, const db::ObjectGeometry* target,
                     const PlanAnimation& plan);
 
