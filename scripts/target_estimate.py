@@ -2,7 +2,7 @@
 """Issue 43's second target over several seeds: planned-and-held on the
 cases where some planner finds a held grasp, per robot and per scene.
 
-  scripts/target_estimate.py ROBOT=RUN.csv[,RUN.csv...][:REFERENCE_DIR] [...]
+  scripts/target_estimate.py [--evidence ROBOT=OLD.csv[,...]] ROBOT=RUN.csv[,RUN.csv...][:REFERENCE_DIR] [...]
 
 Each RUN.csv is one hfts-bench run over the same cases (one seed each;
 success = planned and held). A case is solvable when some run held in it,
@@ -15,7 +15,11 @@ H / (R (S + F k / n)), H the held runs and R the runs per case; the Wilson
 95 % interval of k / n is carried through (without references: the rate
 over the cases some run solved, an upper bound). Only what the runs and
 the reference found counts, so the solvable cases are counted from below
-and the rate from above.
+and the rate from above. --evidence adds runs of other planners (older
+binaries, other settings) that count only as evidence that a case is
+solvable: a case one of them held in is solvable, and the references
+sample the cases that every run and every evidence run failed; H and R
+stay those of the measured runs.
 """
 import argparse
 import csv
@@ -54,10 +58,10 @@ def read_references(directory, robot):
     return refs
 
 
-def estimate(held, refs):
+def estimate(held, refs, evidence):
     runs = len(next(iter(held.values())))
-    solved = [c for c, v in held.items() if any(v)]
-    failed = [c for c, v in held.items() if not any(v)]
+    solved = [c for c, v in held.items() if any(v) or any(evidence.get(c, []))]
+    failed = [c for c, v in held.items() if not (any(v) or any(evidence.get(c, [])))]
     hits = sum(sum(v) for v in held.values())
     sampled = [c for c in failed if c in refs]
     n, k = len(sampled), sum(refs[c] for c in sampled)
@@ -76,7 +80,14 @@ def estimate(held, refs):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("spec", nargs="+", help="ROBOT=RUN.csv[,RUN.csv...][:REFERENCE_DIR]")
+    parser.add_argument("--evidence", action="append", default=[],
+                        help="ROBOT=RUN.csv[,...]: runs that only show which cases are solvable")
     args = parser.parse_args()
+    evidence = {}
+    for spec in args.evidence:
+        robot, _, paths = spec.partition("=")
+        for case, v in read_runs(paths.split(",")).items():
+            evidence.setdefault(robot, {}).setdefault(case, []).extend(v)
     print("| robot | scene | runs planned and held | cases held in some run | cases failed "
           "in every run | reference solved (sampled) | estimated rate over solvable cases |")
     print("| --- | --- | --- | --- | --- | --- | --- |")
@@ -91,7 +102,7 @@ def main():
             total = sum(len(v) for v in mine.values())
             lo, hi = wilson(hits, total)
             print(f"| {robot} | {scene or 'all'} | {hits}/{total} = {hits / total:.2f} "
-                  f"[{lo:.2f}, {hi:.2f}] | {estimate(mine, refs)} |")
+                  f"[{lo:.2f}, {hi:.2f}] | {estimate(mine, refs, evidence.get(robot, {}))} |")
 
 
 if __name__ == "__main__":
