@@ -44,6 +44,7 @@ Holdability holdability(const PlanningWorld& world, const PlanRequest& request, 
   }
   Problem p(world, *object, request, startOf(world.robot(), request));
   auto cannot = checkTarget(p);
+  if (cannot.first == PlanFailure::kNone) cannot = checkReach(p);
   if (cannot.first == PlanFailure::kNone) cannot = checkGraspable(p);
   if (cannot.first != PlanFailure::kNone) {
     out.reason = cannot.second;

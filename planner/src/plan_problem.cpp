@@ -3,6 +3,9 @@
 #include <iomanip>
 #include <sstream>
 
+#include "robot/kinematics.h"
+#include "robot/object_surface.h"
+
 namespace hfts::planner {
 
 Eigen::VectorXd startOf(const robot::RobotModel& robot, const PlanRequest& request) {
@@ -31,10 +34,25 @@ std::pair<PlanFailure, std::string> checkTarget(Problem& p) {
   return {PlanFailure::kNone, ""};
 }
 
+std::pair<PlanFailure, std::string> checkReach(const Problem& p) {
+  const robot::ObjectSurface* surface = p.world.surface(p.object.name);
+  if (surface == nullptr) return {PlanFailure::kNone, ""};
+  const robot::ReachBall reach = robot::fingertipReach(p.world.robot());
+  const Eigen::Vector3d centre = p.scene.target_pose.inverse() * p.scene.robot_base * reach.centre;
+  const double distance = surface->nearest(centre).signed_distance;
+  if (distance <= reach.radius + p.world.padRadius()) return {PlanFailure::kNone, ""};
+  std::ostringstream why;
+  why << std::fixed << std::setprecision(3) << "the object is out of reach: its surface is "
+      << distance << " m from the arm's first joint, and no fingertip reaches farther than "
+      << reach.radius + p.world.padRadius() << " m from it";
+  return {PlanFailure::kObjectUnreachable, why.str()};
+}
+
 /// Why planning cannot start in this scene (kNone: it can): checkTarget,
-/// then the start configuration.
+/// checkReach, then the start configuration.
 std::pair<PlanFailure, std::string> checkScene(Problem& p) {
   if (auto why = checkTarget(p); why.first != PlanFailure::kNone) return why;
+  if (auto why = checkReach(p); why.first != PlanFailure::kNone) return why;
   robot::CollisionPair pair;
   if (p.checker.inCollision(p.start, &pair))
     return {PlanFailure::kStartInCollision,

@@ -95,8 +95,14 @@ struct Problem {
 /// Whether the target intersects an obstacle where it stands (kNone: not).
 std::pair<PlanFailure, std::string> checkTarget(Problem& p);
 
+/// Whether the object lies beyond every fingertip's reach (kNone: it may
+/// not): its surface farther from the arm's first axis than
+/// robot::fingertipReach's ball and a pad's radius, exactly (the
+/// surface's nearest point). An object without a surface is not checked.
+std::pair<PlanFailure, std::string> checkReach(const Problem& p);
+
 /// Why planning cannot start in this scene (kNone: it can): checkTarget,
-/// then the start configuration.
+/// checkReach, then the start configuration.
 std::pair<PlanFailure, std::string> checkScene(Problem& p);
 
 /// Why no grasp can be stable where the object stands (kNone: one may be).

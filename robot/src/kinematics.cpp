@@ -1,5 +1,8 @@
 #include "robot/kinematics.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "sin_cos.h"
 
 namespace hfts::robot {
@@ -72,6 +75,50 @@ FingertipFrames fingertipFrames(const RobotModel& model, const LinkPoses& poses)
     out.normals.col(static_cast<Eigen::Index>(i)) = pose.linear() * tips[i].normal;
   }
   return out;
+}
+
+ReachBall fingertipReach(const RobotModel& model) {
+  const std::vector<Joint>& joints = model.joints();
+  const LinkPoses home = forwardKinematics(model, model.home());
+  // The largest |value| a joint takes within its DoF's limits.
+  const auto largestValue = [&](const Joint& joint) {
+    const auto dof = static_cast<Eigen::Index>(joint.dof);
+    return std::max(std::abs(joint.multiplier * model.lowerLimits()(dof) + joint.offset),
+                    std::abs(joint.multiplier * model.upperLimits()(dof) + joint.offset));
+  };
+  ReachBall ball;
+  bool centred = false;
+  for (const Fingertip& tip : model.fingertips()) {
+    // From the fingertip's link up to the first moving joint: the lengths
+    // below it, and where it is (every joint above it is fixed).
+    double length = tip.point.norm();
+    Eigen::Vector3d anchor = home[static_cast<std::size_t>(tip.link)].translation();
+    for (int l = tip.link; model.links()[static_cast<std::size_t>(l)].parent_joint >= 0;) {
+      const Joint& joint =
+          joints[static_cast<std::size_t>(model.links()[static_cast<std::size_t>(l)].parent_joint)];
+      l = joint.parent_link;
+      if (joint.type == Joint::Type::kPrismatic) length += largestValue(joint) * joint.slide.norm();
+      bool movesAbove = false;
+      for (int k = l; model.links()[static_cast<std::size_t>(k)].parent_joint >= 0;) {
+        const Joint& above = joints[static_cast<std::size_t>(
+            model.links()[static_cast<std::size_t>(k)].parent_joint)];
+        movesAbove = movesAbove || above.type != Joint::Type::kFixed;
+        k = above.parent_link;
+      }
+      if (joint.type != Joint::Type::kFixed && !movesAbove) {
+        // The first moving joint: its frame's origin stays where it is.
+        anchor = (home[static_cast<std::size_t>(joint.parent_link)] * joint.origin).translation();
+        break;
+      }
+      length += joint.origin.translation().norm();
+    }
+    if (!centred) {
+      ball.centre = anchor;
+      centred = true;
+    }
+    ball.radius = std::max(ball.radius, (anchor - ball.centre).norm() + length);
+  }
+  return ball;
 }
 
 }  // namespace hfts::robot

@@ -46,7 +46,7 @@ class GltfExport(ServerTest):
 
     def plan_glb(self, scene):
         glb = os.path.join(self.tmp, scene + "_plan.glb")
-        result = self.client("plan", "--scene", scene, "--seed", "1", "--time-limit", "20",
+        result = self.client("plan", "--scene", scene, "--seed", "1", "--time-limit", "60",
                              "--gltf", glb, "--trajectory-rate", "50")
         self.assertEqual(result.returncode, 0, result.stderr)
         return glb
@@ -102,7 +102,7 @@ class GltfExport(ServerTest):
         for expected in ("palm", "link_1", "thumb_distal", "mug", "contacts", "contact_normals",
                          "path"):
             self.assertIn(expected, names)
-        plan = self.server.call("plan", {"scene": "table", "seed": 1, "time_limit": 20,
+        plan = self.server.call("plan", {"scene": "table", "seed": 1, "time_limit": 60,
                                          "trajectory_rate": 50})["result"]
         self.assertEqual(len(plan["grasp"]["contacts_world"]), 3)
         self.assertEqual([a["name"] for a in doc["animations"]], ["plan", "simulated"])

@@ -20,7 +20,7 @@ class Viewer(ServerTest):
     def page(self, scene):
         plan = os.path.join(self.tmp, scene + ".json")
         result = self.client("--out", plan, "plan", "--scene", scene, "--seed", "1",
-                             "--time-limit", "20", "--gltf", os.path.join(self.tmp, scene + ".glb"))
+                             "--time-limit", "60", "--gltf", os.path.join(self.tmp, scene + ".glb"))
         self.assertEqual(result.returncode, 0, result.stderr)
         html = os.path.join(self.tmp, scene + ".html")
         result = self.client("view", plan, "-o", html)

@@ -340,14 +340,20 @@ TEST(Holdability, TheKr5HoldsTheMugOnTheTableButNothingInTheSlot) {
   EXPECT_EQ(slot.climbs, 0);
   EXPECT_NE(slot.reason.find("no stable grasp is possible"), std::string::npos) << slot.reason;
 
-  // 3 m away the hand alone takes the mug, the arm does not reach it.
+  // 3 m away: beyond the fingertips' reach ball, decided before any climb.
   const Holdability far =
       holdability(world(), test::outOfReachRequest(PlanAlgorithm::kCoupled), 20);
   EXPECT_FALSE(far.holdable);
-  EXPECT_GT(far.hand_clear, 0);
-  EXPECT_EQ(far.climbs, 20);
-  EXPECT_NE(far.reason.find("none with a collision-free arm configuration"), std::string::npos)
-      << far.reason;
+  EXPECT_EQ(far.climbs, 0);
+  EXPECT_NE(far.reason.find("out of reach"), std::string::npos) << far.reason;
+  // 1.3 m away the hand alone takes the mug, the arm does not reach it.
+  const Holdability near =
+      holdability(world(), test::justOutOfReachRequest(PlanAlgorithm::kCoupled), 20);
+  EXPECT_FALSE(near.holdable);
+  EXPECT_GT(near.hand_clear, 0);
+  EXPECT_EQ(near.climbs, 20);
+  EXPECT_NE(near.reason.find("none with a collision-free arm configuration"), std::string::npos)
+      << near.reason;
 
   PlanRequest unknown = mug;
   unknown.object = "nothing";
@@ -451,9 +457,23 @@ TEST(GraspMotionPlanner, UnknownObjectIsReported) {
 }
 
 TEST(GraspMotionPlanner, UnreachableObjectIsReported) {
-  const PlanResult result = planGrasp(world(), test::outOfReachRequest(PlanAlgorithm::kCoupled));
-  EXPECT_FALSE(result.success);
-  EXPECT_EQ(result.failure, PlanFailure::kObjectUnreachable) << result.message;
+  // 3 m away the object is beyond the fingertips' reach ball: refused
+  // before any grasp is sampled, with the distances.
+  const PlanResult far = planGrasp(world(), test::outOfReachRequest(PlanAlgorithm::kCoupled));
+  EXPECT_FALSE(far.success);
+  EXPECT_EQ(far.failure, PlanFailure::kObjectUnreachable) << far.message;
+  EXPECT_EQ(far.stats.goal_sampling_calls, 0u);
+  EXPECT_NE(far.message.find("out of reach: its surface is 2.97"), std::string::npos)
+      << far.message;
+  EXPECT_NE(far.message.find("no fingertip reaches farther than 1.30"), std::string::npos)
+      << far.message;
+  // Inside the ball, beyond the arm: found out by searching.
+  const PlanResult near = planGrasp(world(), test::justOutOfReachRequest(PlanAlgorithm::kCoupled));
+  EXPECT_FALSE(near.success);
+  EXPECT_EQ(near.failure, PlanFailure::kObjectUnreachable) << near.message;
+  EXPECT_GT(near.stats.goal_sampling_calls, 0u);
+  EXPECT_NE(near.message.find("grasps tried has an arm IK solution"), std::string::npos)
+      << near.message;
 }
 
 /// What planGrasp rejects `r` with ("" when it accepts it).

@@ -87,7 +87,8 @@ TEST(LazyGoalRrtConnect, CancellationStopsBothThreads) {
 }
 
 TEST(LazyGoalRrtConnect, UnreachableObjectIsReported) {
-  const PlanResult result = planGrasp(world(), test::outOfReachRequest(PlanAlgorithm::kRrtConnect));
+  const PlanResult result =
+      planGrasp(world(), test::justOutOfReachRequest(PlanAlgorithm::kRrtConnect));
   EXPECT_FALSE(result.success);
   EXPECT_EQ(result.failure, PlanFailure::kObjectUnreachable) << result.message;
 }

@@ -99,5 +99,43 @@ TEST(Kinematics, JacobianMatchesFiniteDifferences) {
   }
 }
 
+// Every fingertip point of every bundled robot, at configurations drawn
+// within the limits and at the limits' corners, lies inside the reach ball;
+// the stretched KR5 touches it nearly (the bound is the chain's length).
+TEST(Kinematics, EveryFingertipStaysInsideTheReachBall) {
+  for (const char* name : {"kr5_sdh", "panda_gripper", "ur5e_allegro"}) {
+    SCOPED_TRACE(name);
+    const RobotModel model =
+        RobotModel::load(test::sourcePath(std::string("robots/") + name + "/" + name + ".json"));
+    const ReachBall ball = fingertipReach(model);
+    EXPECT_GT(ball.radius, 0.5);
+    EXPECT_LT(ball.radius, 2.0);
+    std::mt19937_64 rng(7);
+    double farthest = 0.0;
+    for (int trial = 0; trial < 20000; ++trial) {
+      Eigen::VectorXd q(model.numDofs());
+      for (Eigen::Index d = 0; d < q.size(); ++d)
+        q(d) = trial % 2 == 0 ? std::uniform_real_distribution<double>(model.lowerLimits()(d),
+                                                                       model.upperLimits()(d))(rng)
+                              : (rng() % 2 == 0 ? model.lowerLimits()(d) : model.upperLimits()(d));
+      const FingertipFrames tips = fingertipFrames(model, forwardKinematics(model, q));
+      for (Eigen::Index t = 0; t < tips.positions.cols(); ++t) {
+        const double r = (tips.positions.col(t) - ball.centre).norm();
+        farthest = std::max(farthest, r);
+        ASSERT_LE(r, ball.radius + 1e-12) << "fingertip " << t << " at trial " << trial;
+      }
+    }
+    EXPECT_GT(farthest, 0.6 * ball.radius);
+  }
+  // The KR5's first axis is the base's z axis; straight along x the arm and
+  // the hand nearly span the ball.
+  const ReachBall kr5 = fingertipReach(m());
+  EXPECT_NEAR(kr5.centre.x(), 0.0, 1e-12);
+  EXPECT_NEAR(kr5.centre.y(), 0.0, 1e-12);
+  const FingertipFrames stretched =
+      fingertipFrames(m(), forwardKinematics(m(), Eigen::VectorXd::Zero(13)));
+  EXPECT_GT((stretched.positions.col(0) - kr5.centre).norm(), 0.85 * kr5.radius);
+}
+
 }  // namespace
 }  // namespace hfts::robot

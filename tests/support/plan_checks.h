@@ -57,13 +57,22 @@ inline planner::PlanRequest bundledSceneRequest(const std::string& scene, const 
   return r;
 }
 
-/// The table scene without obstacles and the mug 3 m away, out of the
-/// arm's reach: no grasp has an IK solution (1 s limit).
+/// The table scene without obstacles and the mug 3 m away, beyond the ball
+/// that bounds the fingertips' reach: refused before any search (1 s limit).
 inline planner::PlanRequest outOfReachRequest(planner::PlanAlgorithm algorithm) {
   planner::PlanRequest r = bundledSceneRequest("table", "mug", 1, algorithm);
   r.scene.obstacles.clear();
   r.object_pose = Eigen::Isometry3d(Eigen::Translation3d(3.0, 0.0, 0.0));
   r.time_limit = 1.0;
+  return r;
+}
+
+/// The same with the mug 1.3 m in front of the KR5's shoulder: inside the
+/// reach ball, beyond what the arm reaches (about 1.2 m): no grasp has an
+/// arm IK solution, found by searching.
+inline planner::PlanRequest justOutOfReachRequest(planner::PlanAlgorithm algorithm) {
+  planner::PlanRequest r = outOfReachRequest(algorithm);
+  r.object_pose = Eigen::Isometry3d(Eigen::Translation3d(1.3, 0.0, 0.335));
   return r;
 }
 

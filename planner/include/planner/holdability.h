@@ -28,6 +28,8 @@ namespace hfts::planner {
 /// walks (a hand may hold an object only by weaker grasps), each through
 /// nodes no earlier descent passed; all leaves below the node reached are
 /// tried, until one holds. A search: "not holdable" means none was found.
+/// Decided before any descent: a target in collision, an object beyond the
+/// fingertips' reach (robot::fingertipReach), no stable grasp possible.
 struct Holdability {
   bool holdable = false;
   /// Why not, in words (empty when holdable).

@@ -22,7 +22,8 @@ enum class PlanFailure {
   kCancelled,
   kStartInCollision,
   kObjectInCollision,  ///< the target object intersects an obstacle
-  kObjectUnreachable,  ///< no sampled grasp had an arm IK solution
+  kObjectUnreachable,  ///< beyond every fingertip's reach, or no sampled grasp had an arm IK
+                       ///< solution
   kUnknownObject,
   /// The time ran out without one valid goal; the statistics' `rejected`
   /// counts say why the grasps tried were rejected.

@@ -33,4 +33,17 @@ struct FingertipFrames {
 };
 FingertipFrames fingertipFrames(const RobotModel& model, const LinkPoses& poses);
 
+/// A ball (base frame) that holds every fingertip's contact point at every
+/// configuration within the joint limits: centred on the first moving
+/// joint of the first fingertip's chain (the arm's first axis), with the
+/// radius the longest chain from there, link by link (a turn keeps the
+/// length of each joint's offset, a slide adds at most its range). A
+/// bound, not the workspace: the arm reaches less, never more. A model
+/// without fingertips gives radius 0 at the base.
+struct ReachBall {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double radius = 0.0;
+};
+ReachBall fingertipReach(const RobotModel& model);
+
 }  // namespace hfts::robot
