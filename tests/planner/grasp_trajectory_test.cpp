@@ -33,6 +33,9 @@ TEST_P(TrajectoriesOfPlans, AreWithinTheLimitsOnThePathAtRestAtTheEndsAndFree) {
   PlanRequest request =
       test::bundledSceneRequest(GetParam().scene, GetParam().object, 1, PlanAlgorithm::kCoupled);
   request.trajectory_rate = 200.0;
+  // With the physics check the table's mug takes about 22 s alone on a
+  // slow 2-core machine; the test asks for a plan, not for speed.
+  request.time_limit = 90.0 * test::sanitizerSlowdown();
   const PlanResult result = planGrasp(world, request);
   ASSERT_TRUE(result.success) << result.message;
   const GraspTrajectory& t = result.trajectory;
