@@ -28,7 +28,8 @@ json physicsToJson(const physics::GraspVerdict& verdict, bool motion) {
                       {"failure", t.failure},
                       {"max_displacement", t.max_displacement},
                       {"max_rotation", t.max_rotation},
-                      {"fingers_in_contact", t.fingers_in_contact}});
+                      {"fingers_in_contact", t.fingers_in_contact},
+                      {"simulated_time", t.simulated_time}});
   json out = {{"held", verdict.held},
               {"held_fraction", verdict.held_fraction},
               {"mass", verdict.mass},

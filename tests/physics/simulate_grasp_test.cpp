@@ -64,6 +64,8 @@ TEST(SimulateGrasp, PandaSqueezingTheCubeHoldsItThroughLiftHoldAndAllSixDisturba
     EXPECT_LT(t.max_displacement, 0.002) << t.name;  // far inside the 20 mm tolerance
     EXPECT_LT(t.max_rotation, 0.02) << t.name;
     EXPECT_EQ(t.fingers_in_contact, 2) << t.name;
+    // The whole protocol: settle 0.3 + close 1 + lift 1 + hold 2 + 6 x 1 s.
+    EXPECT_NEAR(t.simulated_time, 10.3, 1e-6) << t.name;
   }
   EXPECT_EQ(v.lift_direction, "up");
   EXPECT_EQ(v.collision_shape, "convex_parts");
@@ -123,6 +125,9 @@ TEST(SimulateGrasp, TheCubeStaysOnTheTableWhenTheHandStaysOpen) {
   EXPECT_EQ(v.trials[0].fingers_in_contact, 0);
   EXPECT_EQ(v.trials[0].failure.rfind("lift: object slipped", 0), 0u) << v.trials[0].failure;
   EXPECT_GT(v.trials[0].max_displacement, 0.02);
+  // It stopped in the lift: after settle and close, before the lift's end.
+  EXPECT_GT(v.trials[0].simulated_time, 1.3);
+  EXPECT_LT(v.trials[0].simulated_time, 2.3);
 }
 
 TEST(SimulateGrasp, WithoutFrictionTheSqueezedCubeSlipsOut) {

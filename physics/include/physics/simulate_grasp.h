@@ -87,6 +87,9 @@ struct TrialResult {
   /// the disturbances, which each start from that state), or where the
   /// trial stopped when it failed earlier.
   int fingers_in_contact = 0;
+  /// Simulated time the trial ran (s): the whole protocol when it held,
+  /// up to its first failure when not.
+  double simulated_time = 0.0;
 };
 
 /// A sample of the nominal trial for a viewer: the object's pose and the

@@ -15,7 +15,8 @@ nlohmann::json graspCheckToJson(const planner::GraspCheck& check);
 
 /// {"held", "held_fraction", "mass", "density", "collision_shape",
 /// "shape_fidelity", "lift_direction", "trials": [{"name", "held",
-/// "failure", "max_displacement", "max_rotation", "fingers_in_contact"}]},
+/// "failure", "max_displacement", "max_rotation", "fingers_in_contact",
+/// "simulated_time"}]},
 /// with `motion` also "motion": the nominal trial's object poses
 /// [{"time", "phase", "pose"}] (for a viewer).
 nlohmann::json physicsToJson(const physics::GraspVerdict& verdict, bool motion);
