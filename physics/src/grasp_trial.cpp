@@ -40,11 +40,10 @@ class Trial {
       result_.held = false;
       result_.stopped = true;
       result_.failure = "stopped";
-      result_.simulated_time = elapsed_;
-      return result_;
     }
-    if (!result_.held && !held_through_hold_) result_.fingers_in_contact = fingersInContact();
     result_.simulated_time = elapsed_;
+    if (!result_.held && !result_.stopped && !held_through_hold_)
+      result_.fingers_in_contact = fingersInContact();
     return result_;
   }
 
