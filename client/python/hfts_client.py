@@ -174,6 +174,18 @@ def plan_params(scene, **options):
     return params
 
 
+def parameters_of(parser, pairs):
+    """The --param NAME=VALUE pairs as the request's parameters (None when
+    there are none); a pair without '=' is a usage error."""
+    parameters = {}
+    for pair in pairs:
+        name, sep, value = pair.partition("=")
+        if not sep or not name:
+            parser.error(f"--param: expected NAME=VALUE, got '{pair}'")
+        parameters[name] = value
+    return parameters or None
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description="hfts-server client (prints JSON results)")
     parser.add_argument("--host", default="127.0.0.1")
@@ -186,6 +198,8 @@ def main(argv=None):
     parser.add_argument("--object")
     parser.add_argument("--time-limit", type=float)
     parser.add_argument("--seed", type=int)
+    parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                        help="plan: a planner parameter (docs/planning.md), repeatable")
     args = parser.parse_args(argv)
     try:
         with HftsClient(args.host, args.port, retries=args.retries) as client:
@@ -193,7 +207,8 @@ def main(argv=None):
                 if not args.scene:
                     parser.error("plan needs a scene")
                 result = client.plan(args.scene, robot=args.robot, object=args.object,
-                                     time_limit=args.time_limit, seed=args.seed)
+                                     time_limit=args.time_limit, seed=args.seed,
+                                     parameters=parameters_of(parser, args.param))
             elif args.command in ("objects", "scenes"):
                 result = getattr(client, args.command)(args.robot)
             else:

@@ -30,6 +30,8 @@ CONFIG = types.SimpleNamespace(server=None, client=None, preprocess=None, source
 # per goal reached; whether plans hold is the planner's tests' and the
 # demo's): they test the service.
 NO_PHYSICS = {"physics_check": 0}
+# The same as hfts-client's (and the Python client program's) arguments.
+NO_PHYSICS_ARGS = [a for name, value in NO_PHYSICS.items() for a in ("--param", f"{name}={value}")]
 TABLE = {"scene": "table", "seed": 1, "time_limit": 20, "parameters": NO_PHYSICS}
 BIN = {"scene": "bin", "seed": 1, "time_limit": 20, "parameters": NO_PHYSICS}
 # The mug 1.3 m in front of the KR5's shoulder: inside the ball that bounds

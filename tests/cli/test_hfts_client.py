@@ -14,8 +14,8 @@ import tempfile
 import time
 import unittest
 
-from hfts_server_fixture import (CONFIG, FAR_AWAY, QUALITY, QUALITY_EPSILON, RunningServer,
-                                 run_tests, wait_until)
+from hfts_server_fixture import (BIN, CONFIG, FAR_AWAY, NO_PHYSICS, NO_PHYSICS_ARGS, QUALITY,
+                                 QUALITY_EPSILON, RunningServer, run_tests, wait_until)
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "client",
                                 "python"))
@@ -67,7 +67,8 @@ class CommandLine(ClientTest):
         self.assertEqual(len(json.loads(self.ok("--json", "scenes"))["scenes"]), 3)
 
     def test_plan_prints_grasp_path_timing_and_stats(self):
-        text = self.ok("plan", "--scene", "bin", "--seed", "1", "--time-limit", "20")
+        text = self.ok("plan", "--scene", "bin", "--seed", "1", "--time-limit", "20",
+                       *NO_PHYSICS_ARGS)
         lines = text.splitlines()
         self.assertRegex(lines[0],
                          r"^plan: success \(kr5_sdh, bin, blob, coupled, seed 1\) in [\d.]+ s$")
@@ -84,12 +85,12 @@ class CommandLine(ClientTest):
     def test_json_and_out_give_the_same_result_as_the_protocol(self):
         out = os.path.join(self.tmp, "plan.json")
         printed = json.loads(self.ok("--json", "--out", out, "plan", "--scene", "bin",
-                                     "--seed", "1", "--time-limit", "20"))
+                                     "--seed", "1", "--time-limit", "20", *NO_PHYSICS_ARGS))
         with open(out) as f:
             saved = json.load(f)
         self.assertEqual(saved, printed)
         self.assertEqual([f for f in os.listdir(self.tmp) if ".tmp" in f], [])
-        raw = self.server.call("plan", {"scene": "bin", "seed": 1, "time_limit": 20})["result"]
+        raw = self.server.call("plan", BIN)["result"]
         self.assertEqual(saved["path"], raw["path"])
         self.assertEqual(saved["grasp"], raw["grasp"])
 
@@ -109,7 +110,7 @@ class CommandLine(ClientTest):
     def test_the_trajectory_is_printed_and_written_as_csv(self):
         csv_path = os.path.join(self.tmp, "trajectory.csv")
         text = self.ok("plan", "--scene", "bin", "--seed", "1", "--time-limit", "20",
-                       "--trajectory-rate", "50", "--trajectory-csv", csv_path)
+                       "--trajectory-rate", "50", "--trajectory-csv", csv_path, *NO_PHYSICS_ARGS)
         self.assertRegex(text, r"\ntrajectory: [\d.]+ s, \d+ points, the hand closes from [\d.]+ s")
         with open(csv_path) as f:
             rows = [line.rstrip("\n").split(",") for line in f]
@@ -126,7 +127,8 @@ class CommandLine(ClientTest):
             self.assertEqual(row[1 + n:1 + 2 * n], [0.0] * n)
         # Same plan, same trajectory: the Python client gets the points the CSV holds.
         with hfts_client.HftsClient(self.server.host, self.server.port, timeout=120) as c:
-            plan = c.plan("bin", seed=1, time_limit=20, trajectory_rate=50)
+            plan = c.plan("bin", seed=1, time_limit=20, trajectory_rate=50,
+                          parameters=NO_PHYSICS)
         points = plan["trajectory"]["points"]
         self.assertEqual(len(points), len(values))
         self.assertEqual(points[-1]["positions"], values[-1][1:1 + n])
@@ -139,7 +141,7 @@ class CommandLine(ClientTest):
         data["name"] = "my_bin"
         with open(scene, "w") as f:
             json.dump(data, f)
-        text = self.ok("plan", "--scene-file", scene, "--time-limit", "20")
+        text = self.ok("plan", "--scene-file", scene, "--time-limit", "20", *NO_PHYSICS_ARGS)
         self.assertIn("plan: success (kr5_sdh, my_bin, blob, coupled, seed 1)", text)
 
     def test_a_plan_without_solution_exits_with_3(self):
@@ -193,7 +195,7 @@ class PythonClient(ClientTest):
             self.assertEqual(client.info()["robot"]["name"], "kr5_sdh")
             self.assertEqual([o["name"] for o in client.objects()["objects"]], ["blob", "mug"])
             self.assertEqual(len(client.scenes()["scenes"]), 3)
-            plan = client.plan("bin", seed=1, time_limit=20)
+            plan = client.plan("bin", seed=1, time_limit=20, parameters=NO_PHYSICS)
             self.assertTrue(plan["success"], plan["message"])
             self.assertEqual(len(plan["path"][0]), len(plan["joint_names"]))
             self.assertAlmostEqual(client.quality(QUALITY["contacts"]), QUALITY_EPSILON,
@@ -229,9 +231,17 @@ class PythonClient(ClientTest):
         buffer = io.StringIO()
         with contextlib.redirect_stdout(buffer):
             code = hfts_client.main(["--port", str(self.server.port), "plan", "bin",
-                                     "--time-limit", "20"])
+                                     "--time-limit", "20", *NO_PHYSICS_ARGS])
         self.assertEqual(code, 0)
-        self.assertTrue(json.loads(buffer.getvalue())["success"])
+        plan = json.loads(buffer.getvalue())
+        self.assertTrue(plan["success"])
+        self.assertEqual(plan["stats"]["physics_checks"], 0, "--param reached the server")
+        with contextlib.redirect_stderr(io.StringIO()) as usage:
+            with self.assertRaises(SystemExit) as bad:
+                hfts_client.main(["--port", str(self.server.port), "plan", "bin",
+                                  "--param", "physics_check"])
+        self.assertEqual(bad.exception.code, 2)
+        self.assertIn("--param: expected NAME=VALUE, got 'physics_check'", usage.getvalue())
 
 
 class Shutdown(unittest.TestCase):

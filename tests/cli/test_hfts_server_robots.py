@@ -10,11 +10,9 @@ import os
 import subprocess
 import sys
 
-from hfts_server_fixture import CONFIG, ServerTest, run_tests
+from hfts_server_fixture import CONFIG, NO_PHYSICS, NO_PHYSICS_ARGS, ServerTest, run_tests
 
-# With the physics check: about 17 s alone on a slow 2-core machine; the
-# test asks for a plan, not for speed (60 s: the server's maximum).
-BIN_MUG = {"scene": "bin", "object": "mug", "seed": 1, "time_limit": 60}
+BIN_MUG = {"scene": "bin", "object": "mug", "seed": 1, "time_limit": 60, "parameters": NO_PHYSICS}
 
 
 def config(robot):
@@ -101,7 +99,7 @@ class ThreeRobots(ServerTest):
         self.assertIn("robot: panda_gripper, 8 DoF, 2 fingertips", info.stdout)
         self.assertIn("(the default)", info.stdout)
         plan = self.client("plan", "--robot", "panda_gripper", "--scene", "bin", "--object", "mug",
-                           "--time-limit", "20")
+                           "--time-limit", "20", *NO_PHYSICS_ARGS)
         self.assertEqual(plan.returncode, 0, plan.stderr)
         self.assertIn("plan: success (panda_gripper, bin, mug", plan.stdout)
         objects = self.client("objects", "--robot", "panda_gripper")

@@ -11,7 +11,7 @@ import json
 import os
 import subprocess
 
-from hfts_server_fixture import CONFIG, ServerTest, run_tests
+from hfts_server_fixture import CONFIG, NO_PHYSICS_ARGS, ServerTest, run_tests
 
 
 class Viewer(ServerTest):
@@ -66,7 +66,7 @@ class Viewer(ServerTest):
     def test_the_explored_nodes_are_drawn_on_the_object(self):
         plan_path = os.path.join(self.tmp, "explored.json")
         result = self.client("--out", plan_path, "plan", "--scene", "bin", "--seed", "1",
-                             "--time-limit", "20", "--explored", "--gltf",
+                             "--time-limit", "20", *NO_PHYSICS_ARGS, "--explored", "--gltf",
                              os.path.join(self.tmp, "explored.glb"))
         self.assertEqual(result.returncode, 0, result.stderr)
         with open(plan_path) as f:
@@ -87,7 +87,8 @@ class Viewer(ServerTest):
         self.assertEqual(result.returncode, 1)
         self.assertIn("not a successful plan result", result.stderr)
         bare = os.path.join(self.tmp, "bare.json")
-        self.assertEqual(self.client("--out", bare, "plan", "--scene", "table").returncode, 0)
+        self.assertEqual(self.client("--out", bare, "plan", "--scene", "table",
+                                     *NO_PHYSICS_ARGS).returncode, 0)
         result = self.client("view", bare)
         self.assertEqual(result.returncode, 1)
         self.assertIn("the plan has no glTF", result.stderr)
@@ -97,8 +98,8 @@ class Viewer(ServerTest):
         self.assertNotEqual(result.returncode, 0)
         self.assertIn("--glb: File does not exist", result.stderr)
         full = os.path.join(self.tmp, "full.json")
-        self.assertEqual(self.client("--out", full, "plan", "--scene", "table", "--gltf",
-                                     os.path.join(self.tmp, "full.glb")).returncode, 0)
+        self.assertEqual(self.client("--out", full, "plan", "--scene", "table", *NO_PHYSICS_ARGS,
+                                     "--gltf", os.path.join(self.tmp, "full.glb")).returncode, 0)
         result = self.client("view", full, "--viewer-dir", self.tmp)
         self.assertEqual(result.returncode, 1)
         self.assertIn("scripts/setup.sh", result.stderr)

@@ -59,6 +59,7 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(GraspMotionPlanner, DecoupledBaselinePlansToo) {
   PlanRequest r = request("table", "mug", 3, PlanAlgorithm::kDecoupled);
   r.iterations = 20;
+  r.parameters["physics_check"] = "0";  // the decoupled search, not whether it holds
   expectValidPlan(r, planGrasp(world(), r));
 }
 
@@ -145,6 +146,7 @@ TEST(GraspMotionPlanner, ThePaperPresetTurnsEveryAdditionOffWhateverTheRobotConf
 TEST(GraspMotionPlanner, RacingCopiesPlanAndTheWinnersSeedReplaysItsPlan) {
   PlanRequest r = request("table", "mug", 4);
   r.parameters["threads"] = "3";
+  r.parameters["physics_check"] = "0";  // the race and its replay, not whether plans hold
   const PlanResult raced = planGrasp(world(), r);
   expectValidPlan(r, raced);
   std::vector<std::uint64_t> seeds;
@@ -193,6 +195,7 @@ TEST(GraspMotionPlanner, RacingCopiesStopWhenCancelledOrOutOfTime) {
 TEST(GraspMotionPlanner, TheSphereTierChangesNoPlan) {
   for (const char* scene : {"bin", "shelf"}) {
     PlanRequest r = request(scene, scene == std::string("bin") ? "blob" : "mug", 2);
+    r.parameters["physics_check"] = "0";  // collision answers, not whether plans hold
     r.parameters["sphere_tier"] = "0";
     const PlanResult fclOnly = planGrasp(world(), r);
     r.parameters["sphere_tier"] = "1";
@@ -442,6 +445,7 @@ TEST(GraspMotionPlanner, OtherPosturesPlansAreValidAndCountEveryPosture) {
   // The mug on the bare table, every goal hand posture of a grasp tried.
   PlanRequest r = request("table", "mug", 2);
   r.parameters["other_postures"] = "1";
+  r.parameters["physics_check"] = "0";  // which postures are goals, not whether they hold
   const PlanResult result = planGrasp(world(), r);
   expectValidPlan(r, result);
   const GraspRejections& x = result.stats.rejected;
