@@ -11,7 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "hfts_db/atomic_file.h"
+#include "core/atomic_file.h"
 
 namespace hfts::bench {
 namespace {
@@ -124,7 +124,7 @@ void writeOmplBenchmarkLog(const std::filesystem::path& file, const LogExperimen
   std::ostringstream out;
   if (!benchmark.saveResultsToStream(out))
     throw std::runtime_error("no runs to write to '" + file.string() + "'");
-  db::writeFileAtomically(file, withVersion(out.str()));
+  core::writeFileAtomically(file, withVersion(out.str()));
 }
 
 }  // namespace hfts::bench

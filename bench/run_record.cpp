@@ -6,7 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "hfts_db/atomic_file.h"
+#include "core/atomic_file.h"
 
 namespace hfts::bench {
 namespace {
@@ -133,7 +133,7 @@ void writeCsvAtomically(const std::filesystem::path& out, const std::vector<RunR
   std::ostringstream text;
   text << kHeader << '\n';
   for (const RunRecord& r : records) writeRow(text, r);
-  db::writeFileAtomically(out, text.str());
+  core::writeFileAtomically(out, text.str());
 }
 
 void writeHoldabilityCsv(const std::filesystem::path& out,
@@ -149,7 +149,7 @@ void writeHoldabilityCsv(const std::filesystem::path& out,
          << std::fixed << std::setprecision(8) << g.epsilon << ',' << std::setprecision(4)
          << r.seconds << ',' << csvField(g.reason) << '\n';
   }
-  db::writeFileAtomically(out, text.str());
+  core::writeFileAtomically(out, text.str());
 }
 
 HoldabilityFile::HoldabilityFile(const std::filesystem::path& path) : path_(path) {

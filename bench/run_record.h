@@ -59,7 +59,7 @@ RunRecord makeRunRecord(const CaseName& c, const std::string& algorithm, std::ui
                         const planner::PlanResult& result, double cpuTime);
 
 /// Writes the header and one row per record to `out` atomically
-/// (hfts_db/atomic_file.h), so `out` always holds a complete file. Throws
+/// (core/atomic_file.h), so `out` always holds a complete file. Throws
 /// std::runtime_error naming the file when it cannot be written.
 void writeCsvAtomically(const std::filesystem::path& out, const std::vector<RunRecord>& records);
 

@@ -6,7 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "hfts_db/base64.h"
+#include "core/base64.h"
 
 namespace hfts::client {
 namespace {
@@ -47,7 +47,7 @@ std::string planPage(const nlohmann::json& plan, const std::string& glbBytes,
     if (!plan.contains("gltf") || !plan.at("gltf").is_string())
       throw std::runtime_error(
           "the plan has no glTF: plan with --gltf PLAN.glb, or give the .glb with --glb");
-    glb = db::base64Decode(plan.at("gltf").get<std::string>(), "gltf");
+    glb = core::base64Decode(plan.at("gltf").get<std::string>(), "gltf");
   }
   if (glb.size() < 12 || glb.compare(0, 4, "glTF") != 0)
     throw std::runtime_error("the glTF is not a binary glTF (.glb)");
@@ -60,7 +60,7 @@ std::string planPage(const nlohmann::json& plan, const std::string& glbBytes,
               shown.value("scene", std::string()) + ", " + shown.value("object", std::string()));
   replaceOnce(page, "/*HFTS_DATA*/",
               "window.HFTS_PLAN = " + scriptSafe(shown.dump()) + ";\nwindow.HFTS_GLB_BASE64 = \"" +
-                  db::base64Encode(glb) + "\";");
+                  core::base64Encode(glb) + "\";");
   replaceOnce(page, "/*HFTS_VIEWER*/", scriptSafe(viewer));
   return page;
 }

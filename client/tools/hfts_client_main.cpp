@@ -16,8 +16,8 @@
 #include <sstream>
 
 #include "client/rpc_client.h"
-#include "hfts_db/atomic_file.h"
-#include "hfts_db/base64.h"
+#include "core/atomic_file.h"
+#include "core/base64.h"
 #include "plan_page.h"
 #include "result_printer.h"
 
@@ -84,7 +84,7 @@ int writeView(const ViewOptions& v) {
   const std::string output = v.output.empty()
                                  ? std::filesystem::path(v.plan).replace_extension(".html").string()
                                  : v.output;
-  hfts::db::writeFileAtomically(output, hfts::client::planPage(plan, glb, v.viewer_dir));
+  hfts::core::writeFileAtomically(output, hfts::client::planPage(plan, glb, v.viewer_dir));
   std::cout << "wrote " << output << ": open it in a web browser (no server needed)\n";
   return 0;
 }
@@ -162,7 +162,7 @@ void addPlanOptions(CLI::App& cmd, PlanOptions& p) {
 }
 
 int output(const Options& o, const std::string& method, const json& result) {
-  if (!o.out.empty()) hfts::db::writeFileAtomically(o.out, result.dump(2) + "\n");
+  if (!o.out.empty()) hfts::core::writeFileAtomically(o.out, result.dump(2) + "\n");
   if (o.json) {
     std::cout << result.dump(2) << "\n";
   } else if (method == "server.info") {
@@ -263,13 +263,13 @@ int main(int argc, char** argv) {
     if (command == "plan" && !plan.trajectory_csv.empty() && status == 0) {
       std::ostringstream csv;
       hfts::client::writeTrajectoryCsv(result, csv);
-      hfts::db::writeFileAtomically(plan.trajectory_csv, csv.str());
+      hfts::core::writeFileAtomically(plan.trajectory_csv, csv.str());
     }
     if (command == "plan" && !plan.gltf.empty() && status == 0) {
       if (!result.contains("gltf"))
         throw std::runtime_error("the plan has no trajectory to animate");
-      hfts::db::writeFileAtomically(
-          plan.gltf, hfts::db::base64Decode(result.at("gltf").get<std::string>(), "gltf"));
+      hfts::core::writeFileAtomically(
+          plan.gltf, hfts::core::base64Decode(result.at("gltf").get<std::string>(), "gltf"));
     }
     return status;
   } catch (const hfts::client::RpcCallError& e) {

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <string>
 
+#include "core/invalid_argument.h"
 #include "grasp/grasp_quality.h"
-#include "hfts_db/invalid_argument.h"
 #include "min_norm_point.h"
 
 namespace hfts::grasp {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "robot/kinematics.h"
 
 namespace hfts::grasp {

@@ -15,7 +15,7 @@ extern "C" {
 #include <cstdio>
 #include <string>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 
 namespace hfts::grasp {
 namespace {

@@ -2,8 +2,8 @@
 
 #include <random>
 
+#include "core/invalid_argument.h"
 #include "grasp/grasp_objective.h"
-#include "hfts_db/invalid_argument.h"
 
 namespace hfts::grasp {
 

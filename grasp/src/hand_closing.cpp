@@ -6,7 +6,7 @@
 #include <limits>
 #include <string>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "robot/fingertip_geometry.h"
 #include "robot/kinematics.h"
 #include "robot/link_spheres.h"

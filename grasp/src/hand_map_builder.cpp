@@ -9,7 +9,7 @@
 #include <random>
 #include <stdexcept>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "robot/hand_chain.h"
 
 namespace hfts::grasp {

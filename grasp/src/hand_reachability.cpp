@@ -13,8 +13,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/invalid_argument.h"
 #include "hand_alignment.h"
-#include "hfts_db/invalid_argument.h"
 #include "robot/hand_chain.h"
 
 namespace hfts::grasp {

@@ -12,8 +12,8 @@
 #include <cmath>
 #include <string>
 
+#include "core/invalid_argument.h"
 #include "grasp/grasp_quality.h"
-#include "hfts_db/invalid_argument.h"
 #include "robot/fingertip_geometry.h"
 #include "robot/kinematics.h"
 #include "robot/link_spheres.h"

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 
 namespace hfts::grasp {
 namespace {

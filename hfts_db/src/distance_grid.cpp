@@ -6,8 +6,8 @@
 #include <limits>
 #include <string>
 
+#include "core/invalid_argument.h"
 #include "grid_winding.h"
-#include "hfts_db/invalid_argument.h"
 #include "hfts_db/triangle_bvh.h"
 
 namespace hfts::db {

@@ -4,7 +4,7 @@
 #include <sstream>
 #include <utility>
 
-#include "hfts_db/atomic_file.h"
+#include "core/atomic_file.h"
 #include "hfts_db/object_database.h"
 
 namespace hfts::db::h5 {
@@ -144,7 +144,7 @@ Handle::~Handle() {
 
 void writeAtomically(const std::filesystem::path& path, const std::string& what,
                      const std::function<void(hid_t file)>& fill) {
-  const std::filesystem::path tmp = temporarySibling(path);
+  const std::filesystem::path tmp = core::temporarySibling(path);
   try {
     {
       std::lock_guard<std::mutex> lock(libraryMutex());

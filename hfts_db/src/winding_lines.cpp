@@ -11,7 +11,7 @@
 #include <limits>
 #include <string>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 
 namespace hfts::db {
 namespace {

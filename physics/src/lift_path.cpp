@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "robot/collision_checker.h"
 #include "robot/kinematics.h"
 

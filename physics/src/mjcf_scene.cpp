@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <sstream>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "mjcf_writer.h"
 
 namespace hfts::physics {

@@ -9,8 +9,8 @@
 #include <string>
 #include <utility>
 
+#include "core/invalid_argument.h"
 #include "grasp_trial.h"
-#include "hfts_db/invalid_argument.h"
 #include "physics/lift_path.h"
 #include "physics/mjcf_scene.h"
 #include "physics/object_body.h"

@@ -4,7 +4,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "robot/kinematics.h"
 
 namespace hfts::planner {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 
 namespace hfts::planner {
 

@@ -6,8 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/invalid_argument.h"
 #include "grasp/grasp_quality.h"
-#include "hfts_db/invalid_argument.h"
 
 namespace hfts::planner {
 

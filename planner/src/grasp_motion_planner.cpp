@@ -5,7 +5,7 @@
 #include <utility>
 #include <vector>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "plan_diagnosis.h"
 #include "plan_problem.h"
 #include "plan_search.h"

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 
 namespace hfts::planner {
 namespace {

@@ -3,10 +3,10 @@
 #include <cmath>
 #include <string>
 
+#include "core/invalid_argument.h"
 #include "grasp/grasp_quality.h"
 #include "grasp/hand_closing.h"
 #include "grasp/load_capacity.h"
-#include "hfts_db/invalid_argument.h"
 #include "physics/object_body.h"
 #include "robot/kinematics.h"
 #include "robot/object_surface.h"

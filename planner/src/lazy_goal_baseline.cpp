@@ -16,7 +16,7 @@
 #include <thread>
 #include <utility>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "planner/configuration_space.h"
 #include "planner/sampling_tools.h"
 

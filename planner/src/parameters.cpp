@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 
 namespace hfts::planner {
 namespace {

@@ -1,5 +1,5 @@
 // planGlb (grasp_motion_planner.h): a plan result as robot::PlanAnimation.
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "planner/grasp_motion_planner.h"
 #include "robot/plan_export.h"
 

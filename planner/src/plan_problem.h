@@ -15,9 +15,9 @@
 #include <utility>
 #include <vector>
 
+#include "core/invalid_argument.h"
 #include "grasp/contact_mask.h"
 #include "grasp/hfts_space.h"
-#include "hfts_db/invalid_argument.h"
 #include "planner/configuration_space.h"
 #include "planner/goal_sampler.h"
 #include "planner/multi_tree_cbirrt.h"

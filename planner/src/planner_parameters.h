@@ -10,7 +10,7 @@
 #include <memory>
 #include <vector>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "planner/goal_sampler.h"
 #include "planner/multi_tree_cbirrt.h"
 #include "planner/parameters.h"

@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 
 namespace hfts::planner {
 namespace {

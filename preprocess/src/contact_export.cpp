@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "hfts_db/atomic_file.h"
+#include "core/atomic_file.h"
 
 namespace hfts::preprocess {
 
@@ -42,7 +42,7 @@ void exportContactsPly(const db::ObjectDatabase& db, const std::filesystem::path
           << int{colour[0]} << ' ' << int{colour[1]} << ' ' << int{colour[2]} << '\n';
     }
   }
-  db::writeFileAtomically(path, out.str());
+  core::writeFileAtomically(path, out.str());
 }
 
 }  // namespace hfts::preprocess

@@ -8,7 +8,7 @@
 #include <functional>
 #include <stdexcept>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 
 namespace hfts::preprocess {
 namespace {

@@ -10,8 +10,8 @@
 #include <optional>
 
 #include "box_clipping.h"
+#include "core/invalid_argument.h"
 #include "cut_search.h"
-#include "hfts_db/invalid_argument.h"
 #include "piece_hull.h"
 #include "preprocess/convex_hull.h"
 #include "solid_lattice.h"

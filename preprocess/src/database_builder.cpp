@@ -8,8 +8,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include "core/invalid_argument.h"
 #include "hfts_db/distance_grid.h"
-#include "hfts_db/invalid_argument.h"
 #include "hfts_db/triangle_bvh.h"
 #include "preprocess/center_of_mass.h"
 #include "preprocess/contact_filters.h"

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "hfts_db/object_database.h"
 
 namespace hfts::preprocess {

@@ -11,8 +11,8 @@
 #include <mutex>
 #include <utility>
 
+#include "core/invalid_argument.h"
 #include "fcl_query.h"
-#include "hfts_db/invalid_argument.h"
 #include "robot/kinematics.h"
 #include "robot/object_surface.h"
 #include "shape_separation.h"

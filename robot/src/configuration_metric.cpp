@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 
 namespace hfts::robot {
 namespace {

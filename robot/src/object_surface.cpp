@@ -12,7 +12,7 @@
 #include <queue>
 #include <string>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 
 namespace hfts::robot {
 

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <functional>
 
-#include "hfts_db/atomic_file.h"
-#include "hfts_db/invalid_argument.h"
+#include "core/atomic_file.h"
+#include "core/invalid_argument.h"
 #include "robot/kinematics.h"
 #include "robot/primitive_meshes.h"
 
@@ -206,7 +206,7 @@ void exportPlanGlb(const RobotModel& model, const Scene& scene, const db::Object
                    const PlanAnimation& plan, const std::filesystem::path& path) {
   if (path.extension() != ".glb")
     throw InvalidArgument("path", "'" + path.string() + "' must end in .glb (binary glTF)");
-  db::writeFileAtomically(path, planGlb(model, scene, target, plan));
+  core::writeFileAtomically(path, planGlb(model, scene, target, plan));
 }
 
 }  // namespace hfts::robot

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "hfts_db/atomic_file.h"
-#include "hfts_db/invalid_argument.h"
+#include "core/atomic_file.h"
+#include "core/invalid_argument.h"
 #include "robot/kinematics.h"
 
 #include "glb_builder.h"
@@ -58,7 +58,7 @@ void exportSceneGlb(const RobotModel& model, const Scene& scene, const db::Objec
   // One named node per part, so viewers list links and obstacles by name.
   Builder builder;
   for (const Part& part : parts) builder.addNode(part.name, {part});
-  db::writeFileAtomically(path, builder.glb("'" + path.string() + "'"));
+  core::writeFileAtomically(path, builder.glb("'" + path.string() + "'"));
 }
 
 }  // namespace hfts::robot

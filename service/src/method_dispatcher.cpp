@@ -2,7 +2,7 @@
 
 #include <thread>
 
-#include "hfts_db/base64.h"
+#include "core/base64.h"
 #include "json_fields.h"
 #include "service/catalog_json.h"
 #include "service/plan_result_json.h"
@@ -226,7 +226,7 @@ MethodDispatcher::Outcome MethodDispatcher::runPlan(const planner::PlanningWorld
     json out = planResultToJson(result, request);
     out["robot"] = world.robot().name();
     if (gltf && !result.trajectory.points.empty())
-      out["gltf"] = db::base64Encode(planner::planGlb(world, request, result));
+      out["gltf"] = core::base64Encode(planner::planGlb(world, request, result));
     return {std::move(out), std::nullopt,
             result.success ? "success" : planner::toString(result.failure)};
   } catch (const InvalidArgument& e) {  // planGrasp checks parameter values

@@ -5,8 +5,8 @@
 #include <random>
 
 #include "bundled_objects.h"
+#include "core/invalid_argument.h"
 #include "grasp/grasp_quality.h"
-#include "hfts_db/invalid_argument.h"
 #include "min_norm_point.h"
 #include "robot/fingertip_geometry.h"
 #include "robot_fixture.h"

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "bundled_objects.h"
+#include "core/invalid_argument.h"
 #include "hand_fixture.h"
-#include "hfts_db/invalid_argument.h"
 
 namespace hfts::grasp {
 namespace {

@@ -5,10 +5,10 @@
 #include <random>
 
 #include "bundled_objects.h"
+#include "core/invalid_argument.h"
 #include "grasp/grasp_configurations.h"
 #include "grasp/hand_reachability.h"
 #include "hand_fixture.h"
-#include "hfts_db/invalid_argument.h"
 #include "robot/kinematics.h"
 #include "robot/link_spheres.h"
 #include "robot_fixture.h"

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "panda_cube.h"
 #include "robot/kinematics.h"
 

@@ -9,7 +9,7 @@
 #include <random>
 #include <string>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "test_meshes.h"
 
 namespace hfts::db {

@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "file_corruption.h"
-#include "hfts_db/atomic_file.h"
 #include "hfts_db/object_database.h"
 #include "preprocess/database_builder.h"
 #include "test_meshes.h"
@@ -429,14 +428,6 @@ TEST(ObjectDatabase, BitFlipsAreDetectedOrHarmless) {
   // LeakSanitizer reports after this test is libhdf5's own (see
   // tests/sanitizers/lsan.supp).
   EXPECT_EQ(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0);
-}
-
-TEST(AtomicFile, WritesAndReplaces) {
-  TempDir dir;
-  writeFileAtomically(dir / "f.txt", "one");
-  writeFileAtomically(dir / "f.txt", "two");
-  EXPECT_EQ(test::readBytes(dir / "f.txt"), "two");
-  EXPECT_THROW(writeFileAtomically(dir / "missing" / "f.txt", "x"), std::runtime_error);
 }
 
 }  // namespace

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "bundled_objects.h"
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "panda_cube.h"
 #include "test_meshes.h"
 

@@ -5,7 +5,7 @@
 #include <sstream>
 #include <thread>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "panda_cube.h"
 #include "test_meshes.h"
 

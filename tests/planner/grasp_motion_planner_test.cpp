@@ -10,7 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "planner/parameters.h"
 
 #include "grasp/hand_map_builder.h"

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "planner/grasp_motion_planner.h"
 
 #include "plan_checks.h"

@@ -4,7 +4,7 @@
 
 #include <chrono>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "plan_checks.h"
 #include "planner/multi_tree_cbirrt.h"
 #include "test_meshes.h"

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 
 namespace hfts::planner {
 namespace {

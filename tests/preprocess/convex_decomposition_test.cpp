@@ -7,7 +7,7 @@
 #include <random>
 
 #include "bundled_objects.h"
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "preprocess/convex_hull.h"
 #include "test_meshes.h"
 

@@ -6,7 +6,7 @@
 #include <tuple>
 
 #include "bundled_objects.h"
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "preprocess/database_builder.h"
 #include "test_meshes.h"
 

@@ -10,7 +10,7 @@
 #include <thread>
 
 #include "bundled_objects.h"
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "robot/arm_ik.h"
 #include "robot/kinematics.h"
 #include "robot_fixture.h"

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
+#include "core/invalid_argument.h"
 #include "hfts_db/distance_grid.h"
-#include "hfts_db/invalid_argument.h"
 #include "test_meshes.h"
 
 namespace hfts::robot {

@@ -7,7 +7,7 @@
 
 #include <cstring>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 #include "robot/kinematics.h"
 
 #include "robot_fixture.h"

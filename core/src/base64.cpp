@@ -1,11 +1,11 @@
-#include "hfts_db/base64.h"
+#include "core/base64.h"
 
 #include <array>
 #include <cstdint>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 
-namespace hfts::db {
+namespace hfts::core {
 namespace {
 
 constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -61,4 +61,4 @@ std::string base64Decode(std::string_view text, const std::string& what) {
   return out;
 }
 
-}  // namespace hfts::db
+}  // namespace hfts::core

@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <string_view>
 
-namespace hfts::db {
+namespace hfts::core {
 
 /// Writes `content` to a temporary file next to `path`, flushes it and
 /// renames it over `path`, so readers see the old file or the complete new
@@ -13,4 +13,4 @@ void writeFileAtomically(const std::filesystem::path& path, std::string_view con
 /// A temporary name next to `path`, unique within this process.
 std::filesystem::path temporarySibling(const std::filesystem::path& path);
 
-}  // namespace hfts::db
+}  // namespace hfts::core

@@ -1,12 +1,12 @@
-#include "hfts_db/base64.h"
+#include "core/base64.h"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "hfts_db/invalid_argument.h"
+#include "core/invalid_argument.h"
 
-namespace hfts::db {
+namespace hfts::core {
 namespace {
 
 TEST(Base64, MatchesTheRfc4648Examples) {
@@ -44,4 +44,4 @@ TEST(Base64, MalformedTextIsRefusedByName) {
 }
 
 }  // namespace
-}  // namespace hfts::db
+}  // namespace hfts::core

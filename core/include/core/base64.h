@@ -5,7 +5,7 @@
 #include <string>
 #include <string_view>
 
-namespace hfts::db {
+namespace hfts::core {
 
 std::string base64Encode(std::string_view bytes);
 
@@ -13,4 +13,4 @@ std::string base64Encode(std::string_view bytes);
 /// multiple of 4 or a character outside the alphabet and padding.
 std::string base64Decode(std::string_view text, const std::string& what = "base64");
 
-}  // namespace hfts::db
+}  // namespace hfts::core

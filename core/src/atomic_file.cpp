@@ -1,4 +1,4 @@
-#include "hfts_db/atomic_file.h"
+#include "core/atomic_file.h"
 
 #include <unistd.h>
 
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace hfts::db {
+namespace hfts::core {
 
 std::filesystem::path temporarySibling(const std::filesystem::path& path) {
   static std::atomic<unsigned> counter{0};
@@ -36,4 +36,4 @@ void writeFileAtomically(const std::filesystem::path& path, std::string_view con
   }
 }
 
-}  // namespace hfts::db
+}  // namespace hfts::core
