@@ -345,24 +345,4 @@ GoalSample DecoupledGoalSampler::sample(const FreeSpaceDistances& /*knowledge*/,
   return {};
 }
 
-void declareParameters(ompl::base::ParamSet& params, GoalSamplingSettings& settings) {
-  HftsGoalSamplerOptions& c = settings.coupled;
-  declareParameter(params, "w_f", {1e-6, 0.1, 1000.0}, c.weights.w_f);
-  declareParameter(params, "w_c", {1e-6, 0.1, 1000.0}, c.weights.w_c);
-  declareParameter(params, "n_a", {1, 1, 100000}, c.weights.max_active);
-  declareParameter(params, "kappa", {1, 1, 1000}, c.samples);
-  declareParameter(params, "i_min", {0, 1, 100000}, c.min_iterations);
-  declareParameter(params, "i_max", {0, 1, 100000}, c.max_iterations);
-  declareParameter(params, "stable_nodes", {0, 1, 1}, c.stable_nodes);
-  declareParameter(params, "iterations", kDecoupledIterationsRange, settings.decoupled_iterations);
-  declareParameter(params, "max_fingertip_error", {1e-9, 0.001, 0.1}, settings.max_fingertip_error);
-  declareParameter(params, "min_epsilon", {0.0, 0.001, 1.0}, settings.min_epsilon);
-  declareParameter(params, "max_penetration", {0.0, 0.0005, 0.01}, settings.max_penetration);
-  declareParameter(params, "mask_contacts", {0, 1, 1}, settings.mask_contacts);
-  declareParameter(params, "other_postures", {0, 1, 1}, settings.other_postures);
-  declareParameter(params, "hand_clearance", {0, 1, 1}, settings.hand_clearance);
-  declareParameter(params, "palm_turns", {1, 1, 64}, settings.palm_turns);
-  declareParameters(params, settings.objective);
-}
-
 }  // namespace hfts::planner

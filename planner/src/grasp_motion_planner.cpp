@@ -67,23 +67,23 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
     result.validation->physics = std::move(found.verdict);
   }
   if (request.trajectory_rate > 0.0 && world.robot().maxAccelerations().size() > 0)
-    result.trajectory = graspTrajectory(result.path, problem.checker,
-                                        problem.parameters.planner->smoothing().final_resolution,
-                                        request.trajectory_rate);
+    result.trajectory =
+        graspTrajectory(result.path, problem.checker, problem.settings.execution.final_resolution,
+                        request.trajectory_rate);
   return result;
 }
 
 }  // namespace
 
 std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world) {
-  return plannerParameterInfo(world.robot());
+  return describeSettings(defaultSettings(world.robot()), world.robot());
 }
 
 PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
                      const std::atomic<bool>* cancel) {
   const auto began = std::chrono::steady_clock::now();
   if (request.validate) physics::validateOptions(request.simulation);
-  const int copies = threadsOf(request);
+  const int copies = resolveSettings(world.robot(), request).execution.threads;
   PlanResult result = copies == 1
                           ? planFrom(began, world, request, cancel)
                           : race(request, cancel, copies,
@@ -117,13 +117,11 @@ ValidationRequest validationRequest(const PlanningWorld& world, const PlanReques
   v.grasp = plan.path.back();
   v.simulation = request.simulation;
   // The request's criteria, as the planner read them.
-  robot::CollisionChecker checker(world.robot(), robot::Scene{}, nullptr);
-  const PlanParameters parameters(makeSpaceInformation(world.robot(), checker, kTreeResolution),
-                                  request, world.robot());
-  v.check.min_epsilon = parameters.goals.min_epsilon;
-  v.check.max_penetration = parameters.goals.max_penetration;
-  v.check.resolution = parameters.planner->smoothing().final_resolution;
-  v.check.friction = parameters.goals.objective.friction;
+  const PlanSettings settings = resolveSettings(world.robot(), request);
+  v.check.min_epsilon = settings.goal.min_epsilon;
+  v.check.max_penetration = settings.goal.max_penetration;
+  v.check.resolution = settings.execution.final_resolution;
+  v.check.friction = settings.paper.friction;
   return v;
 }
 

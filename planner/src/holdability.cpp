@@ -52,7 +52,7 @@ Holdability holdability(const PlanningWorld& world, const PlanRequest& request, 
   }
   // The question is whether any grasp exists: the objective ranks grasps
   // whose hand meets an obstacle last (hand_clearance).
-  GoalSamplingSettings settings = p.parameters.goals;
+  GoalSamplingSettings settings = p.goals;
   settings.hand_clearance = 1;
   SamplingTools tools(world, p.scene, p.space, p.checker, settings);
   tools.configurator.setArmReference(p.start.head(world.robot().numArmDofs()));

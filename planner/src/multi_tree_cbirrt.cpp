@@ -106,35 +106,57 @@ MultiTreeCBiRRT::~MultiTreeCBiRRT() {
 }
 
 void MultiTreeCBiRRT::declareParameters() {
-  // Each with the one range that OMPL shows and the setter enforces
-  // (parameters.h); Fig. 6 of the paper gives the defaults.
+  // OMPL's by-name access to this planner's settings, each with the range
+  // of the planner's one table (plan_settings.h).
   ob::ParamSet& p = params();
-  declareParameter(p, "step_size", {0.001, 0.01, 10.0}, range_);
-  declareParameter(p, "p_max", {0.0, 0.05, 1.0}, pMax_);
-  declareParameter(p, "p_min", {0.0, 0.01, 1.0}, pMin_);
-  declareParameter(p, "p_w", {0.0, 0.1, 100.0}, pW_);
-  declareParameter(p, "p_goal_tree", {0.0, 0.05, 1.0}, pGoalTree_);
-  declareParameter(p, "retreat", {0.0, 0.02, 1.0}, retreat_);
-  declareParameter(p, "p_local", {0.0, 0.05, 1.0}, pLocal_);
-  declareParameter(p, "local_radius", {0.01, 0.05, 3.2}, localRadius_);
+  const auto field = [&p](const char* name, double& value) {
+    declareParameter(p, name, settingRange(name), value);
+  };
+  field("step_size", range_);
+  field("p_max", pMax_);
+  field("p_min", pMin_);
+  field("p_w", pW_);
+  field("p_goal_tree", pGoalTree_);
+  field("retreat", retreat_);
+  field("p_local", pLocal_);
+  field("local_radius", localRadius_);
   declareParameter<double>(
-      p, "d_m", {0.0, 0.05, 10.0},
-      [this](double d) {
-        dM_ = d;
-        if (projection_) projection_->setMaxDistance(d);
-      },
+      p, "d_m", settingRange("d_m"), [this](double d) { setProjectionDistance(d); },
       [this] { return dM_; });
-  planner::declareParameters(p, smoothing_);
+  declareParameter(p, "smoothing_steps", settingRange("smoothing_steps"), smoothing_.steps);
+  field("final_resolution", smoothing_.final_resolution);
   declareParameter<double>(
-      p, "collision_resolution", {1e-4, 1e-4, 1.0},
+      p, "collision_resolution", settingRange("collision_resolution"),
       [this](double r) { validator_->setResolution(r); },
       [this] { return validator_->resolution(); });
   declareParameter<double>(
-      p, "weight_arm", {0.001, 0.05, 100.0}, [this](double w) { setGroupWeight(true, w); },
+      p, "weight_arm", settingRange("weight_arm"), [this](double w) { setGroupWeight(true, w); },
       [this] { return space_.weights()(0); });
   declareParameter<double>(
-      p, "weight_hand", {0.001, 0.05, 100.0}, [this](double w) { setGroupWeight(false, w); },
+      p, "weight_hand", settingRange("weight_hand"), [this](double w) { setGroupWeight(false, w); },
       [this] { return space_.weights()(space_.weights().size() - 1); });
+}
+
+void MultiTreeCBiRRT::applySettings(const PlanSettings& s) {
+  range_ = s.paper.step_size;
+  pMax_ = s.paper.p_max;
+  pMin_ = s.paper.p_min;
+  pW_ = s.paper.p_w;
+  pGoalTree_ = s.paper.p_goal_tree;
+  setProjectionDistance(s.paper.d_m);
+  if (s.paper.weight_arm) setGroupWeight(true, *s.paper.weight_arm);
+  if (s.paper.weight_hand) setGroupWeight(false, *s.paper.weight_hand);
+  retreat_ = s.heuristics.retreat;
+  pLocal_ = s.heuristics.p_local;
+  localRadius_ = s.heuristics.local_radius;
+  validator_->setResolution(s.execution.collision_resolution);
+  smoothing_.steps = static_cast<unsigned>(s.execution.smoothing_steps);
+  smoothing_.final_resolution = s.execution.final_resolution;
+}
+
+void MultiTreeCBiRRT::setProjectionDistance(double d) {
+  dM_ = d;
+  if (projection_) projection_->setMaxDistance(d);
 }
 
 void MultiTreeCBiRRT::setGroupWeight(bool arm, double weight) {

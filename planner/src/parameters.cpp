@@ -1,5 +1,7 @@
 #include "planner/parameters.h"
 
+#include <ompl/util/Console.h>
+
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -83,7 +85,16 @@ template void declareParameter<unsigned>(ompl::base::ParamSet&, const std::strin
                                          const ParameterRange&, std::function<void(unsigned)>,
                                          std::function<unsigned()>);
 
+void quietOmpl() {
+  static const bool once = [] {
+    ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
+    return true;
+  }();
+  (void)once;
+}
+
 void setParameter(ompl::base::ParamSet& params, const std::string& name, const std::string& value) {
+  quietOmpl();  // OMPL logs every value it sets at its debug level
   if (!params.hasParam(name)) throw InvalidArgument(field(name), "unknown planner parameter");
   ompl::base::GenericParam& param = params[name];
   // Checked here, from the declared range, so that a bad value gets its
@@ -100,17 +111,6 @@ void setParameter(ompl::base::ParamSet& params, const std::string& name, const s
   // Integers go through OMPL as "5", not "5.0" or "5e0".
   if (!param.setValue(integer ? std::to_string(static_cast<long long>(number)) : value))
     throw InvalidArgument(field(name), "'" + value + "' was not accepted");
-}
-
-void declareParameters(ompl::base::ParamSet& params, grasp::ObjectiveOptions& objective) {
-  // Eq. (1)'s alpha keeps Q / (R + alpha) finite; friction and cone edges
-  // are those of the Ferrari-Canny quality Q (docs/grasp_quality.md).
-  declareParameter(params, "alpha", {1e-12, 1e-6, 1.0}, objective.alpha);
-  declareParameter(params, "friction", {0.001, 0.05, 10.0}, objective.friction);
-  declareParameter(params, "cone_edges", {3, 1, 64}, objective.cone_edges);
-  declareParameter(params, "unstable_by_reach", {0, 1, 1}, objective.unstable_by_reach);
-  declareParameter(params, "fit_check", {0, 1, 1}, objective.fit_check);
-  declareParameter(params, "fit_clearance", {0.0, 0.0005, 0.05}, objective.fit_clearance);
 }
 
 }  // namespace hfts::planner

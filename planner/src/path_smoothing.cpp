@@ -203,9 +203,4 @@ double pathLength(const WeightedStateSpace& space, const std::vector<Eigen::Vect
   return length;
 }
 
-void declareParameters(ompl::base::ParamSet& params, PathSmoothing& smoothing) {
-  declareParameter(params, "smoothing_steps", {0, 10, 100000}, smoothing.steps);
-  declareParameter(params, "final_resolution", {1e-4, 1e-4, 1.0}, smoothing.final_resolution);
-}
-
 }  // namespace hfts::planner

@@ -62,7 +62,7 @@ std::pair<PlanFailure, std::string> checkScene(Problem& p) {
 
 /// Why no grasp can be stable where the object stands (kNone: one may be).
 std::pair<PlanFailure, std::string> checkGraspable(const Problem& p) {
-  if (p.usable.empty() || grasp::stableGraspPossible(p.space, p.parameters.goals.objective))
+  if (p.usable.empty() || grasp::stableGraspPossible(p.space, p.goals.objective))
     return {PlanFailure::kNone, ""};
   std::ostringstream why;
   why << "no stable grasp is possible with the " << p.space.usableContacts() << " of the object's "

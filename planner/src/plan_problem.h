@@ -1,7 +1,7 @@
 #pragma once
 // One plan's problem, internal to the planner library: the scene as
-// requested with its collision checker, OMPL space information, parameters
-// (planner_parameters.h) and HFTS (Problem), and why planning cannot start
+// requested with its collision checker, OMPL space information, settings
+// (plan_settings.h) and HFTS (Problem), and why planning cannot start
 // in it (checkScene, checkGraspable). planGrasp, the searches (plan_search.h) and
 // holdability build on it.
 
@@ -38,14 +38,16 @@ Eigen::VectorXd startOf(const robot::RobotModel& robot, const PlanRequest& reque
 /// The request's object: `object`, else the scene's target.
 std::string objectNameOf(const PlanRequest& request);
 
-/// One plan's problem, set up in order: the scene as requested, its
-/// collision checker and OMPL space information, the parameters, the
+/// One plan's problem, set up in order: the settings, the scene as
+/// requested, its collision checker and OMPL space information, the
 /// object's HFTS.
 struct Problem {
   Problem(const PlanningWorld& w, const db::ObjectDatabase& o, const PlanRequest& request,
           Eigen::VectorXd q0)
       : world(w),
         object(o),
+        settings(resolveSettings(w.robot(), request)),
+        goals(goalSamplingSettings(settings, w.robot())),
         scene(sceneOf(request, o)),
         start(std::move(q0)),
         seed(request.seed),
@@ -53,16 +55,26 @@ struct Problem {
         simulation(request.simulation),
         checker(w.robot(), scene, &o.geometry, w.collisionMesh(o.name), w.surface(o.name)),
         si(makeSpaceInformation(w.robot(), checker, kTreeResolution)),
-        parameters(si, request, w.robot()),
+        planner(plannerFor(si, settings)),
         // A robot whose fingertips have no measurable pad is not masked.
         usable(
-            parameters.goals.mask_contacts == 0 || w.padRadius() <= grasp::kContactMaskClearance
+            !settings.heuristics.mask_contacts || w.padRadius() <= grasp::kContactMaskClearance
                 ? std::vector<bool>{}
                 : grasp::fingertipReachableContacts(o, scene.target_pose, checker, w.padRadius())),
         space(o, static_cast<int>(w.robot().fingertips().size()),
               usable.empty() ? nullptr : &usable) {
-    checker.setSphereTier(parameters.sphereTier != 0);
-    checker.setMaxPenetration(parameters.goals.max_penetration);
+    checker.setSphereTier(settings.execution.sphere_tier);
+    checker.setMaxPenetration(settings.goal.max_penetration);
+  }
+
+  /// Algorithm 1's planner with the settings applied; also the space's:
+  /// the motion validator's resolution and the DoF weights, which every
+  /// algorithm's motions use.
+  static std::shared_ptr<MultiTreeCBiRRT> plannerFor(const ob::SpaceInformationPtr& si,
+                                                     const PlanSettings& settings) {
+    auto planner = std::make_shared<MultiTreeCBiRRT>(si);
+    planner->applySettings(settings);
+    return planner;
   }
 
   /// The request's object where the request puts it: at object_pose, or
@@ -79,6 +91,8 @@ struct Problem {
 
   const PlanningWorld& world;
   const db::ObjectDatabase& object;
+  const PlanSettings settings;       ///< resolved (resolveSettings)
+  const GoalSamplingSettings goals;  ///< goal sampling's part of them
   const robot::Scene scene;
   const Eigen::VectorXd start;
   const std::uint64_t seed;
@@ -86,7 +100,8 @@ struct Problem {
   const physics::SimulationOptions simulation;  ///< of physics_check and validate
   robot::CollisionChecker checker;
   const ob::SpaceInformationPtr si;
-  PlanParameters parameters;
+  /// Algorithm 1's planner, with the settings applied.
+  const std::shared_ptr<MultiTreeCBiRRT> planner;
   /// Contacts a fingertip can touch here (empty: mask_contacts off, all).
   const std::vector<bool> usable;
   const grasp::HftsSpace space;

@@ -67,11 +67,11 @@ std::vector<ExploredNode> exploredNodes(const GoalHierarchyCache& cache, Samplin
 /// (Algorithm 2) or the decoupled one.
 SearchOutcome searchMultiTree(Problem& p, bool coupled,
                               const ob::PlannerTerminationCondition& ptc) {
-  MultiTreeCBiRRT& planner = *p.parameters.planner;
-  SamplingTools tools(p.world, p.scene, p.space, p.checker, p.parameters.goals);
+  MultiTreeCBiRRT& planner = *p.planner;
+  SamplingTools tools(p.world, p.scene, p.space, p.checker, p.goals);
   tools.configurator.setArmReference(p.start.head(p.world.robot().numArmDofs()));
-  const std::unique_ptr<GraspGoalSampler> sampler = tools.makeSampler(
-      coupled, planner.rng(), p.parameters.goals, planner.smoothing().final_resolution);
+  const std::unique_ptr<GraspGoalSampler> sampler =
+      tools.makeSampler(coupled, planner.rng(), p.goals, p.settings.execution.final_resolution);
   planner.setProjection(std::make_shared<BackwardProjection>(
       p.world.robot(), p.scene.robot_base, p.scene.target_pose * p.object.geometry.center_of_mass,
       planner.getProjectionDistance()));
@@ -87,10 +87,10 @@ SearchOutcome searchMultiTree(Problem& p, bool coupled,
   SearchOutcome out;
   // The goal checks' model, compiled before the search (a simulation's
   // set-up cannot be stopped; its stop is polled only once it runs).
-  if (p.parameters.physicsCheck != 0)
+  if (p.settings.goal.physics_check)
     physics::prepareSimulation(p.world.robot(), p.scene, p.object, p.simulation);
-  planner.setGoalCheck(p.parameters.physicsCheck != 0 ? physicsGoalCheck(p, out, ptc)
-                                                      : MultiTreeCBiRRT::GoalCheck{});
+  planner.setGoalCheck(p.settings.goal.physics_check ? physicsGoalCheck(p, out, ptc)
+                                                     : MultiTreeCBiRRT::GoalCheck{});
   out.solved = planner.solve(ptc) == ob::PlannerStatus::EXACT_SOLUTION;
   out.goals = sampler->statistics();
   const PlanStatistics checked = out.stats;  // the goal checks' counts
@@ -112,7 +112,7 @@ SearchOutcome searchMultiTree(Problem& p, bool coupled,
 /// decoupled goals.
 SearchOutcome searchBaseline(Problem& p, const ob::PlannerTerminationCondition& ptc) {
   LazyGoalRrtConnect baseline(p.si, p.world, p.scene, p.object, p.space,
-                              {p.parameters.goals, p.parameters.planner->smoothing(), p.seed});
+                              {p.goals, p.planner->smoothing(), p.seed});
   LazyGoalOutcome found = baseline.solve(p.start, ptc);
   SearchOutcome out;
   out.solved = found.solved;

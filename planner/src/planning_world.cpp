@@ -121,7 +121,8 @@ std::shared_ptr<const PlanningWorld> PlanningWorld::load(const fs::path& robotCo
   auto [robot, map] = robotAndHandMap(robotConfig, dbDir);
   auto world = std::make_shared<const PlanningWorld>(std::move(robot), std::move(map),
                                                      ObjectLibrary::load(dbDir, skipped));
-  plannerParameterInfo(world->robot());  // the config's planner_defaults, checked now
+  quietOmpl();
+  defaultSettings(world->robot());  // the config's planner_defaults, checked now
   return world;
 }
 
@@ -131,7 +132,8 @@ std::shared_ptr<const PlanningWorld> PlanningWorld::load(
   auto [robot, map] = robotAndHandMap(robotConfig, dbDir);
   auto world =
       std::make_shared<const PlanningWorld>(std::move(robot), std::move(map), std::move(objects));
-  plannerParameterInfo(world->robot());
+  quietOmpl();
+  defaultSettings(world->robot());
   return world;
 }
 

@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "plan_diagnosis.h"
-#include "planner_parameters.h"
 
 namespace hfts::planner {
 
@@ -18,16 +17,6 @@ std::uint64_t racingSeed(std::uint64_t seed, int copy) {
   z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
   z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
   return z ^ (z >> 31);
-}
-
-int threadsOf(const PlanRequest& request) {
-  const auto it = request.parameters.find("threads");
-  if (it == request.parameters.end()) return 1;
-  ob::ParamSet only;
-  int threads = 1;
-  declareParameter(only, "threads", kThreadsRange, threads);
-  setParameter(only, "threads", it->second);
-  return threads;
 }
 
 PlanResult race(const PlanRequest& request, const std::atomic<bool>* cancel, int copies,

@@ -11,9 +11,6 @@
 
 namespace hfts::planner {
 
-/// The request's `threads` parameter, checked as the full set checks it.
-int threadsOf(const PlanRequest& request);
-
 /// One copy of a race: plans `request` until `stop` is set.
 using PlanOne =
     std::function<PlanResult(const PlanRequest& request, const std::atomic<bool>* stop)>;

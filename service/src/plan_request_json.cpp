@@ -164,19 +164,19 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
     if (!(r.trajectory_rate >= 0.0 && r.trajectory_rate <= planner::kMaxTrajectoryRate))
       f.fail("trajectory_rate", "must be in [0, 1000] samples per second (0: no trajectory)");
   }
-  if (f.has("parameters")) {
-    r.parameters = parametersOf(f, planned);
-    // Numbers and numeric text alike (planGrasp reads both); other text is
-    // left to planGrasp's own check.
-    if (const auto it = r.parameters.find("threads"); it != r.parameters.end()) {
-      char* end = nullptr;
-      const double threads = std::strtod(it->second.c_str(), &end);
-      if (end != it->second.c_str() && threads > limits.max_threads)
-        JsonFields(f.at("parameters"), "parameters")
-            .fail("threads", "at most " + std::to_string(limits.max_threads) +
-                                 " on this server (its planning workers), got " + it->second);
-    }
+  if (f.has("parameters")) r.parameters = parametersOf(f, planned);
+  // Every value checked now, as planGrasp will read them, and the race
+  // within this server's workers.
+  int threads = 1;
+  try {
+    threads = planner::resolveSettings(planned.model(), r).execution.threads;
+  } catch (const InvalidArgument& e) {
+    throwInvalidParam(e.field(), e.problem());
   }
+  if (threads > limits.max_threads)
+    throwInvalidParam("parameters.threads", "at most " + std::to_string(limits.max_threads) +
+                                                " on this server (its planning workers), got " +
+                                                std::to_string(threads));
   return r;
 }
 

@@ -218,10 +218,11 @@ TEST(PlanRequestJson, RacingCopiesAreCappedAtTheServersWorkers) {
   const planner::PlanRequest r =
       planRequestFromJson(two, test::serviceCatalog(), PlanLimits{60.0, 2});
   EXPECT_EQ(r.parameters.at("threads"), "2");
-  // Values that are not numbers are left to the planner's own check.
-  EXPECT_EQ(
-      parse({{"scene", "bin"}, {"parameters", {{"threads", "many"}}}}).parameters.at("threads"),
-      "many");
+  // Every value meets the planner's own check when the request is read.
+  expectRejected({{"scene", "bin"}, {"parameters", {{"threads", "many"}}}}, "parameters.threads",
+                 "must be an integer, got 'many'");
+  expectRejected({{"scene", "bin"}, {"parameters", {{"p_max", 5}}}}, "parameters.p_max",
+                 "must be in [0, 1], got 5");
 }
 
 TEST(PlanRequestJson, NonFiniteNumbersAreRejected) {

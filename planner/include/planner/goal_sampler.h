@@ -190,7 +190,7 @@ class DecoupledGoalSampler : public GraspGoalSampler {
 };
 
 /// What goal sampling is set up with besides its tools (paper Fig. 6 and
-/// Sec. IV). Every field is a planner parameter (declareParameters).
+/// Sec. IV), taken from the plan's settings (plan_settings.h).
 struct GoalSamplingSettings {
   HftsGoalSamplerOptions coupled;     ///< "w_f", "w_c", "n_a", "kappa", "i_min", "i_max"
   int decoupled_iterations = 20;      ///< i of the decoupled sampler ("iterations")
@@ -231,9 +231,5 @@ struct GoalSamplingSettings {
 /// The range of the decoupled sampler's i ("iterations"), for programs
 /// that check a request before planning (hfts-bench's decoupledN).
 inline constexpr ParameterRange kDecoupledIterationsRange{1, 1, 100000};
-
-/// Declares every field of `settings` in `params` under the names above,
-/// each with its range (`settings` must outlive `params`).
-void declareParameters(ompl::base::ParamSet& params, GoalSamplingSettings& settings);
 
 }  // namespace hfts::planner

@@ -3,8 +3,8 @@
 // tree from the start, backward trees rooted at goals (B_G) and at
 // approximate goals (B_A) that a goal sampler provides, the projection
 // heuristic for backward trees, path extraction, shortcut smoothing and a
-// dense final re-check. An ompl::base::Planner: every setting is a declared
-// parameter, settable by name. Include only where OMPL is used.
+// dense final re-check. An ompl::base::Planner: its settings come typed
+// (applySettings) or by name (params()). Include only where OMPL is used.
 
 #include <ompl/base/Goal.h>
 #include <ompl/base/Planner.h>
@@ -22,6 +22,7 @@
 #include "planner/configuration_space.h"
 #include "planner/goal_sampler.h"
 #include "planner/path_smoothing.h"
+#include "planner/plan_settings.h"
 
 namespace hfts::planner {
 
@@ -62,9 +63,14 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   using GoalCheck = std::function<bool(const GoalSample&)>;
   void setGoalCheck(GoalCheck check) { goalCheck_ = std::move(check); }
   std::mt19937_64& rng() { return rng_; }
+  /// Takes the settings this planner uses: the paper's tree parameters,
+  /// the retreat and local sampling, the collision resolution, smoothing
+  /// and the DoF weights when set.
+  void applySettings(const PlanSettings& settings);
 
-  // Parameters: set them by name through params() (checked against their
-  // declared ranges); the names are in parentheses.
+  // The settings as they stand, also settable by name through params()
+  // (checked against the planner's table of ranges, plan_settings.h); the
+  // names are in parentheses.
   double getRange() const { return range_; }              ///< step size Delta phi ("step_size")
   double getGoalProbabilityMax() const { return pMax_; }  ///< "p_max"
   double getGoalProbabilityMin() const { return pMin_; }  ///< "p_min"
@@ -108,6 +114,7 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   void growRetreat(int treeIndex);
   /// The Eq. (3) weight of all arm (or all hand) DoF.
   void setGroupWeight(bool arm, double weight);
+  void setProjectionDistance(double d);
   /// Algorithm 1 line 16: returns the index of a connected backward tree,
   /// or -1; the joining nodes land in `forwardEnd` / `backwardEnd`.
   int extendTrees(const ompl::base::PlannerTerminationCondition& ptc, Motion*& forwardEnd,

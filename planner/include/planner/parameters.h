@@ -1,16 +1,14 @@
 #pragma once
-// Planner parameters: each declared once, by its owner (the multi-tree
-// planner, path smoothing, goal sampling, the Eq. (1) objective), in an
-// OMPL ParamSet with one range that is both OMPL's range suggestion and the
-// check its setter enforces. planGrasp merges the owners' sets into one that
-// a request sets by name (docs/planning.md).
+// Parameters by name: an OMPL ParamSet is the adapter from a name and a
+// value as text to a typed field, with one range that is both OMPL's range
+// suggestion and the check its setter enforces. The planner's settings
+// (plan_settings.h) are declared this way in one table; the multi-tree
+// planner declares its own for OMPL (docs/planning.md).
 
 #include <ompl/base/GenericParam.h>
 
 #include <functional>
 #include <string>
-
-#include "grasp/grasp_objective.h"
 
 namespace hfts::planner {
 
@@ -46,14 +44,15 @@ void declareParameter(ompl::base::ParamSet& params, const std::string& name,
       params, name, range, [&field](T value) { field = value; }, [&field] { return field; });
 }
 
+/// OMPL's console at warnings and above, once per process (setParameter
+/// calls it: OMPL logs every value it sets at its debug level).
+void quietOmpl();
+
 /// Sets a declared parameter from text. Throws InvalidArgument with the
 /// field "parameters.<name>" for an unknown name, text that is not a number
 /// (or not an integer for an integer parameter) or a value outside its
 /// range.
 void setParameter(ompl::base::ParamSet& params, const std::string& name, const std::string& value);
-
-/// The objective's parameters (alpha, friction, cone_edges) in `params`.
-void declareParameters(ompl::base::ParamSet& params, grasp::ObjectiveOptions& objective);
 
 extern template void declareParameter<double>(ompl::base::ParamSet&, const std::string&,
                                               const ParameterRange&, std::function<void(double)>,

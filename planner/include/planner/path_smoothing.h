@@ -28,10 +28,6 @@ struct PathSmoothing {
   std::uint32_t seed = 1;            ///< of OMPL's PathSimplifier
 };
 
-/// Declares "smoothing_steps" and "final_resolution" of `smoothing` in
-/// `params`, with their ranges (`smoothing` must outlive `params`).
-void declareParameters(ompl::base::ParamSet& params, PathSmoothing& smoothing);
-
 /// Shortens `path` with OMPL's PathSimplifier on `si` (whose motion
 /// validator checks the shortcuts): up to `steps` of vertex reduction,
 /// then up to `steps` of shortcutting, in batches of 20 between which

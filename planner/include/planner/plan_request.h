@@ -1,7 +1,7 @@
 #pragma once
 // What a plan is asked for (planGrasp, grasp_motion_planner.h): the scene,
 // the object and where it stands, the start, the algorithm, the seed, the
-// time limit and the planner parameters by name.
+// time limit and the planner's settings (plan_settings.h).
 
 #include <Eigen/Geometry>
 
@@ -11,6 +11,7 @@
 #include <string>
 
 #include "physics/simulate_grasp.h"
+#include "planner/plan_settings.h"
 #include "robot/scene.h"
 
 namespace hfts::planner {
@@ -23,23 +24,6 @@ enum class PlanAlgorithm {
   kRrtConnect,
 };
 
-/// Which defaults a request's parameters start from.
-enum class PlannerPreset {
-  /// The planner as measured best: the code's defaults, then the robot
-  /// config's planner_defaults (docs/planning.md).
-  kDefault,
-  /// The paper's algorithm exactly (Algorithms 1-4 with Fig. 6's values):
-  /// every addition beyond the paper off (paperSettings()), whatever the
-  /// robot config says. The goal is still the grasp as executed (the hand
-  /// closed until its pads touch, min_epsilon, max_penetration).
-  kPaper,
-};
-
-/// The parameters kPaper sets, name and value: the switches and values
-/// this project added to the paper's algorithm, each at the value that
-/// turns it off.
-const std::map<std::string, std::string>& paperSettings();
-
 struct PlanRequest {
   robot::Scene scene;  ///< obstacles, robot base, target pose and start
   std::string object;  ///< object database name; empty: scene.target_object
@@ -47,15 +31,19 @@ struct PlanRequest {
   std::optional<Eigen::Isometry3d> object_pose;
   std::optional<Eigen::VectorXd> start;  ///< overrides the scene's start
   PlanAlgorithm algorithm = PlanAlgorithm::kCoupled;
-  /// The defaults `parameters` apply over.
+  /// The settings, typed; unset: defaultSettings(robot, preset). Start
+  /// from defaultSettings() to change a few (resolveSettings says the order).
+  std::optional<PlanSettings> settings;
+  /// The defaults when `settings` is unset.
   PlannerPreset preset = PlannerPreset::kDefault;
   std::optional<int> iterations;  ///< decoupled, rrtconnect: i per level (default 20)
   std::uint64_t seed = 1;
   /// s, counted from the call; feeds the search's termination condition
   /// (60 s: Fig. 6 of the paper).
   double time_limit = 60.0;
-  /// Any declared planner parameter by name (see plannerParameters()),
-  /// value as text, e.g. {"p_max", "0.8"}.
+  /// Any planner parameter by name over the settings (see
+  /// plannerParameters()), value as text, e.g. {"p_max", "0.8"}: how the
+  /// service and hfts-bench set them.
   std::map<std::string, std::string> parameters;
   /// Samples per second of the result's trajectory, 0 .. kMaxTrajectoryRate;
   /// 0: none (nor when the robot config has no max_accelerations).
@@ -71,14 +59,13 @@ struct PlanRequest {
 
 inline constexpr double kMaxTrajectoryRate = 1000.0;
 
-/// A declared planner parameter: name, default value and the range a value
-/// must be in (OMPL's "low:step:high" notation; low and high are enforced,
-/// the step is a hint).
-struct PlannerParameterInfo {
-  std::string name;
-  std::string default_value;
-  std::string range;
-};
+/// A request's settings, the one place that knows their order: its typed
+/// `settings` when given, else defaultSettings(robot, its preset); then its
+/// `parameters` by name; then its top-level `iterations`; checked
+/// (checkSettings). Throws InvalidArgument ("parameters.<name>",
+/// "iterations") for an unknown name or a value outside its range, and
+/// ("parameters.i_min") for i_min > i_max.
+PlanSettings resolveSettings(const robot::RobotModel& robot, const PlanRequest& request);
 
 /// The seed of racing copy `copy` (0 .. threads - 1) of a request with
 /// `seed`: copy 0 keeps the request's seed, the others get well-mixed
