@@ -37,15 +37,17 @@ import numpy as np  # noqa: E402
 Z95 = 1.959963984540054
 # "paper" is the coupled planner with every addition beyond the paper off
 # (planner::PlannerPreset::kPaper); a plain "coupled" is the planner's and
-# the robot config's defaults. CSVs written before the preset name the
-# older setting, which turned off the goal sampling's switches only.
+# the robot config's defaults (every kept addition on). CSVs written
+# before the preset name the older setting, which turned off the goal
+# sampling's switches only; CSVs written before the additions were decided
+# (docs/planning.md) name the support options explicitly.
 PAPER = "paper"
 OLD_PAPER = "coupled:stable_nodes=0:other_postures=0:hand_clearance=0:retreat=0"
 LABELS = {PAPER: "coupled (paper)", OLD_PAPER: "coupled (Alg. 2 goal sampling)",
           "coupled": "coupled (defaults)",
           "rrtconnect": "RRTConnect + lazy goals",
           "coupled:stable_nodes=1:other_postures=1:hand_clearance=1":
-              "coupled + support options, retreat"}
+              "coupled + support options, retreat (before 2026-12-05)"}
 # Okabe-Ito: distinguishable with the common colour-vision deficiencies.
 PALETTE = ["#0072B2", "#E69F00", "#009E73", "#CC79A7", "#777777", "#D55E00", "#56B4E9", "#F0E442"]
 

@@ -11,7 +11,7 @@ namespace hfts::grasp {
 ObjectiveOptions objectiveOptions(const robot::RobotModel& robot) {
   ObjectiveOptions options;
   options.torsional_friction = robot.torsionalFriction();
-  options.fit_check = robot.fingertips().size() == 2 ? 1 : 0;
+  options.fit_check = 1;
   return options;
 }
 

@@ -1,7 +1,6 @@
 #include "planner/backward_projection.h"
 
 #include <cmath>
-#include <optional>
 #include <stdexcept>
 
 #include "core/invalid_argument.h"
@@ -56,38 +55,6 @@ Eigen::VectorXd BackwardProjection::project(const Eigen::VectorXd& from,
   const double gh = (to - from).dot(h);
   if (!(gh > 0.0)) return to;
   return from + gh * h;
-}
-
-std::optional<Eigen::VectorXd> BackwardProjection::retreatStep(const Eigen::VectorXd& q,
-                                                               double length, Retreat way) const {
-  const int arm = model_.numArmDofs();
-  const robot::LinkPoses poses = robot::forwardKinematics(model_, q);
-  const Eigen::Vector3d palm = poses[static_cast<std::size_t>(model_.palmLink())].translation();
-  Eigen::Vector3d direction = palm - targetInBase_;
-  switch (way) {
-    case Retreat::kAwayFromTarget:
-      break;
-    case Retreat::kLevelAway:
-      direction.z() = 0.0;
-      break;
-    case Retreat::kTowardsBase:
-      direction = Eigen::Vector3d(-palm.x(), -palm.y(), 0.0);
-      break;
-    case Retreat::kUp:
-      direction = Eigen::Vector3d::UnitZ();
-      break;
-  }
-  if (direction.norm() < 1e-9) return std::nullopt;
-  Eigen::Matrix<double, 6, 1> twist;
-  twist << direction.normalized() * length, Eigen::Vector3d::Zero();
-  const Eigen::MatrixXd j =
-      jacobian(model_, poses, model_.palmLink(), Eigen::Vector3d::Zero()).leftCols(arm);
-  constexpr double kDamping = 1e-4;  // bounded steps near singularities, exact elsewhere
-  const Eigen::Matrix<double, 6, 6> jjt =
-      j * j.transpose() + kDamping * Eigen::Matrix<double, 6, 6>::Identity();
-  Eigen::VectorXd next = q;
-  next.head(arm) += j.transpose() * jjt.ldlt().solve(twist);
-  return next;
 }
 
 }  // namespace hfts::planner

@@ -280,10 +280,6 @@ int HftsGoalSampler::sampleNewChild(int parent, int iterations) {
   if (!best.found) return GoalHierarchyCache::kNone;
   ++stats_.nodes_explored;
   const double epsilon = best.evaluation.quality;
-  // Below an unstable inner node most leaves are unstable too (measured:
-  // docs/experiments/2026-11-23-options-for-low-objects.md).
-  if (options_.stable_nodes != 0 && !(epsilon > 0.0) && !context_.space->isLeaf(best.best))
-    return GoalHierarchyCache::kNone;
   bool otherHands = false;
   const int child = cache_.addChild(parent, best.best,
                                     configurationsOf(best.best, epsilon, &otherHands), epsilon);

@@ -51,7 +51,7 @@ Holdability holdability(const PlanningWorld& world, const PlanRequest& request, 
     return out;
   }
   // The question is whether any grasp exists: the objective ranks grasps
-  // whose hand meets an obstacle last (hand_clearance).
+  // whose hand meets an obstacle last.
   GoalSamplingSettings settings = p.goals;
   settings.hand_clearance = 1;
   SamplingTools tools(world, p.scene, p.space, p.checker, settings);

@@ -117,7 +117,6 @@ void MultiTreeCBiRRT::declareParameters() {
   field("p_min", pMin_);
   field("p_w", pW_);
   field("p_goal_tree", pGoalTree_);
-  field("retreat", retreat_);
   field("p_local", pLocal_);
   field("local_radius", localRadius_);
   declareParameter<double>(
@@ -146,7 +145,6 @@ void MultiTreeCBiRRT::applySettings(const PlanSettings& s) {
   setProjectionDistance(s.paper.d_m);
   if (s.paper.weight_arm) setGroupWeight(true, *s.paper.weight_arm);
   if (s.paper.weight_hand) setGroupWeight(false, *s.paper.weight_hand);
-  retreat_ = s.heuristics.retreat;
   pLocal_ = s.heuristics.p_local;
   localRadius_ = s.heuristics.local_radius;
   validator_->setResolution(s.execution.collision_resolution);
@@ -266,34 +264,6 @@ void MultiTreeCBiRRT::sampleGoal(GoalSampler& sampler, const ob::PlannerTerminat
   const int tree = addTree(goal ? TreeKind::kGoal : TreeKind::kApproximate, sample.configuration);
   trees_[static_cast<std::size_t>(tree)]->root = sample;
   ++(goal ? stats_.goal_trees : stats_.approximate_trees);
-  growRetreat(tree);
-}
-
-void MultiTreeCBiRRT::growRetreat(int treeIndex) {
-  if (!(retreat_ > 0.0) || !projection_) return;
-  constexpr double kPalmStep = 0.02;  // m of palm motion per node
-  const int steps = static_cast<int>(std::ceil(retreat_ / kPalmStep - 1e-9));
-  Motion* root = trees_[static_cast<std::size_t>(treeIndex)]->motions.front();
-  const Eigen::VectorXd start = root->q;
-  std::vector<Eigen::VectorXd> longest, chain;
-  for (const BackwardProjection::Retreat way : BackwardProjection::kRetreats) {
-    chain.clear();
-    const Eigen::VectorXd* from = &start;
-    while (static_cast<int>(chain.size()) < steps) {
-      std::optional<Eigen::VectorXd> next = projection_->retreatStep(*from, kPalmStep, way);
-      if (!next || (next->array() < lower_.array()).any() ||
-          (next->array() > upper_.array()).any() ||
-          !validator_->checkMotion(*from, *next, validator_->resolution()))
-        break;
-      chain.push_back(std::move(*next));
-      from = &chain.back();
-    }
-    if (chain.size() > longest.size()) longest.swap(chain);
-    if (static_cast<int>(longest.size()) == steps) break;
-  }
-  Motion* parent = root;
-  for (const Eigen::VectorXd& q : longest) parent = addMotion(treeIndex, q, parent);
-  stats_.retreat_nodes += longest.size();
 }
 
 int MultiTreeCBiRRT::pickBackwardTree() {

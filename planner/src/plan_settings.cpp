@@ -53,12 +53,9 @@ void declareSettings(ob::ParamSet& p, PlanSettings& s) {
   declareParameter(p, "iterations", {1, 1, 100000}, a.decoupled_iterations);
 
   SearchHeuristics& h = s.heuristics;
-  declareParameter(p, "retreat", {0.0, 0.02, 1.0}, h.retreat);
   declareParameter(p, "p_local", {0.0, 0.05, 1.0}, h.p_local);
   declareParameter(p, "local_radius", {0.01, 0.05, 3.2}, h.local_radius);
-  declareSwitch(p, "stable_nodes", h.stable_nodes);
   declareSwitch(p, "other_postures", h.other_postures);
-  declareSwitch(p, "hand_clearance", h.hand_clearance);
   declareParameter(p, "palm_turns", {1, 1, 64}, h.palm_turns);
   declareSwitch(p, "mask_contacts", h.mask_contacts);
   declareSwitch(p, "unstable_by_reach", h.unstable_by_reach);
@@ -101,11 +98,8 @@ const std::map<std::string, std::string>& paperSettings() {
   // Every addition to Algorithms 1-4 (docs/planning.md, "The paper's
   // algorithm"), at its value that turns it off.
   static const std::map<std::string, std::string> settings = {
-      {"retreat", "0"},            // Algorithm 1: no palm retreat from backward roots
       {"p_local", "0"},            // Algorithm 1: uniform samples only
-      {"stable_nodes", "0"},       // Algorithm 2: unstable inner nodes are added
       {"other_postures", "0"},     // Phi(h): R(h)'s posture only
-      {"hand_clearance", "0"},     // Eq. (1) alone
       {"palm_turns", "1"},         // Phi(h): R(h)'s own palm only
       {"mask_contacts", "0"},      // every contact in the HFTS
       {"unstable_by_reach", "0"},  // Eq. (1)'s flat 0 for unstable grasps
@@ -132,9 +126,6 @@ ParameterRange settingRange(const std::string& name) {
 
 PlanSettings defaultSettings(const robot::RobotModel& robot, PlannerPreset preset) {
   PlanSettings s;
-  const bool twoFingertips = robot.fingertips().size() == 2;
-  s.heuristics.unstable_by_reach = twoFingertips;
-  s.heuristics.fit_check = twoFingertips;
   for (const auto& [name, value] : robot.plannerDefaults()) {
     try {
       setSetting(s, name, value);

@@ -10,7 +10,6 @@ GoalSamplingSettings goalSamplingSettings(const PlanSettings& s, const robot::Ro
   g.coupled.samples = s.paper.kappa;
   g.coupled.min_iterations = s.paper.i_min;
   g.coupled.max_iterations = s.paper.i_max;
-  g.coupled.stable_nodes = s.heuristics.stable_nodes ? 1 : 0;
   g.decoupled_iterations = s.paper.decoupled_iterations;
   g.objective.alpha = s.paper.alpha;
   g.objective.friction = s.paper.friction;
@@ -24,7 +23,6 @@ GoalSamplingSettings goalSamplingSettings(const PlanSettings& s, const robot::Ro
   g.max_penetration = s.goal.max_penetration;
   g.mask_contacts = s.heuristics.mask_contacts ? 1 : 0;
   g.other_postures = s.heuristics.other_postures ? 1 : 0;
-  g.hand_clearance = s.heuristics.hand_clearance ? 1 : 0;
   g.palm_turns = s.heuristics.palm_turns;
   return g;
 }

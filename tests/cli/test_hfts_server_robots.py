@@ -40,9 +40,8 @@ class ThreeRobots(ServerTest):
         self.assertEqual(len(robots["ur5e_allegro"]["fingertips"]), 4)
         defaults = {name: {p["name"]: p["default"] for p in r["planner_parameters"]}
                     for name, r in robots.items()}
-        self.assertEqual(defaults["kr5_sdh"]["unstable_by_reach"], "0")
-        self.assertEqual(defaults["panda_gripper"]["unstable_by_reach"], "1")
-        self.assertEqual(defaults["ur5e_allegro"]["unstable_by_reach"], "0")
+        for robot in robots:
+            self.assertEqual(defaults[robot]["unstable_by_reach"], "1", robot)
         self.assertEqual(float(defaults["kr5_sdh"]["max_fingertip_error"]), 0.008)
         self.assertEqual(float(defaults["panda_gripper"]["max_fingertip_error"]), 0.005)
         self.assertEqual(float(defaults["ur5e_allegro"]["max_fingertip_error"]), 0.008)

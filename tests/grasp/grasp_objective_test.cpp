@@ -94,9 +94,9 @@ TEST(GraspObjective, FitCheckGivesQualityZeroToPairsTheJawsCannotHold) {
   const HandReachability jaws(panda, buildHandMap(panda, handMapOptions(panda)));
   EXPECT_NEAR(jaws.maxFingertipDistance(), 0.08, 1e-4) << "the Franka Hand's 80 mm stroke";
   ObjectiveOptions checked = objectiveOptions(panda);
-  ASSERT_EQ(checked.fit_check, 1) << "on for two fingertips";
-  checked.unstable_by_reach = 1;  // as the planner sets it for two fingertips
-  ASSERT_EQ(objectiveOptions(test::kr5Sdh()).fit_check, 0);
+  ASSERT_EQ(checked.fit_check, 1) << "on for every hand";
+  checked.unstable_by_reach = 1;  // as the planner sets it
+  ASSERT_EQ(objectiveOptions(test::kr5Sdh()).fit_check, 1);
   ObjectiveOptions unchecked = checked;
   unchecked.fit_check = 0;
   // The mug (outer diameter 8 cm, 5 mm wall): pairs across its body, its

@@ -71,7 +71,7 @@ TEST_P(HftsFingers, RatingsFollowEquationOneWithTheRobotsHandAndContactModel) {
     while (!space.isLeaf(node)) node = space.child(node, (i * 31) % space.numChildren(node));
     const GraspEvaluation e = objective.evaluate(node);
     // Q is the hull of the contacts' wrenches under the robot's contact
-    // model, for contacts the hand can hold (fit_check: on for two fingertips).
+    // model, for contacts the hand can hold (fit_check: on for every hand).
     const GraspContacts contacts = space.representative(node);
     const GraspQualityRequest request = qualityRequest(space, contacts, options);
     EXPECT_EQ(request.torsional_friction, hand.model.torsionalFriction());

@@ -165,28 +165,6 @@ TEST_P(KappaBudget, OneCallMakesAtMostKappaNewChildren) {
 
 INSTANTIATE_TEST_SUITE_P(Kappa, KappaBudget, ::testing::Values(1, 2, 4));
 
-TEST(HftsGoalSampler, StableNodesKeepsUnstableInnerNodesOutOfTheHierarchy) {
-  // The same calls with the paper's rule and with stable_nodes: only the
-  // latter never caches an inner node whose representative grasp is
-  // unstable (leaves are cached either way: they are Phi(h)'s answers).
-  int unstableInner[2] = {0, 0}, stableInner[2] = {0, 0};
-  for (int stableNodes : {0, 1}) {
-    test::TableMug setup;
-    HftsGoalSamplerOptions options;
-    options.stable_nodes = stableNodes;
-    HftsGoalSampler sampler(setup.context, options);
-    for (int call = 0; call < 30; ++call) sampler.sample(setup.knowledge, kNever);
-    for (std::size_t n = 1; n < sampler.cache().size(); ++n) {
-      const CacheNode& node = sampler.cache().node(static_cast<int>(n));
-      if (setup.space.isLeaf(node.hfts)) continue;
-      ++(node.quality > 0.0 ? stableInner : unstableInner)[stableNodes];
-    }
-  }
-  EXPECT_GT(unstableInner[0], 0);  // the paper's rule caches some
-  EXPECT_EQ(unstableInner[1], 0);
-  EXPECT_GT(stableInner[1], 10);
-}
-
 /// Configurations in lexicographic order.
 std::vector<Eigen::VectorXd> sorted(std::vector<Eigen::VectorXd> v) {
   std::sort(v.begin(), v.end(), [](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {

@@ -119,11 +119,10 @@ TEST(GraspMotionPlanner, ThePaperPresetTurnsEveryAdditionOffWhateverTheRobotConf
     r.time_limit = 0.0;
     EXPECT_NO_THROW(planGrasp(world(), r)) << name << "=" << value;
   }
-  // The bundled KR5's config turns additions on (stable_nodes 1, ...) and
-  // physics_check defaults to 1: the preset turns them off again, as
-  // naming every setting in the request does.
+  // The additions and physics_check default to 1: the preset turns them
+  // off, as naming every setting in the request does.
   EXPECT_EQ(declared.at("physics_check"), "1");
-  EXPECT_EQ(declared.at("stable_nodes"), "1");
+  EXPECT_EQ(declared.at("other_postures"), "1");
   PlanRequest paper = request("table", "mug", 3);
   paper.preset = PlannerPreset::kPaper;
   PlanRequest named = request("table", "mug", 3);
@@ -590,14 +589,14 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
                                             // The KR5's planner_defaults (the planner's
                                             // own is 0.005, the Panda's default).
                                             {"max_fingertip_error", 0.008},
-                                            {"palm_turns", 8},
-                                            // Eq. (1) as in the paper for the SDH's three
-                                            // fingers (1 only for two-fingered hands).
-                                            {"unstable_by_reach", 0},
-                                            {"fit_check", 0},
+                                            // The additions kept on held-out evidence
+                                            // (docs/planning.md), on for every hand.
+                                            {"unstable_by_reach", 1},
+                                            {"fit_check", 1},
                                             {"fit_clearance", 0.0},
-                                            // Backward trees aim near their own nodes
-                                            // (0: the paper's Algorithm 1).
+                                            {"palm_turns", 8},
+                                            {"other_postures", 1},
+                                            {"mask_contacts", 1},
                                             {"p_local", 1.0},
                                             {"local_radius", 0.8},
                                             // A goal is a grasp that holds
@@ -612,7 +611,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
     expected.erase(it);
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
-  EXPECT_EQ(plannerParameters(world()).size(), 38u) << "a parameter was added or removed";
+  EXPECT_EQ(plannerParameters(world()).size(), 35u) << "a parameter was added or removed";
 }
 
 /// The bundled KR5 + SDH with these `planner_defaults` instead of its own.
@@ -629,15 +628,16 @@ robot::RobotModel kr5WithDefaults(const std::string& defaults) {
 }
 
 TEST(GraspMotionPlanner, ARobotConfigsPlannerDefaultsReplaceThePlannersAndAreChecked) {
-  const robot::RobotModel model = kr5WithDefaults(R"({"stable_nodes": 1, "p_max": 0.75})");
+  const robot::RobotModel model = kr5WithDefaults(R"({"other_postures": 0, "p_max": 0.75})");
   const PlanningWorld changed(model, grasp::buildHandMap(model),
                               std::map<std::string, db::ObjectDatabase>{});
   std::map<std::string, std::string> defaults;
   for (const PlannerParameterInfo& p : plannerParameters(changed))
     defaults[p.name] = p.default_value;
-  EXPECT_EQ(defaults.at("stable_nodes"), "1");
+  EXPECT_EQ(defaults.at("other_postures"), "0");
   EXPECT_EQ(std::stod(defaults.at("p_max")), 0.75);
-  EXPECT_EQ(defaults.at("other_postures"), "0") << "the others stay the planner's";
+  EXPECT_EQ(defaults.at("fit_check"), "1") << "the others stay the planner's";
+  EXPECT_EQ(std::stod(defaults.at("max_fingertip_error")), 0.005);
   for (const auto& [bad, words] : std::vector<std::pair<std::string, std::string>>{
            {R"({"warp": 1})", "robot config 'kr5_sdh': planner_defaults.warp:"},
            {R"({"p_max": 2})",

@@ -155,26 +155,19 @@ TEST(RobotModel, HandMapNormalWeightIsOptionalAndPositive) {
 
 TEST(RobotModel, PlannerDefaultsAreTextByNameAndNeedNumbersOrStrings) {
   Sources s;
-  // The bundled KR5 sets the goal sampler's options for objects on supports
-  // and an 8 mm fingertip tolerance.
+  // The bundled KR5 sets an 8 mm fingertip tolerance.
   EXPECT_EQ(RobotModel::fromStrings(s.urdf, s.config, "kr5").plannerDefaults(),
-            (std::map<std::string, std::string>{{"hand_clearance", "1"},
-                                                {"max_fingertip_error", "0.008"},
-                                                {"other_postures", "1"},
-                                                {"stable_nodes", "1"}}));
+            (std::map<std::string, std::string>{{"max_fingertip_error", "0.008"}}));
   std::string plain = s.config;
-  replaceOnce(plain,
-              "\"planner_defaults\": {\"stable_nodes\": 1, \"other_postures\": 1, "
-              "\"hand_clearance\": 1,\n                       \"max_fingertip_error\": 0.008},",
-              "");
+  replaceOnce(plain, "\"planner_defaults\": {\"max_fingertip_error\": 0.008},", "");
   EXPECT_TRUE(RobotModel::fromStrings(s.urdf, plain, "kr5").plannerDefaults().empty());
   std::string config = plain;
   replaceOnce(config, "\"pregrasp_offset\"",
-              "\"planner_defaults\": {\"stable_nodes\": 1, \"p_max\": 0.75, \"kappa\": \"3\"}, "
+              "\"planner_defaults\": {\"other_postures\": 0, \"p_max\": 0.75, \"kappa\": \"3\"}, "
               "\"pregrasp_offset\"");
   const RobotModel m = RobotModel::fromStrings(s.urdf, config, "d");
   EXPECT_EQ(m.plannerDefaults(), (std::map<std::string, std::string>{
-                                     {"kappa", "3"}, {"p_max", "0.75"}, {"stable_nodes", "1"}}));
+                                     {"kappa", "3"}, {"other_postures", "0"}, {"p_max", "0.75"}}));
   config = plain;
   replaceOnce(config, "\"pregrasp_offset\"",
               "\"planner_defaults\": {\"p_max\": [1]}, \"pregrasp_offset\"");

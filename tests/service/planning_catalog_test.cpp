@@ -87,9 +87,8 @@ TEST(PlanningCatalog, ServesSeveralRobotsOverTheSameObjects) {
       if (p.name == name) return p.default_value;
     return std::string("missing");
   };
-  EXPECT_EQ(defaultOf(catalog->robots().front(), "unstable_by_reach"), "0");
-  EXPECT_EQ(defaultOf(*second, "unstable_by_reach"), "1");
-  EXPECT_EQ(defaultOf(catalog->robots().front(), "fit_check"), "0");
+  EXPECT_EQ(std::stod(defaultOf(catalog->robots().front(), "max_fingertip_error")), 0.008);
+  EXPECT_EQ(std::stod(defaultOf(*second, "max_fingertip_error")), 0.005);
   EXPECT_EQ(defaultOf(*second, "fit_check"), "1");
   EXPECT_EQ(std::stod(defaultOf(*second, "fit_clearance")), 0.0025) << "the Panda config's";
   EXPECT_EQ(std::stod(defaultOf(catalog->robots().front(), "fit_clearance")), 0.0);

@@ -25,8 +25,9 @@ struct ObjectiveOptions {
   /// those the hand reaches; every stable grasp stays above every unstable
   /// one. 0: Eq. (1) as in the paper (a flat 0 for all unstable grasps).
   /// For two-fingered hands most contact pairs are unstable and the
-  /// reachable ones are the nearly antipodal ones, so the planner turns it
-  /// on for them (parameter "unstable_by_reach").
+  /// reachable ones are the nearly antipodal ones; the planner turns it on
+  /// for every hand (parameter "unstable_by_reach", kept on held-out
+  /// evidence: docs/planning.md).
   int unstable_by_reach = 0;
   /// 1: Q(h) is 0 for contacts the hand cannot hold, whatever their
   /// friction cones say: two contacts farther apart than any two fingertips
@@ -38,9 +39,9 @@ struct ObjectiveOptions {
   /// half the excess (each fingertip that far off its contact), so that
   /// among the grasps without force closure (unstable_by_reach) those the
   /// jaws can close on come first.
-  /// 0: Q(h) of the contacts alone, as in the paper. On for two fingertips
-  /// (objectiveOptions, the planner's "fit_check"): R(h) of a pair beyond
-  /// the stroke is only millimetres and of a reversed pair 2 lambda, so such
+  /// 0: Q(h) of the contacts alone, as in the paper. On in objectiveOptions
+  /// and the planner ("fit_check"): for a gripper R(h) of a pair beyond the
+  /// stroke is only millimetres and of a reversed pair 2 lambda, so such
   /// pairs of high quality outranked the ones the jaws can hold.
   int fit_check = 0;
   /// With fit_check: the room (m) each fingertip needs beyond its contact
@@ -52,7 +53,7 @@ struct ObjectiveOptions {
 };
 
 /// The default options with the contact model of the robot's fingertips,
-/// and fit_check for a hand of two fingertips.
+/// and fit_check.
 ObjectiveOptions objectiveOptions(const robot::RobotModel& robot);
 
 /// True when a hand whose fingertips are at most `span` (m) apart can hold
@@ -105,7 +106,7 @@ class GraspObjective {
   GraspObjective(const HftsSpace& space, const HandReachability& reachability,
                  ObjectiveOptions options = {});
   GraspEvaluation evaluate(const HftsNode& node);
-  /// Environment-aware ranking (the planner's hand_clearance): every
+  /// Environment-aware ranking (planner::holdability's search): every
   /// evaluation from now on also asks `check` (empty: none, Eq. (1) as in
   /// the paper). Forgets the cached evaluations.
   void setHandCheck(HandCheck check);

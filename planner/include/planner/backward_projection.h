@@ -6,8 +6,6 @@
 
 #include <Eigen/Geometry>
 
-#include <optional>
-
 #include "robot/robot_model.h"
 
 namespace hfts::planner {
@@ -35,26 +33,6 @@ class BackwardProjection {
   /// phi_old + <g, h> h with g = to - from; `to` itself when <g, h> <= 0
   /// (the projection never blocks an approach direction).
   Eigen::VectorXd project(const Eigen::VectorXd& from, const Eigen::VectorXd& to) const;
-
-  /// Which way a straight retreat of the palm goes (MultiTreeCBiRRT's
-  /// `retreat`), each recomputed from the palm's current position. Level
-  /// and up are in the robot base frame (its z axis up).
-  enum class Retreat {
-    kAwayFromTarget,  ///< from the target's centre to the palm
-    kLevelAway,       ///< the same without its vertical part
-    kTowardsBase,     ///< horizontally towards the robot base's vertical axis
-    kUp,              ///< straight up
-  };
-  static constexpr Retreat kRetreats[] = {Retreat::kAwayFromTarget, Retreat::kLevelAway,
-                                          Retreat::kTowardsBase, Retreat::kUp};
-
-  /// q with the arm moved so that the palm moves about `length` (m) in
-  /// direction `way` with its orientation kept: one damped least-squares
-  /// step on the palm's 6-D Jacobian (the hand joints unchanged). None
-  /// when the direction is undefined (the palm on the target's centre, or
-  /// on the base's axis for kTowardsBase).
-  std::optional<Eigen::VectorXd> retreatStep(const Eigen::VectorXd& q, double length,
-                                             Retreat way) const;
 
  private:
   const robot::RobotModel& model_;

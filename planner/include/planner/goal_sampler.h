@@ -136,11 +136,6 @@ struct HftsGoalSamplerOptions {
   int samples = 4;           ///< kappa: new configurations per call
   int min_iterations = 20;   ///< i_min
   int max_iterations = 100;  ///< i_max
-  /// 1: a new inner node whose representative grasp is not force closure
-  /// (the climb found no stable child) is not added to the hierarchy; the
-  /// attempt counts as one of kappa. 0: it is added, as in the paper
-  /// ("stable_nodes").
-  int stable_nodes = 0;
 };
 
 /// Algorithm 2 with the goal hierarchy cache (Algorithms 3 and 4).
@@ -217,7 +212,9 @@ struct GoalSamplingSettings {
   /// 1: the objective ranks a grasp whose hand (palm and fingers as R(h)
   /// places them) meets an obstacle below every grasp whose hand fits
   /// (grasp::GraspObjective::setHandCheck); 0: Eq. (1) alone, as in the
-  /// paper ("hand_clearance").
+  /// paper. Not a planner setting (the planner's option was deleted on
+  /// held-out evidence, docs/planning.md): planner::holdability's search
+  /// for any grasp that fits ranks so.
   int hand_clearance = 0;
   /// Palm turns about the line through the contacts that Phi(h) tries for a
   /// hand that may turn about it (a parallel-jaw gripper,

@@ -64,7 +64,7 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   void setGoalCheck(GoalCheck check) { goalCheck_ = std::move(check); }
   std::mt19937_64& rng() { return rng_; }
   /// Takes the settings this planner uses: the paper's tree parameters,
-  /// the retreat and local sampling, the collision resolution, smoothing
+  /// local sampling, the collision resolution, smoothing
   /// and the DoF weights when set.
   void applySettings(const PlanSettings& settings);
 
@@ -77,7 +77,6 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   double getGoalProbabilityDecay() const { return pW_; }  ///< "p_w"
   double getGoalTreeBias() const { return pGoalTree_; }   ///< "p_goal_tree"
   double getProjectionDistance() const { return dM_; }    ///< D_m ("d_m")
-  double getRetreat() const { return retreat_; }  ///< palm retreat from new roots, m ("retreat")
   /// Share of backward extensions that aim near one of the tree's own nodes
   /// instead of at a uniform sample ("p_local").
   double getLocalProbability() const { return pLocal_; }
@@ -106,12 +105,6 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   Motion* addMotion(int tree, const Eigen::VectorXd& q, Motion* parent);
   int addTree(TreeKind kind, const Eigen::VectorXd& root);
   void sampleGoal(GoalSampler& sampler, const ompl::base::PlannerTerminationCondition& ptc);
-  /// Grows a new backward tree from its root as a chain of straight palm
-  /// steps of 2 cm (orientation kept) up to `retreat` metres, in the first
-  /// of BackwardProjection::kRetreats' directions that is free all the way,
-  /// else in the one that gets farthest before a step collides or leaves
-  /// the joint limits. Nothing without a projection or with retreat 0.
-  void growRetreat(int treeIndex);
   /// The Eq. (3) weight of all arm (or all hand) DoF.
   void setGroupWeight(bool arm, double weight);
   void setProjectionDistance(double d);
@@ -166,7 +159,6 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   double range_ = 0.1;
   double pMax_ = 0.9, pMin_ = 0.01, pW_ = 1.2, pGoalTree_ = 0.7;
   double dM_ = 0.4;
-  double retreat_ = 0.2;
   double pLocal_ = 1.0, localRadius_ = 0.8;
   PathSmoothing smoothing_;
 

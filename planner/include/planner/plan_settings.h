@@ -58,22 +58,13 @@ struct PaperParameters {
 /// The additions to Algorithms 1-4 (docs/planning.md, "The paper's
 /// algorithm"); PlannerPreset::kPaper turns every one off.
 struct SearchHeuristics {
-  /// "retreat": a straight palm retreat of this length (m) grown from each
-  /// new backward tree's root; 0: none.
-  double retreat = 0.2;
   /// "p_local": share of backward extensions aimed within `local_radius`
   /// (rad, "local_radius") of one of the tree's own nodes; 0: none.
   double p_local = 1.0;
   double local_radius = 0.8;
-  /// "stable_nodes": no new inner node whose representative grasp is
-  /// unstable.
-  bool stable_nodes = false;
   /// "other_postures": a stable leaf whose first hand posture gives no goal
   /// also tries the hand's other postures for the same contacts.
-  bool other_postures = false;
-  /// "hand_clearance": Eq. (1) ranks a grasp whose hand alone meets an
-  /// obstacle below every grasp whose hand fits.
-  bool hand_clearance = false;
+  bool other_postures = true;
   /// "palm_turns": turns about the contacts' line that Phi(h) tries for a
   /// hand that may turn so (a parallel gripper); 1: R(h)'s palm only.
   int palm_turns = 8;
@@ -81,12 +72,12 @@ struct SearchHeuristics {
   /// stands make the HFTS.
   bool mask_contacts = true;
   /// "unstable_by_reach": an unstable grasp is valued -(R + alpha) instead
-  /// of Eq. (1)'s flat 0 (defaultSettings: on for two fingertips).
-  bool unstable_by_reach = false;
+  /// of Eq. (1)'s flat 0.
+  bool unstable_by_reach = true;
   /// "fit_check": Q = 0 for contacts the hand cannot span; with
   /// "fit_clearance" (m) of room each fingertip needs beyond its contact
-  /// (defaultSettings: on for two fingertips).
-  bool fit_check = false;
+  /// (a robot config may set it: the Panda's 2.5 mm).
+  bool fit_check = true;
   double fit_clearance = 0.0;
 };
 
@@ -145,8 +136,7 @@ enum class PlannerPreset {
 /// made to the paper's algorithm, each at the value that turns it off.
 const std::map<std::string, std::string>& paperSettings();
 
-/// The defaults for `robot`: the structs' own; for a robot with two
-/// fingertips, unstable_by_reach and fit_check on; then its config's
+/// The defaults for `robot`: the structs' own, then its config's
 /// planner_defaults (robot::ModelError naming one that is unknown or out
 /// of range); with kPaper, then paperSettings().
 PlanSettings defaultSettings(const robot::RobotModel& robot,

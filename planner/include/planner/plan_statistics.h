@@ -17,8 +17,7 @@ struct TreeStatistics {
   std::uint64_t rejected_paths = 0;  ///< paths that failed the dense re-check
   /// Reached goals whose grasp did not hold in physics (their trees dropped).
   std::uint64_t dropped_goals = 0;
-  std::uint64_t projections = 0;    ///< backward steps bent by the heuristic
-  std::uint64_t retreat_nodes = 0;  ///< nodes of straight retreats from new roots
+  std::uint64_t projections = 0;  ///< backward steps bent by the heuristic
   std::uint64_t forward_tree_size = 0;
   std::uint64_t backward_tree_nodes = 0;  ///< in live backward trees
   double path_length_raw = 0.0;           ///< Eq. (3) metric, before smoothing
