@@ -8,26 +8,17 @@ returned plans held.
 
 reads DIR/before_ROBOT_s2.csv and DIR/after_ROBOT_s2.csv."""
 import csv
-import math
 import os
 import statistics
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from compare_runs import wilson  # noqa: E402  (same directory)
+from compare_runs import sign_test, wilson  # noqa: E402  (same directory)
 
 
 def rows(path):
     with open(path, newline="") as f:
         return {(r["scene"], r["object"]): r for r in csv.DictReader(f)}
-
-
-def sign(a, b):
-    n = a + b
-    if n == 0:
-        return 1.0
-    k = min(a, b)
-    return min(1.0, 2 * sum(math.comb(n, i) for i in range(k + 1)) / 2 ** n)
 
 
 def main():
@@ -58,7 +49,7 @@ def main():
         held_b = sum(r["held"] == "1" for r in pb)
         held_a = sum(r["held"] == "1" for r in pa)
         print(f"| {robot} | {rate(len(hb))} | {rate(len(ha))} | {len(hb - ha)} | {len(ha - hb)} "
-              f"| {sign(len(hb - ha), len(ha - hb)):.2f} | {ratio} "
+              f"| {sign_test(len(hb - ha), len(ha - hb)):.2f} | {ratio} "
               f"| {held_b}/{len(pb)}, {held_a}/{len(pa)} |")
 
 

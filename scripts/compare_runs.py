@@ -34,6 +34,15 @@ def wilson(k, n, z=1.959964):
     return max(0.0, c - h), min(1.0, c + h)
 
 
+def sign_test(a, b):
+    """Two-sided exact binomial test of paired outcomes a against b at p = 1/2."""
+    n = a + b
+    if n == 0:
+        return 1.0
+    k = min(a, b)
+    return min(1.0, 2.0 * sum(math.comb(n, i) for i in range(k + 1)) / 2.0**n)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("csv", nargs="+")

@@ -21,14 +21,13 @@ rule of docs/experiments/2026-12-05-switches.md).
 """
 import argparse
 import csv
-import math
 import os
 import statistics
 import sys
 from collections import defaultdict
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from compare_runs import wilson  # noqa: E402  (same directory)
+from compare_runs import sign_test, wilson  # noqa: E402  (same directory)
 
 DEFAULT = "coupled"
 # Each addition's value that turns it off, as planner::paperSettings() had
@@ -41,16 +40,6 @@ PAPER = {"retreat": "0", "p_local": "0", "stable_nodes": "0", "other_postures": 
 def rate(k, n):
     lo, hi = wilson(k, n)
     return f"{k}/{n} = {k / n:.2f} [{lo:.2f}, {hi:.2f}]" if n else "0/0"
-
-
-def sign_test(wins, losses):
-    """Two-sided exact binomial test of wins against losses at p = 1/2."""
-    n = wins + losses
-    if n == 0:
-        return 1.0
-    k = min(wins, losses)
-    tail = sum(math.comb(n, i) for i in range(k + 1)) / 2.0**n
-    return min(1.0, 2.0 * tail)
 
 
 def case(r):
