@@ -24,10 +24,10 @@ namespace hfts::planner {
 /// postures for the contacts are tried.
 /// The leaves come from descents from the root to one level above the
 /// leaves, alternately climbs of Eq. (1) (`iterations` per level, the
-/// plan's objective and contact mask, grasps whose hand meets an obstacle ranked last) and random
-/// walks (a hand may hold an object only by weaker grasps), each through
-/// nodes no earlier descent passed; all leaves below the node reached are
-/// tried, until one holds. A search: "not holdable" means none was found.
+/// plan's objective and contact mask, grasps whose hand meets an obstacle
+/// ranked last) and random walks (a hand may hold an object only by weaker
+/// grasps), each through nodes no earlier descent passed; all leaves below
+/// the node reached are tried, until one holds. A search: "not holdable" means none was found.
 /// Decided before any descent: a target in collision, an object beyond the
 /// fingertips' reach (robot::fingertipReach), no stable grasp possible.
 struct Holdability {
