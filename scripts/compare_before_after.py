@@ -7,18 +7,17 @@ returned plans held.
   scripts/compare_before_after.py DIR ROBOT [ROBOT ...]
 
 reads DIR/before_ROBOT_s2.csv and DIR/after_ROBOT_s2.csv."""
-import csv
 import os
 import statistics
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from compare_runs import sign_test, wilson  # noqa: E402  (same directory)
+from compare_runs import read_runs, sign_test, wilson  # noqa: E402  (same directory)
 
 
 def rows(path):
-    with open(path, newline="") as f:
-        return {(r["scene"], r["object"]): r for r in csv.DictReader(f)}
+    columns = ("scene", "object", "success", "planned", "held", "time")
+    return {(r["scene"], r["object"]): r for r in read_runs(path, columns)}
 
 
 def main():

@@ -34,6 +34,20 @@ def wilson(k, n, z=1.959964):
     return max(0.0, c - h), min(1.0, c + h)
 
 
+def read_runs(path, columns=("scene", "object", "algorithm", "seed", "success", "time")):
+    """The rows of an hfts-bench CSV; exits naming the file when it cannot be
+    read or lacks one of `columns`."""
+    try:
+        with open(path, newline="") as f:
+            reader = csv.DictReader(f)
+            missing = [c for c in columns if c not in (reader.fieldnames or [])]
+            if missing:
+                sys.exit(f"{path}: not an hfts-bench CSV (no column {', '.join(missing)})")
+            return list(reader)
+    except OSError as e:
+        sys.exit(f"{path}: {e.strerror}")
+
+
 def sign_test(a, b):
     """Two-sided exact binomial test of paired outcomes a against b at p = 1/2."""
     n = a + b
@@ -52,8 +66,7 @@ def main():
     args = parser.parse_args()
     rows = []
     for name in args.csv:
-        with open(name, newline="") as f:
-            rows += list(csv.DictReader(f))
+        rows += read_runs(name)
     if not rows:
         sys.exit("no runs")
     case = lambda r: (r["scene"], r["object"], r.get("placement", ""), r["seed"])

@@ -20,14 +20,13 @@ it on. The addition stays when its wins exceed its losses (the decision
 rule of docs/experiments/2026-12-05-switches.md).
 """
 import argparse
-import csv
 import os
 import statistics
 import sys
 from collections import defaultdict
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from compare_runs import sign_test, wilson  # noqa: E402  (same directory)
+from compare_runs import read_runs, sign_test, wilson  # noqa: E402  (same directory)
 
 DEFAULT = "coupled"
 # Each addition's value that turns it off, as planner::paperSettings() had
@@ -98,8 +97,7 @@ def main():
     tally = defaultdict(lambda: [0, 0, []])
     for item in args.csv:
         label, _, name = item.rpartition("=")
-        with open(name, newline="") as f:
-            runs = list(csv.DictReader(f))
+        runs = read_runs(name)
         if not runs:
             sys.exit(f"{name}: no runs")
         for row in rows_of(label or os.path.basename(name), runs, tally):
