@@ -39,18 +39,20 @@ struct Tally {
 
 class Comparison {
  public:
-  Comparison(const robot::RobotModel& model, const robot::Scene& scene,
+  Comparison(const robot::CollisionModel& model, const robot::Scene& scene,
              const db::ObjectGeometry& target)
-      : model_(model), tiers_(model, scene, &target), fcl_(model, scene, &target) {
+      : model_(model.robot), tiers_(model, scene, &target), fcl_(model, scene, &target) {
     fcl_.setSphereTier(false);
   }
 
   /// Both rules, both checkers; returns whether q collides (FCL, no grasp rule).
   bool compare(const Eigen::VectorXd& q, Tally& tally) {
     const auto t0 = std::chrono::steady_clock::now();
-    const bool a = tiers_.inCollision(q), aGrasp = tiers_.inCollisionAllowingFingertipContact(q);
+    const bool a = tiers_.inCollision(q),
+               aGrasp = tiers_.inCollision(q, robot::CollisionRequest::grasp());
     const auto t1 = std::chrono::steady_clock::now();
-    const bool b = fcl_.inCollision(q), bGrasp = fcl_.inCollisionAllowingFingertipContact(q);
+    const bool b = fcl_.inCollision(q),
+               bGrasp = fcl_.inCollision(q, robot::CollisionRequest::grasp());
     const auto t2 = std::chrono::steady_clock::now();
     tally.secondsTwoTiers += std::chrono::duration<double>(t1 - t0).count();
     tally.secondsFcl += std::chrono::duration<double>(t2 - t1).count();
@@ -68,9 +70,11 @@ class Comparison {
                          Tally::Validation& tally) {
     for (const bool grasp : {false, true}) {
       const auto t0 = std::chrono::steady_clock::now();
-      const bool x = tiers_.isMotionValid(a, b, resolution, grasp);
+      const robot::CollisionRequest request =
+          grasp ? robot::CollisionRequest::grasp() : robot::CollisionRequest{};
+      const bool x = tiers_.isMotionValid(a, b, resolution, request);
       const auto t1 = std::chrono::steady_clock::now();
-      const bool y = fcl_.isMotionValid(a, b, resolution, grasp);
+      const bool y = fcl_.isMotionValid(a, b, resolution, request);
       const auto t2 = std::chrono::steady_clock::now();
       ++tally.motions;
       if (y) {
@@ -175,6 +179,8 @@ int main(int argc, char** argv) {
       if (e.path().extension() == ".json") scenes.push_back(e.path());
     std::sort(scenes.begin(), scenes.end());
     long disagreements = 0;
+    const std::shared_ptr<const robot::CollisionModel> collision =
+        robot::buildCollisionModel(model);
     std::printf("%-8s %11s %9s %13s %8s %9s %8s %9s %9s %9s %9s\n", "scene", "configs", "colliding",
                 "tip-contact", "settled", "disagree", "motions", "states", "disagree", "us/2tier",
                 "us/fcl");
@@ -185,7 +191,7 @@ int main(int argc, char** argv) {
       scene.target_pose = robot::targetPose(scene, target.geometry.mesh_vertices);
       const Eigen::Vector3d centre =
           scene.target_pose * (0.5 * (target.geometry.bbox_min + target.geometry.bbox_max));
-      Comparison c(model, scene, target.geometry);
+      Comparison c(*collision, scene, target.geometry);
       std::mt19937_64 rng(seed);
       Tally t;
       for (long i = 0; i < configurations; ++i) {

@@ -19,9 +19,9 @@
 #include "bench_options.h"
 #include "bench_report.h"
 #include "experiment_design.h"
+#include "holdability.h"
 #include "ompl_benchmark_log.h"
 #include "planner/grasp_motion_planner.h"
-#include "planner/holdability.h"
 #include "plot_script.h"
 #include "robot/scene.h"
 #include "run_record.h"
@@ -270,7 +270,7 @@ void sortOutHoldable(Experiment& e, const Options& o) {
     request.object = c.object;
     const auto began = std::chrono::steady_clock::now();
     hfts::bench::HoldabilityRecord r{{c.scene.name, c.object, c.placement},
-                                     hfts::planner::holdability(*e.world, request)};
+                                     hfts::bench::holdability(*e.world, request)};
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
     if (r.answer.holdable || !o.holdableOnly)
       holdable.push_back(c);

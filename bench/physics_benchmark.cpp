@@ -79,8 +79,8 @@ void BM_SimulateGrasp(benchmark::State& state, const std::string& robotName,
   }
   physics::GraspVerdict verdict;
   for (auto _ : state) {
-    verdict = physics::simulateGrasp(c->world->robot(), c->scene, *c->world->object(object),
-                                     c->pregrasp, c->grasp);
+    verdict = physics::simulateGrasp(c->world->collisionModel(), c->scene,
+                                     *c->world->object(object), c->pregrasp, c->grasp);
     benchmark::DoNotOptimize(verdict.held);
   }
   state.counters["held_fraction"] = verdict.held_fraction;

@@ -33,6 +33,12 @@ const robot::RobotModel& robot() {
   return model;
 }
 
+const robot::CollisionModel& collision() {
+  static const std::shared_ptr<const robot::CollisionModel> model =
+      robot::buildCollisionModel(robot());
+  return *model;
+}
+
 Eigen::VectorXd randomConfiguration(std::mt19937_64& rng) {
   Eigen::VectorXd q(robot().numDofs());
   for (Eigen::Index d = 0; d < q.size(); ++d)
@@ -199,7 +205,7 @@ struct SceneChecker {
       if (entry.path().stem() == scene.target_object && entry.path().extension() != ".json")
         mesh = entry.path();
     target = preprocess::buildObjectDatabaseFromFile(mesh, {}).database.geometry;
-    checker = std::make_unique<robot::CollisionChecker>(robot(), scene, &target);
+    checker = std::make_unique<robot::CollisionChecker>(collision(), scene, &target);
   }
   robot::Scene scene;
   db::ObjectGeometry target;

@@ -142,7 +142,7 @@ void writeHoldabilityCsv(const std::filesystem::path& out,
   text << "scene,object,placement,holdable,climbs,leaves,stable,reached,hand_clear,epsilon,seconds,"
           "reason\n";
   for (const HoldabilityRecord& r : records) {
-    const planner::Holdability& g = r.answer;
+    const Holdability& g = r.answer;
     text << csvField(r.name.scene) << ',' << csvField(r.name.object) << ','
          << csvField(r.name.placement) << ',' << (g.holdable ? 1 : 0) << ',' << g.climbs << ','
          << g.leaves << ',' << g.stable << ',' << g.reached << ',' << g.hand_clear << ','

@@ -9,8 +9,8 @@
 #include <tuple>
 #include <vector>
 
+#include "holdability.h"
 #include "planner/grasp_motion_planner.h"
-#include "planner/holdability.h"
 
 namespace hfts::bench {
 
@@ -64,10 +64,10 @@ RunRecord makeRunRecord(const CaseName& c, const std::string& algorithm, std::ui
 void writeCsvAtomically(const std::filesystem::path& out, const std::vector<RunRecord>& records);
 
 /// Whether the robot can hold an object where a case puts it
-/// (planner::holdability), and how long that took to decide.
+/// (bench::holdability), and how long that took to decide.
 struct HoldabilityRecord {
   CaseName name;
-  planner::Holdability answer;
+  Holdability answer;
   double seconds = 0.0;
 };
 

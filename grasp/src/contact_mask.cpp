@@ -11,7 +11,7 @@ namespace hfts::grasp {
 
 std::vector<bool> fingertipReachableContacts(const db::ObjectDatabase& object,
                                              const Eigen::Isometry3d& objectPose,
-                                             robot::CollisionChecker& checker, double padRadius,
+                                             const robot::CollisionScene& scene, double padRadius,
                                              double clearance) {
   if (!(padRadius > clearance) || !std::isfinite(padRadius))
     throw InvalidArgument("padRadius", "must be larger than the clearance (" +
@@ -23,7 +23,7 @@ std::vector<bool> fingertipReachableContacts(const db::ObjectDatabase& object,
     const Eigen::Vector3d contact = objectPose * object.positions.row(row).transpose();
     const Eigen::Vector3d normal = objectPose.linear() * object.normals.row(row).transpose();
     reachable[i] =
-        !checker.sphereTouchesObstacles(contact + padRadius * normal, padRadius - clearance);
+        !scene.sphereTouchesObstacles(contact + padRadius * normal, padRadius - clearance);
   }
   return reachable;
 }

@@ -150,7 +150,8 @@ void GraspConfigurator::configureTurns(const GraspContacts& grasp, bool close,
   for (int k = 0; k < turns_; ++k) {
     ++out.turns_tried;
     const Eigen::Isometry3d palm = turnedPalm(out.hand, start + k * step);
-    if (checker_.handTouchesObstacles(objectInWorld_ * palm, out.hand.hand_configuration)) {
+    if (checker_.handInCollision(objectInWorld_ * palm, out.hand.hand_configuration,
+                                 robot::CollisionRequest::obstaclesOnly())) {
       ++out.turns_blocked;
       continue;
     }
@@ -240,7 +241,7 @@ void GraspConfigurator::appendArms(const Eigen::Isometry3d& palm, const Eigen::V
     c.closure = closure;
     const bool free =
         !checker_.inCollision(c.pregrasp, &c.collision) &&
-        !(closure && checker_.inCollisionAllowingFingertipContact(c.grasp, &c.collision));
+        !(closure && checker_.inCollision(c.grasp, robot::CollisionRequest::grasp(), &c.collision));
     c.label = free ? ConfigurationLabel::kCollisionFree : ConfigurationLabel::kColliding;
     if (free) c.collision = {};
     out.push_back(std::move(c));

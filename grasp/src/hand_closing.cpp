@@ -125,9 +125,10 @@ double jointReach(const robot::RobotModel& model, const robot::Joint& j) {
 
 }  // namespace
 
-HandCloser::HandCloser(const robot::RobotModel& model, const robot::ObjectSurface& surface,
+HandCloser::HandCloser(const robot::CollisionModel& collision, const robot::ObjectSurface& surface,
                        ClosingOptions options)
-    : model_(model), surface_(surface), options_(options) {
+    : model_(collision.robot), spheres_(collision.spheres), surface_(surface), options_(options) {
+  const robot::RobotModel& model = model_;
   if (!(options.contact_distance > 0.0) || !(options.pad_cone > 0.0) || options.max_steps < 1)
     throw InvalidArgument("options",
                           "contact_distance and pad_cone must be > 0 and max_steps >= 1");
@@ -298,7 +299,7 @@ robot::Clearance HandCloser::clearance(std::size_t link, const Eigen::Isometry3d
   // look-ups where FCL's mesh distance costs a fraction of a millisecond.
   robot::Clearance far;
   far.distance = std::numeric_limits<double>::infinity();
-  for (const robot::LinkSphere& s : model_.spheres().links[link].spheres)
+  for (const robot::LinkSphere& s : spheres_.links[link].spheres)
     far.distance = std::min(far.distance, surface_.gridBound(pose * s.center) - s.radius);
   if (far.distance > kNear) return far;
   return surface_.linkClearance(model_.links()[link], pose);

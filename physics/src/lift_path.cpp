@@ -103,9 +103,10 @@ std::vector<LiftCandidate> liftCandidates(const Eigen::Isometry3d& palm,
 /// frame): where it first meets an obstacle, from its second centimetre
 /// on (it starts on its support), checked every 2.5 cm and at the end;
 /// empty when it meets none.
-std::string objectCollision(const robot::RobotModel& robot, const robot::Scene& scene,
+std::string objectCollision(const robot::CollisionModel& model, const robot::Scene& scene,
                             const db::ObjectGeometry& object, const PalmLine& line) {
   constexpr double kFrom = 0.01, kEvery = 0.025;
+  const robot::RobotModel& robot = model.robot;
   const auto palmAt = [&](const Eigen::VectorXd& q) {
     return scene.robot_base *
            robot::forwardKinematics(robot, q)[static_cast<std::size_t>(robot.palmLink())];
@@ -121,7 +122,7 @@ std::string objectCollision(const robot::RobotModel& robot, const robot::Scene& 
     robot::Scene moved = scene;
     moved.target_pose = palm * inPalm;
     robot::CollisionPair pair;
-    if (robot::CollisionChecker(robot, moved, &object).targetTouchesObstacles(&pair))
+    if (robot::CollisionScene(model, moved, &object).targetTouchesObstacles(&pair))
       return "the object touches " + pair.second;
   }
   return {};
@@ -155,9 +156,10 @@ PalmLine straightPalmLine(const robot::RobotModel& robot, const Eigen::Isometry3
   return line;
 }
 
-LiftPlan planLift(const robot::RobotModel& robot, const robot::Scene& scene,
+LiftPlan planLift(const robot::CollisionModel& model, const robot::Scene& scene,
                   const Eigen::VectorXd& grasp, double height, const db::ObjectGeometry* object) {
-  robot::CollisionChecker checker(robot, scene, nullptr);
+  const robot::RobotModel& robot = model.robot;
+  robot::CollisionChecker checker(model, scene, nullptr);
   const Eigen::Isometry3d palm =
       scene.robot_base *
       robot::forwardKinematics(robot, grasp)[static_cast<std::size_t>(robot.palmLink())];
@@ -168,7 +170,7 @@ LiftPlan planLift(const robot::RobotModel& robot, const robot::Scene& scene,
     std::string problem = plan.line.problem;
     if (problem.empty()) problem = firstCollision(checker, plan.line);
     if (problem.empty() && object != nullptr)
-      problem = objectCollision(robot, scene, *object, plan.line);
+      problem = objectCollision(model, scene, *object, plan.line);
     if (problem.empty()) return plan;
     if (upProblem.empty()) upProblem = problem;  // the first candidate is up
   }

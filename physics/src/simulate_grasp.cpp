@@ -114,9 +114,10 @@ void prepareSimulation(const robot::RobotModel& robot, const robot::Scene& scene
   compiledScene(mjcfScene(robot, scene, body, modelSettings(robot, options)));
 }
 
-GraspVerdict simulateGrasp(const robot::RobotModel& robot, const robot::Scene& scene,
+GraspVerdict simulateGrasp(const robot::CollisionModel& collision, const robot::Scene& scene,
                            const db::ObjectDatabase& object, const Eigen::VectorXd& pregrasp,
                            const Eigen::VectorXd& grasp, const SimulationOptions& options) {
+  const robot::RobotModel& robot = collision.robot;
   checkConfiguration(robot, pregrasp, "pregrasp");
   checkConfiguration(robot, grasp, "grasp");
   validateOptions(options);
@@ -134,7 +135,7 @@ GraspVerdict simulateGrasp(const robot::RobotModel& robot, const robot::Scene& s
   // Polled between the set-up's costly steps too (tens of milliseconds each).
   const auto stopped = [&] { return verdict.stopped = options.stop && options.stop(); };
   if (stopped()) return verdict;
-  const LiftPlan lift = planLift(robot, scene, grasp, options.lift_height, &object.geometry);
+  const LiftPlan lift = planLift(collision, scene, grasp, options.lift_height, &object.geometry);
   verdict.lift_direction = lift.direction;
   if (stopped()) return verdict;
 

@@ -152,7 +152,7 @@ bool GraspGoalSampler::isGoal(const CachedConfiguration& c) const {
   return c.closure && c.closure->touches() && c.contact_epsilon >= context_.min_epsilon &&
          c.contact_epsilon > 0.0 && c.fingertip_error <= context_.max_fingertip_error &&
          context_.checker->isMotionValid(c.pregrasp, c.grasp, context_.approach_resolution,
-                                         /*allowFingertipContact=*/true);
+                                         robot::CollisionRequest::grasp());
 }
 
 void GraspGoalSampler::countRejection(double epsilon,

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/invalid_argument.h"
+#include "physics/simulate_grasp.h"
 #include "plan_diagnosis.h"
 #include "plan_problem.h"
 #include "plan_search.h"
@@ -20,28 +21,15 @@ namespace {
 ValidationRequest validationRequest(const PlanningWorld& world, const PlanRequest& request,
                                     const PlanResult& plan);
 
-/// planGrasp without the planning time, which counts the teardown of
-/// everything this builds (trees, caches, checkers, the sampling thread).
-PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningWorld& world,
-                    const PlanRequest& request, const std::atomic<bool>* cancel) {
-  quietOmpl();
-  PlanResult result;
-  result.seed = request.seed;
-  result.joint_names = world.robot().dofNames();
-  result.object_pose = request.object_pose.value_or(request.scene.target_pose);
-  Eigen::VectorXd start = startOf(world.robot(), request);
-  if (!(request.time_limit >= 0.0) || !std::isfinite(request.time_limit))
-    throw InvalidArgument("time_limit", "must be a finite number >= 0");
-  if (!(request.trajectory_rate >= 0.0 && request.trajectory_rate <= kMaxTrajectoryRate))
-    throw InvalidArgument("trajectory_rate", "must be in [0, 1000] (samples per second)");
-  const std::string name = objectNameOf(request);
-  const db::ObjectDatabase* object = world.object(name);
-  if (object == nullptr)
-    return failed(std::move(result),
-                  {PlanFailure::kUnknownObject, "unknown object '" + name + "'"});
-
-  Problem problem(world, *object, request, std::move(start));
-  result.object_pose = problem.scene.target_pose;
+/// One search of the request, with `seed`, over the request's shared
+/// problem: from `result` (the request's fields filled) to the plan. The
+/// planning time counts the teardown of everything this builds (trees,
+/// caches, the checker, the sampling thread).
+PlanResult search(std::chrono::steady_clock::time_point began, const SharedProblem& shared,
+                  const PlanRequest& request, std::uint64_t seed, const Eigen::VectorXd& start,
+                  const std::atomic<bool>* cancel, PlanResult result) {
+  result.seed = seed;
+  Problem problem(shared, seed, start);
   if (auto why = checkScene(problem); why.first != PlanFailure::kNone)
     return failed(std::move(result), std::move(why));
   if (auto why = checkGraspable(problem); why.first != PlanFailure::kNone)
@@ -61,16 +49,50 @@ PlanResult planFrom(std::chrono::steady_clock::time_point began, const PlanningW
   result.grasp = describeGrasp(problem, found.goal);
   if (found.verdict) {
     // The search simulated this grasp already: the same verdict.
-    ValidationRequest v = validationRequest(world, request, result);
+    ValidationRequest v = validationRequest(shared.world, request, result);
     v.physics = false;
-    result.validation = validateGrasp(world, v);
+    result.validation = validateGrasp(shared.world, v);
     result.validation->physics = std::move(found.verdict);
   }
-  if (request.trajectory_rate > 0.0 && world.robot().maxAccelerations().size() > 0)
+  if (request.trajectory_rate > 0.0 && shared.world.robot().maxAccelerations().size() > 0)
     result.trajectory =
-        graspTrajectory(result.path, problem.checker, problem.settings.execution.final_resolution,
+        graspTrajectory(result.path, problem.checker, shared.settings.execution.final_resolution,
                         request.trajectory_rate);
   return result;
+}
+
+/// planGrasp without the planning time: the request checked, its shared
+/// problem set up once, then one search or `threads` racing ones over it.
+PlanResult plan(std::chrono::steady_clock::time_point began, const PlanningWorld& world,
+                const PlanRequest& request, const std::atomic<bool>* cancel) {
+  quietOmpl();
+  PlanResult result;
+  result.seed = request.seed;
+  result.joint_names = world.robot().dofNames();
+  result.object_pose = request.object_pose.value_or(request.scene.target_pose);
+  const Eigen::VectorXd start = startOf(world.robot(), request);
+  if (!(request.time_limit >= 0.0) || !std::isfinite(request.time_limit))
+    throw InvalidArgument("time_limit", "must be a finite number >= 0");
+  if (!(request.trajectory_rate >= 0.0 && request.trajectory_rate <= kMaxTrajectoryRate))
+    throw InvalidArgument("trajectory_rate", "must be in [0, 1000] (samples per second)");
+  const std::string name = objectNameOf(request);
+  const db::ObjectDatabase* object = world.object(name);
+  if (object == nullptr)
+    return failed(std::move(result),
+                  {PlanFailure::kUnknownObject, "unknown object '" + name + "'"});
+
+  const SharedProblem shared(world, *object, request);
+  result.object_pose = shared.scene.target_pose;
+  // The goal checks' model, compiled once before the searches (a
+  // simulation's set-up cannot be stopped; its stop is polled only once it
+  // runs).
+  if (shared.settings.goal.physics_check && request.algorithm != PlanAlgorithm::kRrtConnect)
+    physics::prepareSimulation(world.robot(), shared.scene, *object, shared.simulation);
+  const int copies = shared.settings.execution.threads;
+  if (copies == 1) return search(began, shared, request, request.seed, start, cancel, result);
+  return race(request.seed, cancel, copies, [&](std::uint64_t seed, const std::atomic<bool>* stop) {
+    return search(began, shared, request, seed, start, stop, result);
+  });
 }
 
 }  // namespace
@@ -83,13 +105,7 @@ PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
                      const std::atomic<bool>* cancel) {
   const auto began = std::chrono::steady_clock::now();
   if (request.validate) physics::validateOptions(request.simulation);
-  const int copies = resolveSettings(world.robot(), request).execution.threads;
-  PlanResult result = copies == 1
-                          ? planFrom(began, world, request, cancel)
-                          : race(request, cancel, copies,
-                                 [&](const PlanRequest& copy, const std::atomic<bool>* stop) {
-                                   return planFrom(began, world, copy, stop);
-                                 });
+  PlanResult result = plan(began, world, request, cancel);
   result.stats.planning_time =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
   if (request.validate && result.success && !result.validation)

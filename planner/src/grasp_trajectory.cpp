@@ -12,15 +12,14 @@ namespace {
 constexpr double kTighten = 4.0;
 constexpr int kTightenings = 3;
 
-/// True when every sample and the chord to the next is free.
+/// True when every sample and the chord to the next is free of what
+/// `request` counts.
 bool collisionFree(const std::vector<TrajectoryPoint>& points, robot::CollisionChecker& checker,
-                   double resolution, bool allowFingertipContact) {
+                   double resolution, const robot::CollisionRequest& request) {
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Eigen::VectorXd& q = points[i].positions;
-    if (i == 0
-            ? (allowFingertipContact ? checker.inCollisionAllowingFingertipContact(q)
-                                     : checker.inCollision(q))
-            : !checker.isMotionValid(points[i - 1].positions, q, resolution, allowFingertipContact))
+    if (i == 0 ? checker.inCollision(q, request)
+               : !checker.isMotionValid(points[i - 1].positions, q, resolution, request))
       return false;
   }
   return true;
@@ -61,7 +60,8 @@ GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
   };
   if (tooLong(closing.sampleCount(rate))) return {};
   std::vector<TrajectoryPoint> closingSamples = closing.sample(rate);
-  if (!collisionFree(closingSamples, checker, resolution, true)) return {};
+  if (!collisionFree(closingSamples, checker, resolution, robot::CollisionRequest::grasp()))
+    return {};
 
   TrajectoryOptions options;
   for (int attempt = 0; attempt <= kTightenings + 1; ++attempt) {
@@ -73,7 +73,7 @@ GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
     if (tooLong(moving.sampleCount(rate) + static_cast<double>(closingSamples.size()))) return {};
     GraspTrajectory out;
     out.points = moving.sample(rate);
-    if (!collisionFree(out.points, checker, resolution, false)) continue;
+    if (!collisionFree(out.points, checker, resolution, {})) continue;
     out.closing_start = moving.duration();
     out.duration = moving.duration() + closing.duration();
     out.deviation = moving.deviation();

@@ -123,7 +123,7 @@ Validation validateGrasp(const PlanningWorld& world, const ValidationRequest& re
   grasp::ClosingOptions closing;
   closing.centering_rounds = 0;
   const grasp::HandClosure closure =
-      grasp::HandCloser(robot, surface, closing)
+      grasp::HandCloser(world.collisionModel(), surface, closing)
           .close(palmInObject(robot, request.scene, request.pregrasp), request.pregrasp.tail(hand),
                  request.grasp.tail(hand));
   Validation out;
@@ -137,20 +137,20 @@ Validation validateGrasp(const PlanningWorld& world, const ValidationRequest& re
   if (c.pads_touch && robot.handActuation())
     c.load_capacity = loadCapacityOf(robot, request.scene, *object, surface, closure, c.executed,
                                      request.simulation.density);
-  robot::CollisionChecker checker(robot, request.scene, &object->geometry,
+  robot::CollisionChecker checker(world.collisionModel(), request.scene, &object->geometry,
                                   world.collisionMesh(name), &surface);
   checker.setMaxPenetration(request.check.max_penetration);
   robot::CollisionPair pair;
   c.clear = !checker.inCollision(request.pregrasp, &pair) &&
             checker.isMotionValid(request.pregrasp, c.executed, request.check.resolution,
-                                  /*allowFingertipContact=*/true, &pair);
+                                  robot::CollisionRequest::grasp(), &pair);
   c.problem = problemOf(c, request.check, closure, robot, pair.first + " touches " + pair.second);
   if ((request.grasp.head(arm) - request.pregrasp.head(arm)).cwiseAbs().maxCoeff() > 1e-9 &&
       c.problem.empty())
     c.problem = "the arm moves between the pre-grasp and the grasp";
   if (request.physics)
-    out.physics = physics::simulateGrasp(robot, request.scene, *object, request.pregrasp,
-                                         c.executed, request.simulation);
+    out.physics = physics::simulateGrasp(world.collisionModel(), request.scene, *object,
+                                         request.pregrasp, c.executed, request.simulation);
   return out;
 }
 

@@ -57,7 +57,7 @@ struct SamplingThreadTools {
                       const db::ObjectDatabase& object, const grasp::HftsSpace& space,
                       const LazyGoalSettings& settings, const WeightedStateSpace& plannerSpace,
                       double resolution)
-      : checker(world.robot(), scene, &object.geometry, world.collisionMesh(object.name)),
+      : checker(world.collisionModel(), scene, &object.geometry, world.collisionMesh(object.name)),
         si(spaceInformationWithMetric(world.robot(), checker, plannerSpace.metric(), resolution)),
         tools(world, scene, space, checker, settings.goals),
         rng(settings.seed),

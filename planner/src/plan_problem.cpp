@@ -28,7 +28,7 @@ std::string objectNameOf(const PlanRequest& request) {
 /// Whether the target intersects an obstacle where it stands (kNone: not).
 std::pair<PlanFailure, std::string> checkTarget(Problem& p) {
   robot::CollisionPair pair;
-  if (p.checker.targetTouchesObstacles(&pair))
+  if (p.checker.scene().targetTouchesObstacles(&pair))
     return {PlanFailure::kObjectInCollision,
             "the target object intersects " + pair.second + " in this scene"};
   return {PlanFailure::kNone, ""};

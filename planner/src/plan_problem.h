@@ -1,9 +1,10 @@
 #pragma once
-// One plan's problem, internal to the planner library: the scene as
-// requested with its collision checker, OMPL space information, settings
-// (plan_settings.h) and HFTS (Problem), and why planning cannot start
-// in it (checkScene, checkGraspable). planGrasp, the searches (plan_search.h) and
-// holdability build on it.
+// One plan's problem, internal to the planner library: what the searches
+// of a request share read-only (SharedProblem: settings, the scene as
+// requested with its collision scene, the contact mask and HFTS), one
+// search's own part (Problem: collision checker, OMPL space information,
+// planner), and why planning cannot start (checkScene, checkGraspable).
+// planGrasp, the searches (plan_search.h) and holdability build on it.
 
 #include <ompl/base/PlannerTerminationCondition.h>
 
@@ -38,44 +39,28 @@ Eigen::VectorXd startOf(const robot::RobotModel& robot, const PlanRequest& reque
 /// The request's object: `object`, else the scene's target.
 std::string objectNameOf(const PlanRequest& request);
 
-/// One plan's problem, set up in order: the settings, the scene as
-/// requested, its collision checker and OMPL space information, the
-/// object's HFTS.
-struct Problem {
-  Problem(const PlanningWorld& w, const db::ObjectDatabase& o, const PlanRequest& request,
-          Eigen::VectorXd q0)
+/// What every search of one plan request shares, read-only (the racing
+/// copies too, which differ only in their seed): the settings, the scene as
+/// requested with its collision scene, the contacts a fingertip can touch
+/// and the object's HFTS over them. Built once per request.
+struct SharedProblem {
+  SharedProblem(const PlanningWorld& w, const db::ObjectDatabase& o, const PlanRequest& request)
       : world(w),
         object(o),
         settings(resolveSettings(w.robot(), request)),
         goals(goalSamplingSettings(settings, w.robot())),
         scene(sceneOf(request, o)),
-        start(std::move(q0)),
-        seed(request.seed),
         explored(request.explored),
         simulation(request.simulation),
-        checker(w.robot(), scene, &o.geometry, w.collisionMesh(o.name), w.surface(o.name)),
-        si(makeSpaceInformation(w.robot(), checker, kTreeResolution)),
-        planner(plannerFor(si, settings)),
+        collision(std::make_shared<const robot::CollisionScene>(
+            w.collisionModel(), scene, &o.geometry, w.collisionMesh(o.name), w.surface(o.name))),
         // A robot whose fingertips have no measurable pad is not masked.
-        usable(
-            !settings.heuristics.mask_contacts || w.padRadius() <= grasp::kContactMaskClearance
-                ? std::vector<bool>{}
-                : grasp::fingertipReachableContacts(o, scene.target_pose, checker, w.padRadius())),
+        usable(!settings.heuristics.mask_contacts || w.padRadius() <= grasp::kContactMaskClearance
+                   ? std::vector<bool>{}
+                   : grasp::fingertipReachableContacts(o, scene.target_pose, *collision,
+                                                       w.padRadius())),
         space(o, static_cast<int>(w.robot().fingertips().size()),
-              usable.empty() ? nullptr : &usable) {
-    checker.setSphereTier(settings.execution.sphere_tier);
-    checker.setMaxPenetration(settings.goal.max_penetration);
-  }
-
-  /// Algorithm 1's planner with the settings applied; also the space's:
-  /// the motion validator's resolution and the DoF weights, which every
-  /// algorithm's motions use.
-  static std::shared_ptr<MultiTreeCBiRRT> plannerFor(const ob::SpaceInformationPtr& si,
-                                                     const PlanSettings& settings) {
-    auto planner = std::make_shared<MultiTreeCBiRRT>(si);
-    planner->applySettings(settings);
-    return planner;
-  }
+              usable.empty() ? nullptr : &usable) {}
 
   /// The request's object where the request puts it: at object_pose, or
   /// at the scene's target pose (resting on its support when it has one).
@@ -94,17 +79,63 @@ struct Problem {
   const PlanSettings settings;       ///< resolved (resolveSettings)
   const GoalSamplingSettings goals;  ///< goal sampling's part of them
   const robot::Scene scene;
-  const Eigen::VectorXd start;
-  const std::uint64_t seed;
   const bool explored;                          ///< record the goal hierarchy cache's nodes
   const physics::SimulationOptions simulation;  ///< of physics_check and validate
+  const std::shared_ptr<const robot::CollisionScene> collision;
+  /// Contacts a fingertip can touch here (empty: mask_contacts off, all).
+  const std::vector<bool> usable;
+  const grasp::HftsSpace space;
+};
+
+/// One search's problem: the shared part's names, and what the search
+/// changes (its collision checker over the shared scene, OMPL space
+/// information, Algorithm 1's planner) and its seed. Sets up in
+/// microseconds beside the shared part (planner_benchmark's BM_PlanStartUp).
+struct Problem {
+  Problem(const SharedProblem& shared, std::uint64_t seedOfSearch, Eigen::VectorXd q0)
+      : world(shared.world),
+        object(shared.object),
+        settings(shared.settings),
+        goals(shared.goals),
+        scene(shared.scene),
+        start(std::move(q0)),
+        seed(seedOfSearch),
+        explored(shared.explored),
+        simulation(shared.simulation),
+        checker(shared.collision),
+        si(makeSpaceInformation(world.robot(), checker, kTreeResolution)),
+        planner(plannerFor(si, settings)),
+        usable(shared.usable),
+        space(shared.space) {
+    checker.setSphereTier(settings.execution.sphere_tier);
+    checker.setMaxPenetration(settings.goal.max_penetration);
+  }
+
+  /// Algorithm 1's planner with the settings applied; also the space's:
+  /// the motion validator's resolution and the DoF weights, which every
+  /// algorithm's motions use.
+  static std::shared_ptr<MultiTreeCBiRRT> plannerFor(const ob::SpaceInformationPtr& si,
+                                                     const PlanSettings& settings) {
+    auto planner = std::make_shared<MultiTreeCBiRRT>(si);
+    planner->applySettings(settings);
+    return planner;
+  }
+
+  const PlanningWorld& world;
+  const db::ObjectDatabase& object;
+  const PlanSettings& settings;
+  const GoalSamplingSettings& goals;
+  const robot::Scene& scene;
+  const Eigen::VectorXd start;
+  const std::uint64_t seed;
+  const bool explored;
+  const physics::SimulationOptions& simulation;
   robot::CollisionChecker checker;
   const ob::SpaceInformationPtr si;
   /// Algorithm 1's planner, with the settings applied.
   const std::shared_ptr<MultiTreeCBiRRT> planner;
-  /// Contacts a fingertip can touch here (empty: mask_contacts off, all).
-  const std::vector<bool> usable;
-  const grasp::HftsSpace space;
+  const std::vector<bool>& usable;
+  const grasp::HftsSpace& space;
 };
 
 /// Whether the target intersects an obstacle where it stands (kNone: not).

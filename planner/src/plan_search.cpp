@@ -30,8 +30,8 @@ MultiTreeCBiRRT::GoalCheck physicsGoalCheck(const Problem& p, SearchOutcome& out
     options.stop_when_lost = true;
     options.stop = [&ptc] { return ptc(); };
     const auto begin = std::chrono::steady_clock::now();
-    physics::GraspVerdict verdict = physics::simulateGrasp(p.world.robot(), p.scene, p.object,
-                                                           goal.configuration, goal.grasp, options);
+    physics::GraspVerdict verdict = physics::simulateGrasp(
+        p.world.collisionModel(), p.scene, p.object, goal.configuration, goal.grasp, options);
     ++out.stats.physics_checks;
     out.stats.physics_time +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
@@ -85,10 +85,6 @@ SearchOutcome searchMultiTree(Problem& p, bool coupled,
   planner.setup();
 
   SearchOutcome out;
-  // The goal checks' model, compiled before the search (a simulation's
-  // set-up cannot be stopped; its stop is polled only once it runs).
-  if (p.settings.goal.physics_check)
-    physics::prepareSimulation(p.world.robot(), p.scene, p.object, p.simulation);
   planner.setGoalCheck(p.settings.goal.physics_check ? physicsGoalCheck(p, out, ptc)
                                                      : MultiTreeCBiRRT::GoalCheck{});
   out.solved = planner.solve(ptc) == ob::PlannerStatus::EXACT_SOLUTION;

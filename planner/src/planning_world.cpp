@@ -85,13 +85,13 @@ PlanningWorld::PlanningWorld(robot::RobotModel robot, db::HandMap handMap,
 PlanningWorld::PlanningWorld(robot::RobotModel robot, db::HandMap handMap,
                              std::shared_ptr<const ObjectLibrary> objects)
     : robot_(std::move(robot)),
+      collision_(robot::buildCollisionModel(robot_)),
       ik_(robot_),
       fast_(robot_, handMap),
       thorough_(robot_, std::move(handMap), grasp::HandQueryOptions::thorough()),
       objects_(std::move(objects)),
       padRadius_(robot::smallestPadRadius(robot_)) {
   if (objects_ == nullptr) throw std::invalid_argument("PlanningWorld: no object library");
-  robot_.spheres();  // built now, not in the first plan's time
 }
 
 PlanningWorld::~PlanningWorld() = default;

@@ -19,7 +19,7 @@ std::uint64_t racingSeed(std::uint64_t seed, int copy) {
   return z ^ (z >> 31);
 }
 
-PlanResult race(const PlanRequest& request, const std::atomic<bool>* cancel, int copies,
+PlanResult race(std::uint64_t seed, const std::atomic<bool>* cancel, int copies,
                 const PlanOne& planOne) {
   const auto n = static_cast<std::size_t>(copies);
   std::atomic<bool> stop{false};
@@ -33,12 +33,10 @@ PlanResult race(const PlanRequest& request, const std::atomic<bool>* cancel, int
   threads.reserve(n);
   for (std::size_t i = 0; i < n; ++i)
     threads.emplace_back([&, i] {
-      PlanRequest copy = request;
-      copy.seed = racingSeed(request.seed, static_cast<int>(i));
       PlanResult found;
       std::exception_ptr error;
       try {
-        found = planOne(copy, &stop);
+        found = planOne(racingSeed(seed, static_cast<int>(i)), &stop);
       } catch (...) {
         error = std::current_exception();
       }

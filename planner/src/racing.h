@@ -4,22 +4,21 @@
 // stops the others.
 
 #include <atomic>
+#include <cstdint>
 #include <functional>
 
-#include "planner/plan_request.h"
 #include "planner/plan_result.h"
 
 namespace hfts::planner {
 
-/// One copy of a race: plans `request` until `stop` is set.
-using PlanOne =
-    std::function<PlanResult(const PlanRequest& request, const std::atomic<bool>* stop)>;
+/// One copy of a race: searches with `seed` until `stop` is set.
+using PlanOne = std::function<PlanResult(std::uint64_t seed, const std::atomic<bool>* stop)>;
 
-/// `copies` searches race (planGrasp): copy i plans with racingSeed(seed,
-/// i) in its own thread; the first plan stops the others. `cancel` stops
-/// all of them. An exception of a copy is rethrown (every copy checks the
-/// same request).
-PlanResult race(const PlanRequest& request, const std::atomic<bool>* cancel, int copies,
+/// `copies` searches race (planGrasp): copy i searches with
+/// racingSeed(seed, i) in its own thread; the first plan stops the others.
+/// `cancel` stops all of them. An exception of a copy is rethrown (every
+/// copy checks the same request).
+PlanResult race(std::uint64_t seed, const std::atomic<bool>* cancel, int copies,
                 const PlanOne& planOne);
 
 }  // namespace hfts::planner

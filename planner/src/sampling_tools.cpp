@@ -12,7 +12,7 @@ SamplingTools::SamplingTools(const PlanningWorld& world, const robot::Scene& sce
       objective(hfts, world.handMap(), settings.objective),
       closer(world.surface(scene.target_object) == nullptr
                  ? nullptr
-                 : std::make_unique<const grasp::HandCloser>(world.robot(),
+                 : std::make_unique<const grasp::HandCloser>(world.collisionModel(),
                                                              *world.surface(scene.target_object))),
       configurator(world.robot(), world.ik(), world.thoroughHandMap(), robotChecker,
                    scene.target_pose, scene.robot_base, closer.get()) {
@@ -25,8 +25,9 @@ SamplingTools::SamplingTools(const PlanningWorld& world, const robot::Scene& sce
     // is at every one of palm_turns turns, evenly spaced from R(h)'s own.
     const int n = hand.free_turn ? turns : 1;
     for (int k = 0; k < n; ++k)
-      if (!robotChecker.handTouchesObstacles(object * grasp::turnedPalm(hand, 2.0 * M_PI * k / n),
-                                             hand.hand_configuration))
+      if (!robotChecker.handInCollision(object * grasp::turnedPalm(hand, 2.0 * M_PI * k / n),
+                                        hand.hand_configuration,
+                                        robot::CollisionRequest::obstaclesOnly()))
         return false;
     return true;
   });

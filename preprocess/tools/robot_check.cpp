@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <optional>
 #include <random>
 #include <sstream>
@@ -11,9 +12,9 @@
 #include "grasp/hand_map_builder.h"
 #include "robot/arm_ik.h"
 #include "robot/collision_checker.h"
+#include "robot/collision_model.h"
 #include "robot/hand_chain.h"
 #include "robot/kinematics.h"
-#include "robot/link_spheres.h"
 #include "robot/robot_model.h"
 
 namespace hfts::preprocess {
@@ -55,12 +56,14 @@ class RobotChecker {
     checkHand();
     checkContactModel();
     checkArmIk();
-    checkPosture("home", model_.home());
-    Eigen::VectorXd open = model_.home();
-    open.tail(model_.numHandDofs()) = model_.handOpen();
-    checkPosture("hand_open", open);
-    checkRandomPostures();
     checkSpheres();
+    if (collision_) {
+      checkPosture("home", model_.home());
+      Eigen::VectorXd open = model_.home();
+      open.tail(model_.numHandDofs()) = model_.handOpen();
+      checkPosture("hand_open", open);
+      checkRandomPostures();
+    }
     checkLimits();
     return std::move(findings_);
   }
@@ -160,7 +163,7 @@ class RobotChecker {
   }
 
   void checkPosture(const std::string& name, const Eigen::VectorXd& q) {
-    robot::CollisionChecker checker(model_, robot::Scene{}, nullptr);
+    robot::CollisionChecker checker(*collision_, robot::Scene{}, nullptr);
     robot::CollisionPair pair;
     if (checker.inCollision(q, &pair))
       add(Level::kError, name,
@@ -173,7 +176,7 @@ class RobotChecker {
   }
 
   void checkRandomPostures() {
-    robot::CollisionChecker checker(model_, robot::Scene{}, nullptr);
+    robot::CollisionChecker checker(*collision_, robot::Scene{}, nullptr);
     std::map<std::pair<std::string, std::string>, int> pairs;
     int colliding = 0;
     for (int i = 0; i < kCollisionPostures; ++i) {
@@ -199,9 +202,11 @@ class RobotChecker {
               " random postures collide with the robot itself");
   }
 
+  /// Builds the collision model the posture checks use.
   void checkSpheres() {
     try {
-      const robot::SphereModel& spheres = model_.spheres();
+      collision_ = robot::buildCollisionModel(model_);
+      const robot::SphereModel& spheres = collision_->spheres;
       add(Level::kOk, "spheres",
           std::to_string(spheres.numSpheres()) + " spheres cover the links, at most " +
               millimetres(spheres.maxExcess()) + " beyond them");
@@ -219,6 +224,7 @@ class RobotChecker {
   }
 
   const robot::RobotModel& model_;
+  std::shared_ptr<const robot::CollisionModel> collision_;  ///< null until built, or when it failed
   std::mt19937_64 rng_;
   std::vector<RobotFinding> findings_;
 };

@@ -52,63 +52,84 @@ CollisionMesh::~CollisionMesh() = default;
 /// GJK), so FCL would call every such pair free.
 constexpr double kApartGap = 1e-4;
 
-struct CollisionChecker::Impl {
-  const RobotModel& model;
-  Eigen::Isometry3d base;
+namespace {
+
+/// The robot's FCL objects, one per collision shape of a link, in a
+/// broadphase manager: a checker's own (queries move them), and the
+/// scene's once while it decides which static pairs the tier may skip.
+struct RobotObjects {
   std::vector<std::unique_ptr<Tag>> tags;
-  std::vector<std::unique_ptr<Object>> robotObjects, environmentObjects;
-  std::vector<std::pair<int, Eigen::Isometry3d>> robotShapes;  // link, shape origin
-  fcl::DynamicAABBTreeCollisionManagerd robot, environment;
-  LinkPoses poses;
-  std::unique_ptr<SphereTier> tier;  // first tier
-  bool useTier = true;
-  std::vector<std::vector<std::size_t>> linkObjects;  // per link: its robotObjects
-  std::uint64_t checks = 0, settledBySpheres = 0;
-  std::shared_ptr<ConfigurationMetric> metric;  // Eq. (3)
-  std::vector<LinkPoses> lanePoses;             // scratch: the poses of a batch's configurations
-  // Scratch of validSegments: the states in check order, as step s of
-  // motionSteps[i] along their segment (which ends at state segmentEnds[k] - 1).
-  std::vector<int> motionOrder, motionSteps;
-  std::vector<std::pair<int, int>> openRanges;  // scratch of bisect()
-  std::vector<std::size_t> segmentEnds;
-  std::vector<Eigen::VectorXd> motionStates;
-  std::vector<const Eigen::VectorXd*> motionPointers;
-  // The mesh obstacles' distance grids, shared with the scene, which the
-  // sphere tier reads (the target's it reads in the target's geometry).
-  std::vector<std::shared_ptr<const db::DistanceGrid>> obstacleGrids;
-  // The grasp rule's target: its surface (shared, or built here on first
-  // need), its pose and the depth a fingertip may reach in it.
+  std::vector<std::unique_ptr<Object>> objects;
+  std::vector<std::pair<int, Eigen::Isometry3d>> shapes;  // link, shape origin
+  std::vector<std::vector<std::size_t>> linkObjects;      // per link: its objects
+  fcl::DynamicAABBTreeCollisionManagerd manager;
+
+  /// Tags are numbered from `firstOrder` on (after the environment's).
+  RobotObjects(const RobotModel& model, std::size_t firstOrder) {
+    std::vector<bool> fingertip(model.links().size(), false);
+    for (const Fingertip& f : model.fingertips())
+      fingertip[static_cast<std::size_t>(f.link)] = true;
+    for (std::size_t l = 0; l < model.links().size(); ++l) {
+      for (const CollisionShape& shape : model.links()[l].shapes) {
+        auto object = std::make_unique<Object>(primitive(static_cast<int>(shape.type), shape.size));
+        auto tag = std::make_unique<Tag>(
+            Tag{static_cast<int>(l), false, fingertip[l], model.links()[l].name});
+        tag->order = firstOrder + tags.size();
+        tag->primitive_type = static_cast<int>(shape.type);
+        tag->primitive_size = shape.size;
+        object->setUserData(tag.get());
+        manager.registerObject(object.get());
+        tags.push_back(std::move(tag));
+        objects.push_back(std::move(object));
+        shapes.emplace_back(static_cast<int>(l), shape.origin);
+      }
+    }
+    manager.setup();
+    linkObjects.resize(model.links().size());
+    for (std::size_t i = 0; i < shapes.size(); ++i)
+      linkObjects[static_cast<std::size_t>(shapes[i].first)].push_back(i);
+  }
+
+  /// Moves every object to its link's pose in `poses` (base frame).
+  void place(const Eigen::Isometry3d& base, const LinkPoses& poses) {
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+      const Eigen::Isometry3d pose =
+          base * poses[static_cast<std::size_t>(shapes[i].first)] * shapes[i].second;
+      objects[i]->setTransform(pose.linear(), pose.translation());
+      objects[i]->computeAABB();
+    }
+    manager.update();
+  }
+};
+
+bool touch(const Object& a, const Object& b) {
+  fcl::CollisionRequestd request;
+  fcl::CollisionResultd result;
+  return fcl::collide(&a, &b, request, result) > 0;
+}
+
+}  // namespace
+
+struct CollisionScene::Impl {
+  const CollisionModel& model;
+  const Scene scene;
+  std::vector<std::unique_ptr<Tag>> tags;
+  std::vector<std::unique_ptr<Object>> environmentObjects;
+  fcl::DynamicAABBTreeCollisionManagerd environment;
+  std::unique_ptr<SphereTier> tier;
+  // The grasp rule's target and its surface (shared, or built here on
+  // first need, once for all threads).
   const db::ObjectGeometry* target = nullptr;
   const ObjectSurface* sharedSurface = nullptr;
+  std::once_flag surfaceBuilt;
   std::unique_ptr<ObjectSurface> ownSurface;
-  Eigen::Isometry3d targetPose = Eigen::Isometry3d::Identity();
-  double maxPenetration = kDefaultMaxPenetration;
 
-  Impl(const RobotModel& m, const Scene& scene)
-      : model(m),
-        base(scene.robot_base),
-        metric(std::make_shared<ConfigurationMetric>(m.dofWeights())),
-        targetPose(scene.target_pose) {}
+  Impl(const CollisionModel& m, const Scene& s) : model(m), scene(s) {}
 
   const ObjectSurface* surface() {
     if (sharedSurface != nullptr || target == nullptr) return sharedSurface;
-    if (!ownSurface) ownSurface = std::make_unique<ObjectSurface>(*target);
+    std::call_once(surfaceBuilt, [this] { ownSurface = std::make_unique<ObjectSurface>(*target); });
     return ownSurface.get();
-  }
-
-  /// A query under the full rule, or the grasp rule.
-  QueryData queryData(bool graspRule) {
-    QueryData data;
-    data.model = &model;
-    data.allowFingertipContact = graspRule;
-    if (graspRule) data.rule = {surface(), targetPose.inverse(), maxPenetration};
-    return data;
-  }
-
-  Tag* tag(Tag value) {
-    value.order = tags.size();
-    tags.push_back(std::make_unique<Tag>(std::move(value)));
-    return tags.back().get();
   }
 
   void addEnvironment(const Geometry& geometry, const Eigen::Isometry3d& pose, Tag value,
@@ -120,69 +141,37 @@ struct CollisionChecker::Impl {
       object = std::make_unique<Object>(geometry, pose.linear(), pose.translation());
       object->computeAABB();  // reads the geometry's local box
     }
-    object->setUserData(tag(std::move(value)));
+    value.order = tags.size();
+    tags.push_back(std::make_unique<Tag>(std::move(value)));
+    object->setUserData(tags.back().get());
     environment.registerObject(object.get());
     environmentObjects.push_back(std::move(object));
-  }
-
-  void addRobot() {
-    std::vector<bool> fingertip(model.links().size(), false);
-    for (const Fingertip& f : model.fingertips())
-      fingertip[static_cast<std::size_t>(f.link)] = true;
-    for (std::size_t l = 0; l < model.links().size(); ++l) {
-      for (const CollisionShape& shape : model.links()[l].shapes) {
-        auto object = std::make_unique<Object>(primitive(static_cast<int>(shape.type), shape.size));
-        Tag value{static_cast<int>(l), false, fingertip[l], model.links()[l].name};
-        value.primitive_type = static_cast<int>(shape.type);
-        value.primitive_size = shape.size;
-        object->setUserData(tag(std::move(value)));
-        robot.registerObject(object.get());
-        robotObjects.push_back(std::move(object));
-        robotShapes.emplace_back(static_cast<int>(l), shape.origin);
-      }
-    }
-    robot.setup();
-    linkObjects.resize(model.links().size());
-    for (std::size_t i = 0; i < robotShapes.size(); ++i)
-      linkObjects[static_cast<std::size_t>(robotShapes[i].first)].push_back(i);
-  }
-
-  void place(const Eigen::VectorXd& q) {
-    forwardKinematics(model, q, poses);
-    placeObjects();
-  }
-
-  /// Moves the robot's FCL objects to `poses`.
-  void placeObjects() {
-    for (std::size_t i = 0; i < robotObjects.size(); ++i) {
-      const Eigen::Isometry3d pose =
-          base * poses[static_cast<std::size_t>(robotShapes[i].first)] * robotShapes[i].second;
-      robotObjects[i]->setTransform(pose.linear(), pose.translation());
-      robotObjects[i]->computeAABB();
-    }
-    robot.update();
   }
 
   /// The sphere tier over the environment objects (same order), with the
   /// pairs that cannot change (links fixed to the base) dropped where FCL
   /// finds them clear.
   void addSphereTier(std::vector<SphereTier::Item> items) {
-    tier = std::make_unique<SphereTier>(model, base, std::move(items));
-    place(model.home());
-    const std::size_t links = model.links().size();
+    const RobotModel& robot = model.robot;
+    tier = std::make_unique<SphereTier>(model, scene.robot_base, std::move(items));
+    RobotObjects at(robot, tags.size());
+    LinkPoses poses;
+    forwardKinematics(robot, robot.home(), poses);
+    at.place(scene.robot_base, poses);
+    const std::size_t links = robot.links().size();
     // staticTouching[link][e]: a shape of the static link touches environment
     // object e; linksTouching[a][b]: shapes of two static links touch.
     std::vector<std::vector<bool>> staticTouching(links,
                                                   std::vector<bool>(environmentObjects.size()));
     std::vector<std::vector<bool>> linksTouching(links, std::vector<bool>(links));
-    for (std::size_t i = 0; i < robotObjects.size(); ++i) {
-      const auto link = static_cast<std::size_t>(robotShapes[i].first);
+    for (std::size_t i = 0; i < at.objects.size(); ++i) {
+      const auto link = static_cast<std::size_t>(at.shapes[i].first);
       if (!tier->isStatic(static_cast<int>(link))) continue;
       for (std::size_t e = 0; e < environmentObjects.size(); ++e)
-        if (touch(*robotObjects[i], *environmentObjects[e])) staticTouching[link][e] = true;
-      for (std::size_t j = 0; j < robotObjects.size(); ++j) {
-        const auto other = static_cast<std::size_t>(robotShapes[j].first);
-        if (tier->isStatic(static_cast<int>(other)) && touch(*robotObjects[i], *robotObjects[j]))
+        if (touch(*at.objects[i], *environmentObjects[e])) staticTouching[link][e] = true;
+      for (std::size_t j = 0; j < at.objects.size(); ++j) {
+        const auto other = static_cast<std::size_t>(at.shapes[j].first);
+        if (tier->isStatic(static_cast<int>(other)) && touch(*at.objects[i], *at.objects[j]))
           linksTouching[link][other] = linksTouching[other][link] = true;
       }
     }
@@ -194,38 +183,153 @@ struct CollisionChecker::Impl {
         if (tier->isStatic(static_cast<int>(b)) && !linksTouching[a][b])
           tier->skipStaticPair(static_cast<int>(a), static_cast<int>(b));
     }
+    tier->listPairs();
+  }
+};
+
+CollisionScene::CollisionScene(const CollisionModel& model, const Scene& scene,
+                               const db::ObjectGeometry* target, const CollisionMesh* targetMesh,
+                               const ObjectSurface* targetSurface)
+    : impl_(std::make_unique<Impl>(model, scene)) {
+  impl_->target = target;
+  impl_->sharedSurface = target != nullptr ? targetSurface : nullptr;
+  for (const Obstacle& o : scene.obstacles) {
+    const bool mesh = o.type == Obstacle::Type::kMesh;
+    const Geometry geometry =
+        mesh ? meshGeometry(o.mesh) : primitive(static_cast<int>(o.type), o.size);
+    Tag tag{-1, false, false, "obstacle '" + o.name + "'"};
+    if (!mesh) {
+      tag.primitive_type = static_cast<int>(o.type);
+      tag.primitive_size = o.size;
+    }
+    impl_->addEnvironment(geometry, o.pose, std::move(tag));
+  }
+  if (target != nullptr) {
+    Tag tag{-1, true, false, "target '" + scene.target_object + "'"};
+    if (targetMesh != nullptr) {
+      impl_->addEnvironment(targetMesh->impl_->geometry, scene.target_pose, std::move(tag),
+                            &targetMesh->impl_->objectCreation);
+    } else {
+      const TriangleMesh mesh{target->mesh_vertices, target->mesh_triangles};
+      impl_->addEnvironment(meshGeometry(mesh), scene.target_pose, std::move(tag));
+    }
+  }
+  impl_->environment.setup();
+  // The tier reads the obstacles' grids in the scene's copy, the target's
+  // in the target's geometry (which outlives the scene).
+  impl_->addSphereTier(sphereTierItems(impl_->scene, target));
+}
+
+CollisionScene::~CollisionScene() = default;
+
+const CollisionModel& CollisionScene::model() const {
+  return impl_->model;
+}
+
+const Scene& CollisionScene::scene() const {
+  return impl_->scene;
+}
+
+bool CollisionScene::targetTouchesObstacles(CollisionPair* pair) const {
+  QueryData data;
+  impl_->environment.collide(&data, targetCallback);
+  if (data.collision && pair != nullptr) *pair = data.pair;
+  return data.collision;
+}
+
+bool CollisionScene::sphereTouchesObstacles(const Eigen::Vector3d& center, double radius,
+                                            CollisionPair* pair) const {
+  if (!(radius > 0.0) || !std::isfinite(radius) || !center.allFinite())
+    throw InvalidArgument("sphere", "needs a finite centre and a radius > 0");
+  Object sphere(std::make_shared<fcl::Sphered>(radius), Eigen::Matrix3d::Identity(), center);
+  sphere.computeAABB();
+  Tag tag{-1, false, false, "sphere"};
+  sphere.setUserData(&tag);
+  QueryData data;
+  data.query = &tag;
+  impl_->environment.collide(&sphere, &data, obstacleCallback);
+  if (data.collision && pair != nullptr) *pair = data.pair;
+  return data.collision;
+}
+
+struct CollisionChecker::Impl {
+  const std::shared_ptr<const CollisionScene> owner;
+  CollisionScene::Impl& shared;  // read-only but for the surface built once
+  const RobotModel& model;
+  const Eigen::Isometry3d base;
+  const SphereTier& tier;  // first tier
+  RobotObjects robot;
+  LinkPoses poses;
+  bool useTier = true;
+  std::uint64_t checks = 0, settledBySpheres = 0;
+  std::shared_ptr<ConfigurationMetric> metric;  // Eq. (3)
+  double maxPenetration = kDefaultMaxPenetration;
+  std::vector<LinkPoses> lanePoses;  // scratch: the poses of a batch's configurations
+  std::vector<float> tierScratch;    // scratch: a batch for the sphere tier
+  // Scratch of validSegments: the states in check order, as step s of
+  // motionSteps[i] along their segment (which ends at state segmentEnds[k] - 1).
+  std::vector<int> motionOrder, motionSteps;
+  std::vector<std::pair<int, int>> openRanges;  // scratch of bisect()
+  std::vector<std::size_t> segmentEnds;
+  std::vector<Eigen::VectorXd> motionStates;
+  std::vector<const Eigen::VectorXd*> motionPointers;
+
+  explicit Impl(std::shared_ptr<const CollisionScene> scene)
+      : owner(std::move(scene)),
+        shared(*owner->impl_),
+        model(shared.model.robot),
+        base(shared.scene.robot_base),
+        tier(*shared.tier),
+        robot(model, shared.tags.size()),
+        metric(std::make_shared<ConfigurationMetric>(model.dofWeights())) {}
+
+  /// The environment's manager, for FCL's manager-against-manager
+  /// queries, which take it by pointer but only read it.
+  fcl::DynamicAABBTreeCollisionManagerd* environment() const {
+    return const_cast<fcl::DynamicAABBTreeCollisionManagerd*>(&shared.environment);
   }
 
-  static bool touch(Object& a, Object& b) {
-    fcl::CollisionRequestd request;
-    fcl::CollisionResultd result;
-    return fcl::collide(&a, &b, request, result) > 0;
+  /// A query that counts what `request` counts.
+  QueryData queryData(const CollisionRequest& request) {
+    QueryData data;
+    data.model = &model;
+    data.target = request.target;
+    data.self = request.self;
+    data.allowFingertipContact = request.rule == CollisionRequest::Rule::kGraspRule;
+    if (data.allowFingertipContact)
+      data.rule = {shared.surface(), shared.scene.target_pose.inverse(), maxPenetration};
+    return data;
   }
 
-  bool collide(const Eigen::VectorXd& q, bool allowFingertips, CollisionPair* pair) {
+  void place(const Eigen::VectorXd& q) {
+    forwardKinematics(model, q, poses);
+    robot.place(base, poses);
+  }
+
+  bool collide(const Eigen::VectorXd& q, const CollisionRequest& request, CollisionPair* pair) {
     const Eigen::VectorXd* state = &q;
-    return firstCollision(&state, 1, allowFingertips, pair) == 0;
+    return firstCollision(&state, 1, request, pair) == 0;
   }
 
   /// The index of the first of `states` (in their order) that collides, or
   /// -1. Counts the states up to that one (all of them when none collides),
   /// as checking them one by one would: the sphere tier tests a batch at a
   /// time, FCL then takes the batch's configurations in order.
-  long firstCollision(const Eigen::VectorXd* const* states, std::size_t count, bool allowFingertips,
-                      CollisionPair* pair) {
-    QueryData data = queryData(allowFingertips);
+  long firstCollision(const Eigen::VectorXd* const* states, std::size_t count,
+                      const CollisionRequest& request, CollisionPair* pair) {
+    QueryData data = queryData(request);
     if (!useTier) {
       for (std::size_t i = 0; i < count; ++i) {
         ++checks;
-        forwardKinematics(model, *states[i], poses);
-        placeObjects();
-        robot.collide(&environment, &data, collideCallback);
-        if (!data.collision) robot.collide(&data, collideCallback);  // self-collision
+        place(*states[i]);
+        robot.manager.collide(environment(), &data, collideCallback);
+        if (!data.collision && request.self)
+          robot.manager.collide(&data, collideCallback);  // self-collision
         if (data.collision) return found(static_cast<long>(i), data, pair);
       }
       return -1;
     }
-    const std::size_t batch = tier->batchSize();
+    const std::size_t batch = tier.batchSize();
     lanePoses.resize(batch);
     for (std::size_t begin = 0; begin < count; begin += batch) {
       const std::size_t n = std::min(batch, count - begin);
@@ -233,8 +337,10 @@ struct CollisionChecker::Impl {
       // collision at lane L only the lanes before it still matter.
       std::uint32_t placed = 0, touched = 0;
       std::size_t first = n;
-      tier->forEachTouchingPair(
-          states + begin, n, [&](const SphereTier::Pair& p, std::uint32_t lanes) -> std::uint32_t {
+      tier.forEachTouchingPair(
+          states + begin, n, tierScratch,
+          [&](const SphereTier::Pair& p, std::uint32_t lanes) -> std::uint32_t {
+            if (!counts(p, request)) return (1u << first) - 1u;
             touched |= lanes;
             for (std::size_t lane = 0; lane < first; ++lane) {
               const std::uint32_t bit = 1u << lane;
@@ -256,11 +362,17 @@ struct CollisionChecker::Impl {
     return -1;
   }
 
+  /// Whether the request counts a pair the sphere tier names.
+  bool counts(const SphereTier::Pair& p, const CollisionRequest& request) const {
+    return p.other_link >= 0 ? request.self : request.target || !tier.isTarget(p.item);
+  }
+
   /// The number of leading segments of the polyline points[0] -> ... ->
   /// points[count - 1] whose states (every state at `resolution` and the
   /// end, points[0] assumed valid) are free; all states in one stream.
   std::size_t validSegments(const Eigen::VectorXd* const* points, std::size_t count,
-                            double resolution, bool allowFingertips, CollisionPair* pair) {
+                            double resolution, const CollisionRequest& request,
+                            CollisionPair* pair) {
     if (!(resolution > 0.0)) throw InvalidArgument("resolution", "must be > 0");
     if (count < 2) return 0;
     // Each segment's end first, then the states between in bisection order
@@ -289,8 +401,7 @@ struct CollisionChecker::Impl {
       motionStates[i] = a + (b - a) * (static_cast<double>(motionOrder[i]) / motionSteps[i]);
       motionPointers.push_back(&motionStates[i]);
     }
-    const long first =
-        firstCollision(motionPointers.data(), motionPointers.size(), allowFingertips, pair);
+    const long first = firstCollision(motionPointers.data(), motionPointers.size(), request, pair);
     if (first < 0) return count - 1;
     return static_cast<std::size_t>(
         std::upper_bound(segmentEnds.begin(), segmentEnds.end(), static_cast<std::size_t>(first)) -
@@ -323,13 +434,13 @@ struct CollisionChecker::Impl {
     const std::vector<std::size_t>& shapes = placedLink(p.link, at);
     if (p.other_link < 0) {
       for (const std::size_t i : shapes)
-        if (shapesCollide(*robotObjects[i], *environmentObjects[p.item], data)) return true;
+        if (shapesCollide(*robot.objects[i], *shared.environmentObjects[p.item], data)) return true;
       return false;
     }
     const std::vector<std::size_t>& others = placedLink(p.other_link, at);
     for (const std::size_t i : shapes)
       for (const std::size_t j : others)
-        if (shapesCollide(*robotObjects[i], *robotObjects[j], data)) return true;
+        if (shapesCollide(*robot.objects[i], *robot.objects[j], data)) return true;
     return false;
   }
 
@@ -357,49 +468,24 @@ struct CollisionChecker::Impl {
   /// The link's objects, moved to its pose in `at`.
   const std::vector<std::size_t>& placedLink(int link, const LinkPoses& at) {
     const auto l = static_cast<std::size_t>(link);
-    for (const std::size_t i : linkObjects[l]) {
-      const Eigen::Isometry3d pose = base * at[l] * robotShapes[i].second;
-      robotObjects[i]->setTransform(pose.linear(), pose.translation());
-      robotObjects[i]->computeAABB();
+    for (const std::size_t i : robot.linkObjects[l]) {
+      const Eigen::Isometry3d pose = base * at[l] * robot.shapes[i].second;
+      robot.objects[i]->setTransform(pose.linear(), pose.translation());
+      robot.objects[i]->computeAABB();
     }
-    return linkObjects[l];
+    return robot.linkObjects[l];
   }
 };
 
-CollisionChecker::CollisionChecker(const RobotModel& model, const Scene& scene,
+CollisionChecker::CollisionChecker(std::shared_ptr<const CollisionScene> scene)
+    : impl_(std::make_unique<Impl>(std::move(scene))) {}
+
+CollisionChecker::CollisionChecker(const CollisionModel& model, const Scene& scene,
                                    const db::ObjectGeometry* target,
                                    const CollisionMesh* targetMesh,
                                    const ObjectSurface* targetSurface)
-    : impl_(std::make_unique<Impl>(model, scene)) {
-  impl_->target = target;
-  impl_->sharedSurface = target != nullptr ? targetSurface : nullptr;
-  for (const Obstacle& o : scene.obstacles) {
-    const bool mesh = o.type == Obstacle::Type::kMesh;
-    const Geometry geometry =
-        mesh ? meshGeometry(o.mesh) : primitive(static_cast<int>(o.type), o.size);
-    Tag tag{-1, false, false, "obstacle '" + o.name + "'"};
-    if (!mesh) {
-      tag.primitive_type = static_cast<int>(o.type);
-      tag.primitive_size = o.size;
-    }
-    impl_->addEnvironment(geometry, o.pose, std::move(tag));
-  }
-  if (target != nullptr) {
-    Tag tag{-1, true, false, "target '" + scene.target_object + "'"};
-    if (targetMesh != nullptr) {
-      impl_->addEnvironment(targetMesh->impl_->geometry, scene.target_pose, std::move(tag),
-                            &targetMesh->impl_->objectCreation);
-    } else {
-      const TriangleMesh mesh{target->mesh_vertices, target->mesh_triangles};
-      impl_->addEnvironment(meshGeometry(mesh), scene.target_pose, std::move(tag));
-    }
-  }
-  impl_->environment.setup();
-  impl_->addRobot();
-  for (const Obstacle& o : scene.obstacles)
-    if (o.distance_grid) impl_->obstacleGrids.push_back(o.distance_grid);
-  impl_->addSphereTier(sphereTierItems(scene, target));
-}
+    : CollisionChecker(std::make_shared<const CollisionScene>(model, scene, target, targetMesh,
+                                                              targetSurface)) {}
 
 CollisionChecker::~CollisionChecker() = default;
 
@@ -407,8 +493,13 @@ const RobotModel& CollisionChecker::model() const {
   return impl_->model;
 }
 
-bool CollisionChecker::inCollision(const Eigen::VectorXd& q, CollisionPair* pair) {
-  return impl_->collide(q, false, pair);
+const CollisionScene& CollisionChecker::scene() const {
+  return *impl_->owner;
+}
+
+bool CollisionChecker::inCollision(const Eigen::VectorXd& q, const CollisionRequest& request,
+                                   CollisionPair* pair) {
+  return impl_->collide(q, request, pair);
 }
 
 void CollisionChecker::setMaxPenetration(double depth) {
@@ -421,84 +512,37 @@ double CollisionChecker::maxPenetration() const {
   return impl_->maxPenetration;
 }
 
-bool CollisionChecker::inCollisionAllowingFingertipContact(const Eigen::VectorXd& q,
-                                                           CollisionPair* pair) {
-  return impl_->collide(q, true, pair);
-}
-
-bool CollisionChecker::sphereTouchesObstacles(const Eigen::Vector3d& center, double radius,
-                                              CollisionPair* pair) {
-  if (!(radius > 0.0) || !std::isfinite(radius) || !center.allFinite())
-    throw InvalidArgument("sphere", "needs a finite centre and a radius > 0");
-  Object sphere(std::make_shared<fcl::Sphered>(radius), Eigen::Matrix3d::Identity(), center);
-  sphere.computeAABB();
-  Tag tag{-1, false, false, "sphere"};
-  sphere.setUserData(&tag);
-  QueryData data;
-  data.query = &tag;
-  impl_->environment.collide(&sphere, &data, obstacleCallback);
-  if (data.collision && pair != nullptr) *pair = data.pair;
-  return data.collision;
-}
-
-/// Moves the hand's objects (the palm and every link that moves with a hand
-/// DoF) so that the palm is at `palm` (world frame), the hand joints at
-/// `hand`. This moves the robot's objects; every robot query places them
-/// (place()) before it reads them.
-std::vector<std::size_t> CollisionChecker::placeHand(const Eigen::Isometry3d& palm,
-                                                     const Eigen::VectorXd& hand) {
+bool CollisionChecker::handInCollision(const Eigen::Isometry3d& palm, const Eigen::VectorXd& hand,
+                                       const CollisionRequest& request, CollisionPair* pair) {
   const RobotModel& model = impl_->model;
   if (hand.size() != model.numHandDofs() || !hand.allFinite() || !palm.matrix().allFinite())
     throw InvalidArgument("hand", "needs a finite palm pose and " +
                                       std::to_string(model.numHandDofs()) + " finite joint values");
+  // The hand's objects (the palm and every link that moves with a hand
+  // DoF) placed so that the palm is at `palm`; every robot query places
+  // the objects before it reads them.
   Eigen::VectorXd q = model.home();
   q.tail(model.numHandDofs()) = hand;
   forwardKinematics(model, q, impl_->poses);
   const Eigen::Isometry3d toWorld =
       palm * impl_->poses[static_cast<std::size_t>(model.palmLink())].inverse();
   std::vector<std::size_t> placed;
-  for (std::size_t i = 0; i < impl_->robotObjects.size(); ++i) {
-    const auto& [link, origin] = impl_->robotShapes[i];
+  for (std::size_t i = 0; i < impl_->robot.objects.size(); ++i) {
+    const auto& [link, origin] = impl_->robot.shapes[i];
     if (!model.isHandLink(link)) continue;
-    Object& object = *impl_->robotObjects[i];
+    Object& object = *impl_->robot.objects[i];
     const Eigen::Isometry3d pose = toWorld * impl_->poses[static_cast<std::size_t>(link)] * origin;
     object.setTransform(pose.linear(), pose.translation());
     object.computeAABB();
     placed.push_back(i);
   }
-  return placed;
-}
-
-bool CollisionChecker::handTouchesObstacles(const Eigen::Isometry3d& palm,
-                                            const Eigen::VectorXd& hand, CollisionPair* pair) {
-  QueryData data;
-  for (const std::size_t i : placeHand(palm, hand)) {
-    Object& object = *impl_->robotObjects[i];
-    data.query = object.getUserData();
-    impl_->environment.collide(&object, &data, obstacleCallback);
-    if (data.collision) break;
-  }
-  if (data.collision && pair != nullptr) *pair = data.pair;
-  return data.collision;
-}
-
-bool CollisionChecker::handInCollision(const Eigen::Isometry3d& palm, const Eigen::VectorXd& hand,
-                                       bool allowFingertipContact, CollisionPair* pair) {
-  QueryData data = impl_->queryData(allowFingertipContact);
-  const std::vector<std::size_t> placed = placeHand(palm, hand);
+  QueryData data = impl_->queryData(request);
   for (std::size_t k = 0; k < placed.size() && !data.collision; ++k) {
-    Object& object = *impl_->robotObjects[placed[k]];
-    impl_->environment.collide(&object, &data, collideCallback);
-    for (std::size_t l = k + 1; l < placed.size() && !data.collision; ++l)
-      Impl::shapesCollide(object, *impl_->robotObjects[placed[l]], data);
+    Object& object = *impl_->robot.objects[placed[k]];
+    impl_->shared.environment.collide(&object, &data, collideCallback);
+    for (std::size_t l = k + 1; l < placed.size() && !data.collision && request.self; ++l)
+      Impl::shapesCollide(object, *impl_->robot.objects[placed[l]], data);
   }
-  if (data.collision && pair != nullptr) *pair = data.pair;
-  return data.collision;
-}
-
-bool CollisionChecker::targetTouchesObstacles(CollisionPair* pair) {
-  QueryData data;
-  impl_->environment.collide(&data, targetCallback);
   if (data.collision && pair != nullptr) *pair = data.pair;
   return data.collision;
 }
@@ -520,11 +564,11 @@ std::uint64_t CollisionChecker::sphereSettledCount() const {
 }
 
 double CollisionChecker::clearance(const Eigen::VectorXd& q) {
-  if (impl_->collide(q, false, nullptr)) return 0.0;
+  if (impl_->collide(q, {}, nullptr)) return 0.0;
   impl_->place(q);  // the sphere tier may have left the broadphase where it was
   QueryData data;
   data.model = &impl_->model;
-  impl_->robot.distance(&impl_->environment, &data, distanceCallback);
+  impl_->robot.manager.distance(impl_->environment(), &data, distanceCallback);
   return data.distance;
 }
 
@@ -537,19 +581,18 @@ std::shared_ptr<ConfigurationMetric> CollisionChecker::sharedMetric() const {
 }
 
 bool CollisionChecker::isMotionValid(const Eigen::VectorXd& a, const Eigen::VectorXd& b,
-                                     double resolution, bool allowFingertipContact,
+                                     double resolution, const CollisionRequest& request,
                                      CollisionPair* pair) {
   const Eigen::VectorXd* ends[2] = {&a, &b};
-  return impl_->validSegments(ends, 2, resolution, allowFingertipContact, pair) == 1;
+  return impl_->validSegments(ends, 2, resolution, request, pair) == 1;
 }
 
 std::size_t CollisionChecker::validSegments(const std::vector<Eigen::VectorXd>& waypoints,
-                                            double resolution, bool allowFingertipContact,
+                                            double resolution, const CollisionRequest& request,
                                             CollisionPair* pair) {
   std::vector<const Eigen::VectorXd*> points;
   for (const Eigen::VectorXd& w : waypoints) points.push_back(&w);
-  return impl_->validSegments(points.data(), points.size(), resolution, allowFingertipContact,
-                              pair);
+  return impl_->validSegments(points.data(), points.size(), resolution, request, pair);
 }
 
 }  // namespace hfts::robot

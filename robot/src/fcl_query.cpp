@@ -39,7 +39,8 @@ namespace {
 
 bool ignored(const Tag& a, const Tag& b, const QueryData& data) {
   if (a.link >= 0 && b.link >= 0)
-    return a.link == b.link || data.model->isCollisionDisabled(a.link, b.link);
+    return !data.self || a.link == b.link || data.model->isCollisionDisabled(a.link, b.link);
+  if (!data.target && (a.target || b.target)) return true;
   return a.link < 0 && b.link < 0;  // environment against itself
 }
 

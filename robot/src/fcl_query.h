@@ -68,6 +68,8 @@ struct QueryData {
   /// the full rule.
   bool allowFingertipContact = false;
   GraspContactRule rule;
+  bool target = true;  ///< contacts with the target count (CollisionRequest::target)
+  bool self = true;    ///< contacts between robot links count (CollisionRequest::self)
   bool collision = false;
   CollisionPair pair;
   double distance = std::numeric_limits<double>::infinity();

@@ -14,7 +14,6 @@
 #include <sstream>
 
 #include "config_reader.h"
-#include "robot/link_spheres.h"
 
 namespace hfts::robot {
 namespace {
@@ -101,7 +100,6 @@ class RobotModelBuilder {
     addHandActuation();
     addDisabledCollisions();
     markHandLinks();
-    model_.spheres_ = std::make_shared<RobotModel::LazySpheres>();
     return std::move(model_);
   }
 
@@ -371,19 +369,6 @@ class RobotModelBuilder {
   std::string what_;
   RobotModel model_;
 };
-
-struct RobotModel::LazySpheres {
-  std::once_flag built;
-  SphereModel model;
-};
-
-const SphereModel& RobotModel::spheres() const {
-  std::call_once(spheres_->built, [this] {
-    spheres_->model = buildSphereModel(*this);
-    spheres_->model.pair_maps = buildPairMaps(*this, spheres_->model);
-  });
-  return spheres_->model;
-}
 
 RobotModel RobotModel::load(const std::filesystem::path& configPath) {
   const std::string what = "robot config '" + configPath.string() + "'";

@@ -841,6 +841,16 @@ void buildWideTrees(Program& program) {
     }
     program.fk_rows.push_back(rows);
   }
+  program.wide.clear();
+  program.wide_root.assign(program.root.size(), -1);
+  for (std::size_t l = 0; l < program.root.size(); ++l) {
+    const int root = program.root[l];
+    if (root >= 0 && program.nodes[static_cast<std::size_t>(root)].left >= 0)
+      program.wide_root[l] = collapse(program, root);
+  }
+}
+
+void buildLookups(Program& program) {
   const std::size_t links = program.root.size(), items = program.items.size();
   program.env_index.assign(links * items, -1);
   for (std::size_t i = 0; i < program.env.size(); ++i)
@@ -853,13 +863,6 @@ void buildWideTrees(Program& program) {
     const SelfPair& pair = program.self[i];
     program.self_index[pair.a * links + pair.b] = static_cast<int>(i);
     program.self_mask[pair.a * words + pair.b / 64] |= std::uint64_t{1} << (pair.b % 64);
-  }
-  program.wide.clear();
-  program.wide_root.assign(program.root.size(), -1);
-  for (std::size_t l = 0; l < program.root.size(); ++l) {
-    const int root = program.root[l];
-    if (root >= 0 && program.nodes[static_cast<std::size_t>(root)].left >= 0)
-      program.wide_root[l] = collapse(program, root);
   }
 }
 

@@ -147,10 +147,13 @@ using Visit = std::uint32_t (*)(void* context, std::uint32_t pair, std::uint32_t
 /// Lanes of a batch on this CPU (4, 8 or 16).
 std::size_t batchSize();
 
-/// Fills Program::wide and wide_root from Program::nodes, fk_rows from
-/// steps, and the lookups env_index, self_index and self_mask from env and
-/// self.
+/// Fills Program::wide and wide_root from Program::nodes and fk_rows from
+/// steps: the robot's part, once.
 void buildWideTrees(Program& program);
+
+/// Fills the lookups env_index, self_index and self_mask from env and self
+/// (again whenever those change).
+void buildLookups(Program& program);
 
 /// Tests one configuration q[0 .. num_dofs) like findTouching (lane 0),
 /// with the SIMD lanes spread over link pairs and sphere pairs instead of

@@ -36,10 +36,12 @@ double boundingRadius(const SphereTier::Item& item) {
 
 }  // namespace
 
-SphereTier::SphereTier(const RobotModel& model, const Eigen::Isometry3d& base,
+SphereTier::SphereTier(const CollisionModel& collision, const Eigen::Isometry3d& base,
                        std::vector<Item> items)
-    : spheres_(model.spheres()), batch_(kernel::batchSize()) {
+    : model_(collision), batch_(kernel::batchSize()) {
+  const RobotModel& model = collision.robot;
   compileRobot(model, base);
+  kernel::buildWideTrees(program_);
   compileItems(items);
   const std::size_t links = model.links().size();
   skip_item_.assign(links, std::vector<bool>(items.size(), false));
@@ -49,7 +51,6 @@ SphereTier::SphereTier(const RobotModel& model, const Eigen::Isometry3d& base,
       may_collide_[a][b] = program_.root[a] >= 0 && program_.root[b] >= 0 &&
                            !model.isCollisionDisabled(static_cast<int>(a), static_cast<int>(b));
   listPairs();
-  q_.assign(static_cast<std::size_t>(program_.num_dofs) * batch_, 0.0f);
 }
 
 void SphereTier::compileRobot(const RobotModel& model, const Eigen::Isometry3d& base) {
@@ -77,8 +78,8 @@ void SphereTier::compileRobot(const RobotModel& model, const Eigen::Isometry3d& 
     static_[child] = step.dof < 0 && static_[static_cast<std::size_t>(joint.parent_link)];
   }
   p.root.assign(model.links().size(), -1);
-  for (std::size_t l = 0; l < spheres_.links.size(); ++l) {
-    const LinkSpheres& link = spheres_.links[l];
+  for (std::size_t l = 0; l < model_.spheres.links.size(); ++l) {
+    const LinkSpheres& link = model_.spheres.links[l];
     if (link.root < 0) continue;
     const int first = static_cast<int>(p.nodes.size());
     for (const SphereNode& node : link.tree) {
@@ -144,9 +145,9 @@ void SphereTier::listPairs() {
     for (std::size_t b = a + 1; b < links; ++b)
       if (may_collide_[a][b])
         program_.self.push_back({static_cast<std::uint16_t>(a), static_cast<std::uint16_t>(b)});
-  kernel::buildWideTrees(program_);  // self_index, read below
+  kernel::buildLookups(program_);  // self_index, read below
   program_.self_maps.assign(program_.self.size(), {});
-  for (const PairMap& map : spheres_.pair_maps) {
+  for (const PairMap& map : model_.pair_maps) {
     const int pair = program_.self_index[static_cast<std::size_t>(map.link_a) * links +
                                          static_cast<std::size_t>(map.link_b)];
     if (pair < 0) continue;  // not tested (disabled, or static and clear)
@@ -168,24 +169,24 @@ void SphereTier::listPairs() {
 
 void SphereTier::skipStatic(int link, std::size_t item) {
   skip_item_[static_cast<std::size_t>(link)][item] = true;
-  listPairs();
 }
 
 void SphereTier::skipStaticPair(int a, int b) {
   may_collide_[static_cast<std::size_t>(std::min(a, b))][static_cast<std::size_t>(std::max(a, b))] =
       false;
-  listPairs();
 }
 
-void SphereTier::load(const Eigen::VectorXd* const* q, std::size_t count) {
+void SphereTier::load(const Eigen::VectorXd* const* q, std::size_t count,
+                      std::vector<float>& scratch) const {
+  scratch.resize(static_cast<std::size_t>(program_.num_dofs) * batch_);
   if (count == 1) {
     for (int d = 0; d < program_.num_dofs; ++d)
-      q_[static_cast<std::size_t>(d)] = static_cast<float>((*q[0])(d));
+      scratch[static_cast<std::size_t>(d)] = static_cast<float>((*q[0])(d));
     return;
   }
   for (std::size_t lane = 0; lane < count; ++lane)
     for (int d = 0; d < program_.num_dofs; ++d)
-      q_[static_cast<std::size_t>(d) * batch_ + lane] = static_cast<float>((*q[lane])(d));
+      scratch[static_cast<std::size_t>(d) * batch_ + lane] = static_cast<float>((*q[lane])(d));
 }
 
 SphereTier::Pair SphereTier::pair(std::uint32_t index) const {

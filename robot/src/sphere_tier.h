@@ -14,8 +14,7 @@
 #include <optional>
 #include <vector>
 
-#include "robot/link_spheres.h"
-#include "robot/robot_model.h"
+#include "robot/collision_model.h"
 #include "sphere_kernel.h"
 
 namespace hfts::robot {
@@ -43,15 +42,20 @@ class SphereTier {
     std::optional<Grid> grid;
   };
 
-  /// Uses the model's sphere model (RobotModel::spheres()).
-  SphereTier(const RobotModel& model, const Eigen::Isometry3d& base, std::vector<Item> items);
+  /// The model's spheres and pair maps against `items`; the model must
+  /// outlive the tier. Read-only once the skips below are listed: threads
+  /// may test configurations at once, each with its own scratch.
+  SphereTier(const CollisionModel& model, const Eigen::Isometry3d& base, std::vector<Item> items);
 
   /// Drops the pair (link, item) from the check: for a link that does not
-  /// move with any DoF and that FCL found clear of the item once.
+  /// move with any DoF and that FCL found clear of the item once. Takes
+  /// effect at listPairs().
   void skipStatic(int link, std::size_t item);
   /// Drops a pair of links that never move relative to each other and that
-  /// FCL found clear once.
+  /// FCL found clear once. Takes effect at listPairs().
   void skipStaticPair(int a, int b);
+  /// Program::env and Program::self from the pairs not skipped.
+  void listPairs();
 
   /// A pair whose spheres touch: `link` and environment item `item`, or
   /// `link` and `other_link` when that is >= 0.
@@ -71,10 +75,12 @@ class SphereTier {
   /// returns the configurations still to be tested (as bits) and the tier
   /// stops when none is left. A configuration without a call is certainly
   /// free. Fingertips are paired with the target under either rule: the
-  /// exact check decides how deep they may be.
+  /// exact check decides how deep they may be. `scratch` is the calling
+  /// thread's own.
   template <typename Visit>
-  void forEachTouchingPair(const Eigen::VectorXd* const* q, std::size_t count, Visit&& visit) {
-    load(q, count);
+  void forEachTouchingPair(const Eigen::VectorXd* const* q, std::size_t count,
+                           std::vector<float>& scratch, Visit&& visit) const {
+    load(q, count, scratch);
     struct Context {
       const SphereTier* tier;
       Visit* visit;
@@ -86,9 +92,9 @@ class SphereTier {
     };
     // One configuration: lanes over pairs; several: a configuration per lane.
     if (count == 1)
-      kernel::findTouchingOne(program_, q_.data(), forward, &context);
+      kernel::findTouchingOne(program_, scratch.data(), forward, &context);
     else
-      kernel::findTouching(program_, q_.data(), count, forward, &context);
+      kernel::findTouching(program_, scratch.data(), count, forward, &context);
   }
 
   /// The pair of a kernel pair index.
@@ -97,24 +103,22 @@ class SphereTier {
   /// Links whose pose does not depend on any DoF (the base and what is
   /// fixed to it).
   bool isStatic(int link) const { return static_[static_cast<std::size_t>(link)]; }
-  const SphereModel& spheres() const { return spheres_; }
+  /// Whether environment item `item` is the target object.
+  bool isTarget(std::size_t item) const { return program_.items[item].target; }
 
  private:
   void compileRobot(const RobotModel& model, const Eigen::Isometry3d& base);
   void compileItems(const std::vector<Item>& items);
-  /// Program::env and Program::self from the pairs not skipped.
-  void listPairs();
-  /// Writes the batch into q_ (single precision, DoF-major; one
+  /// Writes the batch into `scratch` (single precision, DoF-major; one
   /// configuration: its DoF in order).
-  void load(const Eigen::VectorXd* const* q, std::size_t count);
+  void load(const Eigen::VectorXd* const* q, std::size_t count, std::vector<float>& scratch) const;
 
-  const SphereModel& spheres_;
+  const CollisionModel& model_;
   std::size_t batch_;
   kernel::Program program_;
   std::vector<bool> static_;
   std::vector<std::vector<bool>> skip_item_;    ///< [link][item]
   std::vector<std::vector<bool>> may_collide_;  ///< [link][link]: a self pair to test
-  std::vector<float> q_;                        ///< scratch: the batch, DoF-major
 };
 
 }  // namespace hfts::robot

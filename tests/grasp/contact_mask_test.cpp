@@ -44,9 +44,9 @@ TEST(FingertipGeometry, ThePadRadiusIsTheFingerCylinders) {
 
 TEST(ContactMask, ContactsTooLowForAFingertipAreMasked) {
   const robot::Scene scene = onTable();
-  robot::CollisionChecker checker(test::kr5Sdh(), scene, &box().geometry);
+  robot::CollisionChecker checker(test::collisionOf(test::kr5Sdh()), scene, &box().geometry);
   const std::vector<bool> usable =
-      fingertipReachableContacts(box(), scene.target_pose, checker, kPad);
+      fingertipReachableContacts(box(), scene.target_pose, checker.scene(), kPad);
   ASSERT_EQ(usable.size(), box().numContacts());
   int masked = 0;
   for (std::size_t i = 0; i < usable.size(); ++i) {
@@ -64,20 +64,20 @@ TEST(ContactMask, ContactsTooLowForAFingertipAreMasked) {
 TEST(ContactMask, AFreeStandingObjectKeepsEveryContact) {
   robot::Scene scene = onTable();
   scene.obstacles.clear();
-  robot::CollisionChecker checker(test::kr5Sdh(), scene, &box().geometry);
+  robot::CollisionChecker checker(test::collisionOf(test::kr5Sdh()), scene, &box().geometry);
   const std::vector<bool> usable =
-      fingertipReachableContacts(box(), scene.target_pose, checker, kPad);
+      fingertipReachableContacts(box(), scene.target_pose, checker.scene(), kPad);
   EXPECT_EQ(std::count(usable.begin(), usable.end(), true),
             static_cast<std::ptrdiff_t>(box().numContacts()));
-  EXPECT_THROW(fingertipReachableContacts(box(), scene.target_pose, checker, 0.0005),
+  EXPECT_THROW(fingertipReachableContacts(box(), scene.target_pose, checker.scene(), 0.0005),
                InvalidArgument);
 }
 
 TEST(MaskedHftsSpace, NoNodeUsesAPartitionWithoutUsableContacts) {
   const robot::Scene scene = onTable();
-  robot::CollisionChecker checker(test::kr5Sdh(), scene, &box().geometry);
+  robot::CollisionChecker checker(test::collisionOf(test::kr5Sdh()), scene, &box().geometry);
   const std::vector<bool> usable =
-      fingertipReachableContacts(box(), scene.target_pose, checker, kPad);
+      fingertipReachableContacts(box(), scene.target_pose, checker.scene(), kPad);
   const HftsSpace masked(box(), 3, &usable);
   EXPECT_LT(masked.usableContacts(), box().numContacts());
   EXPECT_LT(masked.numChildren(masked.root()), 8000u);
@@ -146,10 +146,10 @@ TEST(StableGraspPossible, NotWhenOnlyTheTopFaceCanBeTouched) {
   scene.obstacles.push_back(slab("back", {0.02, 0.3, 0.3}, {-0.031 - 0.01, 0, 0.15}));
   scene.target_pose.linear() =
       Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();  // 6 x 8 footprint
-  robot::CollisionChecker checker(test::kr5Sdh(), scene, &box().geometry);
-  ASSERT_FALSE(checker.targetTouchesObstacles());
+  robot::CollisionChecker checker(test::collisionOf(test::kr5Sdh()), scene, &box().geometry);
+  ASSERT_FALSE(checker.scene().targetTouchesObstacles());
   const std::vector<bool> usable =
-      fingertipReachableContacts(box(), scene.target_pose, checker, kPad);
+      fingertipReachableContacts(box(), scene.target_pose, checker.scene(), kPad);
   const HftsSpace masked(box(), 3, &usable);
   ASSERT_GT(masked.usableContacts(), 0u);
   for (Eigen::Index i = 0; i < masked.leafContacts().outward_normals.cols(); ++i)

@@ -37,7 +37,7 @@ TEST(GraspConfigurations, GraspsInFreeSpaceGiveFreeGoalsWithFingertipsOnTheConta
   for (const auto& [name, database] : test::bundledObjects()) {
     SCOPED_TRACE(name);
     const robot::Scene scene = freeSpace(name, {0.6, 0.0, 0.15});
-    robot::CollisionChecker checker(m(), scene, &database.geometry);
+    robot::CollisionChecker checker(test::collisionOf(m()), scene, &database.geometry);
     GraspConfigurator configurator(m(), ik, thorough, checker, scene.target_pose, scene.robot_base);
     const HftsSpace space(database, 3);
     GraspObjective objective(space, fast);
@@ -70,7 +70,7 @@ TEST(GraspConfigurations, UnreachableAndBlockedGraspsAreLabelled) {
   const HftsNode node = space.child(space.root(), 777);
 
   robot::Scene far = freeSpace("box", {2.5, 0.0, 0.1});
-  robot::CollisionChecker farChecker(m(), far, &box.geometry);
+  robot::CollisionChecker farChecker(test::collisionOf(m()), far, &box.geometry);
   GraspConfigurator unreachable(m(), ik, thorough, farChecker, far.target_pose, far.robot_base);
   const auto none = unreachable.configure(space, node, rng).configurations;
   ASSERT_EQ(none.size(), 1u);
@@ -80,7 +80,7 @@ TEST(GraspConfigurations, UnreachableAndBlockedGraspsAreLabelled) {
   // Find a grasp with IK solutions in free space, then put a ball where its
   // palm goes: every configuration of that grasp must now collide with it.
   robot::Scene open = freeSpace("box", {0.6, 0.0, 0.15});
-  robot::CollisionChecker openChecker(m(), open, &box.geometry);
+  robot::CollisionChecker openChecker(test::collisionOf(m()), open, &box.geometry);
   GraspConfigurator freeConfigurator(m(), ik, thorough, openChecker, open.target_pose,
                                      open.robot_base);
   HftsNode reachable = node;
@@ -98,7 +98,7 @@ TEST(GraspConfigurations, UnreachableAndBlockedGraspsAreLabelled) {
   ball.size << 0.03, 0, 0;
   ball.pose.translation() = open.target_pose * found.hand.palm_pose.translation();
   blocked.obstacles.push_back(ball);
-  robot::CollisionChecker blockedChecker(m(), blocked, &box.geometry);
+  robot::CollisionChecker blockedChecker(test::collisionOf(m()), blocked, &box.geometry);
   GraspConfigurator configurator(m(), ik, thorough, blockedChecker, blocked.target_pose,
                                  blocked.robot_base);
   int colliding = 0;
@@ -114,7 +114,7 @@ TEST(GraspConfigurations, PregraspOpensSingleFingerJointsOnly) {
   const HandReachability fast(m(), handMap());
   const robot::ArmIk ik(m());
   robot::Scene scene;
-  robot::CollisionChecker checker(m(), scene, nullptr);
+  robot::CollisionChecker checker(test::collisionOf(m()), scene, nullptr);
   const GraspConfigurator configurator(m(), ik, fast, checker, scene.target_pose, scene.robot_base);
   Eigen::VectorXd hand(7);
   hand << 0.7, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5;
@@ -132,7 +132,8 @@ TEST(GraspConfigurations, PregraspOpensAGrippersMimicJaws) {
   const HandReachability fast(panda, buildHandMap(panda, handMapOptions(panda)));
   const robot::ArmIk ik(panda);
   robot::Scene scene;
-  robot::CollisionChecker checker(panda, scene, nullptr);
+  const auto collision = robot::buildCollisionModel(panda);
+  robot::CollisionChecker checker(*collision, scene, nullptr);
   const GraspConfigurator configurator(panda, ik, fast, checker, scene.target_pose,
                                        scene.robot_base);
   const Eigen::VectorXd closed = Eigen::VectorXd::Constant(1, 0.02);
@@ -196,13 +197,13 @@ TEST(GraspConfigurations, AGrippersPalmTurnsAboutTheContactLineUntilTheHandFits)
   robot::Scene scene = freeSpace("box", {0.5, 0.0, 0.25});
   std::mt19937_64 rng(3);
   // Where R(h)'s own palm pose puts the palm, a ball.
-  robot::CollisionChecker open(panda(), scene, nullptr);
+  robot::CollisionChecker open(test::collisionOf(panda()), scene, nullptr);
   const GraspConfigurator probe(panda(), ik, pandaHand(), open, scene.target_pose,
                                 scene.robot_base);
   const HandQuery hand = pandaHand().query(pinch().positions, pinch().outward_normals);
   ASSERT_TRUE(hand.free_turn.has_value());
   scene.obstacles.push_back(ball("ball", scene.target_pose * hand.palm_pose.translation(), 0.04));
-  robot::CollisionChecker checker(panda(), scene, nullptr);
+  robot::CollisionChecker checker(test::collisionOf(panda()), scene, nullptr);
   GraspConfigurator configurator(panda(), ik, pandaHand(), checker, scene.target_pose,
                                  scene.robot_base);
   EXPECT_EQ(configurator.turns(), 1);
@@ -229,7 +230,7 @@ TEST(GraspConfigurations, AGrippersPalmTurnsAboutTheContactLineUntilTheHandFits)
 TEST(GraspConfigurations, WithoutTurningAGripperTakesOnlyRhsOwnPalmPose) {
   const robot::ArmIk ik(panda());
   const robot::Scene scene = freeSpace("box", {0.5, 0.0, 0.25});
-  robot::CollisionChecker checker(panda(), scene, nullptr);
+  robot::CollisionChecker checker(test::collisionOf(panda()), scene, nullptr);
   GraspConfigurator configurator(panda(), ik, pandaHand(), checker, scene.target_pose,
                                  scene.robot_base);
   std::mt19937_64 a(6), b(6);
@@ -251,7 +252,7 @@ TEST(GraspConfigurations, AGripperBlockedAtEveryTurnStillGetsItsCollidingConfigu
   robot::Scene scene = freeSpace("box", {0.5, 0.0, 0.25});
   // A ball around the contacts: the hand meets it at every turn.
   scene.obstacles.push_back(ball("ball", scene.target_pose * Eigen::Vector3d(0, 0, 0.06), 0.2));
-  robot::CollisionChecker checker(panda(), scene, nullptr);
+  robot::CollisionChecker checker(test::collisionOf(panda()), scene, nullptr);
   GraspConfigurator configurator(panda(), ik, pandaHand(), checker, scene.target_pose,
                                  scene.robot_base);
   configurator.setTurns(6);
@@ -272,7 +273,7 @@ TEST(GraspConfigurations, TurnsAreIgnoredByAHandThatCannotTurnFreely) {
   const db::ObjectDatabase& box = test::bundledObjects().at("box");
   const HftsSpace space(box, 3);
   const robot::Scene scene = freeSpace("box", {0.6, 0.0, 0.15});
-  robot::CollisionChecker checker(m(), scene, &box.geometry);
+  robot::CollisionChecker checker(test::collisionOf(m()), scene, &box.geometry);
   GraspConfigurator configurator(m(), ik, thorough, checker, scene.target_pose, scene.robot_base);
   int solved = 0;
   for (std::uint64_t i = 0; i < 20; ++i) {
@@ -309,7 +310,7 @@ TEST(GraspConfigurations, WholeTurnVariantsGetTheLabelsOfTheirBranch) {
   wall.size << 0.05, 2.0, 2.0;
   wall.pose.translation() << -0.2, 0.0, 0.5;
   scene.obstacles.push_back(wall);
-  robot::CollisionChecker checker(ur5e, scene, nullptr);
+  robot::CollisionChecker checker(test::collisionOf(ur5e), scene, nullptr);
   GraspConfigurator configurator(ur5e, ik, hand, checker, scene.target_pose, scene.robot_base);
   // The fingertips of a grasp posture in front of the robot are the contacts.
   Eigen::VectorXd q = ur5e.home();
@@ -323,8 +324,8 @@ TEST(GraspConfigurations, WholeTurnVariantsGetTheLabelsOfTheirBranch) {
   for (std::size_t k = 0; k < all.configurations.size(); ++k) {
     const GraspConfiguration& c = all.configurations[k];
     ASSERT_NE(c.label, ConfigurationLabel::kNoKinematicSolution);
-    const bool collides =
-        checker.inCollision(c.pregrasp) || checker.inCollisionAllowingFingertipContact(c.grasp);
+    const bool collides = checker.inCollision(c.pregrasp) ||
+                          checker.inCollision(c.grasp, robot::CollisionRequest::grasp());
     EXPECT_EQ(c.label,
               collides ? ConfigurationLabel::kColliding : ConfigurationLabel::kCollisionFree)
         << k;
@@ -353,7 +354,7 @@ TEST(GraspConfigurations, WithAnArmReferenceEachBranchKeepsItsVariantNearestToIt
                               HandQueryOptions::thorough());
   const robot::ArmIk ik(ur5e);
   robot::Scene scene;
-  robot::CollisionChecker checker(ur5e, scene, nullptr);
+  robot::CollisionChecker checker(test::collisionOf(ur5e), scene, nullptr);
   Eigen::VectorXd q = ur5e.home();
   q.tail(ur5e.numHandDofs()) = hand.map().configurations.row(17).transpose();
   const robot::FingertipFrames tips =
@@ -402,7 +403,7 @@ TEST(GraspConfigurations, WithAnArmReferenceEachBranchKeepsItsVariantNearestToIt
 TEST(GraspConfigurations, TurnsBelowOneAreRejectedByName) {
   const robot::ArmIk ik(panda());
   robot::Scene scene;
-  robot::CollisionChecker checker(panda(), scene, nullptr);
+  robot::CollisionChecker checker(test::collisionOf(panda()), scene, nullptr);
   GraspConfigurator configurator(panda(), ik, pandaHand(), checker, scene.target_pose,
                                  scene.robot_base);
   test::expectErrorMentioning<std::invalid_argument>([&] { configurator.setTurns(0); },
@@ -418,7 +419,7 @@ TEST(GraspConfigurations, OtherHandsGivenTheUsedPostureAreTheSameAsAfterItsQuery
                                      test::bundledMeshDir() / "box.stl", test::fixtureParameters())
                                      .database;
   const robot::Scene scene = freeSpace("box", {0.6, 0.0, 0.15});
-  robot::CollisionChecker checker(m(), scene, &box.geometry);
+  robot::CollisionChecker checker(test::collisionOf(m()), scene, &box.geometry);
   GraspConfigurator configurator(m(), ik, thorough, checker, scene.target_pose, scene.robot_base);
   const HftsSpace space(box, 3);
   int compared = 0;

@@ -25,11 +25,7 @@ const robot::RobotModel& panda() {
 
 /// A cube of side `size` centred at `center` (object frame = its mesh's).
 db::ObjectGeometry cube(double size, const Eigen::Vector3d& center = Eigen::Vector3d::Zero()) {
-  const TriangleMesh mesh = test::cube(size, center);
-  db::ObjectGeometry g;
-  g.mesh_vertices = mesh.vertices;
-  g.mesh_triangles = mesh.triangles;
-  return g;
+  return test::meshObject(test::cube(size, center));
 }
 
 /// The Panda's palm pose (object frame) that puts the midpoint between its
@@ -63,7 +59,7 @@ TEST(HandCloser, APadShortOfTheSurfaceClosesOnToContact) {
   // pad 5 mm short of its face (jaws at 3 cm): the closing goes on past it.
   const db::ObjectGeometry box = cube(0.05);
   const robot::ObjectSurface surface(box);
-  const HandCloser closer(panda(), surface);
+  const HandCloser closer(test::collisionOf(panda()), surface);
   const HandClosure closed = closer.close(palmAroundOrigin(), Eigen::VectorXd::Constant(1, 0.04),
                                           Eigen::VectorXd::Constant(1, 0.03));
   ASSERT_TRUE(closed.touches()) << closed.failure(panda());
@@ -92,7 +88,7 @@ TEST(HandCloser, AFingerTheClosingDoesNotMoveTouchesWhereItIsWithinTheContactDis
   // could turn on the last digits of the palm.)
   const db::ObjectGeometry box = cube(0.05);
   const robot::ObjectSurface surface(box);
-  const HandCloser closer(panda(), surface);
+  const HandCloser closer(test::collisionOf(panda()), surface);
   for (const double jaw : {0.02505, 0.0253}) {
     SCOPED_TRACE(jaw);
     const Eigen::VectorXd still = Eigen::VectorXd::Constant(1, jaw);
@@ -109,7 +105,7 @@ TEST(HandCloser, AGrippersPalmMovesSoThatBothJawsTouch) {
   // jaws, the planner centres the palm on the object instead.
   const db::ObjectGeometry box = cube(0.05, {0.0, 0.003, 0.0});
   const robot::ObjectSurface surface(box);
-  const HandClosure closed = HandCloser(panda(), surface)
+  const HandClosure closed = HandCloser(test::collisionOf(panda()), surface)
                                  .close(palmAroundOrigin(), Eigen::VectorXd::Constant(1, 0.04),
                                         Eigen::VectorXd::Constant(1, 0.03));
   ASSERT_TRUE(closed.touches()) << closed.failure(panda());
@@ -123,7 +119,7 @@ TEST(HandCloser, AGrippersPalmMovesSoThatBothJawsTouch) {
   // object beyond the other's stroke), the other jaw stops at its limit.
   const db::ObjectGeometry far = cube(0.02, {0.0, 0.0, 0.5});
   const robot::ObjectSurface nowhere(far);
-  const HandClosure empty = HandCloser(panda(), nowhere)
+  const HandClosure empty = HandCloser(test::collisionOf(panda()), nowhere)
                                 .close(palmAroundOrigin(), Eigen::VectorXd::Constant(1, 0.04),
                                        Eigen::VectorXd::Constant(1, 0.03));
   EXPECT_FALSE(empty.touches());
@@ -138,7 +134,7 @@ TEST(HandCloser, AFingerThatMeetsTheObjectWithAnotherPartIsNotAPadContact) {
   // the finger than its pad, which stops it.
   const db::ObjectGeometry block = cube(0.01, {0.0, 0.045, 0.0});
   const robot::ObjectSurface surface(block);
-  const HandClosure closed = HandCloser(panda(), surface)
+  const HandClosure closed = HandCloser(test::collisionOf(panda()), surface)
                                  .close(palmAroundOrigin(), Eigen::VectorXd::Constant(1, 0.02),
                                         Eigen::VectorXd::Constant(1, 0.04));
   ASSERT_EQ(closed.fingers.size(), 2u);
@@ -155,7 +151,7 @@ TEST(HandCloser, AFingerThatStartsDeeperThanATouchInsideTheObjectIsInside) {
   // Jaws opened to 4 cm on a 5 cm cube: each pad starts 5 mm inside it.
   const db::ObjectGeometry box = cube(0.05);
   const robot::ObjectSurface surface(box);
-  const HandCloser closer(panda(), surface);
+  const HandCloser closer(test::collisionOf(panda()), surface);
   const HandClosure deep = closer.close(palmAroundOrigin(), Eigen::VectorXd::Constant(1, 0.02),
                                         Eigen::VectorXd::Constant(1, 0.015));
   EXPECT_FALSE(deep.touches());
@@ -175,7 +171,7 @@ TEST(HandCloser, APadFlatOnAFaceOffItsPointTouchesAtThePatchCentreWhateverTheLas
   // palm moved by 1e-12 m closes on the same contacts.
   const db::ObjectGeometry box = cube(0.006, {0.004, 0.0, 0.0});
   const robot::ObjectSurface surface(box);
-  const HandCloser closer(panda(), surface);
+  const HandCloser closer(test::collisionOf(panda()), surface);
   // The centre to within the patch grid's step (1.5 pad radii / 8, 1.5 mm
   // on the Panda's 8 mm pad).
   std::vector<Eigen::Vector3d> first;
@@ -209,7 +205,7 @@ TEST(HandCloser, TheSdhClosesOnTheMugWithEveryPadOnTheSurface) {
   const robot::RobotModel& sdh = test::kr5Sdh();
   const db::ObjectDatabase mug = test::bundledObject(test::bundledMeshDir() / "mug.ply");
   const robot::ObjectSurface surface(mug.geometry);
-  const HandCloser closer(sdh, surface);
+  const HandCloser closer(test::collisionOf(sdh), surface);
   const HftsSpace space(mug, 3);
   const HandReachability& hand = test::kr5SdhReachability();
   std::mt19937_64 rng(7);
@@ -246,7 +242,7 @@ TEST(HandCloser, TheSdhClosesOnTheMugWithEveryPadOnTheSurface) {
 TEST(HandCloser, RefusesPosturesOfTheWrongSizeAndBadOptions) {
   const db::ObjectGeometry box = cube(0.05);
   const robot::ObjectSurface surface(box);
-  const HandCloser closer(panda(), surface);
+  const HandCloser closer(test::collisionOf(panda()), surface);
   EXPECT_THROW(closer.close(palmAroundOrigin(), Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(1)),
                InvalidArgument);
   EXPECT_THROW(
@@ -254,7 +250,7 @@ TEST(HandCloser, RefusesPosturesOfTheWrongSizeAndBadOptions) {
       InvalidArgument);
   ClosingOptions bad;
   bad.contact_distance = 0.0;
-  EXPECT_THROW(HandCloser(panda(), surface, bad), InvalidArgument);
+  EXPECT_THROW(HandCloser(test::collisionOf(panda()), surface, bad), InvalidArgument);
 }
 
 }  // namespace

@@ -23,7 +23,8 @@ struct CubeTrial {
     plan.grasp = world.grasp;
     plan.close_limit = closeLimits(test::panda(), world.pregrasp, world.grasp);
     plan.close_lead = closeLeads(test::panda());
-    plan.lift = planLift(test::panda(), world.scene, world.grasp, 0.1).line.waypoints;
+    plan.lift =
+        planLift(test::collisionOf(test::panda()), world.scene, world.grasp, 0.1).line.waypoints;
     plan.object_pose = world.scene.target_pose;
     plan.options.disturbance_time = 0.0;
     plan.options.hold_time = 0.5;

@@ -46,7 +46,7 @@ TEST(LiftPath, ALineBeyondTheArmsReachStopsWhereItGotTo) {
 
 TEST(LiftPath, TheCubeIsLiftedUpInFreeSpace) {
   const test::PandaCube world;
-  const LiftPlan plan = planLift(test::panda(), world.scene, world.grasp, 0.1);
+  const LiftPlan plan = planLift(test::collisionOf(test::panda()), world.scene, world.grasp, 0.1);
   EXPECT_EQ(plan.direction, "up");
   ASSERT_EQ(plan.line.waypoints.size(), 21u);
   const Eigen::Vector3d rise = palmOf(test::panda(), plan.line.waypoints.back()).translation() -
@@ -70,7 +70,8 @@ TEST(LiftPath, UnderAShelfBoardThePalmRetreatsAlongItsApproachAxis) {
   test::PandaCube world;
   const Eigen::Vector3d top = world.center() + Eigen::Vector3d(0, 0, 0.17);
   world.scene.obstacles.push_back(box("board", Eigen::Vector3d(0.2, 0.3, 0.02), top));
-  const LiftPlan blocked = planLift(test::panda(), world.scene, world.grasp, 0.1);
+  const LiftPlan blocked =
+      planLift(test::collisionOf(test::panda()), world.scene, world.grasp, 0.1);
   EXPECT_EQ(blocked.direction, "up_blocked");
   EXPECT_NE(blocked.blocked_by.find("board"), std::string::npos) << blocked.blocked_by;
   EXPECT_EQ(blocked.line.waypoints.size(), 21u);  // lifted up all the same
@@ -90,7 +91,7 @@ TEST(LiftPath, APalmThatApproachedSidewaysRetreatsWhenABoardIsAboveIt) {
   q << arms.front(), 0.02;
   scene.obstacles.push_back(
       box("board", Eigen::Vector3d(0.3, 0.4, 0.02), Eigen::Vector3d(0.5, 0, 0.27)));
-  const LiftPlan plan = planLift(test::panda(), scene, q, 0.1);
+  const LiftPlan plan = planLift(test::collisionOf(test::panda()), scene, q, 0.1);
   EXPECT_EQ(plan.direction, "retreat");
   ASSERT_EQ(plan.line.waypoints.size(), 21u);
   const Eigen::Vector3d moved =

@@ -27,7 +27,11 @@ std::string describe(const GraspVerdict& v) {
 GraspVerdict simulate(const robot::RobotModel& robot, const test::PandaCube& world,
                       const Eigen::VectorXd& pregrasp, const Eigen::VectorXd& grasp,
                       const SimulationOptions& options = {}) {
-  return simulateGrasp(robot, world.scene, test::smallCube(), pregrasp, grasp, options);
+  // The bundled Panda's collision model is built once; a changed Panda's here.
+  std::shared_ptr<const robot::CollisionModel> own;
+  if (&robot != &test::panda()) own = robot::buildCollisionModel(robot);
+  return simulateGrasp(own ? *own : test::collisionOf(robot), world.scene, test::smallCube(),
+                       pregrasp, grasp, options);
 }
 
 /// The Panda with `from` replaced by `to` in its robot config.

@@ -43,7 +43,7 @@ TEST(ConfigurationSpace, RejectsBadWeights) {
 }
 
 TEST(ConfigurationSpace, WeightParametersChangeTheOneMetricOfSpaceAndChecker) {
-  robot::CollisionChecker checker(m(), robot::Scene{}, nullptr);
+  robot::CollisionChecker checker(test::collisionOf(m()), robot::Scene{}, nullptr);
   const auto si = makeSpaceInformation(m(), checker, 0.02);
   MultiTreeCBiRRT planner(si);
   ASSERT_TRUE(planner.params().setParam("weight_hand", "1"));
@@ -59,7 +59,7 @@ TEST(ConfigurationSpace, WeightParametersChangeTheOneMetricOfSpaceAndChecker) {
 
 TEST(ConfigurationSpace, MotionValidatorReportsTheLastValidState) {
   const robot::Scene table = robot::loadScene(test::sourcePath("objects/scenes/table.json"));
-  robot::CollisionChecker checker(m(), table, nullptr);
+  robot::CollisionChecker checker(test::collisionOf(m()), table, nullptr);
   const auto si = makeSpaceInformation(m(), checker, 0.02);
   const auto& space = *si->getStateSpace()->as<WeightedStateSpace>();
   ompl::base::ScopedState<> from(si), to(si), last(si);

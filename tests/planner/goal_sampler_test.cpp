@@ -84,7 +84,8 @@ TEST(HftsGoalSampler, AGrippersPhiTurnsThePalmForEveryNodeButTheUnstableLeaves) 
                             test::bundledObjects());
   const robot::Scene scene = test::TableMug::table();
   const db::ObjectDatabase& mug = *world.object("mug");
-  robot::CollisionChecker checker(world.robot(), scene, &mug.geometry, world.collisionMesh("mug"));
+  robot::CollisionChecker checker(world.collisionModel(), scene, &mug.geometry,
+                                  world.collisionMesh("mug"));
   const grasp::HftsSpace space(mug, 2);
   grasp::GraspObjective objective(space, world.handMap(), grasp::objectiveOptions(panda));
   grasp::GraspConfigurator configurator(world.robot(), world.ik(), world.thoroughHandMap(), checker,

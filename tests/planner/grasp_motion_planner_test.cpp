@@ -1,5 +1,4 @@
 #include "planner/grasp_motion_planner.h"
-#include "planner/holdability.h"
 
 #include <gtest/gtest.h>
 
@@ -15,12 +14,16 @@
 
 #include "grasp/hand_map_builder.h"
 #include "grasp/hand_reachability.h"
+#include "holdability.h"
 #include "plan_checks.h"
 #include "robot_fixture.h"
 #include "test_meshes.h"
 
 namespace hfts::planner {
 namespace {
+
+using bench::Holdability;
+using bench::holdability;
 
 const PlanningWorld& world() {
   return test::bundledWorld();

@@ -53,7 +53,7 @@ TEST_P(TrajectoriesOfPlans, AreWithinTheLimitsOnThePathAtRestAtTheEndsAndFree) {
 
   const Path approach(result.path.begin(), result.path.end() - 1);
   const Path closing{pregrasp, result.path.back()};
-  robot::CollisionChecker checker(robot, test::plannedScene(world, request),
+  robot::CollisionChecker checker(world.collisionModel(), test::plannedScene(world, request),
                                   &world.object(request.object)->geometry);
   for (std::size_t i = 0; i < t.points.size(); ++i) {
     const TrajectoryPoint& p = t.points[i];
@@ -68,7 +68,7 @@ TEST_P(TrajectoriesOfPlans, AreWithinTheLimitsOnThePathAtRestAtTheEndsAndFree) {
     const bool closingPhase = p.time > t.closing_start;
     ASSERT_LE(distanceToPolyline(closingPhase ? closing : approach, p.positions),
               t.deviation + 1e-9);
-    ASSERT_FALSE(closingPhase ? checker.inCollisionAllowingFingertipContact(p.positions)
+    ASSERT_FALSE(closingPhase ? checker.inCollision(p.positions, robot::CollisionRequest::grasp())
                               : checker.inCollision(p.positions));
     if (closingPhase) {  // the arm stands still while the hand closes
       EXPECT_LT((p.positions - pregrasp).head(robot.numArmDofs()).norm(), 1e-9);
@@ -99,7 +99,7 @@ TEST(GraspTrajectory, RateZeroGivesNoTrajectoryAndBadRatesAreRefused) {
       EXPECT_EQ(e.field(), "trajectory_rate");
     }
   }
-  robot::CollisionChecker checker(world.robot(), robot::Scene{}, nullptr);
+  robot::CollisionChecker checker(world.collisionModel(), robot::Scene{}, nullptr);
   EXPECT_THROW(graspTrajectory({world.robot().home()}, checker, 0.0025, 100), InvalidArgument);
 }
 
@@ -113,7 +113,7 @@ TEST(GraspTrajectory, ABlendThatWouldCollideIsTightened) {
   c[0] += 1.2;
   c[1] += 0.8;
   robot::Scene open;
-  robot::CollisionChecker free(robot, open, nullptr);
+  robot::CollisionChecker free(test::collisionOf(robot), open, nullptr);
   const GraspTrajectory wide = graspTrajectory({a, b, c, c}, free, 0.0025, 100, 0.5);
   ASSERT_FALSE(wide.points.empty());
   EXPECT_GT(wide.deviation, 0.15);
@@ -142,7 +142,7 @@ TEST(GraspTrajectory, ABlendThatWouldCollideIsTightened) {
     ball.size = Eigen::Vector3d(0.01, 0, 0);
     robot::Scene candidate;
     candidate.obstacles.push_back(ball);
-    robot::CollisionChecker check(robot, candidate, nullptr);
+    robot::CollisionChecker check(test::collisionOf(robot), candidate, nullptr);
     if (check.inCollision(mid) && check.isMotionValid(a, b, 0.0025) &&
         check.isMotionValid(b, c, 0.0025)) {
       blocked = candidate;
@@ -150,7 +150,7 @@ TEST(GraspTrajectory, ABlendThatWouldCollideIsTightened) {
     }
   }
   ASSERT_EQ(blocked.obstacles.size(), 1u) << "no link is off the path at the blend";
-  robot::CollisionChecker checker(robot, blocked, nullptr);
+  robot::CollisionChecker checker(test::collisionOf(robot), blocked, nullptr);
   const GraspTrajectory tight = graspTrajectory({a, b, c, c}, checker, 0.0025, 100, 0.5);
   ASSERT_FALSE(tight.points.empty());
   EXPECT_LT(tight.deviation, wide.deviation);

@@ -96,7 +96,7 @@ TEST(LazyGoalRrtConnect, UnreachableObjectIsReported) {
 TEST(LazyGoalRrtConnect, RejectsIterationsBelowOne) {
   const robot::Scene scene = robot::loadScene(test::sourcePath("objects/scenes/table.json"));
   const db::ObjectDatabase& mug = *world().object("mug");
-  robot::CollisionChecker checker(world().robot(), scene, &mug.geometry);
+  robot::CollisionChecker checker(world().collisionModel(), scene, &mug.geometry);
   const grasp::HftsSpace space(mug, static_cast<int>(world().robot().fingertips().size()));
   LazyGoalSettings settings;
   settings.goals.decoupled_iterations = 0;

@@ -15,7 +15,7 @@ namespace ob = ompl::base;
 /// The robot alone (no obstacles, no target) or in the table scene.
 struct Fixture {
   explicit Fixture(const robot::Scene& scene, double treeResolution = 0.02)
-      : checker(test::kr5Sdh(), scene, nullptr),
+      : checker(test::collisionOf(test::kr5Sdh()), scene, nullptr),
         si(makeSpaceInformation(test::kr5Sdh(), checker, treeResolution)) {}
   const WeightedStateSpace& space() const { return *si->getStateSpace()->as<WeightedStateSpace>(); }
   const CollisionMotionValidator& validator() const {

@@ -65,7 +65,8 @@ bool blocked(int turns, double radius, const Eigen::Vector3d* centre = nullptr) 
   EXPECT_TRUE(hand.free_turn.has_value());
   scene.obstacles.push_back(
       ball(centre != nullptr ? *centre : scene.target_pose * hand.palm_pose.translation(), radius));
-  robot::CollisionChecker checker(world.robot(), scene, &box.geometry, world.collisionMesh("box"));
+  robot::CollisionChecker checker(world.collisionModel(), scene, &box.geometry,
+                                  world.collisionMesh("box"));
   GoalSamplingSettings settings;
   settings.hand_clearance = 1;
   settings.palm_turns = turns;

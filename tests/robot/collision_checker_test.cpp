@@ -43,7 +43,7 @@ void forEveryObjectInEveryScene(Check check) {
       SCOPED_TRACE(std::string(name) + " / " + object);
       scene.target_object = object;
       scene.target_pose = targetPose(scene, db.geometry.mesh_vertices);
-      CollisionChecker checker(m(), scene, &db.geometry);
+      CollisionChecker checker(test::collisionOf(m()), scene, &db.geometry);
       check(scene, db, checker);
     }
   }
@@ -67,9 +67,9 @@ TEST(CollisionChecker, EveryBundledObjectFitsEveryPlacementOfEveryScene) {
         Scene placed = scene.withPlacement(placement);
         placed.target_object = object;
         placed.target_pose = targetPose(placed, db.geometry.mesh_vertices);
-        CollisionChecker checker(m(), placed, &db.geometry);
+        CollisionChecker checker(test::collisionOf(m()), placed, &db.geometry);
         CollisionPair pair;
-        EXPECT_EQ(checker.targetTouchesObstacles(&pair), misfits.count(where) == 1)
+        EXPECT_EQ(checker.scene().targetTouchesObstacles(&pair), misfits.count(where) == 1)
             << pair.first << " / " << pair.second;
         const Eigen::VectorXd start = placed.startFor(m().name()).value_or(m().home());
         EXPECT_FALSE(checker.inCollision(start, &pair)) << pair.first << " / " << pair.second;
@@ -140,7 +140,7 @@ TEST(CollisionChecker, PalmInsideTheTargetCollidesInEveryScene) {
     SCOPED_TRACE(name);
     const Scene scene = bundledScene(name);
     const db::ObjectDatabase& target = objects().at(scene.target_object);
-    CollisionChecker checker(m(), scene, &target.geometry);
+    CollisionChecker checker(test::collisionOf(m()), scene, &target.geometry);
     // The palm, pointing down, at the middle of the object's bounding box.
     Eigen::Isometry3d palm = Eigen::Isometry3d::Identity();
     palm.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
@@ -160,7 +160,7 @@ TEST(CollisionChecker, PalmInsideTheTargetCollidesInEveryScene) {
 
 TEST(CollisionChecker, FoldedArmCollidesWithItself) {
   Scene empty;
-  CollisionChecker checker(m(), empty, nullptr);
+  CollisionChecker checker(test::collisionOf(m()), empty, nullptr);
   Eigen::VectorXd q = m().home();
   EXPECT_FALSE(checker.inCollision(q));
   q(2) = m().upperLimits()(2);  // fold the forearm back down onto the robot
@@ -172,11 +172,7 @@ TEST(CollisionChecker, FoldedArmCollidesWithItself) {
 
 /// A 1 cm cube object placed at a point of the world.
 db::ObjectGeometry smallCube() {
-  const TriangleMesh cube = test::cube(0.01);
-  db::ObjectGeometry g;
-  g.mesh_vertices = cube.vertices;
-  g.mesh_triangles = cube.triangles;
-  return g;
+  return test::meshObject(test::cube(0.01));
 }
 
 /// The small cube with a face on fingertip `tip`'s pad at q, moved `depth`
@@ -196,16 +192,16 @@ TEST(CollisionChecker, OnlyFingertipsMayTouchTheTargetUnderTheGraspRule) {
   const Eigen::VectorXd q = m().home();
   const db::ObjectGeometry cube = smallCube();
   Scene scene = cubeInPad(q, 0, 0.0005);
-  CollisionChecker touching(m(), scene, &cube);
+  CollisionChecker touching(test::collisionOf(m()), scene, &cube);
   CollisionPair pair;
   EXPECT_TRUE(touching.inCollision(q, &pair));
-  EXPECT_FALSE(touching.inCollisionAllowingFingertipContact(q, &pair)) << pair.first;
+  EXPECT_FALSE(touching.inCollision(q, CollisionRequest::grasp(), &pair)) << pair.first;
 
   const LinkPoses poses = forwardKinematics(m(), q);
   scene.target_pose.translation() =
       poses[static_cast<std::size_t>(m().palmLink())] * Eigen::Vector3d(0, 0, 0.04);
-  CollisionChecker palm(m(), scene, &cube);
-  EXPECT_TRUE(palm.inCollisionAllowingFingertipContact(q, &pair));
+  CollisionChecker palm(test::collisionOf(m()), scene, &cube);
+  EXPECT_TRUE(palm.inCollision(q, CollisionRequest::grasp(), &pair));
   EXPECT_EQ(pair.second.find("target"), 0u) << pair.first << " / " << pair.second;
 }
 
@@ -213,19 +209,19 @@ TEST(CollisionChecker, AFingertipDeeperThanMaxPenetrationCollidesUnderTheGraspRu
   const Eigen::VectorXd q = m().home();
   const db::ObjectGeometry cube = smallCube();
   // The pad 3 mm in: rejected at the default 1 mm, allowed at 4 mm.
-  CollisionChecker deep(m(), cubeInPad(q, 1, 0.003), &cube);
+  CollisionChecker deep(test::collisionOf(m()), cubeInPad(q, 1, 0.003), &cube);
   EXPECT_DOUBLE_EQ(deep.maxPenetration(), kDefaultMaxPenetration);
   CollisionPair pair;
-  EXPECT_TRUE(deep.inCollisionAllowingFingertipContact(q, &pair));
+  EXPECT_TRUE(deep.inCollision(q, CollisionRequest::grasp(), &pair));
   EXPECT_EQ(pair.first, m().links()[static_cast<std::size_t>(m().fingertips()[1].link)].name);
   EXPECT_EQ(pair.second, "target 'cube'");
   deep.setMaxPenetration(0.004);
-  EXPECT_FALSE(deep.inCollisionAllowingFingertipContact(q));
+  EXPECT_FALSE(deep.inCollision(q, CollisionRequest::grasp()));
   // Either side of the default by a tenth of a millimetre.
-  EXPECT_FALSE(
-      CollisionChecker(m(), cubeInPad(q, 1, 0.0009), &cube).inCollisionAllowingFingertipContact(q));
-  EXPECT_TRUE(
-      CollisionChecker(m(), cubeInPad(q, 1, 0.0011), &cube).inCollisionAllowingFingertipContact(q));
+  EXPECT_FALSE(CollisionChecker(test::collisionOf(m()), cubeInPad(q, 1, 0.0009), &cube)
+                   .inCollision(q, CollisionRequest::grasp()));
+  EXPECT_TRUE(CollisionChecker(test::collisionOf(m()), cubeInPad(q, 1, 0.0011), &cube)
+                  .inCollision(q, CollisionRequest::grasp()));
   EXPECT_THROW(deep.setMaxPenetration(-1e-3), hfts::InvalidArgument);
 }
 
@@ -271,7 +267,7 @@ TEST(CollisionChecker, TheHandAloneCollidesWhereTheWholeRobotsHandDoes) {
   // the wall, the hand alone meets the wall.
   const Scene scene = wallAndTarget();
   const db::ObjectGeometry cube = smallCube();
-  CollisionChecker checker(m(), scene, &cube);
+  CollisionChecker checker(test::collisionOf(m()), scene, &cube);
   std::mt19937_64 rng(4);
   int free = 0, handOnWall = 0;
   for (int i = 0; i < 4000; ++i) {
@@ -279,11 +275,12 @@ TEST(CollisionChecker, TheHandAloneCollidesWhereTheWholeRobotsHandDoes) {
     CollisionPair pair;
     if (!checker.inCollision(q, &pair)) {
       ++free;
-      EXPECT_FALSE(checker.handTouchesObstacles(palm, hand));
+      EXPECT_FALSE(checker.handInCollision(palm, hand, CollisionRequest::obstaclesOnly()));
     } else if (pair.second == "obstacle 'wall'" && m().isHandLink(m().linkIndex(pair.first))) {
       ++handOnWall;
       CollisionPair handPair;
-      EXPECT_TRUE(checker.handTouchesObstacles(palm, hand, &handPair)) << pair.first;
+      EXPECT_TRUE(checker.handInCollision(palm, hand, CollisionRequest::obstaclesOnly(), &handPair))
+          << pair.first;
       EXPECT_EQ(handPair.second, "obstacle 'wall'");
       EXPECT_TRUE(m().isHandLink(m().linkIndex(handPair.first))) << handPair.first;
     }
@@ -293,10 +290,12 @@ TEST(CollisionChecker, TheHandAloneCollidesWhereTheWholeRobotsHandDoes) {
 
   // The target object is not an obstacle: the palm inside it is clear.
   Eigen::Isometry3d inTarget = scene.target_pose;
-  EXPECT_FALSE(checker.handTouchesObstacles(inTarget, m().handOpen()));
+  EXPECT_FALSE(
+      checker.handInCollision(inTarget, m().handOpen(), CollisionRequest::obstaclesOnly()));
   inTarget.translation() = scene.obstacles.front().pose.translation();
-  EXPECT_TRUE(checker.handTouchesObstacles(inTarget, m().handOpen()));
-  EXPECT_THROW(checker.handTouchesObstacles(inTarget, Eigen::VectorXd::Zero(2)),
+  EXPECT_TRUE(checker.handInCollision(inTarget, m().handOpen(), CollisionRequest::obstaclesOnly()));
+  EXPECT_THROW(checker.handInCollision(inTarget, Eigen::VectorXd::Zero(2),
+                                       CollisionRequest::obstaclesOnly()),
                std::invalid_argument);
 }
 
@@ -309,23 +308,25 @@ TEST(CollisionChecker, TheHandAloneMeetsTheTargetUnderEitherRule) {
   const Eigen::VectorXd hand = q.tail(m().numHandDofs());
   const db::ObjectGeometry cube = smallCube();
   Scene scene = cubeInPad(q, 0, 0.0005);
-  CollisionChecker touching(m(), scene, &cube);
+  CollisionChecker touching(test::collisionOf(m()), scene, &cube);
   CollisionPair pair;
-  EXPECT_TRUE(touching.handInCollision(palm, hand, false, &pair));
+  EXPECT_TRUE(touching.handInCollision(palm, hand, CollisionRequest{}, &pair));
   EXPECT_EQ(pair.second, "target 'cube'");
   EXPECT_EQ(pair.first, m().links()[static_cast<std::size_t>(m().fingertips()[0].link)].name);
-  EXPECT_FALSE(touching.handInCollision(palm, hand, true));
-  EXPECT_FALSE(touching.handTouchesObstacles(palm, hand));  // the target is no obstacle
+  EXPECT_FALSE(touching.handInCollision(palm, hand, CollisionRequest::grasp()));
+  EXPECT_FALSE(touching.handInCollision(
+      palm, hand, CollisionRequest::obstaclesOnly()));  // the target is no obstacle
 
   scene.target_pose.translation() = palm * Eigen::Vector3d(0, 0, 0.04);
-  CollisionChecker inPalm(m(), scene, &cube);
-  EXPECT_TRUE(inPalm.handInCollision(palm, hand, true, &pair));
+  CollisionChecker inPalm(test::collisionOf(m()), scene, &cube);
+  EXPECT_TRUE(inPalm.handInCollision(palm, hand, CollisionRequest::grasp(), &pair));
   EXPECT_EQ(pair.second, "target 'cube'");
   EXPECT_TRUE(m().isHandLink(m().linkIndex(pair.first))) << pair.first;
   Eigen::Isometry3d away = palm;
   away.translation().z() += 2.0;
-  EXPECT_FALSE(inPalm.handInCollision(away, hand, false));
-  EXPECT_THROW(inPalm.handInCollision(palm, Eigen::VectorXd::Zero(1), true), std::invalid_argument);
+  EXPECT_FALSE(inPalm.handInCollision(away, hand, CollisionRequest{}));
+  EXPECT_THROW(inPalm.handInCollision(palm, Eigen::VectorXd::Zero(1), CollisionRequest::grasp()),
+               std::invalid_argument);
 }
 
 TEST(CollisionChecker, WhereTheWholeRobotIsFreeTheHandAloneIsFreeToo) {
@@ -334,15 +335,16 @@ TEST(CollisionChecker, WhereTheWholeRobotIsFreeTheHandAloneIsFreeToo) {
   // under the same rule, and a colliding hand a colliding robot.
   const Scene scene = wallAndTarget();
   const db::ObjectGeometry cube = smallCube();
-  CollisionChecker checker(m(), scene, &cube);
+  CollisionChecker checker(test::collisionOf(m()), scene, &cube);
   std::mt19937_64 rng(5);
   int handCollides = 0;
   for (int i = 0; i < 3000; ++i) {
     const auto [q, palm, hand] = randomPlacedHand(scene, rng);
     for (const bool grasp : {false, true}) {
       const bool robot =
-          grasp ? checker.inCollisionAllowingFingertipContact(q) : checker.inCollision(q);
-      const bool alone = checker.handInCollision(palm, hand, grasp);
+          grasp ? checker.inCollision(q, CollisionRequest::grasp()) : checker.inCollision(q);
+      const bool alone = checker.handInCollision(
+          palm, hand, grasp ? CollisionRequest::grasp() : CollisionRequest{});
       if (!robot) {
         EXPECT_FALSE(alone) << i;
       }
@@ -378,7 +380,7 @@ TEST(CollisionChecker, ASharedCollisionMeshGivesTheSameAnswersFromAnyThread) {
     for (Eigen::Index d = 0; d < 6; ++d) q(d) += noise(rng);
     qs.push_back(q);
   }
-  CollisionChecker own(m(), scene, &mug.geometry);
+  CollisionChecker own(test::collisionOf(m()), scene, &mug.geometry);
   std::vector<char> expected;
   for (const Eigen::VectorXd& q : qs) expected.push_back(own.inCollision(q) ? 1 : 0);
   const auto hits = std::count(expected.begin(), expected.end(), 1);
@@ -389,7 +391,7 @@ TEST(CollisionChecker, ASharedCollisionMeshGivesTheSameAnswersFromAnyThread) {
   std::vector<std::thread> threads;
   for (auto& out : answers)
     threads.emplace_back([&, out = &out] {
-      CollisionChecker checker(m(), scene, &mug.geometry, &shared);
+      CollisionChecker checker(test::collisionOf(m()), scene, &mug.geometry, &shared);
       for (int round = 0; round < 3; ++round) {
         out->clear();
         for (const Eigen::VectorXd& q : qs) out->push_back(checker.inCollision(q) ? 1 : 0);
@@ -397,19 +399,85 @@ TEST(CollisionChecker, ASharedCollisionMeshGivesTheSameAnswersFromAnyThread) {
     });
   for (std::thread& t : threads) t.join();
   for (const auto& out : answers) EXPECT_EQ(out, expected);
+
+  // Four threads, each with its own checker over one scene (as racing
+  // plans share it), under both rules and with both tiers.
+  const auto scenePrepared =
+      std::make_shared<const CollisionScene>(test::collisionOf(m()), scene, &mug.geometry, &shared);
+  std::vector<char> expectedGrasp;
+  for (const Eigen::VectorXd& q : qs)
+    expectedGrasp.push_back(own.inCollision(q, CollisionRequest::grasp()) ? 1 : 0);
+  ASSERT_NE(expectedGrasp, expected);  // some fingertip contacts the grasp rule allows
+  std::vector<std::vector<char>> strict(4), grasp(4);
+  threads.clear();
+  for (std::size_t i = 0; i < strict.size(); ++i)
+    threads.emplace_back([&, i] {
+      CollisionChecker checker(scenePrepared);
+      checker.setSphereTier(i % 2 == 0);
+      for (const Eigen::VectorXd& q : qs) {
+        strict[i].push_back(checker.inCollision(q) ? 1 : 0);
+        grasp[i].push_back(checker.inCollision(q, CollisionRequest::grasp()) ? 1 : 0);
+      }
+    });
+  for (std::thread& t : threads) t.join();
+  for (std::size_t i = 0; i < strict.size(); ++i) {
+    EXPECT_EQ(strict[i], expected) << i;
+    EXPECT_EQ(grasp[i], expectedGrasp) << i;
+  }
+}
+
+// What a request leaves out is never a collision, with or without the
+// sphere tier; what it names still is.
+TEST(CollisionChecker, ARequestCountsOnlyWhatItNames) {
+  for (const bool tier : {true, false}) {
+    SCOPED_TRACE(tier ? "two tiers" : "FCL only");
+    CollisionChecker empty(test::collisionOf(m()), Scene{}, nullptr);
+    empty.setSphereTier(tier);
+    Eigen::VectorXd folded = m().home();
+    folded(2) = m().upperLimits()(2);  // the forearm folded onto the robot
+    CollisionRequest noSelf;
+    noSelf.self = false;
+    EXPECT_TRUE(empty.inCollision(folded));
+    EXPECT_FALSE(empty.inCollision(folded, noSelf));
+
+    // A 10 cm cube target around the palm.
+    const db::ObjectGeometry cube = test::meshObject(test::cube(0.1));
+    Scene scene;
+    scene.target_object = "cube";
+    scene.target_pose.translation() =
+        forwardKinematics(m(), m().home())[static_cast<std::size_t>(m().palmLink())].translation();
+    CollisionChecker inTarget(test::collisionOf(m()), scene, &cube);
+    inTarget.setSphereTier(tier);
+    CollisionPair pair;
+    ASSERT_TRUE(inTarget.inCollision(m().home(), &pair));
+    EXPECT_EQ(pair.second, "target 'cube'");
+    CollisionRequest noTarget;
+    noTarget.target = false;
+    EXPECT_FALSE(inTarget.inCollision(m().home(), noTarget));
+    EXPECT_FALSE(inTarget.inCollision(m().home(), CollisionRequest::obstaclesOnly()));
+    // Turning joint 1 sweeps the hand through the wall: the obstacle counts
+    // without the target.
+    CollisionChecker wall(test::collisionOf(m()), wallInFront(), nullptr);
+    wall.setSphereTier(tier);
+    Eigen::VectorXd a = m().home(), b = m().home();
+    a(0) = 0.8;
+    b(0) = -0.8;
+    EXPECT_FALSE(wall.isMotionValid(a, b, 0.01, noTarget, &pair));
+    EXPECT_EQ(pair.second, "obstacle 'wall'");
+  }
 }
 
 TEST(CollisionChecker, MotionIsCheckedAtTheGivenResolution) {
   // Turning joint 1 from one side of the wall to the other sweeps the hand
   // through it.
-  CollisionChecker checker(m(), wallInFront(), nullptr);
+  CollisionChecker checker(test::collisionOf(m()), wallInFront(), nullptr);
   Eigen::VectorXd a = m().home(), b = m().home();
   a(0) = 0.8;
   b(0) = -0.8;
   ASSERT_FALSE(checker.inCollision(a));
   ASSERT_FALSE(checker.inCollision(b));
   CollisionPair pair;
-  EXPECT_FALSE(checker.isMotionValid(a, b, 0.01, false, &pair));
+  EXPECT_FALSE(checker.isMotionValid(a, b, 0.01, CollisionRequest{}, &pair));
   EXPECT_EQ(pair.second, "obstacle 'wall'");
   EXPECT_TRUE(checker.isMotionValid(a, b, 10.0));  // one step: only the end is checked
   EXPECT_NEAR(checker.metric().distance(a, b), 1.6, 1e-12);
@@ -432,7 +500,8 @@ TEST(CollisionChecker, ValidSegmentsIsIsMotionValidSegmentBySegment) {
   Scene scene = bundledScene("shelf");
   const db::ObjectDatabase& db = objects().at(scene.target_object);
   for (const bool spheres : {true, false}) {
-    CollisionChecker stream(m(), scene, &db.geometry), oneByOne(m(), scene, &db.geometry);
+    CollisionChecker stream(test::collisionOf(m()), scene, &db.geometry),
+        oneByOne(test::collisionOf(m()), scene, &db.geometry);
     stream.setSphereTier(spheres);
     oneByOne.setSphereTier(spheres);
     std::mt19937_64 rng(9);
@@ -457,7 +526,7 @@ TEST(CollisionChecker, ValidSegmentsIsIsMotionValidSegmentBySegment) {
     }
     EXPECT_GT(partial, 5u);  // walks that end in a collision after some free steps
   }
-  CollisionChecker checker(m(), scene, nullptr);
+  CollisionChecker checker(test::collisionOf(m()), scene, nullptr);
   EXPECT_EQ(checker.validSegments({m().home()}, 0.02), 0u);
   EXPECT_THROW(checker.validSegments({m().home(), m().home()}, 0.0), std::invalid_argument);
 }
@@ -467,10 +536,10 @@ TEST(CollisionChecker, ValidSegmentsIsIsMotionValidSegmentBySegment) {
 bool expectSameAnswerWithAndWithoutSpheres(CollisionChecker& checker, const Eigen::VectorXd& q) {
   checker.setSphereTier(false);
   const bool exact = checker.inCollision(q);
-  const bool exactGrasp = checker.inCollisionAllowingFingertipContact(q);
+  const bool exactGrasp = checker.inCollision(q, CollisionRequest::grasp());
   checker.setSphereTier(true);
   EXPECT_EQ(checker.inCollision(q), exact) << q.transpose();
-  EXPECT_EQ(checker.inCollisionAllowingFingertipContact(q), exactGrasp) << q.transpose();
+  EXPECT_EQ(checker.inCollision(q, CollisionRequest::grasp()), exactGrasp) << q.transpose();
   return exact;
 }
 
@@ -518,7 +587,7 @@ TEST(CollisionChecker, EverySimdTargetOfTheSphereTierGivesFclsAnswers) {
   for (const std::int64_t target : targets) {
     SCOPED_TRACE(hwy::TargetName(target));
     hwy::SetSupportedTargetsForTest(target);
-    CollisionChecker checker(m(), scene, &db.geometry);
+    CollisionChecker checker(test::collisionOf(m()), scene, &db.geometry);
     std::mt19937_64 rng(5);
     int collisions = 0;
     for (int i = 0; i < 300; ++i)
@@ -539,7 +608,7 @@ TEST(CollisionChecker, ExactlyTouchingLinksGetOneAnswerInBothModes) {
       1.8755949620002648, 3.6333845305284154, 0.61800144603921836, -0.040445903956752405,
       0.19087458258705636, -0.9426861415550678, -1.3818885612777543, -0.48444490836207343,
       -0.0057277821734924572;
-  CollisionChecker checker(m(), Scene{}, nullptr);
+  CollisionChecker checker(test::collisionOf(m()), Scene{}, nullptr);
   CollisionPair withSpheres, fclOnly;
   const bool a = checker.inCollision(q, &withSpheres);
   checker.setSphereTier(false);
@@ -555,9 +624,9 @@ TEST(CollisionChecker, TheSphereTierKeepsTheGraspRuleForFingertipsTouchingTheTar
     const Eigen::VectorXd q = randomConfiguration(rng);
     // A fingertip's pad 0.5 mm into the cube: allowed where nothing else
     // touches it.
-    CollisionChecker checker(m(), cubeInPad(q, i % 3, 0.0005), &cube);
+    CollisionChecker checker(test::collisionOf(m()), cubeInPad(q, i % 3, 0.0005), &cube);
     const bool collides = expectSameAnswerWithAndWithoutSpheres(checker, q);
-    allowed += collides && !checker.inCollisionAllowingFingertipContact(q);
+    allowed += collides && !checker.inCollision(q, CollisionRequest::grasp());
   }
   EXPECT_GT(allowed, 50);
 }

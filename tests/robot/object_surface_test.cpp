@@ -15,9 +15,7 @@ namespace {
 /// distance grid.
 db::ObjectGeometry cubeGeometry(bool withGrid) {
   const TriangleMesh mesh = test::cube(0.1);
-  db::ObjectGeometry g;
-  g.mesh_vertices = mesh.vertices;
-  g.mesh_triangles = mesh.triangles;
+  db::ObjectGeometry g = test::meshObject(mesh);
   if (withGrid) g.distance_grid = db::buildDistanceGrid(mesh, true, {0.005, 0.03});
   return g;
 }

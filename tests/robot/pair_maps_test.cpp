@@ -29,7 +29,7 @@ const RobotModel& bundled(const std::string& name) {
 
 const PairMap* find(const RobotModel& model, const std::string& a, const std::string& b) {
   const int la = model.linkIndex(a), lb = model.linkIndex(b);
-  for (const PairMap& map : model.spheres().pair_maps)
+  for (const PairMap& map : test::collisionOf(model).pair_maps)
     if (map.link_a == std::min(la, lb) && map.link_b == std::max(la, lb)) return &map;
   return nullptr;
 }
@@ -93,7 +93,7 @@ TEST(PairMaps, CoverTheKr5sPairsThroughOneToThreeDofs) {
   EXPECT_GT(twoFingers->apartShare(), 0.0);
   EXPECT_EQ(find(model, "link_1", "link_6"), nullptr);                      // a2 .. a6
   EXPECT_EQ(find(model, "finger_1_distal", "finger_2_proximal"), nullptr);  // four DoFs
-  for (const PairMap& map : model.spheres().pair_maps)
+  for (const PairMap& map : test::collisionOf(model).pair_maps)
     EXPECT_FALSE(model.isCollisionDisabled(map.link_a, map.link_b));
 }
 
@@ -104,9 +104,9 @@ TEST(PairMaps, ApartCellsAreApartAtEveryConfigurationInThem) {
   const PairMapOptions defaults;
   for (const std::string name : {"kr5_sdh", "panda_gripper", "ur5e_allegro"}) {
     const RobotModel& model = bundled(name);
-    ASSERT_FALSE(model.spheres().pair_maps.empty()) << name;
+    ASSERT_FALSE(test::collisionOf(model).pair_maps.empty()) << name;
     std::mt19937_64 rng(11);
-    for (const PairMap& map : model.spheres().pair_maps) {
+    for (const PairMap& map : test::collisionOf(model).pair_maps) {
       int proven = 0;
       for (int i = 0; i < 400; ++i) {
         Eigen::VectorXd q = randomConfiguration(model, rng);

@@ -82,10 +82,7 @@ const aiNodeAnim* channelOf(const aiAnimation& a, const char* node) {
 
 TEST(PlanExport, ASimulatedMotionIsASecondAnimationThatMovesTheObjectToo) {
   const RobotModel& robot = test::kr5Sdh();
-  const TriangleMesh cube = test::cube(0.04);
-  db::ObjectGeometry object;
-  object.mesh_vertices = cube.vertices;
-  object.mesh_triangles = cube.triangles;
+  const db::ObjectGeometry object = test::meshObject(test::cube(0.04));
   Scene scene;
   scene.target_object = "cube";
   const std::string glb = planGlb(robot, scene, &object, withSimulatedLift(moveA1(robot), robot));

@@ -98,7 +98,8 @@ std::vector<std::set<PairKey>> reported(SphereTier& tier, const std::vector<Eige
   std::vector<const Eigen::VectorXd*> pointers;
   for (const Eigen::VectorXd& c : q) pointers.push_back(&c);
   std::vector<std::set<PairKey>> out(q.size());
-  tier.forEachTouchingPair(pointers.data(), pointers.size(),
+  std::vector<float> scratch;
+  tier.forEachTouchingPair(pointers.data(), pointers.size(), scratch,
                            [&](const SphereTier::Pair& p, std::uint32_t lanes) -> std::uint32_t {
                              for (std::size_t i = 0; i < q.size(); ++i)
                                if (((lanes >> i) & 1u) != 0) out[i].insert(key(p));
@@ -120,7 +121,7 @@ TEST(SphereTier, ReportsEveryPairWhoseGeometryTouches) {
     const Scene scene =
         loadScene(test::sourcePath(std::string("objects/scenes/") + name + ".json"));
     const std::vector<SphereTier::Item> env = items(scene);
-    SphereTier tier(m(), scene.robot_base, env);
+    SphereTier tier(test::collisionOf(m()), scene.robot_base, env);
     std::mt19937_64 rng(7);
     std::size_t checked = 0, touching = 0;
     for (int round = 0; round < 20; ++round) {
@@ -146,7 +147,7 @@ TEST(SphereTier, ReportsEveryPairWhoseGeometryTouches) {
 
 TEST(SphereTier, AFreeConfigurationInABatchIsReportedLikeAlone) {
   const Scene scene = loadScene(test::sourcePath("objects/scenes/table.json"));
-  SphereTier tier(m(), scene.robot_base, items(scene));
+  SphereTier tier(test::collisionOf(m()), scene.robot_base, items(scene));
   // home is clear of everything; beside colliding configurations in a
   // batch it must still get no pair.
   std::mt19937_64 rng(3);

@@ -142,7 +142,7 @@ inline void expectValidPlan(const planner::PlanningWorld& world,
   const Scene scene = plannedScene(world, request);
   const db::ObjectDatabase& object = *world.object(scene.target_object);
   EXPECT_TRUE(result.object_pose.isApprox(scene.target_pose, 1e-12));
-  CollisionChecker checker(robot, scene, &object.geometry);
+  CollisionChecker checker(world.collisionModel(), scene, &object.geometry);
   ASSERT_GE(result.path.size(), 2u);
   EXPECT_EQ(result.joint_names, robot.dofNames());
   EXPECT_TRUE(result.path.front().isApprox(
@@ -153,7 +153,7 @@ inline void expectValidPlan(const planner::PlanningWorld& world,
         << "segment " << i << " collides";
   const Eigen::VectorXd& pregrasp = result.path[result.path.size() - 2];
   const Eigen::VectorXd& grasp = result.path.back();
-  EXPECT_TRUE(checker.isMotionValid(pregrasp, grasp, resolution, /*allowFingertipContact=*/true));
+  EXPECT_TRUE(checker.isMotionValid(pregrasp, grasp, resolution, robot::CollisionRequest::grasp()));
   EXPECT_TRUE(grasp.tail(robot.numHandDofs()).isApprox(result.grasp.hand_configuration));
 
   // The grasp as executed: each fingertip link touches the object's

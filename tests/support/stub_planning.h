@@ -105,7 +105,7 @@ inline Eigen::VectorXd armAt(double a1, double a2, double a3, double a4, double 
 struct StubProblem {
   StubProblem(robot::Scene s, const Eigen::VectorXd& start, std::vector<planner::GoalSample> script)
       : scene(std::move(s)),
-        checker(kr5Sdh(), scene, nullptr),
+        checker(test::collisionOf(kr5Sdh()), scene, nullptr),
         si(planner::makeSpaceInformation(kr5Sdh(), checker, 0.05)),
         sampler(std::move(script)),
         planner(std::make_shared<planner::MultiTreeCBiRRT>(si)),

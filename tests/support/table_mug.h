@@ -38,11 +38,11 @@ struct TableMug {
   const planner::PlanningWorld& world = bundledWorld();
   const db::ObjectDatabase& object = *world.object("mug");
   robot::Scene scene = table();
-  robot::CollisionChecker checker{world.robot(), scene, &object.geometry,
+  robot::CollisionChecker checker{world.collisionModel(), scene, &object.geometry,
                                   world.collisionMesh("mug"), world.surface("mug")};
   grasp::HftsSpace space{object, static_cast<int>(world.robot().fingertips().size())};
   grasp::GraspObjective objective{space, world.handMap()};
-  grasp::HandCloser closer{world.robot(), *world.surface("mug")};
+  grasp::HandCloser closer{world.collisionModel(), *world.surface("mug")};
   grasp::GraspConfigurator configurator{world.robot(), world.ik(),        world.thoroughHandMap(),
                                         checker,       scene.target_pose, scene.robot_base,
                                         &closer};

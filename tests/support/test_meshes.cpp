@@ -16,6 +16,13 @@
 
 namespace hfts::test {
 
+db::ObjectGeometry meshObject(const TriangleMesh& mesh) {
+  db::ObjectGeometry g;
+  g.mesh_vertices = mesh.vertices;
+  g.mesh_triangles = mesh.triangles;
+  return g;
+}
+
 TriangleMesh cube(double size, const Eigen::Vector3d& center) {
   TriangleMesh mesh;
   mesh.vertices.resize(8, 3);

@@ -7,12 +7,17 @@
 #include <string>
 #include <vector>
 
+#include "hfts_db/object_database.h"
 #include "hfts_db/triangle_mesh.h"
 
 namespace hfts::test {
 
 /// Axis-aligned cube of edge `size` centred at `center`, outward winding.
 TriangleMesh cube(double size, const Eigen::Vector3d& center = Eigen::Vector3d::Zero());
+
+/// An object of only a mesh (no contacts, no distance grid): a collision
+/// target for the checkers.
+db::ObjectGeometry meshObject(const TriangleMesh& mesh);
 
 /// Axis-aligned box from corner `lo` to corner `hi`, outward winding.
 TriangleMesh block(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);

@@ -24,12 +24,11 @@ inline constexpr double kContactMaskClearance = 0.001;
 /// the object at `objectPose` (world frame). The pad of a finger touching
 /// a contact holds a sphere of radius `padRadius` (robot::padRadius) whose
 /// centre lies padRadius out along the contact's outward normal; where
-/// that sphere, shrunk by `clearance`, meets an obstacle of the checker's
-/// scene, no finger fits. Throws InvalidArgument for a pad radius that is
-/// not larger than the clearance.
+/// that sphere, shrunk by `clearance`, meets an obstacle of `scene`, no finger fits. Throws
+/// InvalidArgument for a pad radius that is not larger than the clearance.
 std::vector<bool> fingertipReachableContacts(const db::ObjectDatabase& object,
                                              const Eigen::Isometry3d& objectPose,
-                                             robot::CollisionChecker& checker, double padRadius,
+                                             const robot::CollisionScene& scene, double padRadius,
                                              double clearance = kContactMaskClearance);
 
 /// False when it is certain that no grasp of `space`, with any number of

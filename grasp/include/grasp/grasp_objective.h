@@ -106,7 +106,7 @@ class GraspObjective {
   GraspObjective(const HftsSpace& space, const HandReachability& reachability,
                  ObjectiveOptions options = {});
   GraspEvaluation evaluate(const HftsNode& node);
-  /// Environment-aware ranking (planner::holdability's search): every
+  /// Environment-aware ranking (bench::holdability's search): every
   /// evaluation from now on also asks `check` (empty: none, Eq. (1) as in
   /// the paper). Forgets the cached evaluations.
   void setHandCheck(HandCheck check);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "grasp/hfts_space.h"
+#include "robot/collision_model.h"
 #include "robot/kinematics.h"
 #include "robot/object_surface.h"
 #include "robot/robot_model.h"
@@ -79,13 +80,14 @@ struct HandClosure {
   std::string failure(const robot::RobotModel& model) const;
 };
 
-/// Closes a hand on an object. The model and surface must outlive it;
+/// Closes a hand on an object (the robot of `model`, whose link spheres
+/// bound how far a link is from the surface). The model and surface must outlive it;
 /// close() only reads them (any thread).
 class HandCloser {
  public:
   /// Throws InvalidArgument ("options") for a contact distance or pad cone
   /// that is not > 0, or max_steps < 1.
-  HandCloser(const robot::RobotModel& model, const robot::ObjectSurface& surface,
+  HandCloser(const robot::CollisionModel& model, const robot::ObjectSurface& surface,
              ClosingOptions options = {});
   ~HandCloser();
   HandCloser(const HandCloser&) = delete;
@@ -157,6 +159,7 @@ class HandCloser {
                             const Eigen::VectorXd& open, const Eigen::VectorXd& direction) const;
 
   const robot::RobotModel& model_;
+  const robot::SphereModel& spheres_;
   const robot::ObjectSurface& surface_;
   ClosingOptions options_;
   std::vector<Finger> fingers_;

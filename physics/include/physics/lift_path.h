@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "hfts_db/object_database.h"
+#include "robot/collision_model.h"
 #include "robot/robot_model.h"
 #include "robot/scene.h"
 
@@ -53,9 +54,9 @@ struct LiftPlan {
 };
 
 /// Plans the lift of `height` (m) from `grasp` (a full configuration), the
-/// object (may be null: not checked) at scene.target_pose. Throws as
-/// straightPalmLine.
-LiftPlan planLift(const robot::RobotModel& robot, const robot::Scene& scene,
+/// object (may be null: not checked) at scene.target_pose; the robot is
+/// `model`'s. Throws as straightPalmLine.
+LiftPlan planLift(const robot::CollisionModel& model, const robot::Scene& scene,
                   const Eigen::VectorXd& grasp, double height,
                   const db::ObjectGeometry* object = nullptr);
 

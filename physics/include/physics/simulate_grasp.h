@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "hfts_db/object_database.h"
+#include "robot/collision_model.h"
 #include "robot/robot_model.h"
 #include "robot/scene.h"
 
@@ -145,7 +146,7 @@ void prepareSimulation(const robot::RobotModel& robot, const robot::Scene& scene
 /// "options.<field>", "robot.hand_actuation" for a robot config without
 /// one) for bad input, and std::runtime_error when MuJoCo rejects the
 /// generated model.
-GraspVerdict simulateGrasp(const robot::RobotModel& robot, const robot::Scene& scene,
+GraspVerdict simulateGrasp(const robot::CollisionModel& collision, const robot::Scene& scene,
                            const db::ObjectDatabase& object, const Eigen::VectorXd& pregrasp,
                            const Eigen::VectorXd& grasp, const SimulationOptions& options = {});
 

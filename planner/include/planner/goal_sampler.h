@@ -213,7 +213,7 @@ struct GoalSamplingSettings {
   /// places them) meets an obstacle below every grasp whose hand fits
   /// (grasp::GraspObjective::setHandCheck); 0: Eq. (1) alone, as in the
   /// paper. Not a planner setting (the planner's option was deleted on
-  /// held-out evidence, docs/planning.md): planner::holdability's search
+  /// held-out evidence, docs/planning.md): bench::holdability's search
   /// for any grasp that fits ranks so.
   int hand_clearance = 0;
   /// Palm turns about the line through the contacts that Phi(h) tries for a

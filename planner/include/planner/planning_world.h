@@ -1,7 +1,7 @@
 #pragma once
-// What plans are made with: the robot, its IK, the hand reachability map
-// and the object databases (with their collision meshes), loaded once and
-// shared by every plan and thread.
+// What plans are made with: the robot, its collision model and IK, the hand
+// reachability map and the object databases (with their collision meshes),
+// loaded once and shared by every plan and thread.
 
 #include <filesystem>
 #include <map>
@@ -13,6 +13,7 @@
 #include "hfts_db/hand_map.h"
 #include "hfts_db/object_database.h"
 #include "robot/arm_ik.h"
+#include "robot/collision_model.h"
 #include "robot/robot_model.h"
 
 namespace hfts::robot {
@@ -81,6 +82,8 @@ class PlanningWorld {
                                                    std::shared_ptr<const ObjectLibrary> objects);
 
   const robot::RobotModel& robot() const { return robot_; }
+  /// The robot's collision model (spheres, pair maps), built with the world.
+  const robot::CollisionModel& collisionModel() const { return *collision_; }
   const robot::ArmIk& ik() const { return ik_; }
   /// The map's fast query (the HFTS objective) and thorough query (Phi(h)).
   const grasp::HandReachability& handMap() const { return fast_; }
@@ -105,6 +108,7 @@ class PlanningWorld {
 
  private:
   robot::RobotModel robot_;
+  std::shared_ptr<const robot::CollisionModel> collision_;
   robot::ArmIk ik_;
   grasp::HandReachability fast_;
   grasp::HandReachability thorough_;

@@ -21,7 +21,7 @@ namespace hfts::planner {
 struct SamplingTools {
   /// `world`, `scene`, `space` and `checker` must outlive the tools;
   /// `scene` holds the target's pose and name. The objective is set up from
-  /// `settings` (its options; hand_clearance, which planner::holdability
+  /// `settings` (its options; hand_clearance, which bench::holdability
   /// sets: for a hand with a free turn blocked only when blocked at each of
   /// palm_turns turns), Phi(h) with its palm_turns.
   SamplingTools(const PlanningWorld& world, const robot::Scene& scene,

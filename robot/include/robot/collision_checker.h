@@ -1,5 +1,8 @@
 #pragma once
-// Collision checking of the robot against a scene and itself (FCL 0.7).
+// Collision checking of the robot against a scene and itself (FCL 0.7):
+// the scene prepared once and shared (CollisionScene), each thread's
+// working state apart (CollisionChecker), queries that say what counts
+// (CollisionRequest).
 
 #include <Eigen/Core>
 
@@ -9,6 +12,7 @@
 #include <vector>
 
 #include "hfts_db/object_database.h"
+#include "robot/collision_model.h"
 #include "robot/configuration_metric.h"
 #include "robot/robot_model.h"
 #include "robot/scene.h"
@@ -40,42 +44,98 @@ class CollisionMesh {
   CollisionMesh& operator=(const CollisionMesh&) = delete;
 
  private:
-  friend class CollisionChecker;
+  friend class CollisionScene;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 
-/// Checks configurations of one robot in one scene. Robot links are the
-/// URDF primitives, obstacles are FCL primitives or BVH meshes in a
-/// broadphase manager, the target object is its mesh from the database;
-/// in front of FCL, a conservative sphere tier (setSphereTier).
-/// Not thread-safe (queries move the robot's collision objects): give each
-/// planning thread its own checker.
-class CollisionChecker {
+/// Which contacts a collision query counts (FCL's request, for our rules).
+struct CollisionRequest {
+  /// kGraspRule: a fingertip link may touch the target object and be
+  /// inside it by at most maxPenetration(), measured by the exact signed
+  /// distance to the target's mesh (ObjectSurface); every other link must
+  /// stay clear of the target, and every link, fingertips included, clear
+  /// of the obstacles (the support too). kStrict: any contact counts.
+  enum class Rule { kStrict, kGraspRule };
+  Rule rule = Rule::kStrict;
+  bool target = true;  ///< the target object counts (else the obstacles only)
+  bool self = true;    ///< the robot's links against each other count
+
+  /// The grasp rule with everything else counted.
+  static CollisionRequest grasp() { return {Rule::kGraspRule, true, true}; }
+  /// The obstacles only: neither the target nor the robot's own links.
+  static CollisionRequest obstaclesOnly() { return {Rule::kStrict, false, false}; }
+};
+
+/// One robot in one scene, prepared for collision checks and read-only
+/// once built (share it between threads; each thread checks with its own
+/// CollisionChecker over it): the obstacles and the target as FCL objects
+/// in a broadphase manager, the sphere tier's compiled scene (which robot
+/// links can touch what at all), the target's exact surface. Also the
+/// queries that do not move the robot.
+class CollisionScene {
  public:
   /// `target` (may be null: no target object) is placed at
   /// scene.target_pose. `targetMesh`, when given, is the prebuilt hierarchy
   /// of target's mesh (else it is built here); `targetSurface`, when given,
   /// the target's ObjectSurface (else built here when the grasp rule first
   /// needs it). The model, target, targetMesh and targetSurface must
-  /// outlive the checker.
-  CollisionChecker(const RobotModel& model, const Scene& scene, const db::ObjectGeometry* target,
-                   const CollisionMesh* targetMesh = nullptr,
+  /// outlive the scene.
+  CollisionScene(const CollisionModel& model, const Scene& scene, const db::ObjectGeometry* target,
+                 const CollisionMesh* targetMesh = nullptr,
+                 const ObjectSurface* targetSurface = nullptr);
+  ~CollisionScene();
+  CollisionScene(const CollisionScene&) = delete;
+  CollisionScene& operator=(const CollisionScene&) = delete;
+
+  const CollisionModel& model() const;
+  const Scene& scene() const;
+
+  /// True when the target object intersects an obstacle (a scene that
+  /// places the object inside something).
+  bool targetTouchesObstacles(CollisionPair* pair = nullptr) const;
+
+  /// True when a sphere (world frame) intersects an obstacle (touching
+  /// counts; the target object is not an obstacle); `pair` gets "sphere"
+  /// and the obstacle. For asking where a fingertip fits
+  /// (grasp/contact_mask.h). Throws InvalidArgument for a radius that is
+  /// not > 0 or a non-finite centre.
+  bool sphereTouchesObstacles(const Eigen::Vector3d& center, double radius,
+                              CollisionPair* pair = nullptr) const;
+
+ private:
+  friend class CollisionChecker;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Checks configurations of one robot in one scene: one thread's working
+/// state (the robot's FCL objects, forward kinematics, scratch, counters)
+/// over a shared CollisionScene. Robot links are the URDF primitives,
+/// obstacles FCL primitives or BVH meshes, the target object its mesh from
+/// the database; in front of FCL, a conservative sphere tier
+/// (setSphereTier). Not thread-safe: give each thread its own checker,
+/// over one scene.
+class CollisionChecker {
+ public:
+  explicit CollisionChecker(std::shared_ptr<const CollisionScene> scene);
+  /// A checker over a scene of its own (CollisionScene's arguments).
+  CollisionChecker(const CollisionModel& model, const Scene& scene,
+                   const db::ObjectGeometry* target, const CollisionMesh* targetMesh = nullptr,
                    const ObjectSurface* targetSurface = nullptr);
   ~CollisionChecker();
   CollisionChecker(const CollisionChecker&) = delete;
   CollisionChecker& operator=(const CollisionChecker&) = delete;
 
-  /// True when the robot at q touches an obstacle, the target object, or
-  /// itself (except disabled link pairs). q must be valid (numDofs values).
-  bool inCollision(const Eigen::VectorXd& q, CollisionPair* pair = nullptr);
-
-  /// The grasp rule: like inCollision, but a fingertip link may touch the
-  /// target object and be inside it by at most maxPenetration(), measured
-  /// by the exact signed distance to the target's mesh (ObjectSurface);
-  /// every other link must stay clear of the target, and every link,
-  /// fingertips included, clear of the obstacles (the support too).
-  bool inCollisionAllowingFingertipContact(const Eigen::VectorXd& q, CollisionPair* pair = nullptr);
+  /// True when the robot at q touches what `request` counts: obstacles,
+  /// the target object (under the request's rule) and itself (except
+  /// disabled link pairs). q must be valid (numDofs values).
+  bool inCollision(const Eigen::VectorXd& q, const CollisionRequest& request,
+                   CollisionPair* pair = nullptr);
+  /// Everything counts, strictly.
+  bool inCollision(const Eigen::VectorXd& q, CollisionPair* pair = nullptr) {
+    return inCollision(q, CollisionRequest{}, pair);
+  }
 
   /// The grasp rule's allowed fingertip depth in the target (m;
   /// kDefaultMaxPenetration unless set). Throws InvalidArgument
@@ -83,39 +143,15 @@ class CollisionChecker {
   void setMaxPenetration(double depth);
   double maxPenetration() const;
 
-  /// True when the target object intersects an obstacle (a scene that
-  /// places the object inside something).
-  bool targetTouchesObstacles(CollisionPair* pair = nullptr);
-
-  /// True when a sphere (world frame) intersects an obstacle (touching
-  /// counts; the target object is not an obstacle); `pair` gets "sphere"
-  /// and the obstacle. For asking where a fingertip fits
-  /// (grasp/contact_mask.h); the robot is not involved and checkCount()
-  /// does not change. Throws InvalidArgument for a radius that is not > 0
-  /// or a non-finite centre.
-  bool sphereTouchesObstacles(const Eigen::Vector3d& center, double radius,
-                              CollisionPair* pair = nullptr);
-
   /// True when the hand alone (the palm and every link that moves with a
   /// hand DoF, robot_model.h isHandLink), with its palm at `palm` (world
-  /// frame) and its joints at `hand` (numHandDofs values), intersects an
-  /// obstacle (the target object is not one); `pair` gets the link and the
-  /// obstacle. Asks where a hand fits before any arm IK (the objective's
-  /// hand_clearance); the arm is not involved and checkCount() does not
-  /// change. Throws InvalidArgument for a hand of the wrong size or a
-  /// non-finite value.
-  bool handTouchesObstacles(const Eigen::Isometry3d& palm, const Eigen::VectorXd& hand,
-                            CollisionPair* pair = nullptr);
-
-  /// True when the hand alone, placed as handTouchesObstacles places it,
-  /// intersects anything of the scene including the target object, or one
-  /// of its own links another (pairs the robot config disables excepted).
-  /// `allowFingertipContact` selects the grasp rule (a fingertip link may
-  /// touch the target, up to maxPenetration() deep). Asks whether a hand without an arm could take
-  /// a grasp (planner::holdability); checkCount() does not change. Throws as handTouchesObstacles
-  /// does.
+  /// frame) and its joints at `hand` (numHandDofs values), touches what
+  /// `request` counts (self: the hand's links against each other). Asks
+  /// where a hand fits before any arm IK; checkCount() does not change.
+  /// Throws InvalidArgument for a hand of the wrong size or a non-finite
+  /// value.
   bool handInCollision(const Eigen::Isometry3d& palm, const Eigen::VectorXd& hand,
-                       bool allowFingertipContact, CollisionPair* pair = nullptr);
+                       const CollisionRequest& request, CollisionPair* pair = nullptr);
 
   /// Smallest distance between the robot and the environment including the
   /// target object (m); 0 when in collision.
@@ -123,10 +159,9 @@ class CollisionChecker {
 
   /// Checks the straight segment from a to b (a is assumed valid) at
   /// `resolution` in the weighted metric of Eq. (3): every intermediate
-  /// state and b itself (b first, then the others in bisection order). `allowFingertipContact`
-  /// selects the grasp rule.
+  /// state and b itself (b first, then the others in bisection order).
   bool isMotionValid(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution,
-                     bool allowFingertipContact = false, CollisionPair* pair = nullptr);
+                     const CollisionRequest& request = {}, CollisionPair* pair = nullptr);
 
   /// Checks the polyline waypoints[0] -> waypoints[1] -> ... segment by
   /// segment as isMotionValid does (waypoints[0] is assumed valid), with all
@@ -135,7 +170,7 @@ class CollisionChecker {
   /// waypoints.size() - 1 when all are (0 for fewer than two waypoints).
   /// Counts states as checking the segments one after another would.
   std::size_t validSegments(const std::vector<Eigen::VectorXd>& waypoints, double resolution,
-                            bool allowFingertipContact = false, CollisionPair* pair = nullptr);
+                            const CollisionRequest& request = {}, CollisionPair* pair = nullptr);
 
   /// The Eq. (3) metric of isMotionValid's resolution: the robot's DoF
   /// weights unless changed. Shared with the OMPL state space made on this
@@ -144,13 +179,14 @@ class CollisionChecker {
   std::shared_ptr<ConfigurationMetric> sharedMetric() const;
 
   const RobotModel& model() const;
+  const CollisionScene& scene() const;
 
   /// Configurations checked so far (every query above counts each robot
   /// placement it tests once).
   std::uint64_t checkCount() const;
 
   /// Two tiers (default): inCollision and its variants first test the
-  /// robot's sphere model (RobotModel::spheres()) against the scene's
+  /// robot's sphere model (CollisionModel::spheres) against the scene's
   /// primitives, the meshes' bounding boxes and itself, and ask FCL only
   /// about the pairs (link and obstacle, or two links) whose spheres touch.
   /// The spheres cover the links, so the answer is FCL's either way; false
@@ -161,10 +197,6 @@ class CollisionChecker {
   std::uint64_t sphereSettledCount() const;
 
  private:
-  /// Places the hand's FCL objects for handTouchesObstacles and
-  /// handInCollision; returns their indices. Throws for a bad hand.
-  std::vector<std::size_t> placeHand(const Eigen::Isometry3d& palm, const Eigen::VectorXd& hand);
-
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -10,7 +10,6 @@
 
 #include <vector>
 
-#include "robot/pair_maps.h"
 #include "robot/robot_model.h"
 
 namespace hfts::robot {
@@ -53,9 +52,6 @@ struct LinkSpheres {
 /// without collision shapes has no spheres.
 struct SphereModel {
   std::vector<LinkSpheres> links;
-  /// Where link pairs are apart in joint space (pair_maps.h); filled by
-  /// RobotModel::spheres(), empty from buildSphereModel().
-  std::vector<PairMap> pair_maps;
 
   std::size_t numSpheres() const;
   double maxExcess() const;

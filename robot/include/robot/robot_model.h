@@ -80,8 +80,6 @@ struct Joint {
   Eigen::Vector3d slide = Eigen::Vector3d::Zero();
 };
 
-struct SphereModel;  // link_spheres.h
-
 /// A fingertip contact point on a hand link, with the outward pad normal.
 struct Fingertip {
   std::string name;
@@ -170,12 +168,6 @@ class RobotModel {
   /// the fingertip links among them.
   bool isHandLink(int link) const { return hand_links_[static_cast<std::size_t>(link)]; }
 
-  /// The conservative sphere model of the links (link_spheres.h, default
-  /// tolerance): the first tier of collision checking. Built on the first
-  /// call (about 0.5 s for the KR5 + SDH; thread-safe) and shared by copies
-  /// of the model; a changed URDF or config gives new spheres at its load.
-  const SphereModel& spheres() const;
-
   /// True when q has numDofs() finite entries within the limits (tolerance
   /// in radians). `why` (optional) receives the first violation.
   bool withinLimits(const Eigen::VectorXd& q, double tolerance = 1e-9,
@@ -201,8 +193,6 @@ class RobotModel {
   std::vector<Fingertip> fingertips_;
   std::vector<std::pair<int, int>> disabled_;
   std::vector<bool> hand_links_;
-  struct LazySpheres;
-  std::shared_ptr<LazySpheres> spheres_;
 };
 
 }  // namespace hfts::robot

@@ -1,5 +1,9 @@
-// planner::holdability (holdability.h): can the robot hold the
-// object where it stands at all? Used by hfts-bench to list the cases.
+// bench::holdability (holdability.h): can the robot hold the object where
+// it stands at all? Used by hfts-bench to list the cases. Built on the
+// planner's own problem set-up (planner/src/plan_problem.h), so that it
+// asks exactly what a plan would.
+#include "holdability.h"
+
 #include <algorithm>
 #include <random>
 #include <sstream>
@@ -9,10 +13,11 @@
 #include "grasp/grasp_optimizer.h"
 #include "grasp/grasp_quality.h"
 #include "plan_problem.h"
-#include "planner/holdability.h"
 #include "planner/sampling_tools.h"
 
-namespace hfts::planner {
+namespace hfts::bench {
+
+using planner::PlanFailure;
 
 namespace {
 
@@ -20,41 +25,45 @@ namespace {
 /// grasp clear (holdability's criterion).
 bool handFits(robot::CollisionChecker& checker, const Eigen::Isometry3d& palm,
               const Eigen::VectorXd& pregrasp, const Eigen::VectorXd& grasp) {
-  if (checker.handInCollision(palm, pregrasp, false)) return false;
+  if (checker.handInCollision(palm, pregrasp, robot::CollisionRequest{})) return false;
   // The closing motion, its last state the grasp.
   constexpr int kClosingSteps = 8;
   for (int k = 1; k <= kClosingSteps; ++k) {
     const double t = static_cast<double>(k) / kClosingSteps;
-    if (checker.handInCollision(palm, pregrasp + t * (grasp - pregrasp), true)) return false;
+    if (checker.handInCollision(palm, pregrasp + t * (grasp - pregrasp),
+                                robot::CollisionRequest::grasp()))
+      return false;
   }
   return true;
 }
 
 }  // namespace
 
-Holdability holdability(const PlanningWorld& world, const PlanRequest& request, int climbs) {
+Holdability holdability(const planner::PlanningWorld& world, const planner::PlanRequest& request,
+                        int climbs) {
   if (climbs < 1) throw InvalidArgument("climbs", "must be at least 1");
-  quietOmpl();
+  planner::quietOmpl();
   Holdability out;
-  const std::string name = objectNameOf(request);
+  const std::string name = planner::objectNameOf(request);
   const db::ObjectDatabase* object = world.object(name);
   if (object == nullptr) {
     out.reason = "unknown object '" + name + "'";
     return out;
   }
-  Problem p(world, *object, request, startOf(world.robot(), request));
-  auto cannot = checkTarget(p);
-  if (cannot.first == PlanFailure::kNone) cannot = checkReach(p);
-  if (cannot.first == PlanFailure::kNone) cannot = checkGraspable(p);
+  const planner::SharedProblem shared(world, *object, request);
+  planner::Problem p(shared, request.seed, planner::startOf(world.robot(), request));
+  auto cannot = planner::checkTarget(p);
+  if (cannot.first == PlanFailure::kNone) cannot = planner::checkReach(p);
+  if (cannot.first == PlanFailure::kNone) cannot = planner::checkGraspable(p);
   if (cannot.first != PlanFailure::kNone) {
     out.reason = cannot.second;
     return out;
   }
   // The question is whether any grasp exists: the objective ranks grasps
   // whose hand meets an obstacle last.
-  GoalSamplingSettings settings = p.goals;
+  planner::GoalSamplingSettings settings = p.goals;
   settings.hand_clearance = 1;
-  SamplingTools tools(world, p.scene, p.space, p.checker, settings);
+  planner::SamplingTools tools(world, p.scene, p.space, p.checker, settings);
   tools.configurator.setArmReference(p.start.head(world.robot().numArmDofs()));
   std::mt19937_64 rng(request.seed);
   // The hand alone closed from the pre-grasp until its pads touch.
@@ -65,7 +74,9 @@ Holdability holdability(const PlanningWorld& world, const PlanRequest& request, 
     for (int k = 0; k < turns; ++k) {
       const Eigen::Isometry3d palm = grasp::turnedPalm(hand, 2.0 * M_PI * k / turns);
       // The cheap check first: closing costs milliseconds.
-      if (p.checker.handInCollision(p.scene.target_pose * palm, pregrasp, false)) continue;
+      if (p.checker.handInCollision(p.scene.target_pose * palm, pregrasp,
+                                    robot::CollisionRequest{}))
+        continue;
       const grasp::HandClosure closed =
           tools.closer->close(palm, pregrasp, hand.hand_configuration);
       if (closed.touches() &&
@@ -173,4 +184,4 @@ Holdability holdability(const PlanningWorld& world, const PlanRequest& request, 
   return out;
 }
 
-}  // namespace hfts::planner
+}  // namespace hfts::bench

@@ -7,7 +7,7 @@
 #include "planner/plan_request.h"
 #include "planner/planning_world.h"
 
-namespace hfts::planner {
+namespace hfts::bench {
 
 /// Whether the robot can hold the request's object where the request puts
 /// it: the criterion of "an object the robot can hold"
@@ -48,6 +48,7 @@ struct Holdability {
 /// defaults under them) and seed; the algorithm and time limit are unused.
 /// The same request gives the same answer. Throws like planGrasp for a
 /// malformed request and InvalidArgument ("climbs") for climbs < 1.
-Holdability holdability(const PlanningWorld& world, const PlanRequest& request, int climbs = 100);
+Holdability holdability(const planner::PlanningWorld& world, const planner::PlanRequest& request,
+                        int climbs = 100);
 
-}  // namespace hfts::planner
+}  // namespace hfts::bench
