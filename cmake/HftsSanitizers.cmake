@@ -9,7 +9,13 @@ if(HFTS_SANITIZE)
   if(NOT HFTS_SANITIZE MATCHES "^(address|undefined|thread)$")
     message(FATAL_ERROR "HFTS_SANITIZE must be address, undefined or thread, not '${HFTS_SANITIZE}'")
   endif()
-  set(flags -fsanitize=${HFTS_SANITIZE} -fno-omit-frame-pointer -g)
+  # GCC 12 at scripts/sanitize.sh's -O1 warns that Highway's one-lane
+  # vectors in robot/src/sphere_kernel.cpp's scalar target may be used
+  # uninitialized (hwy/ops/scalar-inl.h; seen in the thread build): a false
+  # positive of the warning at that optimisation level (every lane is
+  # written before it is read, and the Release build does not warn), kept
+  # a warning there.
+  set(flags -fsanitize=${HFTS_SANITIZE} -fno-omit-frame-pointer -g -Wno-error=maybe-uninitialized)
   if(HFTS_SANITIZE STREQUAL "undefined")
     # Every finding fails the run instead of printing and going on. GCC 12
     # with -fsanitize=undefined warns of a use after free inside Eigen's
