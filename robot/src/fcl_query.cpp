@@ -132,7 +132,7 @@ bool obstacleCallback(Object* o1, Object* o2, void* raw) {
   return true;
 }
 
-/// The environment as the sphere tier sees it, in the checker's order:
+/// The environment as the sphere tier sees it, in the scene's order:
 /// obstacles, then the target. A mesh becomes its bounding box, refined by
 /// its distance grid when it has one.
 std::vector<SphereTier::Item> sphereTierItems(const Scene& scene,
@@ -163,7 +163,7 @@ std::vector<SphereTier::Item> sphereTierItems(const Scene& scene,
     else
       add(static_cast<int>(o.type), o.size, o.pose, false);
   }
-  // The target outlives the checker (the constructor's contract), so the
+  // The target outlives the scene (the constructor's contract), so the
   // tier reads its grid in place.
   if (target != nullptr)
     addMesh(target->mesh_vertices, &target->distance_grid, scene.target_pose, true);

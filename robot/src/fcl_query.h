@@ -35,10 +35,11 @@ struct Tag {
   bool target = false;  ///< the target object
   bool fingertip = false;
   std::string name;
-  /// Creation order in the checker. FCL's narrowphase may answer a touching
-  /// pair differently in the two argument orders (cylinder against
-  /// cylinder at distance 0), so every check passes the pair in this order:
-  /// the broadphase and the sphere tier's pairs then get the same answer.
+  /// Creation order (the scene's objects, then the robot's). FCL's
+  /// narrowphase may answer a touching pair differently in the two argument
+  /// orders (cylinder against cylinder at distance 0), so every check passes
+  /// the pair in this order: the broadphase and the sphere tier's pairs
+  /// then get the same answer.
   std::size_t order = 0;
   /// A primitive's CollisionShape::Type and size, for provablyApart; -1 for
   /// a mesh.
@@ -92,7 +93,7 @@ bool targetCallback(Object* o1, Object* o2, void* raw);
 /// except with the target object; the pair names the object first.
 bool obstacleCallback(Object* o1, Object* o2, void* raw);
 
-/// The environment as the sphere tier sees it, in the checker's order:
+/// The environment as the sphere tier sees it, in the scene's order:
 /// obstacles, then the target. A mesh becomes its bounding box, refined by
 /// its distance grid when it has one.
 std::vector<SphereTier::Item> sphereTierItems(const Scene& scene, const db::ObjectGeometry* target);
