@@ -21,19 +21,14 @@ namespace {
 ValidationRequest validationRequest(const PlanningWorld& world, const PlanRequest& request,
                                     const PlanResult& plan);
 
-/// One search of the request, with `seed`, over the request's shared
-/// problem: from `result` (the request's fields filled) to the plan. The
+/// One search of the request over its shared problem (`problem`, with its
+/// seed): from `result` (the request's fields filled) to the plan. The
 /// planning time counts the teardown of everything this builds (trees,
-/// caches, the checker, the sampling thread).
+/// caches, the sampling thread).
 PlanResult search(std::chrono::steady_clock::time_point began, const SharedProblem& shared,
-                  const PlanRequest& request, std::uint64_t seed, const Eigen::VectorXd& start,
-                  const std::atomic<bool>* cancel, PlanResult result) {
-  result.seed = seed;
-  Problem problem(shared, seed, start);
-  if (auto why = checkScene(problem); why.first != PlanFailure::kNone)
-    return failed(std::move(result), std::move(why));
-  if (auto why = checkGraspable(problem); why.first != PlanFailure::kNone)
-    return failed(std::move(result), std::move(why));
+                  const PlanRequest& request, Problem& problem, const std::atomic<bool>* cancel,
+                  PlanResult result) {
+  result.seed = problem.seed;
   const ob::PlannerTerminationCondition ptc =
       terminationCondition(request.time_limit, began, cancel);
   SearchOutcome found =
@@ -83,16 +78,26 @@ PlanResult plan(std::chrono::steady_clock::time_point began, const PlanningWorld
 
   const SharedProblem shared(world, *object, request);
   result.object_pose = shared.scene.target_pose;
+  // Why planning cannot start is asked once, on the first search's
+  // problem (every copy would answer alike).
+  Problem first(shared, request.seed, start);
+  if (auto why = checkScene(first); why.first != PlanFailure::kNone)
+    return failed(std::move(result), std::move(why));
+  if (auto why = checkGraspable(first); why.first != PlanFailure::kNone)
+    return failed(std::move(result), std::move(why));
   // The goal checks' model, compiled once before the searches (a
   // simulation's set-up cannot be stopped; its stop is polled only once it
   // runs).
   if (shared.settings.goal.physics_check && request.algorithm != PlanAlgorithm::kRrtConnect)
     physics::prepareSimulation(world.robot(), shared.scene, *object, shared.simulation);
   const int copies = shared.settings.execution.threads;
-  if (copies == 1) return search(began, shared, request, request.seed, start, cancel, result);
-  return race(request.seed, cancel, copies, [&](std::uint64_t seed, const std::atomic<bool>* stop) {
-    return search(began, shared, request, seed, start, stop, result);
-  });
+  if (copies == 1) return search(began, shared, request, first, cancel, result);
+  return race(request.seed, cancel, copies,
+              [&](int copy, std::uint64_t seed, const std::atomic<bool>* stop) {
+                if (copy == 0) return search(began, shared, request, first, stop, result);
+                Problem problem(shared, seed, start);
+                return search(began, shared, request, problem, stop, result);
+              });
 }
 
 }  // namespace

@@ -36,7 +36,7 @@ PlanResult race(std::uint64_t seed, const std::atomic<bool>* cancel, int copies,
       PlanResult found;
       std::exception_ptr error;
       try {
-        found = planOne(racingSeed(seed, static_cast<int>(i)), &stop);
+        found = planOne(static_cast<int>(i), racingSeed(seed, static_cast<int>(i)), &stop);
       } catch (...) {
         error = std::current_exception();
       }

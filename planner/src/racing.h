@@ -11,8 +11,9 @@
 
 namespace hfts::planner {
 
-/// One copy of a race: searches with `seed` until `stop` is set.
-using PlanOne = std::function<PlanResult(std::uint64_t seed, const std::atomic<bool>* stop)>;
+/// Copy `copy` of a race: searches with `seed` until `stop` is set.
+using PlanOne =
+    std::function<PlanResult(int copy, std::uint64_t seed, const std::atomic<bool>* stop)>;
 
 /// `copies` searches race (planGrasp): copy i searches with
 /// racingSeed(seed, i) in its own thread; the first plan stops the others.

@@ -63,6 +63,9 @@ class RobotChecker {
       open.tail(model_.numHandDofs()) = model_.handOpen();
       checkPosture("hand_open", open);
       checkRandomPostures();
+    } else {
+      add(Level::kError, "self collisions",
+          "not checked: the collision model could not be built (see spheres)");
     }
     checkLimits();
     return std::move(findings_);

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <utility>
 
+#include "collision_scene.h"
 #include "core/invalid_argument.h"
 #include "fcl_query.h"
 #include "robot/kinematics.h"
@@ -22,239 +23,18 @@ namespace hfts::robot {
 
 using fcl_query::collideCallback;
 using fcl_query::distanceCallback;
-using fcl_query::Geometry;
-using fcl_query::GraspContactRule;
-using fcl_query::meshGeometry;
 using fcl_query::Object;
-using fcl_query::obstacleCallback;
-using fcl_query::primitive;
 using fcl_query::QueryData;
-using fcl_query::sphereTierItems;
 using fcl_query::Tag;
-using fcl_query::targetCallback;
-
-struct CollisionMesh::Impl {
-  Geometry geometry;
-  /// Making a collision object of a geometry writes the geometry's local
-  /// bounding box (the same values every time) and placing the object
-  /// reads it: one checker at a time. Queries do not touch it.
-  std::mutex objectCreation;
-};
-
-CollisionMesh::CollisionMesh(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>()) {
-  impl_->geometry = meshGeometry(mesh);
-}
-
-CollisionMesh::~CollisionMesh() = default;
 
 /// How far apart (m) a separating axis must prove two primitives before
 /// FCL is skipped: far above the tolerance of FCL's narrowphase (1e-6 in
 /// GJK), so FCL would call every such pair free.
 constexpr double kApartGap = 1e-4;
 
-namespace {
-
-/// The robot's FCL objects, one per collision shape of a link, in a
-/// broadphase manager: a checker's own (queries move them), and the
-/// scene's once while it decides which static pairs the tier may skip.
-struct RobotObjects {
-  std::vector<std::unique_ptr<Tag>> tags;
-  std::vector<std::unique_ptr<Object>> objects;
-  std::vector<std::pair<int, Eigen::Isometry3d>> shapes;  // link, shape origin
-  std::vector<std::vector<std::size_t>> linkObjects;      // per link: its objects
-  fcl::DynamicAABBTreeCollisionManagerd manager;
-
-  /// Tags are numbered from `firstOrder` on (after the environment's).
-  RobotObjects(const RobotModel& model, std::size_t firstOrder) {
-    std::vector<bool> fingertip(model.links().size(), false);
-    for (const Fingertip& f : model.fingertips())
-      fingertip[static_cast<std::size_t>(f.link)] = true;
-    for (std::size_t l = 0; l < model.links().size(); ++l) {
-      for (const CollisionShape& shape : model.links()[l].shapes) {
-        auto object = std::make_unique<Object>(primitive(static_cast<int>(shape.type), shape.size));
-        auto tag = std::make_unique<Tag>(
-            Tag{static_cast<int>(l), false, fingertip[l], model.links()[l].name});
-        tag->order = firstOrder + tags.size();
-        tag->primitive_type = static_cast<int>(shape.type);
-        tag->primitive_size = shape.size;
-        object->setUserData(tag.get());
-        manager.registerObject(object.get());
-        tags.push_back(std::move(tag));
-        objects.push_back(std::move(object));
-        shapes.emplace_back(static_cast<int>(l), shape.origin);
-      }
-    }
-    manager.setup();
-    linkObjects.resize(model.links().size());
-    for (std::size_t i = 0; i < shapes.size(); ++i)
-      linkObjects[static_cast<std::size_t>(shapes[i].first)].push_back(i);
-  }
-
-  /// Moves every object to its link's pose in `poses` (base frame).
-  void place(const Eigen::Isometry3d& base, const LinkPoses& poses) {
-    for (std::size_t i = 0; i < objects.size(); ++i) {
-      const Eigen::Isometry3d pose =
-          base * poses[static_cast<std::size_t>(shapes[i].first)] * shapes[i].second;
-      objects[i]->setTransform(pose.linear(), pose.translation());
-      objects[i]->computeAABB();
-    }
-    manager.update();
-  }
-};
-
-bool touch(const Object& a, const Object& b) {
-  fcl::CollisionRequestd request;
-  fcl::CollisionResultd result;
-  return fcl::collide(&a, &b, request, result) > 0;
-}
-
-}  // namespace
-
-struct CollisionScene::Impl {
-  const CollisionModel& model;
-  const Scene scene;
-  std::vector<std::unique_ptr<Tag>> tags;
-  std::vector<std::unique_ptr<Object>> environmentObjects;
-  fcl::DynamicAABBTreeCollisionManagerd environment;
-  std::unique_ptr<SphereTier> tier;
-  // The grasp rule's target and its surface (shared, or built here on
-  // first need, once for all threads).
-  const db::ObjectGeometry* target = nullptr;
-  const ObjectSurface* sharedSurface = nullptr;
-  std::once_flag surfaceBuilt;
-  std::unique_ptr<ObjectSurface> ownSurface;
-
-  Impl(const CollisionModel& m, const Scene& s) : model(m), scene(s) {}
-
-  const ObjectSurface* surface() {
-    if (sharedSurface != nullptr || target == nullptr) return sharedSurface;
-    std::call_once(surfaceBuilt, [this] { ownSurface = std::make_unique<ObjectSurface>(*target); });
-    return ownSurface.get();
-  }
-
-  void addEnvironment(const Geometry& geometry, const Eigen::Isometry3d& pose, Tag value,
-                      std::mutex* creation = nullptr) {
-    std::unique_ptr<Object> object;
-    {
-      std::unique_lock<std::mutex> lock;
-      if (creation != nullptr) lock = std::unique_lock<std::mutex>(*creation);
-      object = std::make_unique<Object>(geometry, pose.linear(), pose.translation());
-      object->computeAABB();  // reads the geometry's local box
-    }
-    value.order = tags.size();
-    tags.push_back(std::make_unique<Tag>(std::move(value)));
-    object->setUserData(tags.back().get());
-    environment.registerObject(object.get());
-    environmentObjects.push_back(std::move(object));
-  }
-
-  /// The sphere tier over the environment objects (same order), with the
-  /// pairs that cannot change (links fixed to the base) dropped where FCL
-  /// finds them clear.
-  void addSphereTier(std::vector<SphereTier::Item> items) {
-    const RobotModel& robot = model.robot;
-    tier = std::make_unique<SphereTier>(model, scene.robot_base, std::move(items));
-    RobotObjects at(robot, tags.size());
-    LinkPoses poses;
-    forwardKinematics(robot, robot.home(), poses);
-    at.place(scene.robot_base, poses);
-    const std::size_t links = robot.links().size();
-    // staticTouching[link][e]: a shape of the static link touches environment
-    // object e; linksTouching[a][b]: shapes of two static links touch.
-    std::vector<std::vector<bool>> staticTouching(links,
-                                                  std::vector<bool>(environmentObjects.size()));
-    std::vector<std::vector<bool>> linksTouching(links, std::vector<bool>(links));
-    for (std::size_t i = 0; i < at.objects.size(); ++i) {
-      const auto link = static_cast<std::size_t>(at.shapes[i].first);
-      if (!tier->isStatic(static_cast<int>(link))) continue;
-      for (std::size_t e = 0; e < environmentObjects.size(); ++e)
-        if (touch(*at.objects[i], *environmentObjects[e])) staticTouching[link][e] = true;
-      for (std::size_t j = 0; j < at.objects.size(); ++j) {
-        const auto other = static_cast<std::size_t>(at.shapes[j].first);
-        if (tier->isStatic(static_cast<int>(other)) && touch(*at.objects[i], *at.objects[j]))
-          linksTouching[link][other] = linksTouching[other][link] = true;
-      }
-    }
-    for (std::size_t a = 0; a < links; ++a) {
-      if (!tier->isStatic(static_cast<int>(a))) continue;
-      for (std::size_t e = 0; e < environmentObjects.size(); ++e)
-        if (!staticTouching[a][e]) tier->skipStatic(static_cast<int>(a), e);
-      for (std::size_t b = a + 1; b < links; ++b)
-        if (tier->isStatic(static_cast<int>(b)) && !linksTouching[a][b])
-          tier->skipStaticPair(static_cast<int>(a), static_cast<int>(b));
-    }
-    tier->listPairs();
-  }
-};
-
-CollisionScene::CollisionScene(const CollisionModel& model, const Scene& scene,
-                               const db::ObjectGeometry* target, const CollisionMesh* targetMesh,
-                               const ObjectSurface* targetSurface)
-    : impl_(std::make_unique<Impl>(model, scene)) {
-  impl_->target = target;
-  impl_->sharedSurface = target != nullptr ? targetSurface : nullptr;
-  for (const Obstacle& o : scene.obstacles) {
-    const bool mesh = o.type == Obstacle::Type::kMesh;
-    const Geometry geometry =
-        mesh ? meshGeometry(o.mesh) : primitive(static_cast<int>(o.type), o.size);
-    Tag tag{-1, false, false, "obstacle '" + o.name + "'"};
-    if (!mesh) {
-      tag.primitive_type = static_cast<int>(o.type);
-      tag.primitive_size = o.size;
-    }
-    impl_->addEnvironment(geometry, o.pose, std::move(tag));
-  }
-  if (target != nullptr) {
-    Tag tag{-1, true, false, "target '" + scene.target_object + "'"};
-    if (targetMesh != nullptr) {
-      impl_->addEnvironment(targetMesh->impl_->geometry, scene.target_pose, std::move(tag),
-                            &targetMesh->impl_->objectCreation);
-    } else {
-      const TriangleMesh mesh{target->mesh_vertices, target->mesh_triangles};
-      impl_->addEnvironment(meshGeometry(mesh), scene.target_pose, std::move(tag));
-    }
-  }
-  impl_->environment.setup();
-  // The tier reads the obstacles' grids in the scene's copy, the target's
-  // in the target's geometry (which outlives the scene).
-  impl_->addSphereTier(sphereTierItems(impl_->scene, target));
-}
-
-CollisionScene::~CollisionScene() = default;
-
-const CollisionModel& CollisionScene::model() const {
-  return impl_->model;
-}
-
-const Scene& CollisionScene::scene() const {
-  return impl_->scene;
-}
-
-bool CollisionScene::targetTouchesObstacles(CollisionPair* pair) const {
-  QueryData data;
-  impl_->environment.collide(&data, targetCallback);
-  if (data.collision && pair != nullptr) *pair = data.pair;
-  return data.collision;
-}
-
-bool CollisionScene::sphereTouchesObstacles(const Eigen::Vector3d& center, double radius,
-                                            CollisionPair* pair) const {
-  if (!(radius > 0.0) || !std::isfinite(radius) || !center.allFinite())
-    throw InvalidArgument("sphere", "needs a finite centre and a radius > 0");
-  Object sphere(std::make_shared<fcl::Sphered>(radius), Eigen::Matrix3d::Identity(), center);
-  sphere.computeAABB();
-  Tag tag{-1, false, false, "sphere"};
-  sphere.setUserData(&tag);
-  QueryData data;
-  data.query = &tag;
-  impl_->environment.collide(&sphere, &data, obstacleCallback);
-  if (data.collision && pair != nullptr) *pair = data.pair;
-  return data.collision;
-}
-
 struct CollisionChecker::Impl {
   const std::shared_ptr<const CollisionScene> owner;
-  CollisionScene::Impl& shared;  // read-only but for the surface built once
+  const CollisionScene::Impl& shared;
   const RobotModel& model;
   const Eigen::Isometry3d base;
   const SphereTier& tier;  // first tier
@@ -478,7 +258,8 @@ struct CollisionChecker::Impl {
 };
 
 CollisionChecker::CollisionChecker(std::shared_ptr<const CollisionScene> scene)
-    : impl_(std::make_unique<Impl>(std::move(scene))) {}
+    : impl_(scene ? std::make_unique<Impl>(std::move(scene))
+                  : throw InvalidArgument("scene", "a checker needs a collision scene")) {}
 
 CollisionChecker::CollisionChecker(const CollisionModel& model, const Scene& scene,
                                    const db::ObjectGeometry* target,
@@ -536,6 +317,8 @@ bool CollisionChecker::handInCollision(const Eigen::Isometry3d& palm, const Eige
     object.computeAABB();
     placed.push_back(i);
   }
+  // Each pair in creation order (the scene's object first), as
+  // inCollision passes it: the two give one answer for touching shapes.
   QueryData data = impl_->queryData(request);
   for (std::size_t k = 0; k < placed.size() && !data.collision; ++k) {
     Object& object = *impl_->robot.objects[placed[k]];

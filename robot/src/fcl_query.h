@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "hfts_db/object_database.h"
-#include "robot/collision_checker.h"
+#include "robot/collision_pair.h"
 #include "robot/object_surface.h"
 #include "robot/robot_model.h"
 #include "robot/scene.h"

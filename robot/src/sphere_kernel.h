@@ -109,7 +109,7 @@ struct SelfMap {
   const std::uint32_t* bits = nullptr;  ///< nullptr: no map
 };
 
-/// Everything the kernel needs, built once per checker.
+/// Everything the kernel needs, built once per collision scene.
 struct Program {
   int num_dofs = 0;
   int num_links = 0;

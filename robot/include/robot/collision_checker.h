@@ -13,6 +13,7 @@
 
 #include "hfts_db/object_database.h"
 #include "robot/collision_model.h"
+#include "robot/collision_pair.h"
 #include "robot/configuration_metric.h"
 #include "robot/robot_model.h"
 #include "robot/scene.h"
@@ -25,12 +26,6 @@ class ObjectSurface;  // object_surface.h
 /// rule, by default: the depth a fingertip pad's rubber takes when it
 /// presses (CollisionChecker::setMaxPenetration).
 inline constexpr double kDefaultMaxPenetration = 0.001;
-
-/// The first colliding pair found, for diagnostics.
-struct CollisionPair {
-  std::string first;
-  std::string second;
-};
 
 /// The bounding-volume hierarchy of a triangle mesh for collision checks
 /// (FCL's OBBRSS BVH). Building it takes about 2.5 ms per thousand
@@ -118,6 +113,7 @@ class CollisionScene {
 /// over one scene.
 class CollisionChecker {
  public:
+  /// Throws InvalidArgument ("scene") for a null scene.
   explicit CollisionChecker(std::shared_ptr<const CollisionScene> scene);
   /// A checker over a scene of its own (CollisionScene's arguments).
   CollisionChecker(const CollisionModel& model, const Scene& scene,
@@ -193,7 +189,9 @@ class CollisionChecker {
   /// gives the FCL-only checker (broadphase over everything), to compare.
   void setSphereTier(bool enabled);
   bool sphereTier() const;
-  /// Of checkCount(), the checks the sphere tier settled alone (free).
+  /// Of checkCount(), the checks the sphere tier settled alone (free); a
+  /// check whose touching pairs the request all leaves out counts as
+  /// settled.
   std::uint64_t sphereSettledCount() const;
 
  private:

@@ -3,8 +3,9 @@
 // conservative sphere model of its links (link_spheres.h) and the maps of
 // where link pairs are apart in joint space (pair_maps.h). The kinematic
 // RobotModel knows nothing of them: buildCollisionModel derives them once,
-// and the result is read-only, shared by every checker and thread that
-// checks the robot (a CollisionChecker is one thread's working state over it).
+// and the result is read-only, shared by every scene, checker and thread
+// that checks the robot (a CollisionScene places it in a scene, a
+// CollisionChecker is one thread's working state over that scene).
 
 #include <memory>
 #include <vector>

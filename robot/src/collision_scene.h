@@ -1,0 +1,117 @@
+#pragma once
+// The shared part of collision checking, private to the robot library:
+// CollisionScene's implementation, which every CollisionChecker over the
+// scene reads, and the robot's FCL objects (a checker's own; the scene's
+// once while it decides which static pairs the sphere tier may skip).
+
+#include <memory>
+#include <mutex>
+#include <utility>
+#include <vector>
+
+#include "fcl_query.h"
+#include "robot/collision_checker.h"
+#include "robot/kinematics.h"
+#include "robot/object_surface.h"
+#include "sphere_tier.h"
+
+namespace hfts::robot {
+
+using fcl_query::Geometry;
+using fcl_query::Object;
+using fcl_query::Tag;
+
+/// The robot's FCL objects, one per collision shape of a link, in a
+/// broadphase manager: a checker's own (queries move them), and the
+/// scene's once while it decides which static pairs the tier may skip.
+struct RobotObjects {
+  std::vector<std::unique_ptr<Tag>> tags;
+  std::vector<std::unique_ptr<Object>> objects;
+  std::vector<std::pair<int, Eigen::Isometry3d>> shapes;  // link, shape origin
+  std::vector<std::vector<std::size_t>> linkObjects;      // per link: its objects
+  fcl::DynamicAABBTreeCollisionManagerd manager;
+
+  /// Tags are numbered from `firstOrder` on (after the environment's).
+  RobotObjects(const RobotModel& model, std::size_t firstOrder) {
+    std::vector<bool> fingertip(model.links().size(), false);
+    for (const Fingertip& f : model.fingertips())
+      fingertip[static_cast<std::size_t>(f.link)] = true;
+    for (std::size_t l = 0; l < model.links().size(); ++l) {
+      for (const CollisionShape& shape : model.links()[l].shapes) {
+        auto object = std::make_unique<Object>(
+            fcl_query::primitive(static_cast<int>(shape.type), shape.size));
+        auto tag = std::make_unique<Tag>(
+            Tag{static_cast<int>(l), false, fingertip[l], model.links()[l].name});
+        tag->order = firstOrder + tags.size();
+        tag->primitive_type = static_cast<int>(shape.type);
+        tag->primitive_size = shape.size;
+        object->setUserData(tag.get());
+        manager.registerObject(object.get());
+        tags.push_back(std::move(tag));
+        objects.push_back(std::move(object));
+        shapes.emplace_back(static_cast<int>(l), shape.origin);
+      }
+    }
+    manager.setup();
+    linkObjects.resize(model.links().size());
+    for (std::size_t i = 0; i < shapes.size(); ++i)
+      linkObjects[static_cast<std::size_t>(shapes[i].first)].push_back(i);
+  }
+
+  /// Moves every object to its link's pose in `poses` (base frame).
+  void place(const Eigen::Isometry3d& base, const LinkPoses& poses) {
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+      const Eigen::Isometry3d pose =
+          base * poses[static_cast<std::size_t>(shapes[i].first)] * shapes[i].second;
+      objects[i]->setTransform(pose.linear(), pose.translation());
+      objects[i]->computeAABB();
+    }
+    manager.update();
+  }
+};
+
+struct CollisionScene::Impl {
+  const CollisionModel& model;
+  const Scene scene;
+  std::vector<std::unique_ptr<Tag>> tags;
+  std::vector<std::unique_ptr<Object>> environmentObjects;
+  fcl::DynamicAABBTreeCollisionManagerd environment;
+  std::unique_ptr<SphereTier> tier;
+  // The grasp rule's target and its surface (shared, or built here on
+  // first need, once for all threads).
+  const db::ObjectGeometry* target = nullptr;
+  const ObjectSurface* sharedSurface = nullptr;
+  mutable std::once_flag surfaceBuilt;
+  mutable std::unique_ptr<ObjectSurface> ownSurface;
+
+  Impl(const CollisionModel& m, const Scene& s) : model(m), scene(s) {}
+
+  const ObjectSurface* surface() const {
+    if (sharedSurface != nullptr || target == nullptr) return sharedSurface;
+    std::call_once(surfaceBuilt, [this] { ownSurface = std::make_unique<ObjectSurface>(*target); });
+    return ownSurface.get();
+  }
+
+  void addEnvironment(const Geometry& geometry, const Eigen::Isometry3d& pose, Tag value,
+                      std::mutex* creation = nullptr) {
+    std::unique_ptr<Object> object;
+    {
+      std::unique_lock<std::mutex> lock;
+      if (creation != nullptr) lock = std::unique_lock<std::mutex>(*creation);
+      object = std::make_unique<Object>(geometry, pose.linear(), pose.translation());
+      object->computeAABB();  // reads the geometry's local box
+    }
+    value.order = tags.size();
+    tags.push_back(std::make_unique<Tag>(std::move(value)));
+    object->setUserData(tags.back().get());
+    environment.registerObject(object.get());
+    environmentObjects.push_back(std::move(object));
+  }
+
+  /// The sphere tier over the environment objects (same order), with the
+  /// pairs that cannot change (links fixed to the base) dropped where FCL
+  /// finds them clear.
+  void addSphereTier(std::vector<SphereTier::Item> items);
+};
+
+}  // namespace hfts::robot
