@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <mutex>
 #include <utility>
 
 #include "collision_scene.h"
@@ -23,9 +22,7 @@ namespace hfts::robot {
 
 using fcl_query::collideCallback;
 using fcl_query::distanceCallback;
-using fcl_query::Object;
 using fcl_query::QueryData;
-using fcl_query::Tag;
 
 /// How far apart (m) a separating axis must prove two primitives before
 /// FCL is skipped: far above the tolerance of FCL's narrowphase (1e-6 in

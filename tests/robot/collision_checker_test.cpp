@@ -428,6 +428,11 @@ TEST(CollisionChecker, ASharedCollisionMeshGivesTheSameAnswersFromAnyThread) {
 
 // What a request leaves out is never a collision, with or without the
 // sphere tier; what it names still is.
+TEST(CollisionChecker, ACheckerWithoutASceneIsRefusedByName) {
+  test::expectErrorMentioning<InvalidArgument>([] { CollisionChecker checker(nullptr); },
+                                               {"scene", "collision scene"});
+}
+
 TEST(CollisionChecker, ARequestCountsOnlyWhatItNames) {
   for (const bool tier : {true, false}) {
     SCOPED_TRACE(tier ? "two tiers" : "FCL only");
