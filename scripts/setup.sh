@@ -9,6 +9,7 @@ set -euo pipefail
 PACKAGES=(
   # toolchain
   build-essential cmake pkg-config git clang-format
+  lld  # the linker (cmake/HftsBuildSpeed.cmake)
   # libraries of docs/architecture.md
   libeigen3-dev libpcl-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libembree-dev libfcl-dev libompl-dev liburdfdom-dev liburdfdom-tools

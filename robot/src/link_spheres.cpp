@@ -12,11 +12,11 @@ namespace hfts::robot {
 namespace {
 
 /// A box of the shape's volume grid: its centre and half diagonal.
-struct Cell {
+struct VolumeCell {
   Eigen::Vector3d center;
   double radius;
 };
-using Points = std::vector<Cell>;
+using Points = std::vector<VolumeCell>;
 using Iterator = Points::iterator;
 
 struct Capsule {
@@ -42,12 +42,6 @@ std::vector<Capsule> capsulesOf(const Link& link) {
     if (hasSphere(link, c.a, c.radius) && hasSphere(link, c.b, c.radius)) capsules.push_back(c);
   }
   return capsules;
-}
-
-/// Half extents of a box or cylinder's bounding box in its own frame.
-Eigen::Vector3d halfExtents(const CollisionShape& shape) {
-  if (shape.type == CollisionShape::Type::kBox) return shape.size / 2;
-  return {shape.size[0], shape.size[0], shape.size[1] / 2};
 }
 
 /// The cells of a grid (spacing at most `spacing`) tiling the shape's
@@ -156,11 +150,12 @@ class ShapeCoverer {
   }
 
   static void splitAt(const Piece& whole, Iterator middle, int axis) {
-    std::nth_element(whole.begin(), middle, whole.end(), [axis](const Cell& ca, const Cell& cb) {
-      const Eigen::Vector3d &a = ca.center, &b = cb.center;
-      return a[axis] < b[axis] ||
-             (a[axis] == b[axis] && std::tie(a[0], a[1], a[2]) < std::tie(b[0], b[1], b[2]));
-    });
+    std::nth_element(
+        whole.begin(), middle, whole.end(), [axis](const VolumeCell& ca, const VolumeCell& cb) {
+          const Eigen::Vector3d &a = ca.center, &b = cb.center;
+          return a[axis] < b[axis] ||
+                 (a[axis] == b[axis] && std::tie(a[0], a[1], a[2]) < std::tie(b[0], b[1], b[2]));
+        });
   }
 
   const Link& link_;

@@ -59,19 +59,6 @@ Eigen::Vector3d clampInto(const CollisionShape& shape, const Eigen::Vector3d& x)
   }
 }
 
-/// Half extents of the shape's bounding box (shape frame).
-Eigen::Vector3d halfExtents(const CollisionShape& shape) {
-  switch (shape.type) {
-    case CollisionShape::Type::kBox:
-      return shape.size / 2;
-    case CollisionShape::Type::kCylinder:
-      return {shape.size.x(), shape.size.x(), shape.size.y() / 2};
-    case CollisionShape::Type::kSphere:
-    default:
-      return Eigen::Vector3d::Constant(shape.size.x());
-  }
-}
-
 /// Evaluations after which shapeDistance returns its current lower bound
 /// (still a valid bound, only not within the tolerance). A fingertip on a
 /// face needs a few hundred.

@@ -82,6 +82,18 @@ std::optional<Inertial> toInertial(const urdf::InertialSharedPtr& in, const std:
 
 }  // namespace
 
+Eigen::Vector3d halfExtents(const CollisionShape& shape) {
+  switch (shape.type) {
+    case CollisionShape::Type::kBox:
+      return shape.size / 2;
+    case CollisionShape::Type::kCylinder:
+      return {shape.size.x(), shape.size.x(), shape.size.y() / 2};
+    case CollisionShape::Type::kSphere:
+    default:
+      return Eigen::Vector3d::Constant(shape.size.x());
+  }
+}
+
 /// Builds a RobotModel step by step; every step validates what it adds.
 class RobotModelBuilder {
  public:

@@ -33,6 +33,10 @@ struct CollisionShape {
   Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
 };
 
+/// Half extents of the shape's bounding box in its own frame (a cylinder
+/// along z, centred).
+Eigen::Vector3d halfExtents(const CollisionShape& shape);
+
 /// A link's mass properties from its URDF <inertial>: the mass (kg), the
 /// centre-of-mass frame in the link frame and the inertia tensor (kg m^2)
 /// about the centre of mass in that frame.
