@@ -13,6 +13,7 @@ if(HFTS_BUILD_FUZZERS)
   endif()
   set(HFTS_SANITIZERS address,undefined)
   add_compile_options(-fsanitize=fuzzer-no-link,${HFTS_SANITIZERS}
-    -fno-sanitize-recover=undefined -O1 -gline-tables-only -UNDEBUG)
+    -fno-sanitize-recover=undefined -O1 -gline-tables-only -UNDEBUG
+    -fsanitize-coverage-ignorelist=${PROJECT_SOURCE_DIR}/tests/fuzz/coverage_ignorelist.txt)
   add_link_options(-fsanitize=${HFTS_SANITIZERS})
 endif()
