@@ -28,6 +28,15 @@ TEST(RobotModel, Kr5SdhHas13ActuatedDofInConfigOrder) {
   EXPECT_TRUE(m.withinLimits(m.home()));
 }
 
+TEST(RobotModel, HalfExtentsBoundEachShapeInItsOwnFrame) {
+  CollisionShape box{CollisionShape::Type::kBox, Eigen::Vector3d(0.2, 0.4, 0.6)};
+  CollisionShape cylinder{CollisionShape::Type::kCylinder, Eigen::Vector3d(0.05, 0.3, 0)};
+  CollisionShape sphere{CollisionShape::Type::kSphere, Eigen::Vector3d(0.07, 0, 0)};
+  EXPECT_TRUE(halfExtents(box).isApprox(Eigen::Vector3d(0.1, 0.2, 0.3)));
+  EXPECT_TRUE(halfExtents(cylinder).isApprox(Eigen::Vector3d(0.05, 0.05, 0.15)));
+  EXPECT_TRUE(halfExtents(sphere).isApprox(Eigen::Vector3d::Constant(0.07)));
+}
+
 TEST(RobotModel, TheKnuckleMimicFollowsTheKnuckle) {
   const RobotModel& m = test::kr5Sdh();
   int mimics = 0;
