@@ -26,10 +26,12 @@ Verdict (exit 1 on any failure, 0 otherwise): no request unanswered, no
 wrong answer (unexpected error code, -32603, unknown id), the server alive
 throughout; resident memory: the median of the last third of the run at
 most max(5 %, 20 MiB) above the median of the middle third (the first
-third is warm-up), and its linear trend over those two thirds projects
-less than that tolerance; after all clients have closed and a settle,
-open descriptors, threads and the input budget are back at the baseline
-measured before the traffic; a server it started exits 0 on SIGTERM.
+third is warm-up), and its trend over those two thirds (Theil-Sen: the
+median of the slopes between pairs of samples) projects less than that
+tolerance; after all clients have closed and a settle, resident memory is
+within that tolerance of the baseline measured before the traffic, and
+open descriptors, threads and the input budget are back at it; a server
+it started exits 0 on SIGTERM.
 Standard library, plus matplotlib for the plot.
 """
 
@@ -612,16 +614,18 @@ def median(values):
 
 
 def slope(points):
-    """Least-squares slope of (t, y) points."""
-    n = len(points)
-    mt = sum(t for t, _ in points) / n
-    my = sum(y for _, y in points) / n
-    var = sum((t - mt) ** 2 for t, _ in points)
-    return sum((t - mt) * (y - my) for t, y in points) / var if var else 0.0
+    """Theil-Sen slope of (t, y) points: the median of the slopes between all
+    pairs. A sample taken while several large plans are in flight lies 10-20
+    MiB above its neighbours; least squares lets two such samples near one end
+    of a short window tilt the whole line, the median of pairs does not."""
+    pairs = [(y1 - y0) / (t1 - t0) for i, (t0, y0) in enumerate(points)
+             for t1, y1 in points[i + 1:] if t1 != t0]
+    return median(pairs) if pairs else 0.0
 
 
-def judge_memory(options, samples, duration):
-    """RSS of the last third against the middle third; returns (facts, failures)."""
+def judge_memory(options, samples, duration, baseline=None, final=None):
+    """RSS of the last third against the middle third, and after all clients
+    closed against before the traffic; returns (facts, failures)."""
     run = [s for s in samples if s.get("phase") == "run" and "rss" in s]
     middle = [s for s in run if duration / 3 <= s["t"] < 2 * duration / 3]
     last = [s for s in run if s["t"] >= 2 * duration / 3]
@@ -652,12 +656,21 @@ def judge_memory(options, samples, duration):
         failures.append(f"resident memory trends up: {rate * 60 / MIB:.2f} MiB/min, "
                         f"{projected / MIB:.1f} MiB over the judged window (tolerance "
                         f"{tolerance / MIB:.1f} MiB)")
+    if baseline and final and "rss" in baseline and "rss" in final:
+        # With no plan in flight nothing hides a leak: what every request left
+        # behind is still resident.
+        facts["after_close_growth_mib"] = (final["rss"] - baseline["rss"]) / MIB
+        if final["rss"] - baseline["rss"] > tolerance:
+            failures.append(f"resident memory not back after all clients closed: "
+                            f"{baseline['rss'] / MIB:.1f} MiB before the traffic, "
+                            f"{final['rss'] / MIB:.1f} MiB after (tolerance "
+                            f"{tolerance / MIB:.1f} MiB)")
     return facts, failures
 
 
 def judge(options, recorder, monitor, baseline, final, exit_code, duration):
     failures = []
-    memory, more = judge_memory(options, monitor.samples, duration)
+    memory, more = judge_memory(options, monitor.samples, duration, baseline, final)
     failures += more
     if recorder.unanswered:
         failures.append(f"{len(recorder.unanswered)} requests unanswered (first: "
