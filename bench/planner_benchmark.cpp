@@ -39,6 +39,26 @@ const robot::CollisionModel& collision() {
   return *model;
 }
 
+// What a robot's collision model costs to derive (docs/performance.md,
+// "Deriving the collision model"): its sphere covering and pair maps, from
+// the loaded kinematic model, once per robot when a planning world loads.
+const char* const kRobots[] = {"kr5_sdh", "ur5e_allegro", "panda_gripper"};
+
+void BM_BuildCollisionModel(benchmark::State& state) {
+  const std::string name = kRobots[state.range(0)];
+  const robot::RobotModel model =
+      robot::RobotModel::load(kSource / "robots" / name / (name + ".json"));
+  std::size_t spheres = 0;
+  for (auto _ : state) {
+    const auto built = robot::buildCollisionModel(model);
+    spheres = built->spheres.numSpheres();
+    benchmark::DoNotOptimize(built.get());
+  }
+  state.SetLabel(name);
+  state.counters["spheres"] = static_cast<double>(spheres);
+}
+BENCHMARK(BM_BuildCollisionModel)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
 Eigen::VectorXd randomConfiguration(std::mt19937_64& rng) {
   Eigen::VectorXd q(robot().numDofs());
   for (Eigen::Index d = 0; d < q.size(); ++d)
