@@ -352,6 +352,14 @@ double CollisionChecker::clearance(const Eigen::VectorXd& q) {
   return data.distance;
 }
 
+double CollisionChecker::selfClearance(const Eigen::VectorXd& q) {
+  impl_->place(q);
+  QueryData data;
+  data.model = &impl_->model;
+  impl_->robot.manager.distance(&data, distanceCallback);
+  return data.distance;
+}
+
 ConfigurationMetric& CollisionChecker::metric() const {
   return *impl_->metric;
 }

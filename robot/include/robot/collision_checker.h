@@ -152,6 +152,9 @@ class CollisionChecker {
   /// Smallest distance between the robot and the environment including the
   /// target object (m); 0 when in collision.
   double clearance(const Eigen::VectorXd& q);
+  /// Smallest distance between two of the robot's links that may collide
+  /// (pairs not disabled in the config) (m); 0 when two of them touch.
+  double selfClearance(const Eigen::VectorXd& q);
 
   /// Checks the straight segment from a to b (a is assumed valid) at
   /// `resolution` in the weighted metric of Eq. (3): every intermediate

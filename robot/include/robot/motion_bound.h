@@ -1,0 +1,47 @@
+#pragma once
+// How far the robot's geometry can move for a step in joint space: the
+// bound that lets a straight segment be proven free from distances at a
+// few of its states (conservative advancement, segment_certificate.h,
+// docs/collision.md "Certified segments").
+
+#include <Eigen/Core>
+
+#include "robot/robot_model.h"
+
+namespace hfts::robot {
+
+/// For every link and DoF, how many metres any point of the link's
+/// collision shapes can travel per radian (revolute) or metre (prismatic)
+/// of the DoF, at any configuration. Built from the kinematic chain: a
+/// revolute joint moves a point at most its distance from the joint's axis
+/// per radian, and that distance is bounded, whatever the joints between,
+/// by the lengths of the chain from the joint to the link plus the reach of
+/// the link's shapes from its frame (the triangle inequality). Mimic joints
+/// count with their multiplier.
+class MotionBound {
+ public:
+  explicit MotionBound(const RobotModel& model);
+
+  /// Upper bound (m) on the length of the path any point of `link` follows
+  /// while the configuration moves along the straight segment from any q to
+  /// q + step (numDofs values): sum over DoFs of coefficient * |step|.
+  double link(int link, const Eigen::VectorXd& step) const;
+  /// The largest of link() over the links with collision shapes.
+  double anyLink(const Eigen::VectorXd& step) const;
+  /// The two largest of link() added: a bound on how much closer any two
+  /// links can come to each other over the step.
+  double anyTwoLinks(const Eigen::VectorXd& step) const;
+
+  /// Metres per unit of each DoF (rows: links, columns: DoFs); a row of
+  /// zeros for a link without shapes or one no DoF moves.
+  const Eigen::MatrixXd& coefficients() const { return coefficients_; }
+
+ private:
+  Eigen::MatrixXd coefficients_;
+};
+
+/// The largest distance (m) from a link's frame origin to a point of its
+/// collision shapes; 0 for a link without shapes.
+double linkReach(const Link& link);
+
+}  // namespace hfts::robot

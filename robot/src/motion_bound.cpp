@@ -1,0 +1,87 @@
+#include "robot/motion_bound.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace hfts::robot {
+
+double linkReach(const Link& link) {
+  double reach = 0.0;
+  for (const CollisionShape& shape : link.shapes) {
+    // A sphere's points lie within its radius of its centre; a box's or a
+    // cylinder's within the half diagonal of its bounding box.
+    const double extent =
+        shape.type == CollisionShape::Type::kSphere ? shape.size.x() : halfExtents(shape).norm();
+    reach = std::max(reach, shape.origin.translation().norm() + extent);
+  }
+  return reach;
+}
+
+namespace {
+
+/// The largest |value| joint `joint` takes over the limits of its DoF.
+double largestValue(const RobotModel& model, const Joint& joint) {
+  const auto d = static_cast<Eigen::Index>(joint.dof);
+  return std::max(std::abs(joint.multiplier * model.lowerLimits()(d) + joint.offset),
+                  std::abs(joint.multiplier * model.upperLimits()(d) + joint.offset));
+}
+
+}  // namespace
+
+MotionBound::MotionBound(const RobotModel& model)
+    : coefficients_(
+          Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(model.links().size()), model.numDofs())) {
+  for (std::size_t l = 0; l < model.links().size(); ++l) {
+    const Link& link = model.links()[l];
+    if (link.shapes.empty()) continue;
+    // reach: a bound on the distance from the child frame origin of the
+    // current joint (a point on its axis) to any point of the link.
+    double reach = linkReach(link);
+    for (int j = link.parent_joint; j >= 0;) {
+      const Joint& joint = model.joints()[static_cast<std::size_t>(j)];
+      if (joint.dof >= 0 && joint.type != Joint::Type::kFixed) {
+        const double perUnit = joint.type == Joint::Type::kRevolute ? reach : joint.slide.norm();
+        coefficients_(static_cast<Eigen::Index>(l), joint.dof) +=
+            std::abs(joint.multiplier) * perUnit;
+      }
+      // The child frame's origin in the parent link's frame lies at the
+      // joint's origin, moved along the slide for a prismatic joint.
+      reach += joint.origin.translation().norm();
+      if (joint.type == Joint::Type::kPrismatic && joint.dof >= 0)
+        reach += largestValue(model, joint) * joint.slide.norm();
+      j = model.links()[static_cast<std::size_t>(joint.parent_link)].parent_joint;
+    }
+  }
+}
+
+double MotionBound::link(int link, const Eigen::VectorXd& step) const {
+  if (step.size() != coefficients_.cols())
+    throw std::invalid_argument("MotionBound: a step of " + std::to_string(step.size()) +
+                                " values for " + std::to_string(coefficients_.cols()) + " DoFs");
+  return coefficients_.row(link).dot(step.cwiseAbs());
+}
+
+double MotionBound::anyLink(const Eigen::VectorXd& step) const {
+  double largest = 0.0;
+  for (Eigen::Index l = 0; l < coefficients_.rows(); ++l)
+    largest = std::max(largest, link(static_cast<int>(l), step));
+  return largest;
+}
+
+double MotionBound::anyTwoLinks(const Eigen::VectorXd& step) const {
+  double first = 0.0, second = 0.0;
+  for (Eigen::Index l = 0; l < coefficients_.rows(); ++l) {
+    const double b = link(static_cast<int>(l), step);
+    if (b > first) {
+      second = first;
+      first = b;
+    } else if (b > second) {
+      second = b;
+    }
+  }
+  return first + second;
+}
+
+}  // namespace hfts::robot

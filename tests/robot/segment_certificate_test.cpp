@@ -1,0 +1,277 @@
+#include "robot/segment_certificate.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "bundled_objects.h"
+#include "core/invalid_argument.h"
+#include "robot/kinematics.h"
+#include "robot/motion_bound.h"
+#include "robot_fixture.h"
+
+namespace hfts::robot {
+namespace {
+
+const RobotModel& kr5() {
+  return test::kr5Sdh();
+}
+
+const RobotModel& robotNamed(const std::string& name) {
+  static std::map<std::string, RobotModel> models;
+  auto it = models.find(name);
+  if (it == models.end())
+    it = models
+             .emplace(name,
+                      RobotModel::load(test::sourcePath("robots/" + name + "/" + name + ".json")))
+             .first;
+  return it->second;
+}
+
+Eigen::VectorXd randomConfiguration(const RobotModel& model, std::mt19937_64& rng) {
+  Eigen::VectorXd q(model.numDofs());
+  for (Eigen::Index d = 0; d < q.size(); ++d)
+    q(d) =
+        std::uniform_real_distribution<double>(model.lowerLimits()(d), model.upperLimits()(d))(rng);
+  return q;
+}
+
+/// Points on the surface of a shape's bounding box (its corners and face
+/// centres) in the link frame; a sphere's six poles.
+std::vector<Eigen::Vector3d> shapePoints(const CollisionShape& shape) {
+  std::vector<Eigen::Vector3d> points;
+  const Eigen::Vector3d h = shape.type == CollisionShape::Type::kSphere
+                                ? Eigen::Vector3d::Constant(shape.size.x())
+                                : halfExtents(shape);
+  for (int x = -1; x <= 1; ++x)
+    for (int y = -1; y <= 1; ++y)
+      for (int z = -1; z <= 1; ++z) {
+        const int nonzero = (x != 0) + (y != 0) + (z != 0);
+        if (shape.type == CollisionShape::Type::kSphere ? nonzero != 1 : nonzero == 0) continue;
+        points.push_back(shape.origin * Eigen::Vector3d(x * h.x(), y * h.y(), z * h.z()));
+      }
+  return points;
+}
+
+/// The distance from the robot at q to everything it may not touch: the
+/// environment (obstacles and target) and its own links.
+double distanceToEverything(CollisionChecker& checker, const Eigen::VectorXd& q) {
+  const double environment = checker.clearance(q);
+  return environment > 0.0 ? std::min(environment, checker.selfClearance(q)) : 0.0;
+}
+
+TEST(MotionBound, NoPointOfAnyLinkTravelsFartherThanTheBound) {
+  for (const std::string name : {"kr5_sdh", "ur5e_allegro", "panda_gripper"}) {
+    SCOPED_TRACE(name);
+    const RobotModel& model = robotNamed(name);
+    const MotionBound bound(model);
+    std::mt19937_64 rng(7);
+    double tightest = 0.0;  // the largest share of the bound a point used
+    for (int trial = 0; trial < 60; ++trial) {
+      const Eigen::VectorXd a = randomConfiguration(model, rng);
+      const double scale = trial % 2 == 0 ? 0.05 : 1.0;  // short and long steps
+      const Eigen::VectorXd b =
+          a + scale * (randomConfiguration(model, rng) - randomConfiguration(model, rng));
+      constexpr int kSteps = 64;
+      std::vector<LinkPoses> poses;
+      for (int i = 0; i <= kSteps; ++i)
+        poses.push_back(forwardKinematics(model, a + (b - a) * (double(i) / kSteps)));
+      for (std::size_t l = 0; l < model.links().size(); ++l) {
+        const double limit = bound.link(static_cast<int>(l), b - a);
+        for (const CollisionShape& shape : model.links()[l].shapes)
+          for (const Eigen::Vector3d& point : shapePoints(shape)) {
+            double travelled = 0.0;  // the polyline through the steps: <= the path's length
+            for (int i = 0; i < kSteps; ++i)
+              travelled += (poses[i + 1][l] * point - poses[i][l] * point).norm();
+            EXPECT_LE(travelled, limit + 1e-9) << model.links()[l].name;
+            if (limit > 0.0) tightest = std::max(tightest, travelled / limit);
+          }
+      }
+    }
+    // Not vacuous: some point travels a good share of its bound.
+    EXPECT_GT(tightest, 0.3);
+  }
+}
+
+TEST(MotionBound, TwoLinksTogetherAndSizeChecked) {
+  const MotionBound bound(kr5());
+  Eigen::VectorXd step = Eigen::VectorXd::Zero(kr5().numDofs());
+  EXPECT_EQ(bound.anyLink(step), 0.0);
+  step(0) = 0.1;
+  EXPECT_GT(bound.anyLink(step), 0.0);
+  EXPECT_GE(bound.anyTwoLinks(step), bound.anyLink(step));
+  EXPECT_LE(bound.anyTwoLinks(step), 2 * bound.anyLink(step));
+  EXPECT_THROW(bound.anyLink(Eigen::VectorXd::Zero(3)), std::invalid_argument);
+}
+
+/// The KR5 turning 2.4 rad about its base, in a scene of its own with a
+/// small thin plate across the palm's path at fraction `where`.
+struct PlateCase {
+  Scene scene;
+  Eigen::VectorXd a, b;
+};
+
+PlateCase plateAcrossThePath(double where, double thickness) {
+  PlateCase c;
+  c.a = kr5().home();
+  c.a(1) -= 0.3;  // the arm reaching forward
+  c.b = c.a;
+  c.b(0) += 2.4;
+  const int palm = kr5().palmLink();
+  auto palmAt = [&](double t) {
+    return forwardKinematics(kr5(), c.a + t * (c.b - c.a))[static_cast<std::size_t>(palm)]
+        .translation();
+  };
+  const Eigen::Vector3d centre = palmAt(where);
+  const Eigen::Vector3d along = (palmAt(where + 0.01) - palmAt(where - 0.01)).normalized();
+  Obstacle plate;
+  plate.name = "plate";
+  plate.type = Obstacle::Type::kBox;
+  plate.size = Eigen::Vector3d(0.06, 0.06, thickness);  // thin along its z
+  plate.pose.linear() =
+      Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), along).toRotationMatrix();
+  plate.pose.translation() = centre;
+  c.scene.name = "plate";
+  c.scene.obstacles.push_back(plate);
+  return c;
+}
+
+TEST(SegmentCertificate, RefusesAThinPlateBetweenTwoSamples) {
+  // A 2 mm plate across the palm's path, half way between the states a
+  // sampled check at a quarter of the segment looks at (the palm moves
+  // about 20 cm between them): the samples miss it, the certificate does not.
+  bool missedBySamples = false;
+  for (const double where : {0.125, 0.375, 0.625, 0.875}) {
+    SCOPED_TRACE(where);
+    const PlateCase c = plateAcrossThePath(where, 0.002);
+    CollisionChecker checker(test::collisionOf(kr5()), c.scene, nullptr);
+    CollisionPair pair;
+    ASSERT_FALSE(checker.inCollision(c.a, &pair)) << pair.first << " / " << pair.second;
+    ASSERT_FALSE(checker.inCollision(c.b, &pair)) << pair.first << " / " << pair.second;
+    // Dense truth: the plate is hit somewhere.
+    bool hit = false;
+    for (int i = 1; i < 2000 && !hit; ++i)
+      hit = checker.inCollision(c.a + (c.b - c.a) * (i / 2000.0));
+    ASSERT_TRUE(hit);
+    const double length = checker.metric().distance(c.a, c.b);
+    const bool sampledValid = checker.isMotionValid(c.a, c.b, length / 4);
+    const SegmentCertificate certificate = certifySegment(checker, MotionBound(kr5()), c.a, c.b);
+    EXPECT_FALSE(certificate.free);
+    EXPECT_FALSE(certificate.exhausted);
+    EXPECT_GT(certificate.blocked_at, 0.0);
+    EXPECT_LT(certificate.blocked_at, where);
+    if (sampledValid) missedBySamples = true;
+  }
+  EXPECT_TRUE(missedBySamples) << "no plate position fell between the samples";
+}
+
+TEST(SegmentCertificate, KeepsTheClearanceAsked) {
+  // The plate raised above the palm's path until the path passes it at
+  // 1.2-5 cm: free at clearance 0 and 1 cm, refused at 5 cm.
+  PlateCase c = plateAcrossThePath(0.5, 0.002);
+  auto nearestAlongThePath = [&](const Scene& scene) {
+    CollisionChecker checker(test::collisionOf(kr5()), scene, nullptr);
+    double d = 1e9;
+    for (int i = 0; i <= 400; ++i)
+      d = std::min(d, distanceToEverything(checker, c.a + (c.b - c.a) * (i / 400.0)));
+    return d;
+  };
+  double nearest = 0.0;
+  for (int raise = 0; raise < 100 && nearest < 0.012; ++raise) {
+    c.scene.obstacles[0].pose.translation().z() += 0.005;
+    nearest = nearestAlongThePath(c.scene);
+  }
+  ASSERT_GT(nearest, 0.012);
+  ASSERT_LT(nearest, 0.05);
+  CollisionChecker checker(test::collisionOf(kr5()), c.scene, nullptr);
+  const MotionBound bound(kr5());
+  for (const double clearance : {0.0, 0.01}) {
+    CertifyOptions options;
+    options.clearance = clearance;
+    const SegmentCertificate certificate = certifySegment(checker, bound, c.a, c.b, options);
+    EXPECT_TRUE(certificate.free) << clearance;
+    EXPECT_GE(certificate.clearance, clearance);
+  }
+  CertifyOptions far;
+  far.clearance = 0.05;
+  EXPECT_FALSE(certifySegment(checker, bound, c.a, c.b, far).free);
+}
+
+TEST(SegmentCertificate, AgreesWithADenseSweepInEveryBundledScene) {
+  // Random short segments from free states near the obstacles: a segment
+  // certified free is free at every state of a dense sweep (FCL), by the
+  // clearance asked; one the sweep finds closer is never certified; the
+  // reported clearance is FCL's distance at the reported state.
+  const MotionBound bound(kr5());
+  const auto& objects = test::bundledObjects();
+  const db::ObjectDatabase& object = objects.begin()->second;
+  int free = 0, refused = 0;
+  for (const char* name : {"table", "shelf", "bin"}) {
+    SCOPED_TRACE(name);
+    Scene scene = loadScene(test::sourcePath(std::string("objects/scenes/") + name + ".json"));
+    scene.target_object = objects.begin()->first;
+    scene.target_pose = targetPose(scene, object.geometry.mesh_vertices);
+    CollisionChecker checker(test::collisionOf(kr5()), scene, &object.geometry);
+    std::mt19937_64 rng(11);
+    int segments = 0;
+    for (int attempt = 0; attempt < 4000 && segments < 16; ++attempt) {
+      const Eigen::VectorXd a = randomConfiguration(kr5(), rng);
+      const double start = distanceToEverything(checker, a);
+      if (start <= 0.0 || start > 0.08) continue;  // free, near something
+      Eigen::VectorXd b = a;
+      for (Eigen::Index d = 0; d < b.size(); ++d)
+        b(d) = std::clamp(a(d) + std::normal_distribution<double>(0.0, 0.15)(rng),
+                          kr5().lowerLimits()(d), kr5().upperLimits()(d));
+      ++segments;
+      CertifyOptions options;
+      options.clearance = segments % 2 == 0 ? 0.0 : 0.005;
+      const SegmentCertificate certificate = certifySegment(checker, bound, a, b, options);
+      const Eigen::VectorXd at = a + certificate.at * (b - a);
+      EXPECT_NEAR(certificate.clearance, distanceToEverything(checker, at), 1e-6);
+      double swept = 1e9;
+      for (int i = 0; i <= 200; ++i)
+        swept = std::min(swept, distanceToEverything(checker, a + (b - a) * (i / 200.0)));
+      if (certificate.free) {
+        ++free;
+        EXPECT_GE(swept, options.clearance) << "certified, but the sweep comes closer";
+      } else {
+        ++refused;
+      }
+      if (swept < options.clearance) {
+        EXPECT_FALSE(certificate.free);
+      }
+    }
+    EXPECT_EQ(segments, 16);
+  }
+  // Both answers occur, so the comparison says something.
+  EXPECT_GE(free, 8);
+  EXPECT_GE(refused, 8);
+}
+
+TEST(SegmentCertificate, ChecksItsArguments) {
+  Scene empty;
+  CollisionChecker checker(test::collisionOf(kr5()), empty, nullptr);
+  const MotionBound bound(kr5());
+  const Eigen::VectorXd q = kr5().home();
+  CertifyOptions negative;
+  negative.clearance = -0.01;
+  try {
+    certifySegment(checker, bound, q, q, negative);
+    FAIL() << "a negative clearance was accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_EQ(e.field(), "clearance");
+  }
+  EXPECT_THROW(certifySegment(checker, bound, q, Eigen::VectorXd::Zero(2)), InvalidArgument);
+  // A segment of no length is its one state.
+  const SegmentCertificate still = certifySegment(checker, bound, q, q);
+  EXPECT_TRUE(still.free);
+  EXPECT_EQ(still.states, 1u);
+}
+
+}  // namespace
+}  // namespace hfts::robot
