@@ -1,7 +1,7 @@
 // collision_agreement: the two-tier collision checker (spheres, then FCL)
 // against FCL alone on many configurations and motions in every bundled
-// scene; any disagreement is a bug (docs/collision.md). Exit status 1 when
-// one is found.
+// scene, and certified segments against a dense sweep; any disagreement is
+// a bug (docs/collision.md). Exit status 1 when one is found.
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -16,8 +16,10 @@
 #include "hfts_db/object_database.h"
 #include "robot/arm_ik.h"
 #include "robot/collision_checker.h"
+#include "robot/motion_bound.h"
 #include "robot/robot_model.h"
 #include "robot/scene.h"
+#include "robot/segment_certificate.h"
 
 namespace {
 
@@ -151,13 +153,56 @@ void compareMotion(const robot::RobotModel& m, Comparison& c, double resolution,
   for (const double r : {resolution, 0.0025}) c.compareValidation(a, b, r, tally.validations[r]);
 }
 
+/// A collision-free start and an end 0.5 rad away (Eq. (3) metric, inside
+/// the limits), as compareMotion draws them.
+std::pair<Eigen::VectorXd, Eigen::VectorXd> randomMotion(const robot::RobotModel& m,
+                                                         robot::CollisionChecker& checker,
+                                                         std::mt19937_64& rng) {
+  Eigen::VectorXd a = uniform(m, rng);
+  while (checker.inCollision(a)) a = uniform(m, rng);
+  std::normal_distribution<double> n;
+  Eigen::VectorXd direction(m.numDofs());
+  for (int d = 0; d < m.numDofs(); ++d) direction(d) = n(rng);
+  direction *= 0.5 / checker.metric().distance(Eigen::VectorXd::Zero(m.numDofs()), direction);
+  return {a, (a + direction).cwiseMax(m.lowerLimits()).cwiseMin(m.upperLimits())};
+}
+
+/// Certified segments against a dense sweep: a segment certified free
+/// whose sweep (FCL alone, `sweep` + 1 states, strict rule) finds a
+/// collision is a disagreement.
+struct CertifiedTally {
+  long segments = 0, free = 0, disagreements = 0, queries = 0;
+  double seconds = 0;
+};
+
+void compareCertified(const robot::RobotModel& m, const robot::MotionBound& bound,
+                      robot::CollisionChecker& checker, int sweep, std::mt19937_64& rng,
+                      CertifiedTally& tally) {
+  const auto [a, b] = randomMotion(m, checker, rng);
+  const auto t0 = std::chrono::steady_clock::now();
+  const robot::SegmentCertificate certificate = robot::certifySegment(checker, bound, a, b);
+  tally.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ++tally.segments;
+  tally.queries += static_cast<long>(certificate.queries);
+  if (!certificate.free) return;
+  ++tally.free;
+  for (int s = 0; s <= sweep; ++s) {
+    const double t = static_cast<double>(s) / sweep;
+    if (!checker.inCollision(a + t * (b - a))) continue;
+    ++tally.disagreements;
+    std::fprintf(stderr, "certified free, but the sweep collides at t = %.6f\n", t);
+    return;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Compares the two-tier collision checker with FCL alone in every bundled scene."};
   std::string dbDir = "build/databases", robotConfig = "robots/kr5_sdh/kr5_sdh.json",
               sceneDir = "objects/scenes";
-  long configurations = 1000000, motions = 1000;
+  long configurations = 1000000, motions = 1000, certified = 0;
+  int sweep = 1000;
   std::uint64_t seed = 1;
   app.add_option("--db", dbDir, "Object databases (the scenes' targets)")
       ->check(CLI::ExistingDirectory);
@@ -168,6 +213,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1L, 1000000000L));
   app.add_option("--motions", motions, "Random 0.5-rad motions per scene")
       ->check(CLI::Range(0L, 10000000L));
+  app.add_option("--certified", certified,
+                 "Random 0.5-rad segments per scene certified (clearance 0) and swept")
+      ->check(CLI::Range(0L, 100000000L));
+  app.add_option("--sweep", sweep, "States of the dense sweep of a certified segment")
+      ->check(CLI::Range(2, 1000000));
   app.add_option("--seed", seed, "Random seed");
   CLI11_PARSE(app, argc, argv);
 
@@ -226,6 +276,19 @@ int main(int argc, char** argv) {
             v.free > 0 ? 1e6 * v.secondsTwoTiers / static_cast<double>(v.free) : 0.0,
             v.free > 0 ? 1e6 * v.secondsFcl / static_cast<double>(v.free) : 0.0);
         disagreements += v.disagreements;
+      }
+      if (certified > 0) {
+        const robot::MotionBound bound(model);
+        CertifiedTally ct;
+        for (long i = 0; i < certified; ++i)
+          compareCertified(model, bound, c.fcl(), sweep, rng, ct);
+        std::printf(
+            "  certifySegment: %ld segments, %ld certified free, %ld disagreements with a "
+            "%d-state sweep; %.1f distance queries and %.0f us per segment\n",
+            ct.segments, ct.free, ct.disagreements, sweep + 1,
+            static_cast<double>(ct.queries) / static_cast<double>(ct.segments),
+            1e6 * ct.seconds / static_cast<double>(ct.segments));
+        disagreements += ct.disagreements;
       }
       std::fflush(stdout);
       disagreements += t.disagreements;

@@ -42,34 +42,36 @@ SegmentCertificate certifySegment(CollisionChecker& checker, const MotionBound& 
     return perSegment > 0.0 ? slack / perSegment : std::numeric_limits<double>::infinity();
   };
 
+  // The segment is proven up to `environmentUntil` against the environment
+  // and up to `selfUntil` against the robot's own links; each distance is
+  // measured again only where its own proof ends.
   SegmentCertificate certificate;
   certificate.clearance = std::numeric_limits<double>::infinity();
-  double t = 0.0;
-  Eigen::VectorXd q = a;
-  while (true) {
-    if (certificate.states == options.max_states) {
+  double environmentUntil = 0.0, selfUntil = 0.0;
+  const bool still = step.isZero(0.0);
+  while (std::min(environmentUntil, selfUntil) < 1.0 || certificate.queries == 0) {
+    const double t = std::min(environmentUntil, selfUntil);
+    if (certificate.queries >= options.max_queries) {
       certificate.exhausted = true;
       certificate.blocked_at = t;
       return certificate;
     }
-    ++certificate.states;
-    const double environment = checker.clearance(q);
-    const double self = environment > 0.0 ? checker.selfClearance(q) : 0.0;
-    const double nearest = std::min(environment, self);
-    if (nearest < certificate.clearance) {
-      certificate.clearance = nearest;
+    const Eigen::VectorXd q = t >= 1.0 ? b : Eigen::VectorXd(a + t * step);
+    const bool environmentDue = environmentUntil <= t;
+    const double distance = environmentDue ? checker.clearance(q) : checker.selfClearance(q);
+    ++certificate.queries;
+    if (distance < certificate.clearance) {
+      certificate.clearance = distance;
       certificate.at = t;
     }
-    const double environmentSlack = environment - kDistanceTolerance - options.clearance;
-    const double selfSlack = self - kDistanceTolerance - options.clearance;
-    if (environmentSlack <= kBlockingSlack || selfSlack <= kBlockingSlack) {
+    const double slack = distance - kDistanceTolerance - options.clearance;
+    if (slack <= kBlockingSlack) {
       certificate.blocked_at = t;
       return certificate;
     }
-    if (t >= 1.0 || step.isZero(0.0)) break;
-    t = std::min(1.0, t + std::min(advance(environmentSlack, toEnvironment),
-                                   advance(selfSlack, toEachOther)));
-    q = t >= 1.0 ? b : Eigen::VectorXd(a + t * step);
+    double& until = environmentDue ? environmentUntil : selfUntil;
+    until = still ? 1.0
+                  : std::min(1.0, t + advance(slack, environmentDue ? toEnvironment : toEachOther));
   }
   certificate.free = true;
   return certificate;

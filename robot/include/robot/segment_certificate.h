@@ -23,24 +23,25 @@ struct CertifyOptions {
   /// Distance queries allowed for one segment before it is given up (then
   /// not proven: a segment that grazes the clearance makes the steps
   /// shrink without end).
-  std::size_t max_states = 100000;
+  std::size_t max_queries = 100000;
 };
 
 struct SegmentCertificate {
   /// Proven: every point of the segment keeps options.clearance from
   /// everything.
   bool free = false;
-  /// The smallest exact distance found at the states looked at (m; FCL's,
-  /// robot to environment and link to link): the segment's smallest
-  /// clearance is at most this, and at least options.clearance when free.
+  /// The smallest exact distance measured (m; FCL's, robot to environment
+  /// or link to link, whichever was measured there): the segment's
+  /// smallest clearance is at most this, and at least options.clearance
+  /// when free.
   double clearance = 0.0;
-  /// Where along the segment (0 at a, 1 at b) the smallest distance was found.
+  /// Where along the segment (0 at a, 1 at b) it was measured.
   double at = 0.0;
   /// Not free: where the first state closer than options.clearance lies,
   /// or where the steps became too short to go on (exhausted).
   double blocked_at = -1.0;
-  bool exhausted = false;  ///< given up after options.max_states states
-  std::size_t states = 0;  ///< distance queries made
+  bool exhausted = false;   ///< given up after options.max_queries queries
+  std::size_t queries = 0;  ///< distance queries made (environment or self)
 };
 
 /// Certifies the straight segment a -> b against everything `checker`
