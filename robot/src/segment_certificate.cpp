@@ -60,6 +60,7 @@ SegmentCertificate certifySegment(CollisionChecker& checker, const MotionBound& 
     const bool environmentDue = environmentUntil <= t;
     const double distance = environmentDue ? checker.clearance(q) : checker.selfClearance(q);
     ++certificate.queries;
+    certificate.self_queries += environmentDue ? 0 : 1;
     if (distance < certificate.clearance) {
       certificate.clearance = distance;
       certificate.at = t;

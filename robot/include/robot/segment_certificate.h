@@ -40,8 +40,9 @@ struct SegmentCertificate {
   /// Not free: where the first state closer than options.clearance lies,
   /// or where the steps became too short to go on (exhausted).
   double blocked_at = -1.0;
-  bool exhausted = false;   ///< given up after options.max_queries queries
-  std::size_t queries = 0;  ///< distance queries made (environment or self)
+  bool exhausted = false;        ///< given up after options.max_queries queries
+  std::size_t queries = 0;       ///< distance queries made (environment or self)
+  std::size_t self_queries = 0;  ///< of queries, those between the links
 };
 
 /// Certifies the straight segment a -> b against everything `checker`
