@@ -22,6 +22,7 @@ namespace hfts::robot {
 
 using fcl_query::collideCallback;
 using fcl_query::distanceCallback;
+using fcl_query::objectDistanceCallback;
 using fcl_query::QueryData;
 
 /// How far apart (m) a separating axis must prove two primitives before
@@ -350,6 +351,21 @@ double CollisionChecker::clearance(const Eigen::VectorXd& q) {
   data.model = &impl_->model;
   impl_->robot.manager.distance(impl_->environment(), &data, distanceCallback);
   return data.distance;
+}
+
+void CollisionChecker::linkClearances(const Eigen::VectorXd& q, const std::vector<int>& links,
+                                      std::vector<double>& distances) {
+  impl_->place(q);
+  distances.assign(links.size(), std::numeric_limits<double>::infinity());
+  for (std::size_t k = 0; k < links.size(); ++k)
+    for (const std::size_t object :
+         impl_->robot.linkObjects.at(static_cast<std::size_t>(links[k]))) {
+      QueryData data;
+      data.model = &impl_->model;
+      impl_->environment()->distance(impl_->robot.objects[object].get(), &data,
+                                     objectDistanceCallback);
+      distances[k] = std::min(distances[k], data.distance);
+    }
 }
 
 double CollisionChecker::selfClearance(const Eigen::VectorXd& q) {

@@ -103,6 +103,11 @@ bool distanceCallback(Object* o1, Object* o2, void* raw, double& minimum) {
   return data->distance <= 0.0;
 }
 
+bool objectDistanceCallback(Object* o1, Object* o2, void* raw, double& minimum) {
+  if (static_cast<const Tag*>(o1->getUserData())->link < 0) std::swap(o1, o2);
+  return distanceCallback(o1, o2, raw, minimum);
+}
+
 bool targetCallback(Object* o1, Object* o2, void* raw) {
   const Tag& a = *static_cast<const Tag*>(o1->getUserData());
   const Tag& b = *static_cast<const Tag*>(o2->getUserData());

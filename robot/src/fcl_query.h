@@ -85,6 +85,9 @@ bool collideCallback(Object* o1, Object* o2, void* raw);
 
 /// The smallest distance of a robot link from anything (QueryData::distance).
 bool distanceCallback(Object* o1, Object* o2, void* raw, double& minimum);
+/// distanceCallback for one robot object against the environment's
+/// manager, which passes its own object first: the robot's is put first.
+bool objectDistanceCallback(Object* o1, Object* o2, void* raw, double& minimum);
 
 /// The target against the obstacles.
 bool targetCallback(Object* o1, Object* o2, void* raw);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "core/invalid_argument.h"
 
@@ -34,45 +35,74 @@ SegmentCertificate certifySegment(CollisionChecker& checker, const MotionBound& 
     throw InvalidArgument("segment",
                           "ends must be " + std::to_string(dofs) + " finite joint values each");
   const Eigen::VectorXd step = b - a;
-  // How far any link, and any two links towards each other, move over the
-  // whole segment at most.
-  const double toEnvironment = bound.anyLink(step);
+  const bool still = step.isZero(0.0);
+  const RobotModel& model = checker.model();
+  // The links with shapes, and how far each moves over the whole segment
+  // at most; how much closer any two links can come.
+  std::vector<int> links;
+  std::vector<double> travel;
+  for (std::size_t l = 0; l < model.links().size(); ++l)
+    if (!model.links()[l].shapes.empty()) {
+      links.push_back(static_cast<int>(l));
+      travel.push_back(bound.link(static_cast<int>(l), step));
+    }
   const double toEachOther = bound.anyTwoLinks(step);
-  auto advance = [](double slack, double perSegment) {
-    return perSegment > 0.0 ? slack / perSegment : std::numeric_limits<double>::infinity();
+  auto advance = [&](double t, double slack, double perSegment) {
+    return still || perSegment <= 0.0 ? 1.0 : std::min(1.0, t + slack / perSegment);
   };
 
-  // The segment is proven up to `environmentUntil` against the environment
-  // and up to `selfUntil` against the robot's own links; each distance is
-  // measured again only where its own proof ends.
+  // Each link is proven against the environment up to its own `until`, the
+  // links against each other up to `selfUntil`; a distance is measured
+  // again only where its proof ends.
   SegmentCertificate certificate;
   certificate.clearance = std::numeric_limits<double>::infinity();
-  double environmentUntil = 0.0, selfUntil = 0.0;
-  const bool still = step.isZero(0.0);
-  while (std::min(environmentUntil, selfUntil) < 1.0 || certificate.queries == 0) {
-    const double t = std::min(environmentUntil, selfUntil);
+  std::vector<double> until(links.size(), 0.0), distances;
+  std::vector<int> due;
+  double selfUntil = 0.0;
+  auto measured = [&](double distance, double t, int link) {
+    if (distance < certificate.clearance) {
+      certificate.clearance = distance;
+      certificate.at = t;
+      certificate.nearest_link = link;
+    }
+    return distance - kDistanceTolerance - options.clearance;
+  };
+  while (true) {
+    const double t =
+        std::min(selfUntil, until.empty() ? 1.0 : *std::min_element(until.begin(), until.end()));
+    if (t >= 1.0 && certificate.queries > 0) break;
     if (certificate.queries >= options.max_queries) {
       certificate.exhausted = true;
       certificate.blocked_at = t;
       return certificate;
     }
     const Eigen::VectorXd q = t >= 1.0 ? b : Eigen::VectorXd(a + t * step);
-    const bool environmentDue = environmentUntil <= t;
-    const double distance = environmentDue ? checker.clearance(q) : checker.selfClearance(q);
-    ++certificate.queries;
-    certificate.self_queries += environmentDue ? 0 : 1;
-    if (distance < certificate.clearance) {
-      certificate.clearance = distance;
-      certificate.at = t;
+    due.clear();
+    for (std::size_t k = 0; k < links.size(); ++k)
+      if (until[k] <= t) due.push_back(links[k]);
+    if (!due.empty()) {
+      checker.linkClearances(q, due, distances);
+      certificate.queries += due.size();
+      for (std::size_t k = 0, d = 0; k < links.size(); ++k) {
+        if (until[k] > t) continue;
+        const double slack = measured(distances[d++], t, links[k]);
+        if (slack <= kBlockingSlack) {
+          certificate.blocked_at = t;
+          return certificate;
+        }
+        until[k] = advance(t, slack, travel[k]);
+      }
     }
-    const double slack = distance - kDistanceTolerance - options.clearance;
-    if (slack <= kBlockingSlack) {
-      certificate.blocked_at = t;
-      return certificate;
+    if (selfUntil <= t) {
+      ++certificate.queries;
+      ++certificate.self_queries;
+      const double slack = measured(checker.selfClearance(q), t, -1);
+      if (slack <= kBlockingSlack) {
+        certificate.blocked_at = t;
+        return certificate;
+      }
+      selfUntil = advance(t, slack, toEachOther);
     }
-    double& until = environmentDue ? environmentUntil : selfUntil;
-    until = still ? 1.0
-                  : std::min(1.0, t + advance(slack, environmentDue ? toEnvironment : toEachOther));
   }
   certificate.free = true;
   return certificate;

@@ -232,14 +232,15 @@ TEST(SegmentCertificate, AgreesWithADenseSweepInEveryBundledScene) {
       options.clearance = segments % 2 == 0 ? 0.0 : 0.005;
       const SegmentCertificate certificate = certifySegment(checker, bound, a, b, options);
       const Eigen::VectorXd at = a + certificate.at * (b - a);
-      // FCL's distance there, to the environment or between the links.
-      const double environment = checker.clearance(at), self = checker.selfClearance(at);
-      EXPECT_NEAR(
-          certificate.clearance,
-          std::abs(certificate.clearance - environment) < std::abs(certificate.clearance - self)
-              ? environment
-              : self,
-          1e-6);
+      // FCL's distance there, from the link reported or between the links.
+      if (certificate.nearest_link >= 0) {
+        std::vector<double> distance;
+        checker.linkClearances(at, {certificate.nearest_link}, distance);
+        EXPECT_NEAR(certificate.clearance, distance[0], 1e-6);
+      } else {
+        EXPECT_NEAR(certificate.clearance, checker.selfClearance(at), 1e-6);
+      }
+      EXPECT_GE(certificate.clearance, distanceToEverything(checker, at) - 1e-6);
       double swept = 1e9;
       for (int i = 0; i <= 200; ++i)
         swept = std::min(swept, distanceToEverything(checker, a + (b - a) * (i / 200.0)));
@@ -274,11 +275,14 @@ TEST(SegmentCertificate, ChecksItsArguments) {
     EXPECT_EQ(e.field(), "clearance");
   }
   EXPECT_THROW(certifySegment(checker, bound, q, Eigen::VectorXd::Zero(2)), InvalidArgument);
-  // A segment of no length is its one state: one distance to the
-  // environment, one between the links.
+  // A segment of no length is its one state: a distance from every link
+  // with shapes to the environment, one between the links.
   const SegmentCertificate still = certifySegment(checker, bound, q, q);
   EXPECT_TRUE(still.free);
-  EXPECT_EQ(still.queries, 2u);
+  std::size_t shaped = 0;
+  for (const Link& link : kr5().links()) shaped += link.shapes.empty() ? 0 : 1;
+  EXPECT_EQ(still.queries, shaped + 1);
+  EXPECT_EQ(still.self_queries, 1u);
 }
 
 }  // namespace

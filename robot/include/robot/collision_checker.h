@@ -152,6 +152,11 @@ class CollisionChecker {
   /// Smallest distance between the robot and the environment including the
   /// target object (m); 0 when in collision.
   double clearance(const Eigen::VectorXd& q);
+  /// For each of `links`, the smallest distance (m) between its shapes and
+  /// the environment including the target, in `distances` (same order;
+  /// infinity for a link without shapes, 0 where it touches).
+  void linkClearances(const Eigen::VectorXd& q, const std::vector<int>& links,
+                      std::vector<double>& distances);
   /// Smallest distance between two of the robot's links that may collide
   /// (pairs not disabled in the config) (m); 0 when two of them touch.
   double selfClearance(const Eigen::VectorXd& q);

@@ -35,8 +35,10 @@ struct SegmentCertificate {
   /// smallest clearance is at most this, and at least options.clearance
   /// when free.
   double clearance = 0.0;
-  /// Where along the segment (0 at a, 1 at b) it was measured.
+  /// Where along the segment (0 at a, 1 at b) it was measured, and from
+  /// which link to the environment (-1: between two links).
   double at = 0.0;
+  int nearest_link = -1;
   /// Not free: where the first state closer than options.clearance lies,
   /// or where the steps became too short to go on (exhausted).
   double blocked_at = -1.0;
