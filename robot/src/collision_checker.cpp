@@ -368,6 +368,23 @@ void CollisionChecker::linkClearances(const Eigen::VectorXd& q, const std::vecto
     }
 }
 
+void CollisionChecker::pairClearances(const Eigen::VectorXd& q,
+                                      const std::vector<std::pair<int, int>>& pairs,
+                                      std::vector<double>& distances) {
+  impl_->place(q);
+  const RobotObjects& robot = impl_->robot;
+  distances.assign(pairs.size(), std::numeric_limits<double>::infinity());
+  for (std::size_t k = 0; k < pairs.size(); ++k)
+    for (const std::size_t i : robot.linkObjects.at(static_cast<std::size_t>(pairs[k].first)))
+      for (const std::size_t j : robot.linkObjects.at(static_cast<std::size_t>(pairs[k].second))) {
+        fcl::DistanceRequestd request;
+        fcl::DistanceResultd result;
+        fcl::distance(robot.objects[std::min(i, j)].get(), robot.objects[std::max(i, j)].get(),
+                      request, result);
+        distances[k] = std::min(distances[k], std::max(0.0, result.min_distance));
+      }
+}
+
 double CollisionChecker::selfClearance(const Eigen::VectorXd& q) {
   impl_->place(q);
   QueryData data;

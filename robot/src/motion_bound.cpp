@@ -32,7 +32,8 @@ double largestValue(const RobotModel& model, const Joint& joint) {
 
 MotionBound::MotionBound(const RobotModel& model)
     : coefficients_(
-          Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(model.links().size()), model.numDofs())) {
+          Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(model.links().size()), model.numDofs())),
+      chains_(model.links().size()) {
   for (std::size_t l = 0; l < model.links().size(); ++l) {
     const Link& link = model.links()[l];
     if (link.shapes.empty()) continue;
@@ -43,8 +44,11 @@ MotionBound::MotionBound(const RobotModel& model)
       const Joint& joint = model.joints()[static_cast<std::size_t>(j)];
       if (joint.dof >= 0 && joint.type != Joint::Type::kFixed) {
         const double perUnit = joint.type == Joint::Type::kRevolute ? reach : joint.slide.norm();
-        coefficients_(static_cast<Eigen::Index>(l), joint.dof) +=
-            std::abs(joint.multiplier) * perUnit;
+        const double coefficient = std::abs(joint.multiplier) * perUnit;
+        coefficients_(static_cast<Eigen::Index>(l), joint.dof) += coefficient;
+        chains_[l].push_back({j, joint.dof, coefficient});
+      } else {
+        chains_[l].push_back({j, -1, 0.0});  // on the chain all the same: marks the ancestors
       }
       // The child frame's origin in the parent link's frame lies at the
       // joint's origin, moved along the slide for a prismatic joint.
@@ -56,11 +60,32 @@ MotionBound::MotionBound(const RobotModel& model)
   }
 }
 
-double MotionBound::link(int link, const Eigen::VectorXd& step) const {
+void MotionBound::checkStep(const Eigen::VectorXd& step) const {
   if (step.size() != coefficients_.cols())
     throw std::invalid_argument("MotionBound: a step of " + std::to_string(step.size()) +
                                 " values for " + std::to_string(coefficients_.cols()) + " DoFs");
+}
+
+double MotionBound::link(int link, const Eigen::VectorXd& step) const {
+  checkStep(step);
   return coefficients_.row(link).dot(step.cwiseAbs());
+}
+
+double MotionBound::pair(int a, int b, const Eigen::VectorXd& step) const {
+  checkStep(step);
+  const std::vector<ChainJoint>& chainA = chains_.at(static_cast<std::size_t>(a));
+  const std::vector<ChainJoint>& chainB = chains_.at(static_cast<std::size_t>(b));
+  auto on = [](const std::vector<ChainJoint>& chain, int joint) {
+    return std::any_of(chain.begin(), chain.end(),
+                       [joint](const ChainJoint& c) { return c.joint == joint; });
+  };
+  // A joint on both chains lies above the common ancestor.
+  double travel = 0.0;
+  for (const ChainJoint& c : chainA)
+    if (c.dof >= 0 && !on(chainB, c.joint)) travel += c.coefficient * std::abs(step(c.dof));
+  for (const ChainJoint& c : chainB)
+    if (c.dof >= 0 && !on(chainA, c.joint)) travel += c.coefficient * std::abs(step(c.dof));
+  return travel;
 }
 
 double MotionBound::anyLink(const Eigen::VectorXd& step) const {

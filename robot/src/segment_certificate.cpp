@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/invalid_argument.h"
@@ -46,30 +47,41 @@ SegmentCertificate certifySegment(CollisionChecker& checker, const MotionBound& 
       links.push_back(static_cast<int>(l));
       travel.push_back(bound.link(static_cast<int>(l), step));
     }
-  const double toEachOther = bound.anyTwoLinks(step);
+  // The link pairs that may collide, and how much closer each can come.
+  std::vector<std::pair<int, int>> pairs;
+  std::vector<double> closing;
+  for (std::size_t i = 0; i < links.size(); ++i)
+    for (std::size_t k = i + 1; k < links.size(); ++k)
+      if (!model.isCollisionDisabled(links[i], links[k])) {
+        pairs.emplace_back(links[i], links[k]);
+        closing.push_back(bound.pair(links[i], links[k], step));
+      }
   auto advance = [&](double t, double slack, double perSegment) {
     return still || perSegment <= 0.0 ? 1.0 : std::min(1.0, t + slack / perSegment);
   };
 
-  // Each link is proven against the environment up to its own `until`, the
-  // links against each other up to `selfUntil`; a distance is measured
-  // again only where its proof ends.
+  // Each link is proven against the environment up to its own `until`,
+  // each pair of links against each other up to its `pairUntil`; a
+  // distance is measured again only where its proof ends.
   SegmentCertificate certificate;
   certificate.clearance = std::numeric_limits<double>::infinity();
-  std::vector<double> until(links.size(), 0.0), distances;
+  std::vector<double> until(links.size(), 0.0), pairUntil(pairs.size(), 0.0), distances;
   std::vector<int> due;
-  double selfUntil = 0.0;
-  auto measured = [&](double distance, double t, int link) {
+  std::vector<std::pair<int, int>> duePairs;
+  auto measured = [&](double distance, double t, int link, int other) {
     if (distance < certificate.clearance) {
       certificate.clearance = distance;
       certificate.at = t;
       certificate.nearest_link = link;
+      certificate.nearest_other_link = other;
     }
     return distance - kDistanceTolerance - options.clearance;
   };
+  auto earliest = [](const std::vector<double>& v) {
+    return v.empty() ? 1.0 : *std::min_element(v.begin(), v.end());
+  };
   while (true) {
-    const double t =
-        std::min(selfUntil, until.empty() ? 1.0 : *std::min_element(until.begin(), until.end()));
+    const double t = std::min(earliest(until), earliest(pairUntil));
     if (t >= 1.0 && certificate.queries > 0) break;
     if (certificate.queries >= options.max_queries) {
       certificate.exhausted = true;
@@ -85,7 +97,7 @@ SegmentCertificate certifySegment(CollisionChecker& checker, const MotionBound& 
       certificate.queries += due.size();
       for (std::size_t k = 0, d = 0; k < links.size(); ++k) {
         if (until[k] > t) continue;
-        const double slack = measured(distances[d++], t, links[k]);
+        const double slack = measured(distances[d++], t, links[k], -1);
         if (slack <= kBlockingSlack) {
           certificate.blocked_at = t;
           return certificate;
@@ -93,15 +105,22 @@ SegmentCertificate certifySegment(CollisionChecker& checker, const MotionBound& 
         until[k] = advance(t, slack, travel[k]);
       }
     }
-    if (selfUntil <= t) {
-      ++certificate.queries;
-      ++certificate.self_queries;
-      const double slack = measured(checker.selfClearance(q), t, -1);
-      if (slack <= kBlockingSlack) {
-        certificate.blocked_at = t;
-        return certificate;
+    duePairs.clear();
+    for (std::size_t k = 0; k < pairs.size(); ++k)
+      if (pairUntil[k] <= t) duePairs.push_back(pairs[k]);
+    if (!duePairs.empty()) {
+      checker.pairClearances(q, duePairs, distances);
+      certificate.queries += duePairs.size();
+      certificate.self_queries += duePairs.size();
+      for (std::size_t k = 0, d = 0; k < pairs.size(); ++k) {
+        if (pairUntil[k] > t) continue;
+        const double slack = measured(distances[d++], t, pairs[k].first, pairs[k].second);
+        if (slack <= kBlockingSlack) {
+          certificate.blocked_at = t;
+          return certificate;
+        }
+        pairUntil[k] = advance(t, slack, closing[k]);
       }
-      selfUntil = advance(t, slack, toEachOther);
     }
   }
   certificate.free = true;

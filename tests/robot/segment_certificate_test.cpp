@@ -98,6 +98,37 @@ TEST(MotionBound, NoPointOfAnyLinkTravelsFartherThanTheBound) {
   }
 }
 
+TEST(MotionBound, NoTwoLinksComeCloserThanTheirPairBound) {
+  // The distance between a point of one link and a point of another
+  // changes by at most the pair bound; two fingers of a hand whose joints
+  // do not move keep their distance (bound 0) while the arm moves.
+  const RobotModel& model = kr5();
+  const MotionBound bound(model);
+  std::mt19937_64 rng(5);
+  for (int trial = 0; trial < 40; ++trial) {
+    const Eigen::VectorXd a = randomConfiguration(model, rng);
+    const Eigen::VectorXd b = a + 0.3 * (randomConfiguration(model, rng) - a);
+    const LinkPoses pa = forwardKinematics(model, a), pb = forwardKinematics(model, b);
+    for (std::size_t i = 0; i < model.links().size(); ++i)
+      for (std::size_t k = i + 1; k < model.links().size(); ++k) {
+        if (model.links()[i].shapes.empty() || model.links()[k].shapes.empty()) continue;
+        const double limit = bound.pair(static_cast<int>(i), static_cast<int>(k), b - a);
+        for (const Eigen::Vector3d& p : shapePoints(model.links()[i].shapes[0]))
+          for (const Eigen::Vector3d& r : shapePoints(model.links()[k].shapes[0])) {
+            const double before = (pa[i] * p - pa[k] * r).norm();
+            const double after = (pb[i] * p - pb[k] * r).norm();
+            EXPECT_LE(std::abs(after - before), limit + 1e-9)
+                << model.links()[i].name << " / " << model.links()[k].name;
+          }
+      }
+  }
+  Eigen::VectorXd armOnly = Eigen::VectorXd::Zero(model.numDofs());
+  armOnly.head(model.numArmDofs()).setConstant(0.2);
+  const int tipA = model.fingertips()[0].link, tipB = model.fingertips()[1].link;
+  EXPECT_EQ(bound.pair(tipA, tipB, armOnly), 0.0);
+  EXPECT_GT(bound.link(tipA, armOnly), 0.0);
+}
+
 TEST(MotionBound, TwoLinksTogetherAndSizeChecked) {
   const MotionBound bound(kr5());
   Eigen::VectorXd step = Eigen::VectorXd::Zero(kr5().numDofs());
@@ -232,15 +263,20 @@ TEST(SegmentCertificate, AgreesWithADenseSweepInEveryBundledScene) {
       options.clearance = segments % 2 == 0 ? 0.0 : 0.005;
       const SegmentCertificate certificate = certifySegment(checker, bound, a, b, options);
       const Eigen::VectorXd at = a + certificate.at * (b - a);
-      // FCL's distance there, from the link reported or between the links.
-      if (certificate.nearest_link >= 0) {
-        std::vector<double> distance;
+      // FCL's distance there, between the link and the environment or the
+      // two links reported.
+      std::vector<double> distance;
+      if (certificate.nearest_other_link < 0)
         checker.linkClearances(at, {certificate.nearest_link}, distance);
-        EXPECT_NEAR(certificate.clearance, distance[0], 1e-6);
-      } else {
-        EXPECT_NEAR(certificate.clearance, checker.selfClearance(at), 1e-6);
-      }
-      EXPECT_GE(certificate.clearance, distanceToEverything(checker, at) - 1e-6);
+      else
+        checker.pairClearances(at, {{certificate.nearest_link, certificate.nearest_other_link}},
+                               distance);
+      ASSERT_EQ(distance.size(), 1u);
+      EXPECT_NEAR(certificate.clearance, distance[0], 1e-6);
+      // Not below the smallest distance there, as the broadphase queries
+      // find it: FCL's solver answers the same pair through another path
+      // within its tolerance (5e-6 seen), 1e-5 in certifySegment.
+      EXPECT_GE(certificate.clearance, distanceToEverything(checker, at) - 1e-5);
       double swept = 1e9;
       for (int i = 0; i <= 200; ++i)
         swept = std::min(swept, distanceToEverything(checker, a + (b - a) * (i / 200.0)));
@@ -279,10 +315,16 @@ TEST(SegmentCertificate, ChecksItsArguments) {
   // with shapes to the environment, one between the links.
   const SegmentCertificate still = certifySegment(checker, bound, q, q);
   EXPECT_TRUE(still.free);
-  std::size_t shaped = 0;
-  for (const Link& link : kr5().links()) shaped += link.shapes.empty() ? 0 : 1;
-  EXPECT_EQ(still.queries, shaped + 1);
-  EXPECT_EQ(still.self_queries, 1u);
+  std::vector<int> shaped;
+  for (std::size_t l = 0; l < kr5().links().size(); ++l)
+    if (!kr5().links()[l].shapes.empty()) shaped.push_back(static_cast<int>(l));
+  std::size_t pairs = 0;
+  for (std::size_t i = 0; i < shaped.size(); ++i)
+    for (std::size_t k = i + 1; k < shaped.size(); ++k)
+      pairs += kr5().isCollisionDisabled(shaped[i], shaped[k]) ? 0 : 1;
+  EXPECT_EQ(still.queries, shaped.size() + pairs);
+  EXPECT_EQ(still.self_queries, pairs);
+  EXPECT_GT(pairs, 0u);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hfts_db/object_database.h"
@@ -156,6 +157,11 @@ class CollisionChecker {
   /// the environment including the target, in `distances` (same order;
   /// infinity for a link without shapes, 0 where it touches).
   void linkClearances(const Eigen::VectorXd& q, const std::vector<int>& links,
+                      std::vector<double>& distances);
+  /// For each link pair of `pairs`, the smallest distance (m) between their
+  /// shapes in `distances` (same order; 0 where they touch), whether or not
+  /// the config disables the pair.
+  void pairClearances(const Eigen::VectorXd& q, const std::vector<std::pair<int, int>>& pairs,
                       std::vector<double>& distances);
   /// Smallest distance between two of the robot's links that may collide
   /// (pairs not disabled in the config) (m); 0 when two of them touch.

@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include <vector>
+
 #include "robot/robot_model.h"
 
 namespace hfts::robot {
@@ -32,12 +34,27 @@ class MotionBound {
   /// links can come to each other over the step.
   double anyTwoLinks(const Eigen::VectorXd& step) const;
 
+  /// Upper bound (m) on how much closer any point of link `a` can come to
+  /// any point of link `b` over the step: the travel of each relative to
+  /// their nearest common ancestor link, added (the joints above it move
+  /// both alike).
+  double pair(int a, int b, const Eigen::VectorXd& step) const;
+
   /// Metres per unit of each DoF (rows: links, columns: DoFs); a row of
   /// zeros for a link without shapes or one no DoF moves.
   const Eigen::MatrixXd& coefficients() const { return coefficients_; }
 
  private:
+  /// One joint's share of a link's coefficients.
+  struct ChainJoint {
+    int joint = -1;
+    int dof = -1;
+    double coefficient = 0.0;  ///< metres per unit of the DoF
+  };
+  void checkStep(const Eigen::VectorXd& step) const;
+
   Eigen::MatrixXd coefficients_;
+  std::vector<std::vector<ChainJoint>> chains_;  ///< per link, its joints bottom up
 };
 
 /// The largest distance (m) from a link's frame origin to a point of its

@@ -35,16 +35,17 @@ struct SegmentCertificate {
   /// smallest clearance is at most this, and at least options.clearance
   /// when free.
   double clearance = 0.0;
-  /// Where along the segment (0 at a, 1 at b) it was measured, and from
-  /// which link to the environment (-1: between two links).
+  /// Where along the segment (0 at a, 1 at b) it was measured, and
+  /// between what: a link and the environment (other link -1), or two links.
   double at = 0.0;
   int nearest_link = -1;
+  int nearest_other_link = -1;
   /// Not free: where the first state closer than options.clearance lies,
   /// or where the steps became too short to go on (exhausted).
   double blocked_at = -1.0;
   bool exhausted = false;        ///< given up after options.max_queries queries
   std::size_t queries = 0;       ///< distance queries made (environment or self)
-  std::size_t self_queries = 0;  ///< of queries, those between the links
+  std::size_t self_queries = 0;  ///< of queries, those between two links
 };
 
 /// Certifies the straight segment a -> b against everything `checker`
