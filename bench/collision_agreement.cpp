@@ -93,6 +93,7 @@ class Comparison {
   }
 
   robot::CollisionChecker& fcl() { return fcl_; }
+  robot::CollisionChecker& tiers() { return tiers_; }
   std::uint64_t settled() const { return tiers_.sphereSettledCount(); }
 
  private:
@@ -168,16 +169,17 @@ std::pair<Eigen::VectorXd, Eigen::VectorXd> randomMotion(const robot::RobotModel
 }
 
 /// Certified segments against a dense sweep: a segment certified free
-/// whose sweep (FCL alone, `sweep` + 1 states, strict rule) finds a
-/// collision is a disagreement.
+/// whose sweep (`sweep` + 1 states, strict rule, the two-tier checker: FCL
+/// decides every state whose spheres touch, and its answers are FCL
+/// alone's, the comparison above) finds a collision is a disagreement.
 struct CertifiedTally {
   long segments = 0, free = 0, disagreements = 0, queries = 0, selfQueries = 0;
   double seconds = 0;
 };
 
 void compareCertified(const robot::RobotModel& m, const robot::MotionBound& bound,
-                      robot::CollisionChecker& checker, int sweep, std::mt19937_64& rng,
-                      CertifiedTally& tally) {
+                      robot::CollisionChecker& checker, robot::CollisionChecker& sweeper, int sweep,
+                      std::mt19937_64& rng, CertifiedTally& tally) {
   const auto [a, b] = randomMotion(m, checker, rng);
   const auto t0 = std::chrono::steady_clock::now();
   const robot::SegmentCertificate certificate = robot::certifySegment(checker, bound, a, b);
@@ -189,7 +191,7 @@ void compareCertified(const robot::RobotModel& m, const robot::MotionBound& boun
   ++tally.free;
   for (int s = 0; s <= sweep; ++s) {
     const double t = static_cast<double>(s) / sweep;
-    if (!checker.inCollision(a + t * (b - a))) continue;
+    if (!sweeper.inCollision(a + t * (b - a))) continue;
     ++tally.disagreements;
     std::fprintf(stderr, "certified free, but the sweep collides at t = %.6f\n", t);
     return;
@@ -282,7 +284,7 @@ int main(int argc, char** argv) {
         const robot::MotionBound bound(model);
         CertifiedTally ct;
         for (long i = 0; i < certified; ++i)
-          compareCertified(model, bound, c.fcl(), sweep, rng, ct);
+          compareCertified(model, bound, c.fcl(), c.tiers(), sweep, rng, ct);
         std::printf(
             "  certifySegment: %ld segments, %ld certified free, %ld disagreements with a "
             "%d-state sweep; %.1f distance queries (%.1f between links) and %.0f us per segment\n",
