@@ -355,8 +355,9 @@ double CollisionChecker::clearance(const Eigen::VectorXd& q) {
 
 void CollisionChecker::linkClearances(const Eigen::VectorXd& q, const std::vector<int>& links,
                                       std::vector<double>& distances) {
-  impl_->place(q);
   distances.assign(links.size(), std::numeric_limits<double>::infinity());
+  if (links.empty()) return;
+  impl_->place(q);
   for (std::size_t k = 0; k < links.size(); ++k)
     for (const std::size_t object :
          impl_->robot.linkObjects.at(static_cast<std::size_t>(links[k]))) {
@@ -371,9 +372,10 @@ void CollisionChecker::linkClearances(const Eigen::VectorXd& q, const std::vecto
 void CollisionChecker::pairClearances(const Eigen::VectorXd& q,
                                       const std::vector<std::pair<int, int>>& pairs,
                                       std::vector<double>& distances) {
+  distances.assign(pairs.size(), std::numeric_limits<double>::infinity());
+  if (pairs.empty()) return;
   impl_->place(q);
   const RobotObjects& robot = impl_->robot;
-  distances.assign(pairs.size(), std::numeric_limits<double>::infinity());
   for (std::size_t k = 0; k < pairs.size(); ++k)
     for (const std::size_t i : robot.linkObjects.at(static_cast<std::size_t>(pairs[k].first)))
       for (const std::size_t j : robot.linkObjects.at(static_cast<std::size_t>(pairs[k].second))) {

@@ -38,50 +38,32 @@ SegmentCertificate certifySegment(CollisionChecker& checker, const MotionBound& 
   const Eigen::VectorXd step = b - a;
   const bool still = step.isZero(0.0);
   const RobotModel& model = checker.model();
-  // The links with shapes, and how far each moves over the whole segment
-  // at most; how much closer any two links can come.
+  // A proof per link with shapes against the environment (other -1) and
+  // per link pair that may collide, each with how far its link moves (or
+  // its links come closer) over the whole segment at most. Each holds up
+  // to its own `until`; its distance is measured again only there.
+  struct Proof {
+    int link = -1, other = -1;
+    double travel = 0.0, until = 0.0;
+  };
+  std::vector<Proof> proofs;
   std::vector<int> links;
-  std::vector<double> travel;
   for (std::size_t l = 0; l < model.links().size(); ++l)
-    if (!model.links()[l].shapes.empty()) {
-      links.push_back(static_cast<int>(l));
-      travel.push_back(bound.link(static_cast<int>(l), step));
-    }
-  // The link pairs that may collide, and how much closer each can come.
-  std::vector<std::pair<int, int>> pairs;
-  std::vector<double> closing;
+    if (!model.links()[l].shapes.empty()) links.push_back(static_cast<int>(l));
+  for (const int link : links) proofs.push_back({link, -1, bound.link(link, step)});
   for (std::size_t i = 0; i < links.size(); ++i)
     for (std::size_t k = i + 1; k < links.size(); ++k)
-      if (!model.isCollisionDisabled(links[i], links[k])) {
-        pairs.emplace_back(links[i], links[k]);
-        closing.push_back(bound.pair(links[i], links[k], step));
-      }
-  auto advance = [&](double t, double slack, double perSegment) {
-    return still || perSegment <= 0.0 ? 1.0 : std::min(1.0, t + slack / perSegment);
-  };
+      if (!model.isCollisionDisabled(links[i], links[k]))
+        proofs.push_back({links[i], links[k], bound.pair(links[i], links[k], step)});
 
-  // Each link is proven against the environment up to its own `until`,
-  // each pair of links against each other up to its `pairUntil`; a
-  // distance is measured again only where its proof ends.
   SegmentCertificate certificate;
   certificate.clearance = std::numeric_limits<double>::infinity();
-  std::vector<double> until(links.size(), 0.0), pairUntil(pairs.size(), 0.0), distances;
-  std::vector<int> due;
+  std::vector<int> dueLinks;
   std::vector<std::pair<int, int>> duePairs;
-  auto measured = [&](double distance, double t, int link, int other) {
-    if (distance < certificate.clearance) {
-      certificate.clearance = distance;
-      certificate.at = t;
-      certificate.nearest_link = link;
-      certificate.nearest_other_link = other;
-    }
-    return distance - kDistanceTolerance - options.clearance;
-  };
-  auto earliest = [](const std::vector<double>& v) {
-    return v.empty() ? 1.0 : *std::min_element(v.begin(), v.end());
-  };
+  std::vector<double> linkDistances, pairDistances;
   while (true) {
-    const double t = std::min(earliest(until), earliest(pairUntil));
+    double t = 1.0;
+    for (const Proof& proof : proofs) t = std::min(t, proof.until);
     if (t >= 1.0 && certificate.queries > 0) break;
     if (certificate.queries >= options.max_queries) {
       certificate.exhausted = true;
@@ -89,38 +71,36 @@ SegmentCertificate certifySegment(CollisionChecker& checker, const MotionBound& 
       return certificate;
     }
     const Eigen::VectorXd q = t >= 1.0 ? b : Eigen::VectorXd(a + t * step);
-    due.clear();
-    for (std::size_t k = 0; k < links.size(); ++k)
-      if (until[k] <= t) due.push_back(links[k]);
-    if (!due.empty()) {
-      checker.linkClearances(q, due, distances);
-      certificate.queries += due.size();
-      for (std::size_t k = 0, d = 0; k < links.size(); ++k) {
-        if (until[k] > t) continue;
-        const double slack = measured(distances[d++], t, links[k], -1);
-        if (slack <= kBlockingSlack) {
-          certificate.blocked_at = t;
-          return certificate;
-        }
-        until[k] = advance(t, slack, travel[k]);
-      }
-    }
+    dueLinks.clear();
     duePairs.clear();
-    for (std::size_t k = 0; k < pairs.size(); ++k)
-      if (pairUntil[k] <= t) duePairs.push_back(pairs[k]);
-    if (!duePairs.empty()) {
-      checker.pairClearances(q, duePairs, distances);
-      certificate.queries += duePairs.size();
-      certificate.self_queries += duePairs.size();
-      for (std::size_t k = 0, d = 0; k < pairs.size(); ++k) {
-        if (pairUntil[k] > t) continue;
-        const double slack = measured(distances[d++], t, pairs[k].first, pairs[k].second);
-        if (slack <= kBlockingSlack) {
-          certificate.blocked_at = t;
-          return certificate;
-        }
-        pairUntil[k] = advance(t, slack, closing[k]);
+    for (const Proof& proof : proofs)
+      if (proof.until <= t) {
+        if (proof.other < 0)
+          dueLinks.push_back(proof.link);
+        else
+          duePairs.emplace_back(proof.link, proof.other);
       }
+    checker.linkClearances(q, dueLinks, linkDistances);
+    checker.pairClearances(q, duePairs, pairDistances);
+    certificate.queries += dueLinks.size() + duePairs.size();
+    certificate.self_queries += duePairs.size();
+    std::size_t nextLink = 0, nextPair = 0;
+    for (Proof& proof : proofs) {
+      if (proof.until > t) continue;
+      const double distance =
+          proof.other < 0 ? linkDistances[nextLink++] : pairDistances[nextPair++];
+      if (distance < certificate.clearance) {
+        certificate.clearance = distance;
+        certificate.at = t;
+        certificate.nearest_link = proof.link;
+        certificate.nearest_other_link = proof.other;
+      }
+      const double slack = distance - kDistanceTolerance - options.clearance;
+      if (slack <= kBlockingSlack) {
+        certificate.blocked_at = t;
+        return certificate;
+      }
+      proof.until = still || proof.travel <= 0.0 ? 1.0 : std::min(1.0, t + slack / proof.travel);
     }
   }
   certificate.free = true;
