@@ -135,27 +135,8 @@ bool isFingertip(const robot::RobotModel& m, const std::string& link) {
   });
 }
 
-/// A collision-free start and an end 0.5 rad away (Eq. (3) metric), inside
-/// the limits; every state at `resolution` compared.
-void compareMotion(const robot::RobotModel& m, Comparison& c, double resolution,
-                   std::mt19937_64& rng, Tally& tally) {
-  Eigen::VectorXd a = uniform(m, rng);
-  while (c.fcl().inCollision(a)) a = uniform(m, rng);
-  std::normal_distribution<double> n;
-  Eigen::VectorXd direction(m.numDofs());
-  for (int d = 0; d < m.numDofs(); ++d) direction(d) = n(rng);
-  direction *= 0.5 / c.fcl().metric().distance(Eigen::VectorXd::Zero(m.numDofs()), direction);
-  const Eigen::VectorXd b = (a + direction).cwiseMax(m.lowerLimits()).cwiseMin(m.upperLimits());
-  const int steps =
-      std::max(1, static_cast<int>(std::ceil(c.fcl().metric().distance(a, b) / resolution)));
-  for (int s = 0; s <= steps; ++s) c.compare(a + (b - a) * (static_cast<double>(s) / steps), tally);
-  tally.states += steps + 1;
-  ++tally.motions;
-  for (const double r : {resolution, 0.0025}) c.compareValidation(a, b, r, tally.validations[r]);
-}
-
 /// A collision-free start and an end 0.5 rad away (Eq. (3) metric, inside
-/// the limits), as compareMotion draws them.
+/// the limits).
 std::pair<Eigen::VectorXd, Eigen::VectorXd> randomMotion(const robot::RobotModel& m,
                                                          robot::CollisionChecker& checker,
                                                          std::mt19937_64& rng) {
@@ -166,6 +147,18 @@ std::pair<Eigen::VectorXd, Eigen::VectorXd> randomMotion(const robot::RobotModel
   for (int d = 0; d < m.numDofs(); ++d) direction(d) = n(rng);
   direction *= 0.5 / checker.metric().distance(Eigen::VectorXd::Zero(m.numDofs()), direction);
   return {a, (a + direction).cwiseMax(m.lowerLimits()).cwiseMin(m.upperLimits())};
+}
+
+/// A random motion (randomMotion); every state at `resolution` compared.
+void compareMotion(const robot::RobotModel& m, Comparison& c, double resolution,
+                   std::mt19937_64& rng, Tally& tally) {
+  const auto [a, b] = randomMotion(m, c.fcl(), rng);
+  const int steps =
+      std::max(1, static_cast<int>(std::ceil(c.fcl().metric().distance(a, b) / resolution)));
+  for (int s = 0; s <= steps; ++s) c.compare(a + (b - a) * (static_cast<double>(s) / steps), tally);
+  tally.states += steps + 1;
+  ++tally.motions;
+  for (const double r : {resolution, 0.0025}) c.compareValidation(a, b, r, tally.validations[r]);
 }
 
 /// Certified segments against a dense sweep: a segment certified free

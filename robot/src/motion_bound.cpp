@@ -6,7 +6,10 @@
 #include <string>
 
 namespace hfts::robot {
+namespace {
 
+/// The largest distance (m) from a link's frame origin to a point of its
+/// collision shapes; 0 for a link without shapes.
 double linkReach(const Link& link) {
   double reach = 0.0;
   for (const CollisionShape& shape : link.shapes) {
@@ -18,8 +21,6 @@ double linkReach(const Link& link) {
   }
   return reach;
 }
-
-namespace {
 
 /// The largest |value| joint `joint` takes over the limits of its DoF.
 double largestValue(const RobotModel& model, const Joint& joint) {
@@ -60,21 +61,25 @@ MotionBound::MotionBound(const RobotModel& model)
   }
 }
 
-void MotionBound::checkStep(const Eigen::VectorXd& step) const {
+void MotionBound::check(int link, const Eigen::VectorXd& step) const {
+  if (link < 0 || link >= coefficients_.rows())
+    throw std::invalid_argument("MotionBound: no link " + std::to_string(link) +
+                                " (the robot has " + std::to_string(coefficients_.rows()) + ")");
   if (step.size() != coefficients_.cols())
     throw std::invalid_argument("MotionBound: a step of " + std::to_string(step.size()) +
                                 " values for " + std::to_string(coefficients_.cols()) + " DoFs");
 }
 
 double MotionBound::link(int link, const Eigen::VectorXd& step) const {
-  checkStep(step);
+  check(link, step);
   return coefficients_.row(link).dot(step.cwiseAbs());
 }
 
 double MotionBound::pair(int a, int b, const Eigen::VectorXd& step) const {
-  checkStep(step);
-  const std::vector<ChainJoint>& chainA = chains_.at(static_cast<std::size_t>(a));
-  const std::vector<ChainJoint>& chainB = chains_.at(static_cast<std::size_t>(b));
+  check(a, step);
+  check(b, step);
+  const std::vector<ChainJoint>& chainA = chains_[static_cast<std::size_t>(a)];
+  const std::vector<ChainJoint>& chainB = chains_[static_cast<std::size_t>(b)];
   auto on = [](const std::vector<ChainJoint>& chain, int joint) {
     return std::any_of(chain.begin(), chain.end(),
                        [joint](const ChainJoint& c) { return c.joint == joint; });
@@ -86,27 +91,6 @@ double MotionBound::pair(int a, int b, const Eigen::VectorXd& step) const {
   for (const ChainJoint& c : chainB)
     if (c.dof >= 0 && !on(chainA, c.joint)) travel += c.coefficient * std::abs(step(c.dof));
   return travel;
-}
-
-double MotionBound::anyLink(const Eigen::VectorXd& step) const {
-  double largest = 0.0;
-  for (Eigen::Index l = 0; l < coefficients_.rows(); ++l)
-    largest = std::max(largest, link(static_cast<int>(l), step));
-  return largest;
-}
-
-double MotionBound::anyTwoLinks(const Eigen::VectorXd& step) const {
-  double first = 0.0, second = 0.0;
-  for (Eigen::Index l = 0; l < coefficients_.rows(); ++l) {
-    const double b = link(static_cast<int>(l), step);
-    if (b > first) {
-      second = first;
-      first = b;
-    } else if (b > second) {
-      second = b;
-    }
-  }
-  return first + second;
 }
 
 }  // namespace hfts::robot

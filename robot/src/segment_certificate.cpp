@@ -65,7 +65,7 @@ SegmentCertificate certifySegment(CollisionChecker& checker, const MotionBound& 
   while (true) {
     double t = 1.0;
     for (const Proof& proof : proofs) t = std::min(t, proof.until);
-    if (t >= 1.0 && certificate.queries > 0) break;
+    if (t >= 1.0) break;  // every proof reaches b (or the robot has no shapes)
     if (certificate.queries >= options.max_queries) {
       certificate.exhausted = true;
       certificate.blocked_at = t;

@@ -129,15 +129,21 @@ TEST(MotionBound, NoTwoLinksComeCloserThanTheirPairBound) {
   EXPECT_GT(bound.link(tipA, armOnly), 0.0);
 }
 
-TEST(MotionBound, TwoLinksTogetherAndSizeChecked) {
+TEST(MotionBound, StillIsZeroAndArgumentsChecked) {
   const MotionBound bound(kr5());
-  Eigen::VectorXd step = Eigen::VectorXd::Zero(kr5().numDofs());
-  EXPECT_EQ(bound.anyLink(step), 0.0);
-  step(0) = 0.1;
-  EXPECT_GT(bound.anyLink(step), 0.0);
-  EXPECT_GE(bound.anyTwoLinks(step), bound.anyLink(step));
-  EXPECT_LE(bound.anyTwoLinks(step), 2 * bound.anyLink(step));
-  EXPECT_THROW(bound.anyLink(Eigen::VectorXd::Zero(3)), std::invalid_argument);
+  const Eigen::VectorXd still = Eigen::VectorXd::Zero(kr5().numDofs());
+  const int palm = kr5().palmLink(), base = kr5().linkIndex("base_link");
+  EXPECT_EQ(bound.link(palm, still), 0.0);
+  EXPECT_EQ(bound.pair(base, palm, still), 0.0);
+  // The first joint moves the palm, never the base.
+  const Eigen::VectorXd turn = 0.1 * Eigen::VectorXd::Unit(kr5().numDofs(), 0);
+  EXPECT_GT(bound.link(palm, turn), 0.0);
+  EXPECT_EQ(bound.link(base, turn), 0.0);
+  EXPECT_EQ(bound.pair(base, palm, turn), bound.link(palm, turn));
+  EXPECT_THROW(bound.link(palm, Eigen::VectorXd::Zero(3)), std::invalid_argument);
+  EXPECT_THROW(bound.link(-1, turn), std::invalid_argument);
+  EXPECT_THROW(bound.pair(base, static_cast<int>(kr5().links().size()), turn),
+               std::invalid_argument);
 }
 
 /// The KR5 turning 2.4 rad about its base, in a scene of its own with a

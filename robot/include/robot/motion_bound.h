@@ -27,22 +27,15 @@ class MotionBound {
   /// Upper bound (m) on the length of the path any point of `link` follows
   /// while the configuration moves along the straight segment from any q to
   /// q + step (numDofs values): sum over DoFs of coefficient * |step|.
+  /// Throws std::invalid_argument for an unknown link or a step of the
+  /// wrong size (as pair() does).
   double link(int link, const Eigen::VectorXd& step) const;
-  /// The largest of link() over the links with collision shapes.
-  double anyLink(const Eigen::VectorXd& step) const;
-  /// The two largest of link() added: a bound on how much closer any two
-  /// links can come to each other over the step.
-  double anyTwoLinks(const Eigen::VectorXd& step) const;
 
   /// Upper bound (m) on how much closer any point of link `a` can come to
   /// any point of link `b` over the step: the travel of each relative to
   /// their nearest common ancestor link, added (the joints above it move
   /// both alike).
   double pair(int a, int b, const Eigen::VectorXd& step) const;
-
-  /// Metres per unit of each DoF (rows: links, columns: DoFs); a row of
-  /// zeros for a link without shapes or one no DoF moves.
-  const Eigen::MatrixXd& coefficients() const { return coefficients_; }
 
  private:
   /// One joint's share of a link's coefficients.
@@ -51,14 +44,12 @@ class MotionBound {
     int dof = -1;
     double coefficient = 0.0;  ///< metres per unit of the DoF
   };
-  void checkStep(const Eigen::VectorXd& step) const;
+  void check(int link, const Eigen::VectorXd& step) const;
 
+  /// Metres per unit of each DoF (rows: links, columns: DoFs); a row of
+  /// zeros for a link without shapes or one no DoF moves.
   Eigen::MatrixXd coefficients_;
   std::vector<std::vector<ChainJoint>> chains_;  ///< per link, its joints bottom up
 };
-
-/// The largest distance (m) from a link's frame origin to a point of its
-/// collision shapes; 0 for a link without shapes.
-double linkReach(const Link& link);
 
 }  // namespace hfts::robot

@@ -40,8 +40,8 @@ struct SegmentCertificate {
   double at = 0.0;
   int nearest_link = -1;
   int nearest_other_link = -1;
-  /// Not free: where the first state closer than options.clearance lies,
-  /// or where the steps became too short to go on (exhausted).
+  /// Not free: where the first distance within options.clearance plus
+  /// 0.1 mm was measured, or where the queries ran out (exhausted).
   double blocked_at = -1.0;
   bool exhausted = false;        ///< given up after options.max_queries queries
   std::size_t queries = 0;       ///< distance queries made (environment or self)
@@ -54,7 +54,7 @@ struct SegmentCertificate {
 /// (advancing towards a contact only approaches it), and FCL's distances
 /// are trusted to 0.01 mm.
 /// Throws InvalidArgument ("clearance") for a negative or non-finite
-/// clearance and for ends of the wrong size.
+/// clearance, ("segment") for ends of the wrong size or not finite.
 SegmentCertificate certifySegment(CollisionChecker& checker, const MotionBound& bound,
                                   const Eigen::VectorXd& a, const Eigen::VectorXd& b,
                                   const CertifyOptions& options = {});
