@@ -175,7 +175,7 @@ void compareCertified(const robot::RobotModel& m, const robot::MotionBound& boun
                       std::mt19937_64& rng, CertifiedTally& tally) {
   const auto [a, b] = randomMotion(m, checker, rng);
   const auto t0 = std::chrono::steady_clock::now();
-  const robot::SegmentCertificate certificate = robot::certifySegment(checker, bound, a, b);
+  const robot::MotionCertificate certificate = robot::certifySegment(checker, bound, a, b);
   tally.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   ++tally.segments;
   tally.queries += static_cast<long>(certificate.queries);

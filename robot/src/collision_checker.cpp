@@ -354,7 +354,8 @@ double CollisionChecker::clearance(const Eigen::VectorXd& q) {
 }
 
 void CollisionChecker::linkClearances(const Eigen::VectorXd& q, const std::vector<int>& links,
-                                      std::vector<double>& distances) {
+                                      std::vector<double>& distances,
+                                      const CollisionRequest& request) {
   distances.assign(links.size(), std::numeric_limits<double>::infinity());
   if (links.empty()) return;
   impl_->place(q);
@@ -363,6 +364,7 @@ void CollisionChecker::linkClearances(const Eigen::VectorXd& q, const std::vecto
          impl_->robot.linkObjects.at(static_cast<std::size_t>(links[k]))) {
       QueryData data;
       data.model = &impl_->model;
+      data.target = request.target;
       impl_->environment()->distance(impl_->robot.objects[object].get(), &data,
                                      objectDistanceCallback);
       distances[k] = std::min(distances[k], data.distance);

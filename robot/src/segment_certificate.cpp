@@ -5,7 +5,6 @@
 #include <limits>
 #include <string>
 #include <utility>
-#include <vector>
 
 #include "core/invalid_argument.h"
 
@@ -18,94 +17,229 @@ namespace {
 /// 5e-6 m (segment_certificate_test), so a reported distance may exceed
 /// the true one by about that much.
 constexpr double kDistanceTolerance = 1e-5;
-/// A state closer than the clearance plus this (m) blocks the segment:
-/// advancing towards a contact only approaches it (each step is the
-/// remaining slack over the bound), so the slack must run out at a
+/// A state closer than what the rule asks plus this (m) blocks the
+/// motion: advancing towards a contact only approaches it (each step is
+/// the remaining slack over the bound), so the slack must run out at a
 /// distance, not at zero.
 constexpr double kBlockingSlack = 1e-4;
 
-}  // namespace
+/// What one proof measures.
+enum class Against {
+  kEnvironment,  ///< a link to the obstacles and the target
+  kObstacles,    ///< a link to the obstacles only (a fingertip closing on the target)
+  kLink,         ///< a link to another link
+};
 
-SegmentCertificate certifySegment(CollisionChecker& checker, const MotionBound& bound,
-                                  const Eigen::VectorXd& a, const Eigen::VectorXd& b,
-                                  const CertifyOptions& options) {
-  if (!std::isfinite(options.clearance) || options.clearance < 0.0)
-    throw InvalidArgument("clearance", "must be a finite distance >= 0 (m), not " +
-                                           std::to_string(options.clearance));
-  const int dofs = checker.model().numDofs();
-  if (a.size() != dofs || b.size() != dofs || !a.allFinite() || !b.allFinite())
-    throw InvalidArgument("segment",
-                          "ends must be " + std::to_string(dofs) + " finite joint values each");
-  const Eigen::VectorXd step = b - a;
-  const bool still = step.isZero(0.0);
-  const RobotModel& model = checker.model();
-  // A proof per link with shapes against the environment (other -1) and
-  // per link pair that may collide, each with how far its link moves (or
-  // its links come closer) over the whole segment at most. Each holds up
-  // to its own `until`; its distance is measured again only there.
-  struct Proof {
-    int link = -1, other = -1;
-    double travel = 0.0, until = 0.0;
+/// How far a proof's distance must stay.
+enum class Keeps {
+  kClearance,  ///< the clearance asked
+  kFree,       ///< only free (0 plus the blocking slack)
+  kArriving,   ///< the clearance, shrinking to 0 over the link's last approach_length of travel
+};
+
+/// One distance that holds over a stretch of the motion: a link against
+/// the environment, or a link pair. Its distance is measured again only
+/// where its proof ends (`until`, as a motion position k + t).
+struct Proof {
+  int link = -1, other = -1;
+  Against against = Against::kEnvironment;
+  Keeps keeps = Keeps::kClearance;
+  std::vector<double> travel;     ///< per segment: how far it can come closer, at most (m)
+  std::vector<double> remaining;  ///< kArriving: travel from waypoint k to the end
+  double until = 0.0;
+};
+
+/// The motion's waypoints and where a position k + t lies.
+class Polyline {
+ public:
+  explicit Polyline(const std::vector<Eigen::VectorXd>& waypoints) : points_(waypoints) {
+    if (points_.size() == 1) points_.push_back(points_.front());  // a still motion
+  }
+  int segments() const { return static_cast<int>(points_.size()) - 1; }
+  Eigen::VectorXd step(int k) const { return points_[k + 1] - points_[k]; }
+  /// The segment a position lies on, and how far along it.
+  std::pair<int, double> locate(double s) const {
+    const int k = std::clamp(static_cast<int>(std::floor(s)), 0, segments() - 1);
+    return {k, s - k};
+  }
+  Eigen::VectorXd state(double s) const {
+    const auto [k, t] = locate(s);
+    return t <= 0.0 ? points_[k] : Eigen::VectorXd(points_[k] + t * (points_[k + 1] - points_[k]));
+  }
+
+ private:
+  std::vector<Eigen::VectorXd> points_;
+};
+
+/// How far (as a motion position) a proof holds from `s` with `slack` to
+/// use up: each segment takes its travel's share of it.
+double holdsUntil(const Proof& proof, const Polyline& line, double s, double slack) {
+  auto [k, t] = line.locate(s);
+  for (; k < line.segments(); ++k, t = 0.0) {
+    const double rest = (1.0 - t) * proof.travel[k];
+    if (rest < slack || proof.travel[k] <= 0.0) {
+      slack -= rest;
+      continue;
+    }
+    return k + t + slack / proof.travel[k];
+  }
+  return line.segments();
+}
+
+/// What a proof's distance must stay above at position s: the requirement
+/// never grows along the motion, so holding it from s on is conservative.
+double required(const Proof& proof, const Polyline& line, double s, const CertifyOptions& options) {
+  switch (proof.keeps) {
+    case Keeps::kFree:
+      return 0.0;
+    case Keeps::kArriving: {
+      const auto [k, t] = line.locate(s);
+      const double toGo = (1.0 - t) * proof.travel[k] + proof.remaining[k + 1];
+      return toGo >= options.approach_length ? options.clearance
+                                             : options.clearance * toGo / options.approach_length;
+    }
+    case Keeps::kClearance:
+      break;
+  }
+  return options.clearance;
+}
+
+/// The proofs of a motion under a rule: one per link with shapes against
+/// the environment, one per link pair that may collide.
+std::vector<Proof> proofsOf(const RobotModel& model, const MotionBound& bound, const Polyline& line,
+                            CertifyRule rule) {
+  std::vector<bool> fingertip(model.links().size(), false);
+  for (const Fingertip& f : model.fingertips()) fingertip[static_cast<std::size_t>(f.link)] = true;
+  const auto travels = [&](auto&& of) {
+    std::vector<double> out(static_cast<std::size_t>(line.segments()));
+    for (int k = 0; k < line.segments(); ++k) out[static_cast<std::size_t>(k)] = of(line.step(k));
+    return out;
   };
-  std::vector<Proof> proofs;
   std::vector<int> links;
   for (std::size_t l = 0; l < model.links().size(); ++l)
     if (!model.links()[l].shapes.empty()) links.push_back(static_cast<int>(l));
-  for (const int link : links) proofs.push_back({link, -1, bound.link(link, step)});
+  std::vector<Proof> proofs;
+  for (const int link : links) {
+    Proof p;
+    p.link = link;
+    p.travel = travels([&](const Eigen::VectorXd& step) { return bound.link(link, step); });
+    const bool hand = model.isHandLink(link);
+    if (rule == CertifyRule::kClosing && hand) {
+      p.keeps = Keeps::kFree;
+      if (fingertip[static_cast<std::size_t>(link)]) p.against = Against::kObstacles;
+    } else if (rule == CertifyRule::kApproach && hand) {
+      p.keeps = Keeps::kArriving;
+      p.remaining.assign(p.travel.size() + 1, 0.0);
+      for (std::size_t k = p.travel.size(); k-- > 0;)
+        p.remaining[k] = p.remaining[k + 1] + p.travel[k];
+    }
+    proofs.push_back(std::move(p));
+  }
   for (std::size_t i = 0; i < links.size(); ++i)
-    for (std::size_t k = i + 1; k < links.size(); ++k)
-      if (!model.isCollisionDisabled(links[i], links[k]))
-        proofs.push_back({links[i], links[k], bound.pair(links[i], links[k], step)});
+    for (std::size_t j = i + 1; j < links.size(); ++j) {
+      const int a = links[i], b = links[j];
+      if (model.isCollisionDisabled(a, b)) continue;
+      Proof p;
+      p.link = a;
+      p.other = b;
+      p.against = Against::kLink;
+      p.travel = travels([&](const Eigen::VectorXd& step) { return bound.pair(a, b, step); });
+      const bool still = std::all_of(p.travel.begin(), p.travel.end(),
+                                     [](double travel) { return travel <= 0.0; });
+      const bool closingHand =
+          rule == CertifyRule::kClosing && (model.isHandLink(a) || model.isHandLink(b));
+      if (still || closingHand) p.keeps = Keeps::kFree;
+      proofs.push_back(std::move(p));
+    }
+  return proofs;
+}
 
-  SegmentCertificate certificate;
+}  // namespace
+
+MotionCertificate certifyPath(CollisionChecker& checker, const MotionBound& bound,
+                              const std::vector<Eigen::VectorXd>& waypoints,
+                              const CertifyOptions& options) {
+  if (!std::isfinite(options.clearance) || options.clearance < 0.0)
+    throw InvalidArgument("clearance", "must be a finite distance >= 0 (m), not " +
+                                           std::to_string(options.clearance));
+  if (!std::isfinite(options.approach_length) || !(options.approach_length > 0.0))
+    throw InvalidArgument("approach_length", "must be a finite distance > 0 (m), not " +
+                                                 std::to_string(options.approach_length));
+  const RobotModel& model = checker.model();
+  const int dofs = model.numDofs();
+  if (waypoints.empty()) throw InvalidArgument("path", "has no waypoints");
+  for (const Eigen::VectorXd& q : waypoints)
+    if (q.size() != dofs || !q.allFinite())
+      throw InvalidArgument(
+          "path", "waypoints must be " + std::to_string(dofs) + " finite joint values each");
+  const Polyline line(waypoints);
+  std::vector<Proof> proofs = proofsOf(model, bound, line, options.rule);
+
+  MotionCertificate certificate;
   certificate.clearance = std::numeric_limits<double>::infinity();
+  std::vector<Proof*> due[3];
   std::vector<int> dueLinks;
   std::vector<std::pair<int, int>> duePairs;
-  std::vector<double> linkDistances, pairDistances;
+  std::vector<double> distances[3];
   while (true) {
-    double t = 1.0;
-    for (const Proof& proof : proofs) t = std::min(t, proof.until);
-    if (t >= 1.0) break;  // every proof reaches b (or the robot has no shapes)
-    if (certificate.queries >= options.max_queries) {
+    double s = line.segments();
+    for (const Proof& proof : proofs) s = std::min(s, proof.until);
+    if (s >= line.segments()) break;  // every proof reaches the end (or no shapes)
+    if (certificate.queries >= options.max_queries || (options.stop && options.stop())) {
       certificate.exhausted = true;
-      certificate.blocked_at = t;
+      certificate.blocked_at = s;
       return certificate;
     }
-    const Eigen::VectorXd q = t >= 1.0 ? b : Eigen::VectorXd(a + t * step);
-    dueLinks.clear();
+    const Eigen::VectorXd q = line.state(s);
+    for (auto& d : due) d.clear();
+    for (Proof& proof : proofs)
+      if (proof.until <= s) due[static_cast<int>(proof.against)].push_back(&proof);
+    for (const Against against : {Against::kEnvironment, Against::kObstacles}) {
+      const std::vector<Proof*>& these = due[static_cast<int>(against)];
+      if (these.empty()) continue;
+      dueLinks.clear();
+      for (const Proof* p : these) dueLinks.push_back(p->link);
+      checker.linkClearances(
+          q, dueLinks, distances[static_cast<int>(against)],
+          against == Against::kObstacles ? CollisionRequest::obstaclesOnly() : CollisionRequest{});
+    }
     duePairs.clear();
-    for (const Proof& proof : proofs)
-      if (proof.until <= t) {
-        if (proof.other < 0)
-          dueLinks.push_back(proof.link);
-        else
-          duePairs.emplace_back(proof.link, proof.other);
+    for (const Proof* p : due[static_cast<int>(Against::kLink)])
+      duePairs.emplace_back(p->link, p->other);
+    checker.pairClearances(q, duePairs, distances[static_cast<int>(Against::kLink)]);
+    certificate.self_queries += due[static_cast<int>(Against::kLink)].size();
+    for (int kind = 0; kind < 3; ++kind) {
+      certificate.queries += due[kind].size();
+      for (std::size_t i = 0; i < due[kind].size(); ++i) {
+        Proof& proof = *due[kind][i];
+        const double distance = distances[kind][i];
+        if (distance < certificate.clearance) {
+          certificate.clearance = distance;
+          certificate.at = s;
+          certificate.nearest_link = proof.link;
+          certificate.nearest_other_link = proof.other;
+        }
+        const double slack = distance - kDistanceTolerance - required(proof, line, s, options);
+        if (slack <= kBlockingSlack) {
+          certificate.blocked_at = s;
+          return certificate;
+        }
+        proof.until = holdsUntil(proof, line, s, slack);
       }
-    checker.linkClearances(q, dueLinks, linkDistances);
-    checker.pairClearances(q, duePairs, pairDistances);
-    certificate.queries += dueLinks.size() + duePairs.size();
-    certificate.self_queries += duePairs.size();
-    std::size_t nextLink = 0, nextPair = 0;
-    for (Proof& proof : proofs) {
-      if (proof.until > t) continue;
-      const double distance =
-          proof.other < 0 ? linkDistances[nextLink++] : pairDistances[nextPair++];
-      if (distance < certificate.clearance) {
-        certificate.clearance = distance;
-        certificate.at = t;
-        certificate.nearest_link = proof.link;
-        certificate.nearest_other_link = proof.other;
-      }
-      const double slack = distance - kDistanceTolerance - options.clearance;
-      if (slack <= kBlockingSlack) {
-        certificate.blocked_at = t;
-        return certificate;
-      }
-      proof.until = still || proof.travel <= 0.0 ? 1.0 : std::min(1.0, t + slack / proof.travel);
     }
   }
   certificate.free = true;
   return certificate;
+}
+
+MotionCertificate certifySegment(CollisionChecker& checker, const MotionBound& bound,
+                                 const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                                 const CertifyOptions& options) {
+  const int dofs = checker.model().numDofs();
+  if (a.size() != dofs || b.size() != dofs || !a.allFinite() || !b.allFinite())
+    throw InvalidArgument("segment",
+                          "ends must be " + std::to_string(dofs) + " finite joint values each");
+  return certifyPath(checker, bound, {a, b}, options);
 }
 
 }  // namespace hfts::robot

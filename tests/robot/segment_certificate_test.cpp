@@ -197,7 +197,7 @@ TEST(SegmentCertificate, RefusesAThinPlateBetweenTwoSamples) {
     ASSERT_TRUE(hit);
     const double length = checker.metric().distance(c.a, c.b);
     const bool sampledValid = checker.isMotionValid(c.a, c.b, length / 4);
-    const SegmentCertificate certificate = certifySegment(checker, MotionBound(kr5()), c.a, c.b);
+    const MotionCertificate certificate = certifySegment(checker, MotionBound(kr5()), c.a, c.b);
     EXPECT_FALSE(certificate.free);
     EXPECT_FALSE(certificate.exhausted);
     EXPECT_GT(certificate.blocked_at, 0.0);
@@ -207,9 +207,9 @@ TEST(SegmentCertificate, RefusesAThinPlateBetweenTwoSamples) {
   EXPECT_TRUE(missedBySamples) << "no plate position fell between the samples";
 }
 
-TEST(SegmentCertificate, KeepsTheClearanceAsked) {
-  // The plate raised above the palm's path until the path passes it at
-  // 1.2-5 cm: free at clearance 0 and 1 cm, refused at 5 cm.
+/// The plate of plateAcrossThePath(0.5) raised above the palm's path until
+/// the path passes it at 1.2-5 cm (`nearest`: how close, densely swept).
+PlateCase plateAboveThePath(double* nearest) {
   PlateCase c = plateAcrossThePath(0.5, 0.002);
   auto nearestAlongThePath = [&](const Scene& scene) {
     CollisionChecker checker(test::collisionOf(kr5()), scene, nullptr);
@@ -218,11 +218,18 @@ TEST(SegmentCertificate, KeepsTheClearanceAsked) {
       d = std::min(d, distanceToEverything(checker, c.a + (c.b - c.a) * (i / 400.0)));
     return d;
   };
-  double nearest = 0.0;
-  for (int raise = 0; raise < 100 && nearest < 0.012; ++raise) {
+  *nearest = 0.0;
+  for (int raise = 0; raise < 100 && *nearest < 0.012; ++raise) {
     c.scene.obstacles[0].pose.translation().z() += 0.005;
-    nearest = nearestAlongThePath(c.scene);
+    *nearest = nearestAlongThePath(c.scene);
   }
+  return c;
+}
+
+TEST(SegmentCertificate, KeepsTheClearanceAsked) {
+  // Free at clearance 0 and 1 cm, refused at 5 cm.
+  double nearest = 0.0;
+  const PlateCase c = plateAboveThePath(&nearest);
   ASSERT_GT(nearest, 0.012);
   ASSERT_LT(nearest, 0.05);
   CollisionChecker checker(test::collisionOf(kr5()), c.scene, nullptr);
@@ -230,7 +237,7 @@ TEST(SegmentCertificate, KeepsTheClearanceAsked) {
   for (const double clearance : {0.0, 0.01}) {
     CertifyOptions options;
     options.clearance = clearance;
-    const SegmentCertificate certificate = certifySegment(checker, bound, c.a, c.b, options);
+    const MotionCertificate certificate = certifySegment(checker, bound, c.a, c.b, options);
     EXPECT_TRUE(certificate.free) << clearance;
     EXPECT_GE(certificate.clearance, clearance);
   }
@@ -267,7 +274,7 @@ TEST(SegmentCertificate, AgreesWithADenseSweepInEveryBundledScene) {
       ++segments;
       CertifyOptions options;
       options.clearance = segments % 2 == 0 ? 0.0 : 0.005;
-      const SegmentCertificate certificate = certifySegment(checker, bound, a, b, options);
+      const MotionCertificate certificate = certifySegment(checker, bound, a, b, options);
       const Eigen::VectorXd at = a + certificate.at * (b - a);
       // FCL's distance there, between the link and the environment or the
       // two links reported.
@@ -319,7 +326,7 @@ TEST(SegmentCertificate, ChecksItsArguments) {
   EXPECT_THROW(certifySegment(checker, bound, q, Eigen::VectorXd::Zero(2)), InvalidArgument);
   // A segment of no length is its one state: a distance from every link
   // with shapes to the environment, one between the links.
-  const SegmentCertificate still = certifySegment(checker, bound, q, q);
+  const MotionCertificate still = certifySegment(checker, bound, q, q);
   EXPECT_TRUE(still.free);
   std::vector<int> shaped;
   for (std::size_t l = 0; l < kr5().links().size(); ++l)
@@ -331,6 +338,89 @@ TEST(SegmentCertificate, ChecksItsArguments) {
   EXPECT_EQ(still.queries, shaped.size() + pairs);
   EXPECT_EQ(still.self_queries, pairs);
   EXPECT_GT(pairs, 0u);
+  // A path of one waypoint is that state; none is refused.
+  EXPECT_EQ(certifyPath(checker, bound, {q}).queries, still.queries);
+  try {
+    certifyPath(checker, bound, {});
+    FAIL() << "a path without waypoints was accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_EQ(e.field(), "path");
+  }
+  EXPECT_THROW(certifyPath(checker, bound, {q, Eigen::VectorXd::Zero(2)}), InvalidArgument);
+}
+
+TEST(PathCertificate, CarriesItsProofsFromChordToChord) {
+  // The plate segment cut into 100 chords (a trajectory's samples): the
+  // same verdict as the segment, each distance proof running on across the
+  // chords, so the chords cost about what the segment does, not 100 first
+  // states.
+  double nearest = 0.0;
+  const PlateCase c = plateAboveThePath(&nearest);
+  CollisionChecker checker(test::collisionOf(kr5()), c.scene, nullptr);
+  const MotionBound bound(kr5());
+  std::vector<Eigen::VectorXd> chords;
+  for (int i = 0; i <= 100; ++i) chords.push_back(c.a + (c.b - c.a) * (i / 100.0));
+  for (const double clearance : {0.0, 0.01, 0.05}) {
+    SCOPED_TRACE(clearance);
+    CertifyOptions options;
+    options.clearance = clearance;
+    const MotionCertificate segment = certifySegment(checker, bound, c.a, c.b, options);
+    const MotionCertificate path = certifyPath(checker, bound, chords, options);
+    EXPECT_EQ(path.free, segment.free);
+    EXPECT_EQ(path.free, clearance < nearest);
+    if (path.free) {
+      EXPECT_LE(path.queries, 2 * segment.queries);
+      EXPECT_NEAR(path.clearance, segment.clearance, 0.005);
+    } else {
+      // Blocked where the segment was (positions: the chord's index).
+      EXPECT_NEAR(path.blocked_at / 100.0, segment.blocked_at, 0.02);
+    }
+  }
+  const MotionCertificate first = certifySegment(checker, bound, chords[0], chords[1]);
+  EXPECT_GT(100 * first.queries, 20 * certifyPath(checker, bound, chords).queries);
+}
+
+TEST(PathCertificate, TheHandMayArriveWithinTheClearanceOnlyAtTheEnd) {
+  // The plate across the palm's path just beyond the end: the hand stops
+  // 2-4 mm short of it. Under the approach rule the hand keeps the 1 cm
+  // clearance except over its last 5 cm of travel, where what it keeps
+  // shrinks to 0, so the motion is proven; as a transit it is refused, and
+  // so is leaving the plate (the same motion backwards: the hand starts
+  // within the clearance).
+  // Bisection on how far beyond the end the plate stands (0: the palm's
+  // centre is in it at the end).
+  double lo = 0.0, hi = 0.5, gap = 0.0;
+  PlateCase c;
+  for (int i = 0; i < 40 && !(gap > 0.002 && gap < 0.004); ++i) {
+    const double beyond = (lo + hi) / 2;
+    c = plateAcrossThePath(1.0 + beyond, 0.002);
+    CollisionChecker checker(test::collisionOf(kr5()), c.scene, nullptr);
+    gap = checker.clearance(c.b);
+    (gap < 0.003 ? lo : hi) = beyond;
+  }
+  ASSERT_GT(gap, 0.002);
+  ASSERT_LT(gap, 0.004);
+  CollisionChecker checker(test::collisionOf(kr5()), c.scene, nullptr);
+  const MotionBound bound(kr5());
+  CertifyOptions options;
+  options.clearance = 0.01;
+  options.rule = CertifyRule::kApproach;
+  const MotionCertificate arriving = certifySegment(checker, bound, c.a, c.b, options);
+  EXPECT_TRUE(arriving.free);
+  // It came within the clearance (the rule was used), not nearer than the
+  // gap at the end (the smallest distance measured bounds the true one
+  // from above).
+  EXPECT_LT(arriving.clearance, 0.01);
+  EXPECT_GE(arriving.clearance, gap - 1e-5);
+  EXPECT_TRUE(kr5().isHandLink(arriving.nearest_link)) << kr5().links()[arriving.nearest_link].name;
+  EXPECT_FALSE(certifySegment(checker, bound, c.b, c.a, options).free);
+  options.rule = CertifyRule::kTransit;
+  const MotionCertificate transit = certifySegment(checker, bound, c.a, c.b, options);
+  EXPECT_FALSE(transit.free);
+  EXPECT_GT(transit.blocked_at, 0.9);
+  // At clearance 0 the rules agree: free.
+  options.clearance = 0.0;
+  EXPECT_TRUE(certifySegment(checker, bound, c.a, c.b, options).free);
 }
 
 }  // namespace

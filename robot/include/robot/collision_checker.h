@@ -154,10 +154,11 @@ class CollisionChecker {
   /// target object (m); 0 when in collision.
   double clearance(const Eigen::VectorXd& q);
   /// For each of `links`, the smallest distance (m) between its shapes and
-  /// the environment including the target, in `distances` (same order;
-  /// infinity for a link without shapes, 0 where it touches).
+  /// the environment (the obstacles, and the target when request.target),
+  /// in `distances` (same order; infinity for a link without shapes, 0
+  /// where it touches).
   void linkClearances(const Eigen::VectorXd& q, const std::vector<int>& links,
-                      std::vector<double>& distances);
+                      std::vector<double>& distances, const CollisionRequest& request = {});
   /// For each link pair of `pairs`, the smallest distance (m) between their
   /// shapes in `distances` (same order; 0 where they touch), whether or not
   /// the config disables the pair.
