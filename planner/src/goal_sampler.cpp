@@ -48,8 +48,8 @@ GraspGoalSampler::GraspGoalSampler(GoalSamplingContext context) : context_(conte
   if (context.space == nullptr || context.objective == nullptr || context.configurator == nullptr ||
       context.checker == nullptr || context.rng == nullptr)
     throw std::invalid_argument("GoalSamplingContext: a tool is missing (null)");
-  if (!(context.approach_resolution > 0.0))
-    throw InvalidArgument("GoalSamplingContext::approach_resolution", "must be > 0");
+  if (!(context.closing.resolution > 0.0))
+    throw InvalidArgument("GoalSamplingContext::closing", "resolution must be > 0");
   if (!(context.max_fingertip_error > 0.0))
     throw InvalidArgument("parameters.max_fingertip_error", "must be > 0");
   if (!(context.min_epsilon >= 0.0))
@@ -148,11 +148,20 @@ double GraspGoalSampler::contactQuality(const grasp::HandClosure& closure) const
       .epsilon;
 }
 
-bool GraspGoalSampler::isGoal(const CachedConfiguration& c) const {
+bool GraspGoalSampler::isGoal(const CachedConfiguration& c) {
   return c.closure && c.closure->touches() && c.contact_epsilon >= context_.min_epsilon &&
          c.contact_epsilon > 0.0 && c.fingertip_error <= context_.max_fingertip_error &&
-         context_.checker->isMotionValid(c.pregrasp, c.grasp, context_.approach_resolution,
-                                         robot::CollisionRequest::grasp());
+         context_.checker->isMotionValid(c.pregrasp, c.grasp, context_.closing.resolution,
+                                         robot::CollisionRequest::grasp()) &&
+         closingProven(c);
+}
+
+bool GraspGoalSampler::closingProven(const CachedConfiguration& c) {
+  if (!context_.closing.certifies()) return true;
+  const MotionVerdict verdict = checkMotion(*context_.checker, context_.closing,
+                                            {c.pregrasp, c.grasp}, robot::CertifyRule::kClosing);
+  stats_.certificate_queries += verdict.queries;
+  return verdict.free;
 }
 
 void GraspGoalSampler::countRejection(double epsilon,

@@ -41,6 +41,7 @@ PlanResult search(std::chrono::steady_clock::time_point began, const SharedProbl
   result.success = true;
   result.path = std::move(found.path);
   result.path.push_back(found.goal.grasp);
+  result.clearance = found.path_check.clearance;
   result.grasp = describeGrasp(problem, found.goal);
   if (found.verdict) {
     // The search simulated this grasp already: the same verdict.
@@ -49,10 +50,13 @@ PlanResult search(std::chrono::steady_clock::time_point began, const SharedProbl
     result.validation = validateGrasp(shared.world, v);
     result.validation->physics = std::move(found.verdict);
   }
-  if (request.trajectory_rate > 0.0 && shared.world.robot().maxAccelerations().size() > 0)
+  if (request.trajectory_rate > 0.0 && shared.world.robot().maxAccelerations().size() > 0) {
+    std::size_t queries = 0;
     result.trajectory =
-        graspTrajectory(result.path, problem.checker, shared.settings.execution.final_resolution,
-                        request.trajectory_rate);
+        graspTrajectory(result.path, problem.checker, problem.planner->smoothing().final_check,
+                        request.trajectory_rate, &queries);
+    result.stats.certificate_queries += queries;
+  }
   return result;
 }
 

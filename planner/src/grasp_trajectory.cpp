@@ -12,17 +12,16 @@ namespace {
 constexpr double kTighten = 4.0;
 constexpr int kTightenings = 3;
 
-/// True when every sample and the chord to the next is free of what
-/// `request` counts.
+/// True when the polyline through the samples passes `check` under `rule`
+/// (its queries added to `queries`).
 bool collisionFree(const std::vector<TrajectoryPoint>& points, robot::CollisionChecker& checker,
-                   double resolution, const robot::CollisionRequest& request) {
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const Eigen::VectorXd& q = points[i].positions;
-    if (i == 0 ? checker.inCollision(q, request)
-               : !checker.isMotionValid(points[i - 1].positions, q, resolution, request))
-      return false;
-  }
-  return true;
+                   const MotionCheck& check, robot::CertifyRule rule, std::size_t& queries) {
+  std::vector<Eigen::VectorXd> line;
+  line.reserve(points.size());
+  for (const TrajectoryPoint& p : points) line.push_back(p.positions);
+  const MotionVerdict verdict = checkMotion(checker, check, line, rule);
+  queries += verdict.queries;
+  return verdict.free;
 }
 
 /// `samples` but the first (the end of what comes before), times shifted
@@ -38,8 +37,10 @@ void appendAfter(std::vector<TrajectoryPoint> samples, double offset,
 }  // namespace
 
 GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
-                                robot::CollisionChecker& checker, double resolution, double rate,
-                                double maxDeviation) {
+                                robot::CollisionChecker& checker, const MotionCheck& check,
+                                double rate, std::size_t* queries, double maxDeviation) {
+  std::size_t ownQueries = 0;
+  std::size_t& counted = queries != nullptr ? *queries : ownQueries;
   const robot::RobotModel& model = checker.model();
   if (!(rate > 0.0) || !std::isfinite(rate))
     throw InvalidArgument("trajectory_rate", "must be positive and finite");
@@ -60,7 +61,13 @@ GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
   };
   if (tooLong(closing.sampleCount(rate))) return {};
   std::vector<TrajectoryPoint> closingSamples = closing.sample(rate);
-  if (!collisionFree(closingSamples, checker, resolution, robot::CollisionRequest::grasp()))
+  // The closing's fingertip depth is the grasp rule's, sampled; a proof
+  // leaves it out.
+  MotionCheck sampled = check;
+  sampled.bound = nullptr;
+  if (!collisionFree(closingSamples, checker, sampled, robot::CertifyRule::kClosing, counted) ||
+      (check.certifies() &&
+       !collisionFree(closingSamples, checker, check, robot::CertifyRule::kClosing, counted)))
     return {};
 
   TrajectoryOptions options;
@@ -73,7 +80,8 @@ GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
     if (tooLong(moving.sampleCount(rate) + static_cast<double>(closingSamples.size()))) return {};
     GraspTrajectory out;
     out.points = moving.sample(rate);
-    if (!collisionFree(out.points, checker, resolution, {})) continue;
+    if (!collisionFree(out.points, checker, check, robot::CertifyRule::kApproach, counted))
+      continue;
     out.closing_start = moving.duration();
     out.duration = moving.duration() + closing.duration();
     out.deviation = moving.deviation();

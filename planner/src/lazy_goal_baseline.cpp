@@ -61,7 +61,7 @@ struct SamplingThreadTools {
         si(spaceInformationWithMetric(world.robot(), checker, plannerSpace.metric(), resolution)),
         tools(world, scene, space, checker, settings.goals),
         rng(settings.seed),
-        sampler(tools.context(rng, settings.goals, settings.smoothing.final_resolution),
+        sampler(tools.context(rng, settings.goals, settings.smoothing.final_check),
                 settings.goals.decoupled_iterations) {}
 
   robot::CollisionChecker checker;
@@ -219,8 +219,13 @@ void searchUntilChecked(SeededRrtConnect& planner, ob::ProblemDefinition& pdef,
     const std::vector<Eigen::VectorXd> raw =
         toVectors(space, *pdef.getSolutionPath()->as<og::PathGeometric>());
     smoothing.seed = planner.nextSeed();
-    if (auto path = smoothAndRecheck(si, raw, smoothing, ptc)) {
+    PathCheckReport report;
+    auto path = smoothAndRecheck(si, raw, smoothing, ptc, &report);
+    out.trees.final_check_time += report.seconds;
+    out.trees.certificate_queries += report.queries;
+    if (path) {
       out.solved = true;
+      out.path_check = report;
       out.path = std::move(*path);
       out.trees.path_length_raw = pathLength(space, raw);
       out.trees.path_length_smoothed = pathLength(space, out.path);

@@ -123,7 +123,7 @@ void MultiTreeCBiRRT::declareParameters() {
       p, "d_m", settingRange("d_m"), [this](double d) { setProjectionDistance(d); },
       [this] { return dM_; });
   declareParameter(p, "smoothing_steps", settingRange("smoothing_steps"), smoothing_.steps);
-  field("final_resolution", smoothing_.final_resolution);
+  field("final_resolution", smoothing_.final_check.resolution);
   declareParameter<double>(
       p, "collision_resolution", settingRange("collision_resolution"),
       [this](double r) { validator_->setResolution(r); },
@@ -149,7 +149,7 @@ void MultiTreeCBiRRT::applySettings(const PlanSettings& s) {
   localRadius_ = s.heuristics.local_radius;
   validator_->setResolution(s.execution.collision_resolution);
   smoothing_.steps = static_cast<unsigned>(s.execution.smoothing_steps);
-  smoothing_.final_resolution = s.execution.final_resolution;
+  smoothing_.final_check.resolution = s.execution.final_resolution;
 }
 
 void MultiTreeCBiRRT::setProjectionDistance(double d) {
@@ -459,9 +459,13 @@ bool MultiTreeCBiRRT::extractAndShortcutPath(int index, Motion* forwardEnd, Moti
   for (Motion* m = backwardEnd->parent; m != nullptr; m = m->parent) path.push_back(m->q);
   // Smoothed and re-checked at the final resolution: a path that fails
   // the re-check is never returned (path_smoothing.h).
-  std::optional<std::vector<Eigen::VectorXd>> checked = smoothAndRecheck(
-      si_, path,
-      {smoothing_.steps, smoothing_.final_resolution, static_cast<std::uint32_t>(rng_())}, ptc);
+  PathSmoothing smoothing = smoothing_;
+  smoothing.seed = static_cast<std::uint32_t>(rng_());
+  PathCheckReport report;
+  std::optional<std::vector<Eigen::VectorXd>> checked =
+      smoothAndRecheck(si_, path, smoothing, ptc, &report);
+  stats_.final_check_time += report.seconds;
+  stats_.certificate_queries += report.queries;
   if (!checked) {
     ++stats_.rejected_paths;
     dropTree(index);
@@ -475,6 +479,7 @@ bool MultiTreeCBiRRT::extractAndShortcutPath(int index, Motion* forwardEnd, Moti
   stats_.path_length_raw = pathLength(space_, path);
   stats_.path_length_smoothed = pathLength(space_, *checked);
   solution_ = std::move(*checked);
+  pathCheck_ = report;
   reached_ = trees_[static_cast<std::size_t>(index)]->root;
   auto geometric = std::make_shared<og::PathGeometric>(si_);
   for (const Eigen::VectorXd& q : solution_) {

@@ -73,30 +73,61 @@ class ScopedResolution {
   double previous_;
 };
 
-/// Segments found free at the final resolution, so that the paths a
-/// repair compares, which share most of their segments, check each once.
+/// Segments that passed the final check, with the clearance their proof
+/// measured, so that the paths a repair compares, which share most of their
+/// segments, check each once.
 class CheckedSegments {
  public:
-  bool contains(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
-    return std::any_of(free_.begin(), free_.end(),
-                       [&](const auto& s) { return s.first == a && s.second == b; });
+  const std::optional<double>* find(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
+    for (const Segment& s : free_)
+      if (s.a == a && s.b == b) return &s.clearance;
+    return nullptr;
   }
-  void add(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { free_.emplace_back(a, b); }
+  void add(const Eigen::VectorXd& a, const Eigen::VectorXd& b, std::optional<double> clearance) {
+    free_.push_back({a, b, clearance});
+  }
 
  private:
-  std::vector<std::pair<Eigen::VectorXd, Eigen::VectorXd>> free_;
+  struct Segment {
+    Eigen::VectorXd a, b;
+    std::optional<double> clearance;
+  };
+  std::vector<Segment> free_;
 };
 
+/// The final check of `path` segment by segment (the last, into the
+/// pre-grasp, under the approach rule), each segment once over the
+/// checks that share `checked`; its time and queries added to `report`.
 bool validWithin(const CollisionMotionValidator& validator,
-                 const std::vector<Eigen::VectorXd>& path, double resolution, LimitWithGrace& limit,
-                 CheckedSegments* checked = nullptr) {
-  if (path.empty() || !validator.isValid(path.front())) return false;
+                 const std::vector<Eigen::VectorXd>& path, const MotionCheck& check,
+                 LimitWithGrace& limit, CheckedSegments& checked, PathCheckReport& report) {
+  const auto began = std::chrono::steady_clock::now();
+  const auto timed = [&](bool valid) {
+    report.seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+    return valid;
+  };
+  if (path.empty()) return timed(false);
+  // A proof measures where it starts; a sampled check looks at the first
+  // state here, then at each segment's others.
+  if (!check.certifies() && !validator.isValid(path.front())) return timed(false);
+  if (path.size() == 1 && check.certifies())
+    return timed(checkMotion(validator.checker(), check, path, robot::CertifyRule::kApproach).free);
   for (std::size_t i = 1; i < path.size(); ++i) {
-    if (checked != nullptr && checked->contains(path[i - 1], path[i])) continue;
-    if (limit.expired() || !validator.checkMotion(path[i - 1], path[i], resolution)) return false;
-    if (checked != nullptr) checked->add(path[i - 1], path[i]);
+    if (checked.find(path[i - 1], path[i]) != nullptr) continue;
+    if (limit.expired()) return timed(false);
+    const robot::CertifyRule rule =
+        i + 1 == path.size() ? robot::CertifyRule::kApproach : robot::CertifyRule::kTransit;
+    const MotionVerdict verdict =
+        check.certifies()
+            ? checkMotion(validator.checker(), check, {path[i - 1], path[i]}, rule,
+                          [&limit] { return limit.expired(); })
+            : MotionVerdict{validator.checkMotion(path[i - 1], path[i], check.resolution), {}, 0};
+    report.queries += verdict.queries;
+    if (!verdict.free) return timed(false);
+    checked.add(path[i - 1], path[i], verdict.clearance);
   }
-  return true;
+  return timed(true);
 }
 
 /// OMPL's passes on `path`: the path after every batch of steps, the
@@ -149,12 +180,17 @@ bool denselyValid(const CollisionMotionValidator& validator,
                   const std::vector<Eigen::VectorXd>& path, double resolution) {
   const ob::PlannerTerminationCondition never = ob::plannerNonTerminatingCondition();
   LimitWithGrace limit(never);
-  return validWithin(validator, path, resolution, limit);
+  CheckedSegments checked;
+  PathCheckReport report;
+  MotionCheck sampled;
+  sampled.resolution = resolution;
+  return validWithin(validator, path, sampled, limit, checked, report);
 }
 
 std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
     const ob::SpaceInformationPtr& si, const std::vector<Eigen::VectorXd>& raw,
-    const PathSmoothing& smoothing, const ob::PlannerTerminationCondition& ptc) {
+    const PathSmoothing& smoothing, const ob::PlannerTerminationCondition& ptc,
+    PathCheckReport* report) {
   const auto validator =
       std::dynamic_pointer_cast<CollisionMotionValidator>(si->getMotionValidator());
   if (!validator) throw std::invalid_argument("path smoothing needs a CollisionMotionValidator");
@@ -162,39 +198,49 @@ std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
   const auto stop = [&limit] { return limit.fired(); };
   const std::vector<std::vector<Eigen::VectorXd>> snapshots =
       smoothInBatches(si, raw, smoothing, stop);
+  const MotionCheck& check = smoothing.final_check;
   CheckedSegments checked;
-  if (validWithin(*validator, snapshots.back(), smoothing.final_resolution, limit, &checked))
-    return snapshots.back();
+  PathCheckReport own;
+  PathCheckReport& found = report != nullptr ? *report : own;
+  found = {};
+  const auto passes = [&](const std::vector<Eigen::VectorXd>& path) {
+    return validWithin(*validator, path, check, limit, checked, found);
+  };
+  // The returned path's smallest clearance, from its segments' proofs.
+  const auto returned = [&](const std::vector<Eigen::VectorXd>& path) {
+    for (std::size_t i = 1; i < path.size(); ++i)
+      if (const std::optional<double>* c = checked.find(path[i - 1], path[i]); c && *c)
+        found.clearance = std::min(found.clearance.value_or(**c), **c);
+    return path;
+  };
+  if (passes(snapshots.back())) return returned(snapshots.back());
   if (limit.fired()) return std::nullopt;
   // A shortcut free at the tree resolution grazed an obstacle between its
-  // samples. Repair: find a smoothing batch whose path passes the re-check
-  // and whose successor does not (bisection; the unsmoothed path must pass
-  // if it comes to that), then smooth on from there for one batch of each
-  // pass with every shortcut checked at the final resolution. The full
-  // passes at that resolution cost 2-3 times a whole plan in the bin
-  // scene, for paths 0-10 % shorter than after one batch.
+  // samples. Repair: find a smoothing batch whose path passes the final
+  // check and whose successor does not (bisection; the unsmoothed path
+  // must pass if it comes to that), then smooth on from there for one
+  // batch of each pass with every shortcut checked at the final
+  // resolution. The full passes at that resolution cost 2-3 times a whole
+  // plan in the bin scene, for paths 0-10 % shorter than after one batch.
   std::size_t good = 0, bad = snapshots.size() - 1;
   while (bad - good > 1) {
     const std::size_t mid = (good + bad) / 2;
-    if (validWithin(*validator, snapshots[mid], smoothing.final_resolution, limit, &checked))
+    if (passes(snapshots[mid]))
       good = mid;
     else
       bad = mid;
   }
-  if (good == 0 &&
-      !validWithin(*validator, snapshots[good], smoothing.final_resolution, limit, &checked))
-    return std::nullopt;
-  if (limit.expired()) return snapshots[good];
+  if (good == 0 && !passes(snapshots[good])) return std::nullopt;
+  if (limit.expired()) return returned(snapshots[good]);
   std::vector<Eigen::VectorXd> repaired;
   {
-    const ScopedResolution fine(*validator, smoothing.final_resolution);
+    const ScopedResolution fine(*validator, check.resolution);
     PathSmoothing oneBatch = smoothing;
     oneBatch.steps = std::min(smoothing.steps, kBatch);
     repaired = smoothInBatches(si, snapshots[good], oneBatch, stop).back();
   }
-  if (validWithin(*validator, repaired, smoothing.final_resolution, limit, &checked))
-    return repaired;
-  return snapshots[good];
+  if (passes(repaired)) return returned(repaired);
+  return returned(snapshots[good]);
 }
 
 double pathLength(const WeightedStateSpace& space, const std::vector<Eigen::VectorXd>& path) {

@@ -109,6 +109,7 @@ struct Problem {
         space(shared.space) {
     checker.setSphereTier(settings.execution.sphere_tier);
     checker.setMaxPenetration(settings.goal.max_penetration);
+    planner->setCertification(settings.path.certify ? &world.motionBound() : nullptr);
   }
 
   /// Algorithm 1's planner with the settings applied; also the space's:

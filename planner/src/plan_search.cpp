@@ -71,7 +71,7 @@ SearchOutcome searchMultiTree(Problem& p, bool coupled,
   SamplingTools tools(p.world, p.scene, p.space, p.checker, p.goals);
   tools.configurator.setArmReference(p.start.head(p.world.robot().numArmDofs()));
   const std::unique_ptr<GraspGoalSampler> sampler =
-      tools.makeSampler(coupled, planner.rng(), p.goals, p.settings.execution.final_resolution);
+      tools.makeSampler(coupled, planner.rng(), p.goals, planner.smoothing().final_check);
   planner.setProjection(std::make_shared<BackwardProjection>(
       p.world.robot(), p.scene.robot_base, p.scene.target_pose * p.object.geometry.center_of_mass,
       planner.getProjectionDistance()));
@@ -99,6 +99,7 @@ SearchOutcome searchMultiTree(Problem& p, bool coupled,
     out.explored = exploredNodes(hfts->cache(), tools);
   if (out.solved) {
     out.path = planner.solutionPath();
+    out.path_check = planner.pathCheck();
     out.goal = planner.reachedGoal();
   }
   return out;
@@ -113,6 +114,7 @@ SearchOutcome searchBaseline(Problem& p, const ob::PlannerTerminationCondition& 
   SearchOutcome out;
   out.solved = found.solved;
   out.path = std::move(found.path);
+  out.path_check = found.path_check;
   out.goal = std::move(found.goal);
   out.goals = found.goals;
   out.stats = planStatistics(found.trees, found.goals, found.objective_evaluations,

@@ -11,6 +11,7 @@
 #include "physics/simulate_grasp.h"
 #include "plan_problem.h"
 #include "planner/goal_sampler.h"
+#include "planner/path_smoothing.h"
 #include "planner/plan_statistics.h"
 
 namespace hfts::planner {
@@ -21,6 +22,7 @@ struct SearchOutcome {
   bool solved = false;
   std::vector<ExploredNode> explored;
   std::vector<Eigen::VectorXd> path;
+  PathCheckReport path_check;  ///< the final check of `path`
   GoalSample goal;
   GoalSamplerStatistics goals;
   PlanStatistics stats;

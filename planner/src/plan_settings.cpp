@@ -68,6 +68,8 @@ void declareSettings(ob::ParamSet& p, PlanSettings& s) {
   declareParameter(p, "max_penetration", {0.0, 0.0005, 0.01}, g.max_penetration);
   declareSwitch(p, "physics_check", g.physics_check);
 
+  declareSwitch(p, "certify_path", s.path.certify);
+
   ExecutionOptions& e = s.execution;
   declareParameter(p, "threads", {1, 1, 32}, e.threads);
   declareSwitch(p, "sphere_tier", e.sphere_tier);

@@ -86,6 +86,7 @@ PlanningWorld::PlanningWorld(robot::RobotModel robot, db::HandMap handMap,
                              std::shared_ptr<const ObjectLibrary> objects)
     : robot_(std::move(robot)),
       collision_(robot::buildCollisionModel(robot_)),
+      bound_(robot_),
       ik_(robot_),
       fast_(robot_, handMap),
       thorough_(robot_, std::move(handMap), grasp::HandQueryOptions::thorough()),

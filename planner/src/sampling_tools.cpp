@@ -35,13 +35,13 @@ SamplingTools::SamplingTools(const PlanningWorld& world, const robot::Scene& sce
 
 GoalSamplingContext SamplingTools::context(std::mt19937_64& rng,
                                            const GoalSamplingSettings& settings,
-                                           double approachResolution) {
+                                           const MotionCheck& closing) {
   return {&space,
           &objective,
           &configurator,
           &checker,
           &rng,
-          approachResolution,
+          closing,
           settings.max_fingertip_error,
           settings.min_epsilon,
           settings.other_postures != 0};
@@ -49,8 +49,8 @@ GoalSamplingContext SamplingTools::context(std::mt19937_64& rng,
 
 std::unique_ptr<GraspGoalSampler> SamplingTools::makeSampler(bool coupled, std::mt19937_64& rng,
                                                              const GoalSamplingSettings& settings,
-                                                             double approachResolution) {
-  const GoalSamplingContext c = context(rng, settings, approachResolution);
+                                                             const MotionCheck& closing) {
+  const GoalSamplingContext c = context(rng, settings, closing);
   if (coupled) return std::make_unique<HftsGoalSampler>(c, settings.coupled);
   return std::make_unique<DecoupledGoalSampler>(c, settings.decoupled_iterations);
 }

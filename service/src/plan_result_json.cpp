@@ -99,6 +99,7 @@ json planResultToJson(const planner::PlanResult& result, const planner::PlanRequ
               {"time_limit", request.time_limit},
               {"joint_names", result.joint_names},
               {"path", std::move(path)},
+              {"clearance", result.clearance ? json(*result.clearance) : json()},
               {"grasp", result.success ? graspJson(result.grasp, result.joint_names) : json()},
               {"trajectory", result.trajectory.points.empty()
                                  ? json()

@@ -92,7 +92,7 @@ TEST(HftsGoalSampler, AGrippersPhiTurnsThePalmForEveryNodeButTheUnstableLeaves) 
                                         scene.target_pose, scene.robot_base);
   configurator.setTurns(8);
   std::mt19937_64 rng(3);
-  HftsGoalSampler sampler({&space, &objective, &configurator, &checker, &rng}, {});
+  HftsGoalSampler sampler({&space, &objective, &configurator, &checker, &rng, MotionCheck{}}, {});
   const test::StartOnly knowledge(checker.metric(), world.robot().home());
   for (int call = 0; call < 30; ++call) sampler.sample(knowledge, [] { return false; });
   const GoalSamplerStatistics& s = sampler.statistics();

@@ -100,7 +100,8 @@ TEST(GraspTrajectory, RateZeroGivesNoTrajectoryAndBadRatesAreRefused) {
     }
   }
   robot::CollisionChecker checker(world.collisionModel(), robot::Scene{}, nullptr);
-  EXPECT_THROW(graspTrajectory({world.robot().home()}, checker, 0.0025, 100), InvalidArgument);
+  EXPECT_THROW(graspTrajectory({world.robot().home()}, checker, MotionCheck{0.0025}, 100),
+               InvalidArgument);
 }
 
 TEST(GraspTrajectory, ABlendThatWouldCollideIsTightened) {
@@ -114,7 +115,8 @@ TEST(GraspTrajectory, ABlendThatWouldCollideIsTightened) {
   c[1] += 0.8;
   robot::Scene open;
   robot::CollisionChecker free(test::collisionOf(robot), open, nullptr);
-  const GraspTrajectory wide = graspTrajectory({a, b, c, c}, free, 0.0025, 100, 0.5);
+  const GraspTrajectory wide =
+      graspTrajectory({a, b, c, c}, free, MotionCheck{0.0025}, 100, nullptr, 0.5);
   ASSERT_FALSE(wide.points.empty());
   EXPECT_GT(wide.deviation, 0.15);
   // Where the blend's midpoint puts the palm, an obstacle: blends must
@@ -151,7 +153,8 @@ TEST(GraspTrajectory, ABlendThatWouldCollideIsTightened) {
   }
   ASSERT_EQ(blocked.obstacles.size(), 1u) << "no link is off the path at the blend";
   robot::CollisionChecker checker(test::collisionOf(robot), blocked, nullptr);
-  const GraspTrajectory tight = graspTrajectory({a, b, c, c}, checker, 0.0025, 100, 0.5);
+  const GraspTrajectory tight =
+      graspTrajectory({a, b, c, c}, checker, MotionCheck{0.0025}, 100, nullptr, 0.5);
   ASSERT_FALSE(tight.points.empty());
   EXPECT_LT(tight.deviation, wide.deviation);
   for (const TrajectoryPoint& p : tight.points) EXPECT_FALSE(checker.inCollision(p.positions));

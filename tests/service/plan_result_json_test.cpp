@@ -43,6 +43,8 @@ planner::PlanResult success() {
   r.stats.planning_time = 0.5;
   r.stats.iterations = 42;
   r.stats.path_length_smoothed = 1.5;
+  r.stats.certificate_queries = 1234;
+  r.clearance = 0.0125;
   return r;
 }
 
@@ -53,6 +55,7 @@ TEST(PlanResultJson, CarriesThePathWithItsJointNames) {
   EXPECT_EQ(j.at("message"), "");
   EXPECT_EQ(j.at("joint_names"), test::kr5Sdh().dofNames());
   ASSERT_EQ(j.at("path").size(), 3u);
+  EXPECT_EQ(j.at("clearance"), 0.0125);
   EXPECT_EQ(j.at("path")[1].size(), 13u);
   EXPECT_DOUBLE_EQ(j.at("path")[1][1].get<double>(), test::kr5Sdh().home()(1) * 0.5);
 }
@@ -95,7 +98,9 @@ TEST(PlanResultJson, EchoesTheRequestAndStatistics) {
   EXPECT_EQ(j.at("stats").at("planning_time"), 0.5);
   EXPECT_EQ(j.at("stats").at("iterations"), 42);
   EXPECT_EQ(j.at("stats").at("path_length_smoothed"), 1.5);
-  EXPECT_EQ(j.at("stats").size(), 25u);
+  EXPECT_EQ(j.at("stats").size(), 27u);
+  EXPECT_EQ(j.at("stats").at("certificate_queries"), 1234);
+  EXPECT_EQ(j.at("clearance"), 0.0125);
   EXPECT_EQ(j.at("stats").at("rejected_colliding"), 0);
   for (const char* key : {"dropped_goals", "physics_checks", "physics_time",
                           "rejected_no_pad_contact", "rejected_weak_at_contacts"})
@@ -133,6 +138,7 @@ TEST(PlanResultJson, AFailureHasAReasonAndNoGrasp) {
   EXPECT_EQ(j.at("message"), "the start configuration is in collision");
   EXPECT_TRUE(j.at("grasp").is_null());
   EXPECT_EQ(j.at("path"), json::array());
+  EXPECT_TRUE(j.at("clearance").is_null());
   EXPECT_EQ(j.at("object_pose").at("position"), json({0.55, 0, 0})) << "the scene's pose";
 }
 

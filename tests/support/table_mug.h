@@ -47,7 +47,8 @@ struct TableMug {
                                         checker,       scene.target_pose, scene.robot_base,
                                         &closer};
   std::mt19937_64 rng{5};
-  planner::GoalSamplingContext context{&space, &objective, &configurator, &checker, &rng};
+  planner::GoalSamplingContext context{&space,   &objective, &configurator,
+                                       &checker, &rng,       planner::MotionCheck{}};
   Eigen::VectorXd start = scene.startFor(world.robot().name()).value_or(world.robot().home());
   StartOnly knowledge{checker.metric(), start};
 };

@@ -15,6 +15,7 @@
 #include "grasp/grasp_configurations.h"
 #include "grasp/grasp_optimizer.h"
 #include "planner/goal_hierarchy_cache.h"
+#include "planner/motion_check.h"
 #include "planner/parameters.h"
 #include "planner/plan_statistics.h"
 
@@ -54,9 +55,11 @@ struct GoalSamplingContext {
   grasp::GraspConfigurator* configurator = nullptr;
   robot::CollisionChecker* checker = nullptr;
   std::mt19937_64* rng = nullptr;
-  /// Resolution at which the closing motion (pre-grasp -> grasp) is checked
-  /// with the grasp-aware collision rule.
-  double approach_resolution = 0.0025;
+  /// How the closing motion (pre-grasp -> grasp) is checked: sampled at
+  /// its resolution with the grasp rule (the fingertips' depth in the
+  /// target), and with a bound also proven free under the closing rule
+  /// (robot::CertifyRule::kClosing).
+  MotionCheck closing;
   /// Largest fingertip-to-contact distance of a goal's planned hand
   /// posture (m): a search-time filter, not what makes a goal.
   double max_fingertip_error = 0.005;
@@ -115,7 +118,10 @@ class GraspGoalSampler : public GoalSampler {
   double contactQuality(const grasp::HandClosure& closure) const;
   /// Whether a collision-free configuration of a stable leaf is a goal
   /// (CachedConfiguration::goal).
-  bool isGoal(const CachedConfiguration& c) const;
+  bool isGoal(const CachedConfiguration& c);
+  /// With context.closing's bound: the closing motion proven free (its
+  /// queries counted); without: true.
+  bool closingProven(const CachedConfiguration& c);
   /// Counts a leaf grasp that gave no goal under its first reason.
   void countRejection(double epsilon, const std::vector<grasp::GraspConfigurations>& postures,
                       const std::vector<CachedConfiguration>& free);

@@ -2,14 +2,15 @@
 // The trajectory of a planned grasp (docs/trajectories.md): the approach
 // (start -> pre-grasp) as a time-optimal trajectory with blended corners,
 // then the hand closing from the pre-grasp opening onto the contacts, both
-// at rest at their ends, every sample checked by the exact collision
-// checker.
+// at rest at their ends, the chords between the samples proven free (or
+// sampled) as the plan's path was (motion_check.h).
 
 #include <Eigen/Core>
 
 #include <string>
 #include <vector>
 
+#include "planner/motion_check.h"
 #include "planner/time_parameterization.h"
 #include "robot/collision_checker.h"
 
@@ -28,17 +29,19 @@ struct GraspTrajectory {
 /// The trajectory of `path` (start, ..., pre-grasp, grasp: PlanResult::path)
 /// under the robot's velocity limits (URDF) and acceleration limits
 /// (config `max_accelerations`), sampled every 1 / rate s. The approach's
-/// blends may leave the path by at most `maxDeviation` (rad); if a sample
-/// or the chord between two samples collides (full rule; the closing:
-/// fingertips may touch the target) at `resolution` (Eq. (3) metric), the
-/// blends are tightened (deviation / 4, ..., then none: the planned path
-/// exactly). Throws InvalidArgument ("trajectory_rate") for a rate that is
-/// not positive, ("path") for fewer than two configurations, and
-/// robot::ModelError when the robot has no acceleration limits; returns
-/// nothing (empty points) when even the exact path's samples collide, or
-/// when the trajectory would hold more than kMaxTrajectorySamples states.
+/// blends may leave the path by at most `maxDeviation` (rad); if the
+/// polyline through its samples fails `check` (the approach rule; the
+/// closing's samples the closing rule), the blends are tightened
+/// (deviation / 4, ..., then none: the planned path exactly). `queries`,
+/// when given, gets the proofs' distance queries. Throws InvalidArgument
+/// ("trajectory_rate") for a rate that is not positive, ("path") for fewer
+/// than two configurations, and robot::ModelError when the robot has no
+/// acceleration limits; returns nothing (empty points) when even the exact
+/// path's samples fail, or when the trajectory would hold more than
+/// kMaxTrajectorySamples states.
 GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
-                                robot::CollisionChecker& checker, double resolution, double rate,
+                                robot::CollisionChecker& checker, const MotionCheck& check,
+                                double rate, std::size_t* queries = nullptr,
                                 double maxDeviation = TrajectoryOptions{}.max_deviation);
 
 }  // namespace hfts::planner

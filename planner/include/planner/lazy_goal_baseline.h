@@ -35,8 +35,9 @@ struct LazyGoalSettings {
 /// What one solve() found and did.
 struct LazyGoalOutcome {
   bool solved = false;
-  /// Start, ..., pre-grasp: smoothed (or raw) and re-checked densely.
+  /// Start, ..., pre-grasp: smoothed (or raw) and through the final check.
   std::vector<Eigen::VectorXd> path;
+  PathCheckReport path_check;   ///< what that check found
   GoalSample goal;              ///< the goal the path reaches (kGoal when solved)
   GoalSamplerStatistics goals;  ///< of the sampling thread: GS, VGS, GNS
   /// RRTConnect's: iterations (one uniform sample each), goal_trees (goal

@@ -85,11 +85,18 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   /// "smoothing_steps" and "final_resolution" (path_smoothing.h): also the
   /// resolution a goal's closing motion is checked at.
   const PathSmoothing& smoothing() const { return smoothing_; }
+  /// Proves the returned path's segments free (and goals' closing
+  /// motions, through the goal sampler that reads smoothing()) with
+  /// `bound`; null: samples them at the final resolution. The bound must
+  /// outlive the planner.
+  void setCertification(const robot::MotionBound* bound) { smoothing_.final_check.bound = bound; }
 
   /// After a successful solve(): the path from the start to the goal's
   /// pre-grasp (smoothed and re-checked) and the goal it reaches.
   const std::vector<Eigen::VectorXd>& solutionPath() const { return solution_; }
   const GoalSample& reachedGoal() const { return reached_; }
+  /// What the final check of that path found.
+  const PathCheckReport& pathCheck() const { return pathCheck_; }
   const TreeStatistics& statistics() const { return stats_; }
 
  private:
@@ -172,6 +179,7 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   std::uint64_t generation_ = 0;
   Direction direction_ = Direction::kForward;
   std::vector<Eigen::VectorXd> solution_;
+  PathCheckReport pathCheck_;
   /// Steps constrainedExtend checks in one stream, and its scratch line.
   static constexpr std::size_t kLookahead = 8;
   std::vector<Eigen::VectorXd> lineScratch_;

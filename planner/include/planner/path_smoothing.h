@@ -1,10 +1,10 @@
 #pragma once
 // What a found path goes through before a planner returns it
 // (docs/planning.md): OMPL's vertex reduction and shortcutting for a
-// counted number of steps from a seeded generator, then a dense re-check
-// at the final resolution; when a shortcut fails it, a repair that smooths
-// on from a batch whose path passed, with shortcuts checked at the final
-// resolution.
+// counted number of steps from a seeded generator, then the final check
+// (motion_check.h: every segment proven free, or sampled at the final
+// resolution); when a shortcut fails it, a repair that smooths on from a
+// batch whose path passed, with shortcuts checked at the final resolution.
 // Include only where OMPL is used.
 
 #include <ompl/base/PlannerTerminationCondition.h>
@@ -17,15 +17,25 @@
 #include <vector>
 
 #include "planner/configuration_space.h"
+#include "planner/motion_check.h"
 #include "planner/parameters.h"
 
 namespace hfts::planner {
 
 /// How a path is smoothed and re-checked.
 struct PathSmoothing {
-  unsigned steps = 200;              ///< at most, of each pass (vertex reduction, shortcutting)
-  double final_resolution = 0.0025;  ///< of the dense re-check (Eq. (3) metric)
-  std::uint32_t seed = 1;            ///< of OMPL's PathSimplifier
+  unsigned steps = 200;     ///< at most, of each pass (vertex reduction, shortcutting)
+  MotionCheck final_check;  ///< of the returned path; its resolution also the repair's
+  std::uint32_t seed = 1;   ///< of OMPL's PathSimplifier
+};
+
+/// What the final check of a returned path found (smoothAndRecheck).
+struct PathCheckReport {
+  /// Proven: the smallest distance the proofs of the returned path's
+  /// segments measured (m); sampled: none.
+  std::optional<double> clearance;
+  std::size_t queries = 0;  ///< distance queries of every proof made
+  double seconds = 0.0;     ///< wall clock in the final check and the repair's checks
 };
 
 /// Shortens `path` with OMPL's PathSimplifier on `si` (whose motion
@@ -42,23 +52,25 @@ std::vector<Eigen::VectorXd> smoothPath(const ompl::base::SpaceInformationPtr& s
                                         const ompl::base::PlannerTerminationCondition& ptc);
 
 /// True when the path is not empty, its first configuration is free and
-/// every segment is free at `resolution`.
+/// every segment is free at `resolution` (sampled).
 bool denselyValid(const CollisionMotionValidator& validator,
                   const std::vector<Eigen::VectorXd>& path, double resolution);
 
 /// The path a planner returns for `raw` (free at the tree resolution):
 /// smoothed with shortcuts checked at the tree resolution if that passes
-/// the dense re-check at `final_resolution`. Else (only while `ptc`
-/// allows) repaired: the path after a smoothing batch that passes the
-/// re-check (found by bisection over the batches; `raw` if need be),
-/// smoothed on for one batch of each pass with the shortcuts checked at
-/// `final_resolution`. Nothing when `raw` itself fails. The re-check gives
-/// up (nothing, or the last path that passed) 25 ms after `ptc` fires,
-/// bounding how far a planner overruns its time limit. The motion
-/// validator's resolution is the same afterwards.
+/// the final check (smoothing.final_check; the last segment ends at the
+/// pre-grasp). Else (only while `ptc` allows) repaired: the path after a
+/// smoothing batch that passes the check (found by bisection over the
+/// batches; `raw` if need be), smoothed on for one batch of each pass with
+/// the shortcuts checked at the final check's resolution. Nothing when
+/// `raw` itself fails. The check gives up (nothing, or the last path that
+/// passed) 25 ms after `ptc` fires, bounding how far a planner overruns its
+/// time limit. The motion validator's resolution is the same afterwards.
+/// `report`, when given, gets what the final check found.
 std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
     const ompl::base::SpaceInformationPtr& si, const std::vector<Eigen::VectorXd>& raw,
-    const PathSmoothing& smoothing, const ompl::base::PlannerTerminationCondition& ptc);
+    const PathSmoothing& smoothing, const ompl::base::PlannerTerminationCondition& ptc,
+    PathCheckReport* report = nullptr);
 
 /// Sum of the segment lengths in the Eq. (3) metric of `space`.
 double pathLength(const WeightedStateSpace& space, const std::vector<Eigen::VectorXd>& path);

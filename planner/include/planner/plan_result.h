@@ -77,9 +77,19 @@ struct PlanResult {
   PlanFailure failure = PlanFailure::kNone;
   std::string message;  ///< human-readable reason when unsuccessful
   /// Start, ..., pre-grasp, grasp (the hand closed until its pads touch
-  /// the object): the last segment was checked with the grasp rule, all
-  /// others with the full rule at the planner's final resolution.
+  /// the object). With certify_path (the default) every segment is proven
+  /// free (robot::certifyPath): the last under the closing rule (its
+  /// fingertips' depth in the object sampled with the grasp rule at the
+  /// final resolution), the one before under the approach rule, the
+  /// others as transits. Without, every segment is sampled at the final
+  /// resolution (the last with the grasp rule).
   std::vector<Eigen::VectorXd> path;
+  /// With certify_path: the smallest distance (m) the proofs of the path
+  /// from the start to the pre-grasp measured, between a link and the
+  /// environment or two links that move relative to each other. The
+  /// path's true smallest clearance lies between what the rule asked (0
+  /// for now, issue 45) and this.
+  std::optional<double> clearance;
   std::vector<std::string> joint_names;
   /// Where the object was: the request's object_pose, or the scene's
   /// target pose (resting on its support when the scene says so).

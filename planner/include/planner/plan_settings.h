@@ -97,6 +97,14 @@ struct GoalCriteria {
   bool physics_check = true;
 };
 
+/// What a returned motion must be (docs/planning.md#certified-paths).
+struct PathCriteria {
+  /// "certify_path": every segment of the returned path, the goal's
+  /// closing motion and the trajectory's chords proven free
+  /// (robot::certifyPath); off: sampled at final_resolution, as before.
+  bool certify = true;
+};
+
 /// How the search runs: none of these changes what a plan is.
 struct ExecutionOptions {
   /// "threads": racing copies of the search, one thread each.
@@ -117,6 +125,7 @@ struct PlanSettings {
   PaperParameters paper;
   SearchHeuristics heuristics;
   GoalCriteria goal;
+  PathCriteria path;
   ExecutionOptions execution;
 };
 

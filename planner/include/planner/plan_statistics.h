@@ -22,6 +22,10 @@ struct TreeStatistics {
   std::uint64_t backward_tree_nodes = 0;  ///< in live backward trees
   double path_length_raw = 0.0;           ///< Eq. (3) metric, before smoothing
   double path_length_smoothed = 0.0;
+  /// s: the final checks of found paths (proofs or dense samples), and
+  /// the proofs' distance queries.
+  double final_check_time = 0.0;
+  std::uint64_t certificate_queries = 0;
 };
 
 /// Why leaf grasps that went through Phi(h) gave no goal, each counted
@@ -59,6 +63,8 @@ struct GoalSamplerStatistics {
   /// every node but the unstable leaves).
   std::uint64_t turned_nodes = 0;
   GraspRejections rejected;  ///< leaf grasps without a goal, by reason
+  /// Distance queries of the proofs of closing motions (certify_path).
+  std::uint64_t certificate_queries = 0;
 };
 
 struct PlanStatistics {
@@ -85,6 +91,11 @@ struct PlanStatistics {
   std::uint64_t backward_tree_nodes = 0;
   double path_length_raw = 0.0;  ///< Eq. (3) metric
   double path_length_smoothed = 0.0;
+  /// s: the final checks of found paths, the rejected ones too (proven
+  /// free with certify_path, else sampled at final_resolution).
+  double final_check_time = 0.0;
+  /// Distance queries of the proofs (paths, closing motions, trajectory).
+  std::uint64_t certificate_queries = 0;
   GraspRejections rejected;  ///< leaf grasps that gave no goal, by reason
 };
 
@@ -115,6 +126,8 @@ void forEachStatistic(const PlanStatistics& s, F&& f) {
   f("backward_tree_nodes", s.backward_tree_nodes);
   f("path_length_raw", s.path_length_raw);
   f("path_length_smoothed", s.path_length_smoothed);
+  f("final_check_time", s.final_check_time);
+  f("certificate_queries", s.certificate_queries);
   f("rejected_unstable", s.rejected.unstable);
   f("rejected_no_arm_ik", s.rejected.no_arm_ik);
   f("rejected_out_of_hand_reach", s.rejected.out_of_hand_reach);

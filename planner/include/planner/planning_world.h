@@ -14,6 +14,7 @@
 #include "hfts_db/object_database.h"
 #include "robot/arm_ik.h"
 #include "robot/collision_model.h"
+#include "robot/motion_bound.h"
 #include "robot/robot_model.h"
 
 namespace hfts::robot {
@@ -84,6 +85,9 @@ class PlanningWorld {
   const robot::RobotModel& robot() const { return robot_; }
   /// The robot's collision model (spheres, pair maps), built with the world.
   const robot::CollisionModel& collisionModel() const { return *collision_; }
+  /// How far the robot's links can move per joint step: what certified
+  /// motions are proven with (robot::certifyPath).
+  const robot::MotionBound& motionBound() const { return bound_; }
   const robot::ArmIk& ik() const { return ik_; }
   /// The map's fast query (the HFTS objective) and thorough query (Phi(h)).
   const grasp::HandReachability& handMap() const { return fast_; }
@@ -109,6 +113,7 @@ class PlanningWorld {
  private:
   robot::RobotModel robot_;
   std::shared_ptr<const robot::CollisionModel> collision_;
+  robot::MotionBound bound_;
   robot::ArmIk ik_;
   grasp::HandReachability fast_;
   grasp::HandReachability thorough_;

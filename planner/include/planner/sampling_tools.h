@@ -29,17 +29,17 @@ struct SamplingTools {
                 const GoalSamplingSettings& settings);
 
   /// What a goal sampler on these tools works with: random decisions from
-  /// `rng`, closing motions checked at `approachResolution`, the fingertip
+  /// `rng`, closing motions checked as `closing` says, the fingertip
   /// tolerance of `settings`.
   GoalSamplingContext context(std::mt19937_64& rng, const GoalSamplingSettings& settings,
-                              double approachResolution);
+                              const MotionCheck& closing);
 
   /// The coupled sampler (Algorithm 2) or the decoupled one, set up from
   /// `settings`, drawing from `rng`. Throws InvalidArgument ("parameters.*")
   /// for inconsistent settings.
   std::unique_ptr<GraspGoalSampler> makeSampler(bool coupled, std::mt19937_64& rng,
                                                 const GoalSamplingSettings& settings,
-                                                double approachResolution);
+                                                const MotionCheck& closing);
 
   const grasp::HftsSpace& space;
   robot::CollisionChecker& checker;
