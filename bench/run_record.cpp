@@ -16,7 +16,8 @@ constexpr const char* kHeader =
     "collision_checks,cpu_time,placement,rejected_unstable,rejected_no_arm_ik,"
     "rejected_out_of_hand_reach,rejected_colliding,rejected_closing_blocked,fingertip_error,"
     "planned_epsilon,penetration,rejected_no_pad_contact,rejected_weak_at_contacts,planned,held,"
-    "held_fraction,physics_failure,lift,dropped_goals,physics_checks,physics_time";
+    "held_fraction,physics_failure,lift,dropped_goals,physics_checks,physics_time,"
+    "rejected_paths,final_check_time,certificate_queries,clearance";
 
 /// RFC 4180 quoting; names from file stems may hold commas or quotes.
 std::string csvField(const std::string& text) {
@@ -95,7 +96,10 @@ void writeRow(std::ostream& out, const RunRecord& r) {
   else
     out << ",,,";
   out << ',' << s.dropped_goals << ',' << s.physics_checks << ',' << std::setprecision(6)
-      << s.physics_time << '\n';
+      << s.physics_time << ',' << s.rejected_paths << ',' << s.final_check_time << ','
+      << s.certificate_queries << ',';
+  if (r.clearance) out << std::setprecision(8) << *r.clearance;
+  out << '\n';
 }
 
 }  // namespace
@@ -125,6 +129,7 @@ RunRecord makeRunRecord(const CaseName& c, const std::string& algorithm, std::ui
   r.fingertip_error = result.grasp.fingertip_error;
   r.planned_epsilon = result.grasp.planned_epsilon;
   r.penetration = result.grasp.penetration;
+  r.clearance = result.clearance;
   r.stats = result.stats;
   return r;
 }

@@ -48,6 +48,9 @@ struct RunRecord {
   double fingertip_error = 0.0;
   double planned_epsilon = 0.0;
   double penetration = 0.0;
+  /// The path's clearance as its proofs measured (PlanResult::clearance;
+  /// none when sampled or failed).
+  std::optional<double> clearance;
   /// The plan's statistics; the CSV's time, gs, vgs, gns, path_length and
   /// collision_checks columns are planning_time, goal_sampling_calls,
   /// valid_goal_samples, hfts_nodes_explored, path_length_smoothed and

@@ -47,6 +47,9 @@ struct Proof {
   std::vector<double> travel;     ///< per segment: how far it can come closer, at most (m)
   std::vector<double> remaining;  ///< kArriving: travel from waypoint k to the end
   double until = 0.0;
+  /// Counts towards the reported clearance: not a pair whose distance is
+  /// the robot's (two links that do not move relative to each other).
+  bool reported = true;
 };
 
 /// The motion's waypoints and where a position k + t lies.
@@ -149,6 +152,7 @@ std::vector<Proof> proofsOf(const RobotModel& model, const MotionBound& bound, c
       const bool closingHand =
           rule == CertifyRule::kClosing && (model.isHandLink(a) || model.isHandLink(b));
       if (still || closingHand) p.keeps = Keeps::kFree;
+      p.reported = !still;
       proofs.push_back(std::move(p));
     }
   return proofs;
@@ -213,7 +217,7 @@ MotionCertificate certifyPath(CollisionChecker& checker, const MotionBound& boun
       for (std::size_t i = 0; i < due[kind].size(); ++i) {
         Proof& proof = *due[kind][i];
         const double distance = distances[kind][i];
-        if (distance < certificate.clearance) {
+        if (proof.reported && distance < certificate.clearance) {
           certificate.clearance = distance;
           certificate.at = s;
           certificate.nearest_link = proof.link;

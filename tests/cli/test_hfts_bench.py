@@ -22,7 +22,8 @@ HEADER = ["scene", "object", "algorithm", "seed", "success", "failure", "time", 
           "rejected_colliding", "rejected_closing_blocked", "fingertip_error",
           "planned_epsilon", "penetration", "rejected_no_pad_contact",
           "rejected_weak_at_contacts", "planned", "held", "held_fraction", "physics_failure",
-          "lift", "dropped_goals", "physics_checks", "physics_time"]
+          "lift", "dropped_goals", "physics_checks", "physics_time", "rejected_paths",
+          "final_check_time", "certificate_queries", "clearance"]
 TIME_LIMIT = 10
 # The default planner without the physics check: for tests of the program,
 # not of whether plans hold (the main series has it).

@@ -11,6 +11,8 @@
 
 #include "core/invalid_argument.h"
 #include "planner/parameters.h"
+#include "robot/kinematics.h"
+#include "robot/segment_certificate.h"
 
 #include "grasp/hand_map_builder.h"
 #include "grasp/hand_reachability.h"
@@ -58,6 +60,67 @@ INSTANTIATE_TEST_SUITE_P(
                       test::SceneObject{"shelf", "bottle"}, test::SceneObject{"shelf", "mug"},
                       test::SceneObject{"bin", "blob"}, test::SceneObject{"bin", "cylinder"}),
     test::sceneObjectName);
+
+TEST(GraspMotionPlanner, CertifiedPathsAreFreeByADenseDistanceSweep) {
+  // With certify_path every motion of the plan is proven: an independent
+  // FCL distance sweep (the robot to the environment and to itself at 401
+  // states per segment) finds every state of the path to the pre-grasp
+  // free, the reported clearance is a distance the sweep does not beat by
+  // more than its step; the closing is proven under its rule (fingertips
+  // on the object), and refused when a fingertip ends in an obstacle.
+  PlanRequest r = request("table", "mug", 1);
+  r.parameters["physics_check"] = "0";
+  r.parameters["certify_path"] = "1";
+  const PlanResult result = planGrasp(world(), r);
+  expectValidPlan(r, result);
+  ASSERT_TRUE(result.clearance.has_value());
+  EXPECT_GT(*result.clearance, 0.0);
+  EXPECT_GT(result.stats.certificate_queries, 0u);
+  EXPECT_FALSE(result.trajectory.points.empty());
+  const robot::Scene scene = test::plannedScene(world(), r);
+  robot::CollisionChecker checker(world().collisionModel(), scene,
+                                  &world().object(scene.target_object)->geometry);
+  double swept = 1e9;
+  for (std::size_t i = 1; i + 1 < result.path.size(); ++i)
+    for (int k = 0; k <= 400; ++k) {
+      const Eigen::VectorXd q =
+          result.path[i - 1] + (result.path[i] - result.path[i - 1]) * (k / 400.0);
+      const double d = checker.clearance(q);
+      swept = std::min(swept, d > 0.0 ? std::min(d, checker.selfClearance(q)) : 0.0);
+    }
+  EXPECT_GT(swept, 0.0);
+  const Eigen::VectorXd& pregrasp = result.path[result.path.size() - 2];
+  robot::CertifyOptions closing;
+  closing.rule = robot::CertifyRule::kClosing;
+  EXPECT_TRUE(
+      robot::certifySegment(checker, world().motionBound(), pregrasp, result.path.back(), closing)
+          .free);
+  // A fingertip may touch the object, not an obstacle: a 3 mm ball where
+  // the first fingertip ends up is refused.
+  robot::Scene blocked = scene;
+  robot::Obstacle ball;
+  ball.name = "ball";
+  ball.type = robot::Obstacle::Type::kSphere;
+  ball.size = Eigen::Vector3d::Constant(0.003);
+  ball.pose =
+      scene.robot_base *
+      robot::forwardKinematics(
+          world().robot(),
+          result.path.back())[static_cast<std::size_t>(world().robot().fingertips()[0].link)];
+  blocked.obstacles.push_back(ball);
+  robot::CollisionChecker blockedChecker(world().collisionModel(), blocked,
+                                         &world().object(scene.target_object)->geometry);
+  EXPECT_FALSE(robot::certifySegment(blockedChecker, world().motionBound(), pregrasp,
+                                     result.path.back(), closing)
+                   .free);
+  // The trajectory's chords, proven as one polyline under the approach rule.
+  std::vector<Eigen::VectorXd> approach;
+  for (const TrajectoryPoint& p : result.trajectory.points)
+    if (p.time <= result.trajectory.closing_start) approach.push_back(p.positions);
+  robot::CertifyOptions arriving;
+  arriving.rule = robot::CertifyRule::kApproach;
+  EXPECT_TRUE(robot::certifyPath(checker, world().motionBound(), approach, arriving).free);
+}
 
 TEST(GraspMotionPlanner, DecoupledBaselinePlansToo) {
   PlanRequest r = request("table", "mug", 3, PlanAlgorithm::kDecoupled);

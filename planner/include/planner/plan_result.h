@@ -77,7 +77,7 @@ struct PlanResult {
   PlanFailure failure = PlanFailure::kNone;
   std::string message;  ///< human-readable reason when unsuccessful
   /// Start, ..., pre-grasp, grasp (the hand closed until its pads touch
-  /// the object). With certify_path (the default) every segment is proven
+  /// the object). With certify_path every segment is proven
   /// free (robot::certifyPath): the last under the closing rule (its
   /// fingertips' depth in the object sampled with the grasp rule at the
   /// final resolution), the one before under the approach rule, the

@@ -101,8 +101,11 @@ struct GoalCriteria {
 struct PathCriteria {
   /// "certify_path": every segment of the returned path, the goal's
   /// closing motion and the trajectory's chords proven free
-  /// (robot::certifyPath); off: sampled at final_resolution, as before.
-  bool certify = true;
+  /// (robot::certifyPath); off: sampled at final_resolution. Off by
+  /// default until the search keeps a margin: most shelf paths pass within
+  /// 0.1 mm of something and are refused (docs/experiments/
+  /// 2026-12-06-certified-paths.md).
+  bool certify = false;
 };
 
 /// How the search runs: none of these changes what a plan is.

@@ -66,7 +66,8 @@ struct MotionCertificate {
   bool free = false;
   /// The smallest exact distance measured (m; FCL's, a link to the
   /// environment (the obstacles only, for a fingertip while closing) or
-  /// link to link, whichever was measured there): the motion's smallest
+  /// link to link, whichever was measured there; not between two links
+  /// that do not move relative to each other): the motion's smallest
   /// clearance is at most this, and at least what the rule asks when free.
   double clearance = 0.0;
   /// Where along the motion it was measured (k + t: the fraction t of the
