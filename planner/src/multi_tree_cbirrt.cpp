@@ -457,10 +457,18 @@ bool MultiTreeCBiRRT::extractAndShortcutPath(int index, Motion* forwardEnd, Moti
   std::reverse(path.begin(), path.end());
   // backwardEnd repeats forwardEnd's configuration; continue from its parent.
   for (Motion* m = backwardEnd->parent; m != nullptr; m = m->parent) path.push_back(m->q);
-  // Smoothed and re-checked at the final resolution: a path that fails
-  // the re-check is never returned (path_smoothing.h).
   PathSmoothing smoothing = smoothing_;
   smoothing.seed = static_cast<std::uint32_t>(rng_());
+  // The goal's own check first (a grasp simulated in physics fails far
+  // more often than a path its final check): a proof of a path to a goal
+  // that is dropped anyway would be wasted.
+  if (goalCheck_ && !goalCheck_(trees_[static_cast<std::size_t>(index)]->root)) {
+    ++stats_.dropped_goals;
+    dropTree(index);
+    return false;
+  }
+  // Smoothed and through the final check: a path that fails it is never
+  // returned (path_smoothing.h).
   PathCheckReport report;
   std::optional<std::vector<Eigen::VectorXd>> checked =
       smoothAndRecheck(si_, path, smoothing, ptc, &report);
@@ -468,11 +476,6 @@ bool MultiTreeCBiRRT::extractAndShortcutPath(int index, Motion* forwardEnd, Moti
   stats_.certificate_queries += report.queries;
   if (!checked) {
     ++stats_.rejected_paths;
-    dropTree(index);
-    return false;
-  }
-  if (goalCheck_ && !goalCheck_(trees_[static_cast<std::size_t>(index)]->root)) {
-    ++stats_.dropped_goals;
     dropTree(index);
     return false;
   }

@@ -72,6 +72,7 @@ struct CollisionChecker::Impl {
     QueryData data;
     data.model = &model;
     data.target = request.target;
+    data.obstacles = request.obstacles;
     data.self = request.self;
     data.allowFingertipContact = request.rule == CollisionRequest::Rule::kGraspRule;
     if (data.allowFingertipContact)
@@ -142,7 +143,8 @@ struct CollisionChecker::Impl {
 
   /// Whether the request counts a pair the sphere tier names.
   bool counts(const SphereTier::Pair& p, const CollisionRequest& request) const {
-    return p.other_link >= 0 ? request.self : request.target || !tier.isTarget(p.item);
+    if (p.other_link >= 0) return request.self;
+    return tier.isTarget(p.item) ? request.target : request.obstacles;
   }
 
   /// The number of leading segments of the polyline points[0] -> ... ->
@@ -365,6 +367,7 @@ void CollisionChecker::linkClearances(const Eigen::VectorXd& q, const std::vecto
       QueryData data;
       data.model = &impl_->model;
       data.target = request.target;
+      data.obstacles = request.obstacles;
       impl_->environment()->distance(impl_->robot.objects[object].get(), &data,
                                      objectDistanceCallback);
       distances[k] = std::min(distances[k], data.distance);

@@ -41,6 +41,7 @@ bool ignored(const Tag& a, const Tag& b, const QueryData& data) {
   if (a.link >= 0 && b.link >= 0)
     return !data.self || a.link == b.link || data.model->isCollisionDisabled(a.link, b.link);
   if (!data.target && (a.target || b.target)) return true;
+  if (!data.obstacles && ((a.link < 0 && !a.target) || (b.link < 0 && !b.target))) return true;
   return a.link < 0 && b.link < 0;  // environment against itself
 }
 

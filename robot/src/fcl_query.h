@@ -69,8 +69,9 @@ struct QueryData {
   /// the full rule.
   bool allowFingertipContact = false;
   GraspContactRule rule;
-  bool target = true;  ///< contacts with the target count (CollisionRequest::target)
-  bool self = true;    ///< contacts between robot links count (CollisionRequest::self)
+  bool target = true;     ///< contacts with the target count (CollisionRequest::target)
+  bool obstacles = true;  ///< contacts with the obstacles count (CollisionRequest::obstacles)
+  bool self = true;       ///< contacts between robot links count (CollisionRequest::self)
   bool collision = false;
   CollisionPair pair;
   double distance = std::numeric_limits<double>::infinity();

@@ -23,11 +23,14 @@ constexpr double kDistanceTolerance = 1e-5;
 /// distance, not at zero.
 constexpr double kBlockingSlack = 1e-4;
 
-/// What one proof measures.
+/// What one proof measures. A link's distances to the obstacles and to the
+/// target are proven apart: the target's mesh costs far more to measure
+/// than the obstacles' primitives, and each is measured again only where
+/// its own proof ends.
 enum class Against {
-  kEnvironment,  ///< a link to the obstacles and the target
-  kObstacles,    ///< a link to the obstacles only (a fingertip closing on the target)
-  kLink,         ///< a link to another link
+  kObstacles,  ///< a link to the obstacles
+  kTarget,     ///< a link to the target (none for a fingertip closing on it)
+  kLink,       ///< a link to another link
 };
 
 /// How far a proof's distance must stay.
@@ -42,7 +45,7 @@ enum class Keeps {
 /// where its proof ends (`until`, as a motion position k + t).
 struct Proof {
   int link = -1, other = -1;
-  Against against = Against::kEnvironment;
+  Against against = Against::kObstacles;
   Keeps keeps = Keeps::kClearance;
   std::vector<double> travel;     ///< per segment: how far it can come closer, at most (m)
   std::vector<double> remaining;  ///< kArriving: travel from waypoint k to the end
@@ -129,13 +132,17 @@ std::vector<Proof> proofsOf(const RobotModel& model, const MotionBound& bound, c
     const bool hand = model.isHandLink(link);
     if (rule == CertifyRule::kClosing && hand) {
       p.keeps = Keeps::kFree;
-      if (fingertip[static_cast<std::size_t>(link)]) p.against = Against::kObstacles;
     } else if (rule == CertifyRule::kApproach && hand) {
       p.keeps = Keeps::kArriving;
       p.remaining.assign(p.travel.size() + 1, 0.0);
       for (std::size_t k = p.travel.size(); k-- > 0;)
         p.remaining[k] = p.remaining[k + 1] + p.travel[k];
     }
+    p.against = Against::kObstacles;
+    proofs.push_back(p);
+    // A fingertip closing on the target may touch it.
+    if (rule == CertifyRule::kClosing && fingertip[static_cast<std::size_t>(link)]) continue;
+    p.against = Against::kTarget;
     proofs.push_back(std::move(p));
   }
   for (std::size_t i = 0; i < links.size(); ++i)
@@ -198,14 +205,14 @@ MotionCertificate certifyPath(CollisionChecker& checker, const MotionBound& boun
     for (auto& d : due) d.clear();
     for (Proof& proof : proofs)
       if (proof.until <= s) due[static_cast<int>(proof.against)].push_back(&proof);
-    for (const Against against : {Against::kEnvironment, Against::kObstacles}) {
+    for (const Against against : {Against::kObstacles, Against::kTarget}) {
       const std::vector<Proof*>& these = due[static_cast<int>(against)];
       if (these.empty()) continue;
       dueLinks.clear();
       for (const Proof* p : these) dueLinks.push_back(p->link);
-      checker.linkClearances(
-          q, dueLinks, distances[static_cast<int>(against)],
-          against == Against::kObstacles ? CollisionRequest::obstaclesOnly() : CollisionRequest{});
+      checker.linkClearances(q, dueLinks, distances[static_cast<int>(against)],
+                             against == Against::kObstacles ? CollisionRequest::obstaclesOnly()
+                                                            : CollisionRequest::targetOnly());
     }
     duePairs.clear();
     for (const Proof* p : due[static_cast<int>(Against::kLink)])
@@ -222,6 +229,7 @@ MotionCertificate certifyPath(CollisionChecker& checker, const MotionBound& boun
           certificate.at = s;
           certificate.nearest_link = proof.link;
           certificate.nearest_other_link = proof.other;
+          certificate.nearest_target = proof.against == Against::kTarget;
         }
         const double slack = distance - kDistanceTolerance - required(proof, line, s, options);
         if (slack <= kBlockingSlack) {

@@ -1,7 +1,9 @@
 #include "robot/collision_checker.h"
 
 #include <gtest/gtest.h>
+
 #include <hwy/targets.h>
+#include <limits>
 
 #include <algorithm>
 #include <map>
@@ -469,6 +471,21 @@ TEST(CollisionChecker, ARequestCountsOnlyWhatItNames) {
     b(0) = -0.8;
     EXPECT_FALSE(wall.isMotionValid(a, b, 0.01, noTarget, &pair));
     EXPECT_EQ(pair.second, "obstacle 'wall'");
+    // ... and the target without the obstacles.
+    EXPECT_TRUE(wall.isMotionValid(a, b, 0.01, CollisionRequest::targetOnly()));
+    EXPECT_TRUE(inTarget.inCollision(m().home(), CollisionRequest::targetOnly()));
+    // Distances alike: to the target only, to the obstacles only (none).
+    std::vector<double> d;
+    const int palm = m().palmLink();
+    inTarget.linkClearances(m().home(), {palm}, d, CollisionRequest::targetOnly());
+    EXPECT_EQ(d.at(0), 0.0);
+    inTarget.linkClearances(m().home(), {palm}, d, CollisionRequest::obstaclesOnly());
+    EXPECT_EQ(d.at(0), std::numeric_limits<double>::infinity());
+    wall.linkClearances(a, {palm}, d, CollisionRequest::targetOnly());
+    EXPECT_EQ(d.at(0), std::numeric_limits<double>::infinity());
+    wall.linkClearances(a, {palm}, d, CollisionRequest::obstaclesOnly());
+    EXPECT_GT(d.at(0), 0.0);
+    EXPECT_LT(d.at(0), 1.0);
   }
 }
 

@@ -280,7 +280,9 @@ TEST(SegmentCertificate, AgreesWithADenseSweepInEveryBundledScene) {
       // two links reported.
       std::vector<double> distance;
       if (certificate.nearest_other_link < 0)
-        checker.linkClearances(at, {certificate.nearest_link}, distance);
+        checker.linkClearances(at, {certificate.nearest_link}, distance,
+                               certificate.nearest_target ? CollisionRequest::targetOnly()
+                                                          : CollisionRequest::obstaclesOnly());
       else
         checker.pairClearances(at, {{certificate.nearest_link, certificate.nearest_other_link}},
                                distance);
@@ -324,8 +326,8 @@ TEST(SegmentCertificate, ChecksItsArguments) {
     EXPECT_EQ(e.field(), "clearance");
   }
   EXPECT_THROW(certifySegment(checker, bound, q, Eigen::VectorXd::Zero(2)), InvalidArgument);
-  // A segment of no length is its one state: a distance from every link
-  // with shapes to the environment, one between the links.
+  // A segment of no length is its one state: distances from every link
+  // with shapes to the obstacles and to the target, one between the links.
   const MotionCertificate still = certifySegment(checker, bound, q, q);
   EXPECT_TRUE(still.free);
   std::vector<int> shaped;
@@ -335,7 +337,8 @@ TEST(SegmentCertificate, ChecksItsArguments) {
   for (std::size_t i = 0; i < shaped.size(); ++i)
     for (std::size_t k = i + 1; k < shaped.size(); ++k)
       pairs += kr5().isCollisionDisabled(shaped[i], shaped[k]) ? 0 : 1;
-  EXPECT_EQ(still.queries, shaped.size() + pairs);
+  // (The obstacles and the target are two distances of each link.)
+  EXPECT_EQ(still.queries, 2 * shaped.size() + pairs);
   EXPECT_EQ(still.self_queries, pairs);
   EXPECT_GT(pairs, 0u);
   // A path of one waypoint is that state; none is refused.

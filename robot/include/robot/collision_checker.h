@@ -54,13 +54,16 @@ struct CollisionRequest {
   /// of the obstacles (the support too). kStrict: any contact counts.
   enum class Rule { kStrict, kGraspRule };
   Rule rule = Rule::kStrict;
-  bool target = true;  ///< the target object counts (else the obstacles only)
-  bool self = true;    ///< the robot's links against each other count
+  bool target = true;     ///< the target object counts
+  bool self = true;       ///< the robot's links against each other count
+  bool obstacles = true;  ///< the obstacles (every object but the target) count
 
   /// The grasp rule with everything else counted.
-  static CollisionRequest grasp() { return {Rule::kGraspRule, true, true}; }
+  static CollisionRequest grasp() { return {Rule::kGraspRule, true, true, true}; }
   /// The obstacles only: neither the target nor the robot's own links.
-  static CollisionRequest obstaclesOnly() { return {Rule::kStrict, false, false}; }
+  static CollisionRequest obstaclesOnly() { return {Rule::kStrict, false, false, true}; }
+  /// The target only: neither the obstacles nor the robot's own links.
+  static CollisionRequest targetOnly() { return {Rule::kStrict, true, false, false}; }
 };
 
 /// One robot in one scene, prepared for collision checks and read-only
@@ -154,9 +157,9 @@ class CollisionChecker {
   /// target object (m); 0 when in collision.
   double clearance(const Eigen::VectorXd& q);
   /// For each of `links`, the smallest distance (m) between its shapes and
-  /// the environment (the obstacles, and the target when request.target),
-  /// in `distances` (same order; infinity for a link without shapes, 0
-  /// where it touches).
+  /// the environment as `request` counts it (the obstacles, the target),
+  /// in `distances` (same order; infinity for a link without shapes or
+  /// nothing counted, 0 where it touches).
   void linkClearances(const Eigen::VectorXd& q, const std::vector<int>& links,
                       std::vector<double>& distances, const CollisionRequest& request = {});
   /// For each link pair of `pairs`, the smallest distance (m) between their

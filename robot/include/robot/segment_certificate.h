@@ -72,10 +72,13 @@ struct MotionCertificate {
   double clearance = 0.0;
   /// Where along the motion it was measured (k + t: the fraction t of the
   /// way from waypoint k to k + 1; a segment's runs from 0 to 1), and
-  /// between what: a link and the environment (other link -1), or two links.
+  /// between what: a link and the obstacles or the target (other link -1),
+  /// or two links.
   double at = 0.0;
   int nearest_link = -1;
   int nearest_other_link = -1;
+  /// Other link -1: the distance was to the target (else to the obstacles).
+  bool nearest_target = false;
   /// Not free: where the first distance within what the rule asks plus
   /// 0.1 mm was measured, or where the queries ran out (exhausted).
   double blocked_at = -1.0;
