@@ -44,6 +44,28 @@ MultiTreeCBiRRT::GoalCheck physicsGoalCheck(const Problem& p, SearchOutcome& out
   };
 }
 
+/// What a reached goal must pass before it ends the search: with
+/// certify_path its closing motion proven free (the closing rule; a goal
+/// refused counts as closing_blocked), then with physics_check its grasp
+/// holding in physics. None when neither is asked for.
+MultiTreeCBiRRT::GoalCheck goalCheck(Problem& p, SearchOutcome& out,
+                                     const ob::PlannerTerminationCondition& ptc) {
+  MultiTreeCBiRRT::GoalCheck physics =
+      p.settings.goal.physics_check ? physicsGoalCheck(p, out, ptc) : MultiTreeCBiRRT::GoalCheck{};
+  const MotionCheck& check = p.planner->smoothing().final_check;
+  if (!check.certifies()) return physics;
+  return [&p, &out, &check, physics = std::move(physics)](const GoalSample& goal) {
+    const MotionVerdict closing = checkMotion(p.checker, check, {goal.configuration, goal.grasp},
+                                              robot::CertifyRule::kClosing);
+    out.stats.certificate_queries += closing.queries;
+    if (!closing.free) {
+      ++out.stats.rejected.closing_blocked;
+      return false;
+    }
+    return !physics || physics(goal);
+  };
+}
+
 std::vector<ExploredNode> exploredNodes(const GoalHierarchyCache& cache, SamplingTools& tools) {
   std::vector<ExploredNode> out;
   for (std::size_t n = 1; n < cache.size(); ++n) {
@@ -70,8 +92,12 @@ SearchOutcome searchMultiTree(Problem& p, bool coupled,
   MultiTreeCBiRRT& planner = *p.planner;
   SamplingTools tools(p.world, p.scene, p.space, p.checker, p.goals);
   tools.configurator.setArmReference(p.start.head(p.world.robot().numArmDofs()));
+  // The closing motion of a goal the trees reach is proven in the goal
+  // check below, not for every goal candidate the sampler makes.
+  MotionCheck sampledClosing = planner.smoothing().final_check;
+  sampledClosing.bound = nullptr;
   const std::unique_ptr<GraspGoalSampler> sampler =
-      tools.makeSampler(coupled, planner.rng(), p.goals, planner.smoothing().final_check);
+      tools.makeSampler(coupled, planner.rng(), p.goals, sampledClosing);
   planner.setProjection(std::make_shared<BackwardProjection>(
       p.world.robot(), p.scene.robot_base, p.scene.target_pose * p.object.geometry.center_of_mass,
       planner.getProjectionDistance()));
@@ -85,8 +111,7 @@ SearchOutcome searchMultiTree(Problem& p, bool coupled,
   planner.setup();
 
   SearchOutcome out;
-  planner.setGoalCheck(p.settings.goal.physics_check ? physicsGoalCheck(p, out, ptc)
-                                                     : MultiTreeCBiRRT::GoalCheck{});
+  planner.setGoalCheck(goalCheck(p, out, ptc));
   out.solved = planner.solve(ptc) == ob::PlannerStatus::EXACT_SOLUTION;
   out.goals = sampler->statistics();
   const PlanStatistics checked = out.stats;  // the goal checks' counts
@@ -94,6 +119,8 @@ SearchOutcome searchMultiTree(Problem& p, bool coupled,
                              p.checker.checkCount());
   out.stats.physics_checks = checked.physics_checks;
   out.stats.physics_time = checked.physics_time;
+  out.stats.certificate_queries += checked.certificate_queries;
+  out.stats.rejected.closing_blocked += checked.rejected.closing_blocked;
   if (const auto* hfts = dynamic_cast<const HftsGoalSampler*>(sampler.get());
       hfts != nullptr && p.explored)
     out.explored = exploredNodes(hfts->cache(), tools);
