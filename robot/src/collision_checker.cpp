@@ -357,7 +357,7 @@ double CollisionChecker::clearance(const Eigen::VectorXd& q) {
 
 void CollisionChecker::linkClearances(const Eigen::VectorXd& q, const std::vector<int>& links,
                                       std::vector<double>& distances,
-                                      const CollisionRequest& request) {
+                                      const CollisionRequest& request, double exactWithin) {
   distances.assign(links.size(), std::numeric_limits<double>::infinity());
   if (links.empty()) return;
   impl_->place(q);
@@ -368,6 +368,7 @@ void CollisionChecker::linkClearances(const Eigen::VectorXd& q, const std::vecto
       data.model = &impl_->model;
       data.target = request.target;
       data.obstacles = request.obstacles;
+      data.exactWithin = exactWithin;
       impl_->environment()->distance(impl_->robot.objects[object].get(), &data,
                                      objectDistanceCallback);
       distances[k] = std::min(distances[k], data.distance);

@@ -92,16 +92,18 @@ CollisionScene::CollisionScene(const CollisionModel& model, const Scene& scene,
       tag.primitive_type = static_cast<int>(o.type);
       tag.primitive_size = o.size;
     }
-    impl_->addEnvironment(geometry, o.pose, std::move(tag));
+    impl_->addEnvironment(geometry, o.pose, std::move(tag), nullptr,
+                          mesh ? o.mesh.vertices : Vertices{});
   }
   if (target != nullptr) {
     Tag tag{-1, true, false, "target '" + scene.target_object + "'"};
     if (targetMesh != nullptr) {
       impl_->addEnvironment(targetMesh->impl_->geometry, scene.target_pose, std::move(tag),
-                            &targetMesh->impl_->objectCreation);
+                            &targetMesh->impl_->objectCreation, target->mesh_vertices);
     } else {
       const TriangleMesh mesh{target->mesh_vertices, target->mesh_triangles};
-      impl_->addEnvironment(meshGeometry(mesh), scene.target_pose, std::move(tag));
+      impl_->addEnvironment(meshGeometry(mesh), scene.target_pose, std::move(tag), nullptr,
+                            target->mesh_vertices);
     }
   }
   impl_->environment.setup();

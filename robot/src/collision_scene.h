@@ -75,6 +75,7 @@ struct CollisionScene::Impl {
   const Scene scene;
   std::vector<std::unique_ptr<Tag>> tags;
   std::vector<std::unique_ptr<Object>> environmentObjects;
+  std::vector<std::unique_ptr<Object>> meshBounds;  ///< Tag::bound of the meshes
   fcl::DynamicAABBTreeCollisionManagerd environment;
   std::unique_ptr<SphereTier> tier;
   // The grasp rule's target and its surface (shared, or built here on
@@ -92,8 +93,10 @@ struct CollisionScene::Impl {
     return ownSurface.get();
   }
 
+  /// `vertices` (one per row, the geometry's frame): a mesh's, whose
+  /// bounding box becomes its Tag::bound; empty for a primitive.
   void addEnvironment(const Geometry& geometry, const Eigen::Isometry3d& pose, Tag value,
-                      std::mutex* creation = nullptr) {
+                      std::mutex* creation = nullptr, const Vertices& vertices = {}) {
     std::unique_ptr<Object> object;
     {
       std::unique_lock<std::mutex> lock;
@@ -102,6 +105,15 @@ struct CollisionScene::Impl {
       object->computeAABB();  // reads the geometry's local box
     }
     value.order = tags.size();
+    if (vertices.rows() > 0) {
+      const Eigen::Vector3d low = vertices.colwise().minCoeff(),
+                            high = vertices.colwise().maxCoeff();
+      auto box = std::make_unique<Object>(fcl_query::primitive(0, high - low), pose.linear(),
+                                          pose * ((low + high) / 2));
+      box->computeAABB();
+      value.bound = box.get();
+      meshBounds.push_back(std::move(box));
+    }
     tags.push_back(std::make_unique<Tag>(std::move(value)));
     object->setUserData(tags.back().get());
     environment.registerObject(object.get());

@@ -98,6 +98,17 @@ bool distanceCallback(Object* o1, Object* o2, void* raw, double& minimum) {
   }
   fcl::DistanceRequestd request;
   fcl::DistanceResultd result;
+  // A mesh far enough away: its bounding box's distance will do (o1 is
+  // the robot's here).
+  if (data->exactWithin > 0.0 && b.link < 0 && b.bound != nullptr) {
+    fcl::distance(o1, b.bound, request, result);
+    if (result.min_distance >= data->exactWithin) {
+      data->distance = std::min(data->distance, result.min_distance);
+      minimum = data->distance;
+      return false;
+    }
+    result.clear();
+  }
   fcl::distance(o1, o2, request, result);
   data->distance = std::min(data->distance, std::max(0.0, result.min_distance));
   minimum = data->distance;

@@ -45,6 +45,9 @@ struct Tag {
   /// a mesh.
   int primitive_type = -1;
   Eigen::Vector3d primitive_size = Eigen::Vector3d::Zero();
+  /// A mesh's bounding box, placed with it (owned by the scene): its
+  /// distance bounds the mesh's from below at a fraction of the cost.
+  const fcl::CollisionObjectd* bound = nullptr;
 };
 
 /// `type`: a CollisionShape::Type or Obstacle::Type value (they agree, see
@@ -76,6 +79,10 @@ struct QueryData {
   CollisionPair pair;
   double distance = std::numeric_limits<double>::infinity();
   const void* query = nullptr;  ///< one object against the environment: its tag comes first
+  /// Distance queries: a mesh whose bounding box is at least this far (m)
+  /// counts with the box's distance, a lower bound, instead of its own
+  /// (0: always exact).
+  double exactWithin = 0.0;
 };
 
 /// Full rule: the broadphase's collision callback; stops at the first

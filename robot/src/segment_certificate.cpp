@@ -22,6 +22,10 @@ constexpr double kDistanceTolerance = 1e-5;
 /// the remaining slack over the bound), so the slack must run out at a
 /// distance, not at zero.
 constexpr double kBlockingSlack = 1e-4;
+/// A mesh (the target, a mesh obstacle) is measured exactly only within
+/// the clearance plus this (m) of its bounding box; farther, the box's
+/// distance (a lower bound, a fraction of the cost) proves as much.
+constexpr double kExactBeyondClearance = 0.02;
 
 /// What one proof measures. A link's distances to the obstacles and to the
 /// target are proven apart: the target's mesh costs far more to measure
@@ -192,6 +196,7 @@ MotionCertificate certifyPath(CollisionChecker& checker, const MotionBound& boun
   std::vector<int> dueLinks;
   std::vector<std::pair<int, int>> duePairs;
   std::vector<double> distances[3];
+  const double exactWithin = options.clearance + kExactBeyondClearance;
   while (true) {
     double s = line.segments();
     for (const Proof& proof : proofs) s = std::min(s, proof.until);
@@ -212,7 +217,8 @@ MotionCertificate certifyPath(CollisionChecker& checker, const MotionBound& boun
       for (const Proof* p : these) dueLinks.push_back(p->link);
       checker.linkClearances(q, dueLinks, distances[static_cast<int>(against)],
                              against == Against::kObstacles ? CollisionRequest::obstaclesOnly()
-                                                            : CollisionRequest::targetOnly());
+                                                            : CollisionRequest::targetOnly(),
+                             exactWithin);
     }
     duePairs.clear();
     for (const Proof* p : due[static_cast<int>(Against::kLink)])
@@ -224,7 +230,9 @@ MotionCertificate certifyPath(CollisionChecker& checker, const MotionBound& boun
       for (std::size_t i = 0; i < due[kind].size(); ++i) {
         Proof& proof = *due[kind][i];
         const double distance = distances[kind][i];
-        if (proof.reported && distance < certificate.clearance) {
+        // Beyond exactWithin a distance may be a lower bound: not reported.
+        const bool exact = proof.against == Against::kLink || distance < exactWithin;
+        if (proof.reported && exact && distance < certificate.clearance) {
           certificate.clearance = distance;
           certificate.at = s;
           certificate.nearest_link = proof.link;

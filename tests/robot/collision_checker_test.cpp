@@ -481,6 +481,16 @@ TEST(CollisionChecker, ARequestCountsOnlyWhatItNames) {
     EXPECT_EQ(d.at(0), 0.0);
     inTarget.linkClearances(m().home(), {palm}, d, CollisionRequest::obstaclesOnly());
     EXPECT_EQ(d.at(0), std::numeric_limits<double>::infinity());
+    // A mesh beyond exactWithin of its box counts with the box's distance:
+    // a lower bound, exact within.
+    std::vector<double> exact, bounded;
+    inTarget.linkClearances(a, {palm}, exact, CollisionRequest::targetOnly());
+    ASSERT_GT(exact.at(0), 0.05);
+    inTarget.linkClearances(a, {palm}, bounded, CollisionRequest::targetOnly(), 0.01);
+    EXPECT_LE(bounded.at(0), exact.at(0) + 1e-6);  // the solvers round differently
+    EXPECT_GE(bounded.at(0), 0.01);
+    inTarget.linkClearances(a, {palm}, bounded, CollisionRequest::targetOnly(), 10.0);
+    EXPECT_EQ(bounded.at(0), exact.at(0));
     wall.linkClearances(a, {palm}, d, CollisionRequest::targetOnly());
     EXPECT_EQ(d.at(0), std::numeric_limits<double>::infinity());
     wall.linkClearances(a, {palm}, d, CollisionRequest::obstaclesOnly());

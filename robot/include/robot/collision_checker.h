@@ -160,8 +160,13 @@ class CollisionChecker {
   /// the environment as `request` counts it (the obstacles, the target),
   /// in `distances` (same order; infinity for a link without shapes or
   /// nothing counted, 0 where it touches).
+  /// With `exactWithin` > 0 (m), a mesh (the target, a mesh obstacle)
+  /// whose bounding box is at least that far from a link counts with the
+  /// box's distance, a lower bound, instead of its own: distances below
+  /// `exactWithin` are exact, the others may be lower bounds.
   void linkClearances(const Eigen::VectorXd& q, const std::vector<int>& links,
-                      std::vector<double>& distances, const CollisionRequest& request = {});
+                      std::vector<double>& distances, const CollisionRequest& request = {},
+                      double exactWithin = 0.0);
   /// For each link pair of `pairs`, the smallest distance (m) between their
   /// shapes in `distances` (same order; 0 where they touch), whether or not
   /// the config disables the pair.

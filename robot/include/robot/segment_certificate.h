@@ -69,6 +69,9 @@ struct MotionCertificate {
   /// link to link, whichever was measured there; not between two links
   /// that do not move relative to each other): the motion's smallest
   /// clearance is at most this, and at least what the rule asks when free.
+  /// A mesh (the target, a mesh obstacle) is measured exactly only within
+  /// the clearance plus 2 cm of its bounding box (farther, the box's
+  /// distance proves as much): infinity when nothing exact came nearer.
   double clearance = 0.0;
   /// Where along the motion it was measured (k + t: the fraction t of the
   /// way from waypoint k to k + 1; a segment's runs from 0 to 1), and
