@@ -145,6 +145,9 @@ void printPlan(const json& plan, std::ostream& out) {
     out << "path: " << plan.at("path").size() << " waypoints (start ... pre-grasp, grasp), length "
         << stats.at("path_length_smoothed").get<double>() << " (Eq. 3 metric; "
         << stats.at("path_length_raw").get<double>() << " before smoothing)\n";
+    if (const json& c = plan.value("clearance", json()); c.is_number())
+      out << "path proven free (certify_path); the nearest distance its proofs measured: "
+          << c.get<double>() * 1000 << " mm\n";
     if (const json& t = plan.value("trajectory", json()); t.is_object())
       out << "trajectory: " << t.at("duration").get<double>() << " s, " << t.at("points").size()
           << " points, the hand closes from " << t.at("closing_start").get<double>() << " s\n";

@@ -81,6 +81,11 @@ class CommandLine(ClientTest):
         self.assertTrue(any(l.startswith("  hand (knuckle ") for l in lines))
         self.assertRegex(text, r"\npath: \d+ waypoints \(start \.\.\. pre-grasp, grasp\), length ")
         self.assertRegex(text, r"\nstats: \d+ iterations, \d+ goal sampling calls \(\d+ valid\)")
+        self.assertNotIn("proven free", text)
+        proven = self.ok("plan", "--scene", "bin", "--seed", "1", "--time-limit", "20",
+                         "--param", "certify_path=1", *NO_PHYSICS_ARGS)
+        self.assertRegex(proven, r"\npath proven free \(certify_path\); the nearest distance its "
+                                 r"proofs measured: [\d.e-]+ mm\n")
 
     def test_json_and_out_give_the_same_result_as_the_protocol(self):
         out = os.path.join(self.tmp, "plan.json")
