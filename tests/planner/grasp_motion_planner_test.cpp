@@ -669,7 +669,10 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
                                             // (docs/planning.md#what-a-goal-is).
                                             {"min_epsilon", 0.002},
                                             {"max_penetration", 0.001},
-                                            {"physics_check", 1}};
+                                            {"physics_check", 1},
+                                            // Paths sampled, not proven
+                                            // (docs/planning.md#certified-paths).
+                                            {"certify_path", 0}};
   for (const PlannerParameterInfo& p : plannerParameters(world())) {
     const auto it = expected.find(p.name);
     if (it == expected.end()) continue;
@@ -677,7 +680,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
     expected.erase(it);
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
-  EXPECT_EQ(plannerParameters(world()).size(), 35u) << "a parameter was added or removed";
+  EXPECT_EQ(plannerParameters(world()).size(), 36u) << "a parameter was added or removed";
 }
 
 /// The bundled KR5 + SDH with these `planner_defaults` instead of its own.
