@@ -20,6 +20,7 @@
 #include "bench_report.h"
 #include "experiment_design.h"
 #include "holdability.h"
+#include "mbm_benchmark.h"
 #include "ompl_benchmark_log.h"
 #include "planner/grasp_motion_planner.h"
 #include "plot_script.h"
@@ -36,8 +37,10 @@ using hfts::planner::PlanningWorld;
 using hfts::robot::Scene;
 
 struct Options {
-  std::string db, robot, sceneDir, out, experiment, outDir, holdability, holdableFrom,
+  std::string db, robot, sceneDir, out, experiment, outDir, holdability, holdableFrom, mbm,
       python = "/usr/bin/python3";
+  std::vector<std::string> scenarios;  ///< --mbm: scenario folders
+  int problems = 0;                    ///< --mbm: the first N of each scenario
   std::vector<std::string> scenes, objects, placements{"target"},
       algorithms{"coupled", "decoupled20", "decoupled60", "decoupled100"};
   int runs = 10;
@@ -141,7 +144,33 @@ Given addOptions(CLI::App& app, Options& o) {
                  "(for the same robot) instead of decided again")
       ->excludes(holdability)
       ->type_name("FILE");
+  auto* mbm = app.add_option("--mbm", o.mbm,
+                             "MotionBenchMaker mode: plan every problem of the scenario folders "
+                             "in DIR (docs/motionbenchmaker.md); --robot defaults to "
+                             "robots/panda_mbm/panda_mbm.json, --algorithms to "
+                             "coupled,rrtconnect, --time-limit to 10")
+                  ->type_name("DIR")
+                  ->excludes(experiment);
+  app.add_option("--scenarios", o.scenarios, "With --mbm: these scenario folders only")
+      ->delimiter(',')
+      ->needs(mbm);
+  app.add_option("--problems", o.problems, "With --mbm: the first N problems of each scenario")
+      ->needs(mbm);
   return g;
+}
+
+/// --mbm: the MotionBenchMaker mode, with its own defaults.
+int benchmarkMbm(const Options& o, const Given& given) {
+  hfts::bench::MbmOptions m;
+  m.dir = o.mbm;
+  m.robot = hfts::bench::resolveDefault(o.robot, "robots/panda_mbm/panda_mbm.json");
+  m.scenarios = o.scenarios;
+  m.problems = o.problems;
+  if (given.algorithms->count() > 0) m.algorithms = o.algorithms;
+  if (given.timeLimit->count() > 0) m.time_limit = o.timeLimit;
+  m.seed = static_cast<std::uint64_t>(o.firstSeed);
+  m.csv = o.out;
+  return hfts::bench::runMbm(m, std::cout);
 }
 
 /// --experiment fills what the user did not give.
@@ -421,7 +450,8 @@ int main(int argc, char** argv) {
       "baseline and OMPL's RRTConnect on the bundled scenes, as in the paper's experiments.\n"
       "  hfts-bench --scenes table,shelf --algorithms coupled,decoupled20 --runs 10 "
       "--out results.csv\n"
-      "  hfts-bench --experiment paper --out-dir results   # CSV, OMPL logs, plots",
+      "  hfts-bench --experiment paper --out-dir results   # CSV, OMPL logs, plots\n"
+      "  hfts-bench --mbm problems --out mbm.csv           # MotionBenchMaker",
       "hfts-bench"};
   Options options;
   const Given given = addOptions(app, options);
@@ -432,6 +462,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;  // --help exits 0, every usage error 2
   }
   try {
+    if (!options.mbm.empty()) return benchmarkMbm(options, given);
     applyDesign(options, given);
     return benchmark(options);
   } catch (const UsageError& e) {

@@ -18,6 +18,8 @@ find_package(mujoco 2.2 REQUIRED)  # physics/: does a grasp hold?
 find_package(nlohmann_json 3.11 REQUIRED)
 find_package(CLI11 2.1 REQUIRED)
 find_package(OpenSSL 3 REQUIRED COMPONENTS Crypto)
+find_package(tinyxml2 9 REQUIRED)  # SRDF files (robot configs' `srdf`)
+find_package(yaml-cpp 0.7 REQUIRED)  # MoveIt planning scenes (MotionBenchMaker)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(URDFDOM REQUIRED IMPORTED_TARGET urdfdom>=3.0)
 find_path(ASIO_INCLUDE_DIR asio.hpp REQUIRED)

@@ -15,7 +15,7 @@ PACKAGES=(
   libembree-dev libfcl-dev libompl-dev liburdfdom-dev liburdfdom-tools
   libassimp-dev libhdf5-dev hdf5-tools libqhull-dev nlohmann-json3-dev
   libasio-dev libcli11-dev libssl-dev libnanoflann-dev libhwy-dev
-  libmujoco-dev
+  libmujoco-dev libtinyxml2-dev libyaml-cpp-dev
   # tests and benchmarks; clang + libFuzzer and the sanitizer runtimes
   # (scripts/fuzz.sh, scripts/sanitize.sh); HAProxy (scripts/scale_out.sh)
   libgtest-dev libgmock-dev libbenchmark-dev

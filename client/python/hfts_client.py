@@ -145,7 +145,8 @@ class HftsClient:
     def plan(self, scene, **options):
         """Plans a grasp and a path. scene: a scene name or an inline scene (dict);
         options: robot, object, object_pose, start, time_limit, algorithm, iterations, seed,
-        parameters, trajectory_rate (docs/protocol.md)."""
+        parameters, trajectory_rate (docs/protocol.md); goal or goals (joint_goal(),
+        pose_goal()) plan a motion to them instead of a grasp."""
         return self.call("plan", plan_params(scene, **options))
 
     def plan_async(self, scene, **options):
@@ -168,6 +169,24 @@ class HftsClient:
         return self.call("shutdown")
 
 
+def joint_goal(joints):
+    """A motion goal (plan's goal/goals): a configuration, every DoF or the arm's."""
+    return {"joints": [float(v) for v in joints]}
+
+
+def pose_goal(position, orientation, link=None, position_tolerance=None,
+              orientation_tolerance=None):
+    """A motion goal: the palm (or link, the flange or the palm) at position [x, y, z] and
+    orientation [qx, qy, qz, qw] in the world frame, within the tolerances (m, rad)."""
+    goal = {"pose": {"position": [float(v) for v in position],
+                     "orientation": [float(v) for v in orientation]}}
+    for name, value in (("link", link), ("position_tolerance", position_tolerance),
+                        ("orientation_tolerance", orientation_tolerance)):
+        if value is not None:
+            goal[name] = value
+    return goal
+
+
 def plan_params(scene, **options):
     params = {"scene": scene}
     params.update({k: v for k, v in options.items() if v is not None})
@@ -186,6 +205,23 @@ def parameters_of(parser, pairs):
     return parameters or None
 
 
+def goals_of(parser, joints, poses):
+    """The --goal-joints / --goal-pose values as the request's goals (None when there are
+    none); a value that is not a list of numbers is a usage error."""
+    goals = []
+    for flag, texts, make in (("--goal-joints", joints, joint_goal),
+                              ("--goal-pose", poses, lambda v: pose_goal(v[:3], v[3:]))):
+        for text in texts:
+            try:
+                values = [float(v) for v in text.split(",")]
+            except ValueError:
+                parser.error(f"{flag}: expected comma-separated numbers, got '{text}'")
+            if flag == "--goal-pose" and len(values) != 7:
+                parser.error(f"--goal-pose: expected x,y,z,qx,qy,qz,qw, got '{text}'")
+            goals.append(make(values))
+    return goals or None
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description="hfts-server client (prints JSON results)")
     parser.add_argument("--host", default="127.0.0.1")
@@ -200,6 +236,10 @@ def main(argv=None):
     parser.add_argument("--seed", type=int)
     parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                         help="plan: a planner parameter (docs/planning.md), repeatable")
+    parser.add_argument("--goal-joints", action="append", default=[], metavar="Q1,Q2,...",
+                        help="plan: a motion to this configuration instead of a grasp, repeatable")
+    parser.add_argument("--goal-pose", action="append", default=[], metavar="X,Y,Z,QX,QY,QZ,QW",
+                        help="plan: a motion putting the palm at this world pose, repeatable")
     args = parser.parse_args(argv)
     try:
         with HftsClient(args.host, args.port, retries=args.retries) as client:
@@ -208,7 +248,8 @@ def main(argv=None):
                     parser.error("plan needs a scene")
                 result = client.plan(args.scene, robot=args.robot, object=args.object,
                                      time_limit=args.time_limit, seed=args.seed,
-                                     parameters=parameters_of(parser, args.param))
+                                     parameters=parameters_of(parser, args.param),
+                                     goals=goals_of(parser, args.goal_joints, args.goal_pose))
             elif args.command in ("objects", "scenes"):
                 result = getattr(client, args.command)(args.robot)
             else:

@@ -96,7 +96,7 @@ void printObjects(const json& objects, std::ostream& out) {
         << std::setw(10) << o.at("contacts").get<int>() << "  " << std::left << std::setw(16)
         << levels << std::right << std::fixed << std::setprecision(4) << std::setw(9)
         << o.at("rho").get<double>();
-    if (o.contains("graspability"))
+    if (o.contains("graspability") && o.at("graspability").is_object())
       out << std::setprecision(1) << std::setw(10)
           << 100.0 * o.at("graspability").at("fraction").get<double>() << " %";
     out << "\n";
@@ -135,22 +135,33 @@ void printPlan(const json& plan, std::ostream& out) {
   const json& stats = plan.at("stats");
   const std::string what =
       (plan.contains("robot") ? plan.at("robot").get<std::string>() + ", " : std::string()) +
-      plan.at("scene").get<std::string>() + ", " + plan.at("object").get<std::string>() + ", " +
+      plan.at("scene").get<std::string>() + ", " +
+      (plan.at("object").get<std::string>().empty() ? std::string()
+                                                    : plan.at("object").get<std::string>() + ", ") +
       plan.at("algorithm").get<std::string>() + ", seed " + plan.at("seed").dump();
   out << std::setprecision(4);
   if (plan.at("success").get<bool>()) {
     out << "plan: success (" << what << ") in " << stats.at("planning_time").get<double>()
         << " s\n";
-    printGrasp(plan.at("grasp"), out);
-    out << "path: " << plan.at("path").size() << " waypoints (start ... pre-grasp, grasp), length "
+    const json& goal = plan.value("reached_goal", json());
+    if (goal.is_number())
+      out << "motion: reached goal " << goal.get<int>() << " of the request's\n";
+    else
+      printGrasp(plan.at("grasp"), out);
+    out << "path: " << plan.at("path").size() << " waypoints ("
+        << (goal.is_number() ? "start ... goal" : "start ... pre-grasp, grasp") << "), length "
         << stats.at("path_length_smoothed").get<double>() << " (Eq. 3 metric; "
         << stats.at("path_length_raw").get<double>() << " before smoothing)\n";
     if (const json& c = plan.value("clearance", json()); c.is_number())
       out << "path proven free (certify_path); the nearest distance its proofs measured: "
           << c.get<double>() * 1000 << " mm\n";
-    if (const json& t = plan.value("trajectory", json()); t.is_object())
+    if (const json& t = plan.value("trajectory", json()); t.is_object()) {
       out << "trajectory: " << t.at("duration").get<double>() << " s, " << t.at("points").size()
-          << " points, the hand closes from " << t.at("closing_start").get<double>() << " s\n";
+          << " points";
+      if (!goal.is_number())
+        out << ", the hand closes from " << t.at("closing_start").get<double>() << " s";
+      out << "\n";
+    }
     if (plan.contains("physics")) printPhysics(plan.at("validation"), plan.at("physics"), out);
   } else {
     out << "plan: no plan, " << plan.at("reason").get<std::string>() << ": "

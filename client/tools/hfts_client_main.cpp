@@ -36,6 +36,10 @@ struct Options {
 struct PlanOptions {
   std::string robot, scene, scene_file, object, algorithm;
   std::vector<double> object_pose, start;
+  /// Motion goals: each a comma-separated list (joints, or x,y,z,qx,qy,qz,qw).
+  std::vector<std::string> goal_joints, goal_poses;
+  std::string goal_link;
+  std::vector<double> goal_tolerance;
   std::vector<std::string> parameters;
   double time_limit = 0.0, trajectory_rate = 0.0;
   std::string trajectory_csv, gltf;
@@ -102,6 +106,43 @@ void addParameter(json& parameters, const std::string& assignment) {
       !value.empty() && in.eof() && !in.fail() ? json(number) : json(value);
 }
 
+/// "a,b,c" as numbers; `what` names the option in errors.
+std::vector<double> numbersOf(const std::string& text, const std::string& what) {
+  std::vector<double> out;
+  std::istringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    std::istringstream number(item);
+    double v = 0.0;
+    number >> v;
+    if (item.empty() || number.fail() || !number.eof())
+      throw std::runtime_error(what + ": '" + item + "' is not a number");
+    out.push_back(v);
+  }
+  return out;
+}
+
+/// The request's motion goals from --goal-joints / --goal-pose (none: a
+/// grasp plan).
+json goalsOf(const PlanOptions& p) {
+  json goals = json::array();
+  for (const std::string& joints : p.goal_joints)
+    goals.push_back({{"joints", numbersOf(joints, "--goal-joints")}});
+  for (const std::string& text : p.goal_poses) {
+    const std::vector<double> v = numbersOf(text, "--goal-pose");
+    if (v.size() != 7) throw std::runtime_error("--goal-pose expects x,y,z,qx,qy,qz,qw");
+    json goal = {
+        {"pose", {{"position", {v[0], v[1], v[2]}}, {"orientation", {v[3], v[4], v[5], v[6]}}}}};
+    if (!p.goal_link.empty()) goal["link"] = p.goal_link;
+    if (!p.goal_tolerance.empty()) {
+      goal["position_tolerance"] = p.goal_tolerance[0];
+      goal["orientation_tolerance"] = p.goal_tolerance[1];
+    }
+    goals.push_back(std::move(goal));
+  }
+  return goals;
+}
+
 json planParams(const PlanOptions& p, const CLI::App& cmd) {
   json params = {{"seed", p.seed}};
   if (!p.robot.empty()) params["robot"] = p.robot;
@@ -112,6 +153,7 @@ json planParams(const PlanOptions& p, const CLI::App& cmd) {
         {"position", {p.object_pose[0], p.object_pose[1], p.object_pose[2]}},
         {"orientation", {p.object_pose[3], p.object_pose[4], p.object_pose[5], p.object_pose[6]}}};
   if (!p.start.empty()) params["start"] = p.start;
+  if (json goals = goalsOf(p); !goals.empty()) params["goals"] = std::move(goals);
   if (cmd.count("--time-limit")) params["time_limit"] = p.time_limit;
   if (!p.algorithm.empty()) params["algorithm"] = p.algorithm;
   if (cmd.count("--iterations")) params["iterations"] = p.iterations;
@@ -143,6 +185,17 @@ void addPlanOptions(CLI::App& cmd, PlanOptions& p) {
   cmd.add_option("--start", p.start,
                  "Start configuration, one value per robot DoF (default: the scene's)")
       ->delimiter(',');
+  cmd.add_option("--goal-joints", p.goal_joints,
+                 "Plan a motion to this configuration instead of a grasp: every DoF or the "
+                 "arm's, comma-separated (repeatable; the first goal reached ends the plan)");
+  cmd.add_option("--goal-pose", p.goal_poses,
+                 "Plan a motion that puts the palm (or --goal-link) at x,y,z,qx,qy,qz,qw in the "
+                 "world frame (repeatable)");
+  cmd.add_option("--goal-link", p.goal_link, "--goal-pose's link: the flange or the palm link");
+  cmd.add_option("--goal-tolerance", p.goal_tolerance,
+                 "--goal-pose's tolerances: metres,radians (server default 0.001,0.01)")
+      ->delimiter(',')
+      ->expected(2);
   cmd.add_option("--time-limit", p.time_limit, "Seconds (default and maximum: the server's)");
   cmd.add_option("--algorithm", p.algorithm,
                  "coupled (default), paper (the paper's settings) or decoupled");

@@ -233,6 +233,9 @@ HandMapOptions handMapOptions(const robot::RobotModel& model) {
 
 db::HandMap buildHandMap(const robot::RobotModel& model, const HandMapOptions& options) {
   checkOptions(options);
+  if (!model.hasHand())
+    throw robot::ModelError("robot '" + model.name() +
+                            "' has no hand (no hand_joints, no fingertips): it needs no hand map");
   const robot::hand::HandChains chains(model);
   db::HandMap map = emptyMap(model, chains, options);
   const int dofs = chains.numDofs();

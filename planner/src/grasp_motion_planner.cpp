@@ -8,6 +8,7 @@
 #include "core/invalid_argument.h"
 #include "physics/simulate_grasp.h"
 #include "plan_diagnosis.h"
+#include "plan_motion.h"
 #include "plan_problem.h"
 #include "plan_search.h"
 #include "racing.h"
@@ -70,10 +71,7 @@ PlanResult plan(std::chrono::steady_clock::time_point began, const PlanningWorld
   result.joint_names = world.robot().dofNames();
   result.object_pose = request.object_pose.value_or(request.scene.target_pose);
   const Eigen::VectorXd start = startOf(world.robot(), request);
-  if (!(request.time_limit >= 0.0) || !std::isfinite(request.time_limit))
-    throw InvalidArgument("time_limit", "must be a finite number >= 0");
-  if (!(request.trajectory_rate >= 0.0 && request.trajectory_rate <= kMaxTrajectoryRate))
-    throw InvalidArgument("trajectory_rate", "must be in [0, 1000] (samples per second)");
+  checkLimits(request);
   const std::string name = objectNameOf(request);
   const db::ObjectDatabase* object = world.object(name);
   if (object == nullptr)
@@ -113,8 +111,14 @@ std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world) 
 PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
                      const std::atomic<bool>* cancel) {
   const auto began = std::chrono::steady_clock::now();
+  if (request.goals.empty() && !world.robot().hasHand())
+    throw InvalidArgument("goals", "robot '" + world.robot().name() +
+                                       "' has no hand: it plans motions to goals only");
+  if (request.validate && !request.goals.empty())
+    throw InvalidArgument("validate", "a motion plan (goals) has no grasp to validate");
   if (request.validate) physics::validateOptions(request.simulation);
-  PlanResult result = plan(began, world, request, cancel);
+  PlanResult result = request.goals.empty() ? plan(began, world, request, cancel)
+                                            : planMotion(began, world, request, cancel);
   result.stats.planning_time =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
   if (request.validate && result.success && !result.validation)

@@ -12,6 +12,12 @@ namespace {
 constexpr double kTighten = 4.0;
 constexpr int kTightenings = 3;
 
+/// Too many states to hold (kMaxTrajectorySamples): the plan keeps its
+/// path and goes without a trajectory.
+bool tooLong(double states) {
+  return !(states <= static_cast<double>(kMaxTrajectorySamples));
+}
+
 /// True when the polyline through the samples passes `check` under `rule`
 /// (its queries added to `queries`).
 bool collisionFree(const std::vector<TrajectoryPoint>& points, robot::CollisionChecker& checker,
@@ -34,6 +40,48 @@ void appendAfter(std::vector<TrajectoryPoint> samples, double offset,
   }
 }
 
+/// The trajectory through `path` (at rest at both ends) whose samples'
+/// polyline passes `check` under `rule`, with its blends tightened until it
+/// does; `closing` (when given, from the end of `path` on) appended.
+/// Nothing when none passes or it would hold too many samples.
+GraspTrajectory checkedTrajectory(const std::vector<Eigen::VectorXd>& path,
+                                  std::vector<TrajectoryPoint> closing, double closingDuration,
+                                  robot::CollisionChecker& checker, const MotionCheck& check,
+                                  robot::CertifyRule rule, double rate, std::size_t& queries,
+                                  double maxDeviation) {
+  const robot::RobotModel& model = checker.model();
+  TrajectoryOptions options;
+  for (int attempt = 0; attempt <= kTightenings + 1; ++attempt) {
+    const double deviation =
+        attempt > kTightenings ? 0.0 : maxDeviation / std::pow(kTighten, attempt);
+    if (attempt > 0 && deviation == options.max_deviation) continue;  // tried already
+    options.max_deviation = deviation;
+    const TimeOptimalTrajectory moving(path, model.maxVelocities(), model.maxAccelerations(),
+                                       options);
+    if (tooLong(moving.sampleCount(rate) + static_cast<double>(closing.size()))) return {};
+    GraspTrajectory out;
+    out.points = moving.sample(rate);
+    if (!collisionFree(out.points, checker, check, rule, queries)) continue;
+    out.closing_start = moving.duration();
+    out.duration = moving.duration() + closingDuration;
+    out.deviation = moving.deviation();
+    appendAfter(std::move(closing), out.closing_start, out.points);
+    return out;
+  }
+  return {};
+}
+
+/// The checks every trajectory's inputs go through.
+void checkInputs(const std::vector<Eigen::VectorXd>& path, const robot::RobotModel& model,
+                 double rate, const char* pathNeeds) {
+  if (!(rate > 0.0) || !std::isfinite(rate))
+    throw InvalidArgument("trajectory_rate", "must be positive and finite");
+  if (path.size() < 2) throw InvalidArgument("path", pathNeeds);
+  if (model.maxAccelerations().size() == 0)
+    throw robot::ModelError("robot '" + model.name() +
+                            "' has no max_accelerations in its config: trajectories need them");
+}
+
 }  // namespace
 
 GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
@@ -42,23 +90,12 @@ GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
   std::size_t ownQueries = 0;
   std::size_t& counted = queries != nullptr ? *queries : ownQueries;
   const robot::RobotModel& model = checker.model();
-  if (!(rate > 0.0) || !std::isfinite(rate))
-    throw InvalidArgument("trajectory_rate", "must be positive and finite");
-  if (path.size() < 2) throw InvalidArgument("path", "needs a pre-grasp and a grasp");
-  if (model.maxAccelerations().size() == 0)
-    throw robot::ModelError("robot '" + model.name() +
-                            "' has no max_accelerations in its config: trajectories need them");
-  const Eigen::VectorXd& v = model.maxVelocities();
-  const Eigen::VectorXd& a = model.maxAccelerations();
+  checkInputs(path, model, rate, "needs a pre-grasp and a grasp");
   const std::vector<Eigen::VectorXd> approach(path.begin(), path.end() - 1);
   TrajectoryOptions exact;
   exact.max_deviation = 0.0;
-  const TimeOptimalTrajectory closing({path[path.size() - 2], path.back()}, v, a, exact);
-  // Too many states to hold (kMaxTrajectorySamples): the plan keeps its
-  // path and goes without a trajectory.
-  const auto tooLong = [](double states) {
-    return !(states <= static_cast<double>(kMaxTrajectorySamples));
-  };
+  const TimeOptimalTrajectory closing({path[path.size() - 2], path.back()}, model.maxVelocities(),
+                                      model.maxAccelerations(), exact);
   if (tooLong(closing.sampleCount(rate))) return {};
   std::vector<TrajectoryPoint> closingSamples = closing.sample(rate);
   // The closing's fingertip depth is the grasp rule's, sampled; a proof
@@ -69,26 +106,17 @@ GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
       (check.certifies() &&
        !collisionFree(closingSamples, checker, check, robot::CertifyRule::kClosing, counted)))
     return {};
+  return checkedTrajectory(approach, std::move(closingSamples), closing.duration(), checker, check,
+                           robot::CertifyRule::kApproach, rate, counted, maxDeviation);
+}
 
-  TrajectoryOptions options;
-  for (int attempt = 0; attempt <= kTightenings + 1; ++attempt) {
-    const double deviation =
-        attempt > kTightenings ? 0.0 : maxDeviation / std::pow(kTighten, attempt);
-    if (attempt > 0 && deviation == options.max_deviation) continue;  // tried already
-    options.max_deviation = deviation;
-    const TimeOptimalTrajectory moving(approach, v, a, options);
-    if (tooLong(moving.sampleCount(rate) + static_cast<double>(closingSamples.size()))) return {};
-    GraspTrajectory out;
-    out.points = moving.sample(rate);
-    if (!collisionFree(out.points, checker, check, robot::CertifyRule::kApproach, counted))
-      continue;
-    out.closing_start = moving.duration();
-    out.duration = moving.duration() + closing.duration();
-    out.deviation = moving.deviation();
-    appendAfter(std::move(closingSamples), out.closing_start, out.points);
-    return out;
-  }
-  return {};
+GraspTrajectory motionTrajectory(const std::vector<Eigen::VectorXd>& path,
+                                 robot::CollisionChecker& checker, const MotionCheck& check,
+                                 double rate, std::size_t* queries, double maxDeviation) {
+  std::size_t ownQueries = 0;
+  checkInputs(path, checker.model(), rate, "needs a start and a goal");
+  return checkedTrajectory(path, {}, 0.0, checker, check, robot::CertifyRule::kTransit, rate,
+                           queries != nullptr ? *queries : ownQueries, maxDeviation);
 }
 
 }  // namespace hfts::planner

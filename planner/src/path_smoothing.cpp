@@ -95,12 +95,13 @@ class CheckedSegments {
   std::vector<Segment> free_;
 };
 
-/// The final check of `path` segment by segment (the last, into the
-/// pre-grasp, under the approach rule), each segment once over the
+/// The final check of `path` segment by segment (the last under
+/// `lastRule`), each segment once over the
 /// checks that share `checked`; its time and queries added to `report`.
 bool validWithin(const CollisionMotionValidator& validator,
                  const std::vector<Eigen::VectorXd>& path, const MotionCheck& check,
-                 LimitWithGrace& limit, CheckedSegments& checked, PathCheckReport& report) {
+                 robot::CertifyRule lastRule, LimitWithGrace& limit, CheckedSegments& checked,
+                 PathCheckReport& report) {
   const auto began = std::chrono::steady_clock::now();
   const auto timed = [&](bool valid) {
     report.seconds +=
@@ -112,12 +113,11 @@ bool validWithin(const CollisionMotionValidator& validator,
   // state here, then at each segment's others.
   if (!check.certifies() && !validator.isValid(path.front())) return timed(false);
   if (path.size() == 1 && check.certifies())
-    return timed(checkMotion(validator.checker(), check, path, robot::CertifyRule::kApproach).free);
+    return timed(checkMotion(validator.checker(), check, path, lastRule).free);
   for (std::size_t i = 1; i < path.size(); ++i) {
     if (checked.find(path[i - 1], path[i]) != nullptr) continue;
     if (limit.expired()) return timed(false);
-    const robot::CertifyRule rule =
-        i + 1 == path.size() ? robot::CertifyRule::kApproach : robot::CertifyRule::kTransit;
+    const robot::CertifyRule rule = i + 1 == path.size() ? lastRule : robot::CertifyRule::kTransit;
     const MotionVerdict verdict =
         check.certifies()
             ? checkMotion(validator.checker(), check, {path[i - 1], path[i]}, rule,
@@ -184,7 +184,8 @@ bool denselyValid(const CollisionMotionValidator& validator,
   PathCheckReport report;
   MotionCheck sampled;
   sampled.resolution = resolution;
-  return validWithin(validator, path, sampled, limit, checked, report);
+  return validWithin(validator, path, sampled, robot::CertifyRule::kTransit, limit, checked,
+                     report);
 }
 
 std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
@@ -204,7 +205,7 @@ std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
   PathCheckReport& found = report != nullptr ? *report : own;
   found = {};
   const auto passes = [&](const std::vector<Eigen::VectorXd>& path) {
-    return validWithin(*validator, path, check, limit, checked, found);
+    return validWithin(*validator, path, check, smoothing.last_rule, limit, checked, found);
   };
   // The returned path's smallest clearance, from its segments' proofs.
   const auto returned = [&](const std::vector<Eigen::VectorXd>& path) {

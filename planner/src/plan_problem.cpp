@@ -1,5 +1,6 @@
 #include "plan_problem.h"
 
+#include <cmath>
 #include <iomanip>
 #include <sstream>
 
@@ -23,6 +24,22 @@ Eigen::VectorXd startOf(const robot::RobotModel& robot, const PlanRequest& reque
 /// The request's object: `object`, else the scene's target.
 std::string objectNameOf(const PlanRequest& request) {
   return request.object.empty() ? request.scene.target_object : request.object;
+}
+
+void checkLimits(const PlanRequest& request) {
+  if (!(request.time_limit >= 0.0) || !std::isfinite(request.time_limit))
+    throw InvalidArgument("time_limit", "must be a finite number >= 0");
+  if (!(request.trajectory_rate >= 0.0 && request.trajectory_rate <= kMaxTrajectoryRate))
+    throw InvalidArgument("trajectory_rate", "must be in [0, 1000] (samples per second)");
+}
+
+std::pair<PlanFailure, std::string> checkStart(robot::CollisionChecker& checker,
+                                               const Eigen::VectorXd& start) {
+  robot::CollisionPair pair;
+  if (checker.inCollision(start, &pair))
+    return {PlanFailure::kStartInCollision,
+            "the start configuration is in collision: " + pair.first + " touches " + pair.second};
+  return {PlanFailure::kNone, ""};
 }
 
 /// Whether the target intersects an obstacle where it stands (kNone: not).
@@ -53,11 +70,7 @@ std::pair<PlanFailure, std::string> checkReach(const Problem& p) {
 std::pair<PlanFailure, std::string> checkScene(Problem& p) {
   if (auto why = checkTarget(p); why.first != PlanFailure::kNone) return why;
   if (auto why = checkReach(p); why.first != PlanFailure::kNone) return why;
-  robot::CollisionPair pair;
-  if (p.checker.inCollision(p.start, &pair))
-    return {PlanFailure::kStartInCollision,
-            "the start configuration is in collision: " + pair.first + " touches " + pair.second};
-  return {PlanFailure::kNone, ""};
+  return checkStart(p.checker, p.start);
 }
 
 /// Why no grasp can be stable where the object stands (kNone: one may be).

@@ -39,6 +39,16 @@ Eigen::VectorXd startOf(const robot::RobotModel& robot, const PlanRequest& reque
 /// The request's object: `object`, else the scene's target.
 std::string objectNameOf(const PlanRequest& request);
 
+/// Throws InvalidArgument for a time limit that is negative or not finite
+/// ("time_limit") and a trajectory rate outside [0, kMaxTrajectoryRate]
+/// ("trajectory_rate").
+void checkLimits(const PlanRequest& request);
+
+/// Whether the start collides (kStartInCollision, naming the contact) or
+/// not (kNone).
+std::pair<PlanFailure, std::string> checkStart(robot::CollisionChecker& checker,
+                                               const Eigen::VectorXd& start);
+
 /// What every search of one plan request shares, read-only (the racing
 /// copies too, which differ only in their seed): the settings, the scene as
 /// requested with its collision scene, the contacts a fingertip can touch

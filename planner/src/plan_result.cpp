@@ -22,6 +22,8 @@ const char* toString(PlanFailure failure) {
       return "no_valid_goal";
     case PlanFailure::kNoStableGraspClearOfSupport:
       return "no_stable_grasp_clear_of_support";
+    case PlanFailure::kGoalInCollision:
+      return "goal_in_collision";
   }
   return "unknown";
 }

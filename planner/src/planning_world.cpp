@@ -88,30 +88,51 @@ PlanningWorld::PlanningWorld(robot::RobotModel robot, db::HandMap handMap,
       collision_(robot::buildCollisionModel(robot_)),
       bound_(robot_),
       ik_(robot_),
-      fast_(robot_, handMap),
-      thorough_(robot_, std::move(handMap), grasp::HandQueryOptions::thorough()),
+      fast_(std::in_place, robot_, handMap),
+      thorough_(std::in_place, robot_, std::move(handMap), grasp::HandQueryOptions::thorough()),
       objects_(std::move(objects)),
       padRadius_(robot::smallestPadRadius(robot_)) {
   if (objects_ == nullptr) throw std::invalid_argument("PlanningWorld: no object library");
 }
 
+PlanningWorld::PlanningWorld(robot::RobotModel robot, std::shared_ptr<const ObjectLibrary> objects)
+    : robot_(std::move(robot)),
+      collision_(robot::buildCollisionModel(robot_)),
+      bound_(robot_),
+      ik_(robot_),
+      objects_(std::move(objects)) {
+  if (robot_.hasHand())
+    throw robot::ModelError("robot '" + robot_.name() + "' has a hand: its world needs a hand map");
+  if (objects_ == nullptr) throw std::invalid_argument("PlanningWorld: no object library");
+}
+
 PlanningWorld::~PlanningWorld() = default;
+
+const grasp::HandReachability& PlanningWorld::handMap() const {
+  if (!fast_) throw std::logic_error("robot '" + robot_.name() + "' has no hand (no hand map)");
+  return *fast_;
+}
+
+const grasp::HandReachability& PlanningWorld::thoroughHandMap() const {
+  if (!thorough_) throw std::logic_error("robot '" + robot_.name() + "' has no hand (no hand map)");
+  return *thorough_;
+}
 
 namespace {
 
-/// The robot config and its hand map from `dbDir`, errors naming the file.
-std::pair<robot::RobotModel, db::HandMap> robotAndHandMap(const fs::path& robotConfig,
-                                                          const fs::path& dbDir) {
-  if (!fs::is_directory(dbDir))
-    throw std::runtime_error("database directory " + dbDir.string() + " does not exist");
+/// The world of the robot config with its hand map from `dbDir` (an arm
+/// without a hand: none), errors naming the file.
+std::shared_ptr<const PlanningWorld> worldOf(const fs::path& robotConfig, const fs::path& dbDir,
+                                             std::shared_ptr<const ObjectLibrary> objects) {
   robot::RobotModel robot = robot::RobotModel::load(robotConfig);
+  if (!robot.hasHand()) return std::make_shared<const PlanningWorld>(std::move(robot), objects);
   const fs::path mapPath = dbDir / (robot.name() + "_hand_map.h5");
   if (!fs::exists(mapPath))
     throw std::runtime_error("no hand reachability map " + mapPath.string() +
                              " (build it with: hfts-preprocess --hand " + robotConfig.string() +
                              " -o " + dbDir.string() + ")");
-  db::HandMap map = db::loadHandMap(mapPath);
-  return {std::move(robot), std::move(map)};
+  return std::make_shared<const PlanningWorld>(std::move(robot), db::loadHandMap(mapPath),
+                                               std::move(objects));
 }
 
 }  // namespace
@@ -119,9 +140,7 @@ std::pair<robot::RobotModel, db::HandMap> robotAndHandMap(const fs::path& robotC
 std::shared_ptr<const PlanningWorld> PlanningWorld::load(const fs::path& robotConfig,
                                                          const fs::path& dbDir,
                                                          std::vector<std::string>* skipped) {
-  auto [robot, map] = robotAndHandMap(robotConfig, dbDir);
-  auto world = std::make_shared<const PlanningWorld>(std::move(robot), std::move(map),
-                                                     ObjectLibrary::load(dbDir, skipped));
+  auto world = worldOf(robotConfig, dbDir, ObjectLibrary::load(dbDir, skipped));
   quietOmpl();
   defaultSettings(world->robot());  // the config's planner_defaults, checked now
   return world;
@@ -130,9 +149,9 @@ std::shared_ptr<const PlanningWorld> PlanningWorld::load(const fs::path& robotCo
 std::shared_ptr<const PlanningWorld> PlanningWorld::load(
     const fs::path& robotConfig, const fs::path& dbDir,
     std::shared_ptr<const ObjectLibrary> objects) {
-  auto [robot, map] = robotAndHandMap(robotConfig, dbDir);
-  auto world =
-      std::make_shared<const PlanningWorld>(std::move(robot), std::move(map), std::move(objects));
+  if (!fs::is_directory(dbDir))
+    throw std::runtime_error("database directory " + dbDir.string() + " does not exist");
+  auto world = worldOf(robotConfig, dbDir, std::move(objects));
   quietOmpl();
   defaultSettings(world->robot());
   return world;

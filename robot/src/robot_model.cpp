@@ -1,6 +1,7 @@
 // Loading a robot from URDF (urdfdom) and its config file (JSON).
 #include "robot/robot_model.h"
 
+#include <tinyxml2.h>
 #include <urdf_parser/urdf_parser.h>
 #include <nlohmann/json.hpp>
 
@@ -68,8 +69,11 @@ CollisionShape toShape(const urdf::Collision& collision, const std::string& wher
   return shape;
 }
 
-std::optional<Inertial> toInertial(const urdf::InertialSharedPtr& in, const std::string& where) {
-  if (!in) return std::nullopt;
+/// A link's <inertial>; none for a link without one, and for a frame (a
+/// link without collision geometry) whose mass is 0.
+std::optional<Inertial> toInertial(const urdf::InertialSharedPtr& in, bool frame,
+                                   const std::string& where) {
+  if (!in || (frame && in->mass == 0.0)) return std::nullopt;
   Inertial out;
   out.mass = in->mass;
   out.origin = toIsometry(in->origin);
@@ -97,8 +101,9 @@ Eigen::Vector3d halfExtents(const CollisionShape& shape) {
 /// Builds a RobotModel step by step; every step validates what it adds.
 class RobotModelBuilder {
  public:
-  RobotModelBuilder(const urdf::ModelInterface& urdf, const json& config, const std::string& what)
-      : urdf_(urdf), config_(config, what), what_(what) {}
+  RobotModelBuilder(const urdf::ModelInterface& urdf, const json& config, const std::string& what,
+                    const std::string& srdf)
+      : urdf_(urdf), config_(config, what), what_(what), srdf_(srdf) {}
 
   RobotModel build() {
     model_.name_ = config_.string("name");
@@ -126,7 +131,10 @@ class RobotModelBuilder {
       queue.pop_front();
       const int index = static_cast<int>(model_.links_.size());
       const std::string where = what_ + ": link '" + link->name + "'";
-      Link out{link->name, parentJoint, {}, toInertial(link->inertial, where)};
+      Link out{link->name,
+               parentJoint,
+               {},
+               toInertial(link->inertial, link->collision_array.empty(), where)};
       for (const auto& collision : link->collision_array)
         out.shapes.push_back(toShape(*collision, where));
       model_.links_.push_back(std::move(out));
@@ -175,7 +183,9 @@ class RobotModelBuilder {
 
   void addDofs() {
     const std::vector<std::string> arm = config_.strings("arm_joints");
-    const std::vector<std::string> hand = config_.strings("hand_joints");
+    // An arm without a hand (motion-only) lists no hand joints.
+    const std::vector<std::string> hand =
+        config_.has("hand_joints") ? config_.strings("hand_joints") : std::vector<std::string>{};
     if (arm.empty()) config_.failAt("arm_joints", "is empty");
     model_.num_arm_dofs_ = static_cast<int>(arm.size());
     model_.dof_names_ = arm;
@@ -192,12 +202,22 @@ class RobotModelBuilder {
       if (joint.dof >= 0) config_.failAt(key, "joint '" + joint.name + "' is listed twice");
       joint.dof = static_cast<int>(d);
     }
+    const std::map<std::string, double> held = heldJoints();
     for (Joint& joint : model_.joints_) {
       if (joint.type == Joint::Type::kFixed || joint.dof >= 0) continue;
       const urdf::JointConstSharedPtr source = urdf_.getJoint(joint.name);
+      if (const auto it = held.find(joint.name); it != held.end()) {
+        hold(joint, it->second);
+        continue;
+      }
       if (!source->mimic)
-        config_.fail("joint '" + joint.name + "' is movable but neither listed nor a mimic joint");
+        config_.fail("joint '" + joint.name +
+                     "' is movable but neither listed, held (fixed_joints) nor a mimic joint");
       const int mimicked = jointIndex(source->mimic->joint_name);
+      if (const auto it = held.find(source->mimic->joint_name); it != held.end()) {
+        hold(joint, source->mimic->multiplier * it->second + source->mimic->offset);
+        continue;
+      }
       if (mimicked < 0 || model_.joints_[static_cast<std::size_t>(mimicked)].dof < 0)
         config_.fail("joint '" + joint.name + "' mimics '" + source->mimic->joint_name +
                      "', which is not a listed joint");
@@ -205,6 +225,49 @@ class RobotModelBuilder {
       joint.multiplier = source->mimic->multiplier;
       joint.offset = source->mimic->offset;
     }
+  }
+
+  /// The config's optional `fixed_joints`: movable URDF joints held at a
+  /// value (within their limits), not part of the configuration.
+  std::map<std::string, double> heldJoints() const {
+    std::map<std::string, double> out;
+    if (!config_.has("fixed_joints")) return out;
+    const json& held = config_.at("fixed_joints");
+    if (!held.is_object())
+      config_.failAt("fixed_joints", "must be an object of joint values by name");
+    for (const auto& item : held.items()) {
+      const std::string key = "fixed_joints." + item.key();
+      const int j = jointIndex(item.key());
+      if (j < 0) config_.failAt(key, "is not a joint of the URDF (reachable from the base link)");
+      const Joint& joint = model_.joints_[static_cast<std::size_t>(j)];
+      if (joint.type == Joint::Type::kFixed) config_.failAt(key, "the joint is fixed already");
+      if (joint.dof >= 0) config_.failAt(key, "the joint is listed in arm_joints or hand_joints");
+      if (!item.value().is_number() || !std::isfinite(item.value().get<double>()))
+        config_.failAt(key, "must be a finite number");
+      const double v = item.value().get<double>();
+      const urdf::JointConstSharedPtr source = urdf_.getJoint(item.key());
+      if (source->limits && source->type != urdf::Joint::CONTINUOUS &&
+          !(v >= source->limits->lower - 1e-9 && v <= source->limits->upper + 1e-9))
+        config_.failAt(key, "outside the joint's limits [" + std::to_string(source->limits->lower) +
+                                ", " + std::to_string(source->limits->upper) + "]");
+      out[item.key()] = v;
+    }
+    return out;
+  }
+
+  /// A movable joint held at value v: a fixed joint whose origin carries
+  /// the motion.
+  static void hold(Joint& joint, double v) {
+    if (joint.type == Joint::Type::kRevolute)
+      joint.origin = joint.origin * Eigen::AngleAxisd(v, joint.axis);
+    else
+      joint.origin = joint.origin * Eigen::Translation3d(v * joint.axis);
+    joint.type = Joint::Type::kFixed;
+    joint.effort = 0.0;
+    joint.rotation_cos.setZero();
+    joint.rotation_sin.setZero();
+    joint.slide.setZero();
+    precomputeMotion(joint);
   }
 
   void addLimitsAndPostures() {
@@ -235,13 +298,20 @@ class RobotModelBuilder {
     model_.home_ = config_.numbers("home", n);
     std::string why;
     if (!model_.withinLimits(model_.home_, 1e-9, &why)) config_.failAt("home", why);
-    model_.hand_open_ = config_.numbers("hand_open", n - model_.num_arm_dofs_);
+    const bool hand = n > model_.num_arm_dofs_;
+    // An arm without a hand needs none of the hand's keys; its palm is the
+    // flange unless the config names another link.
+    model_.hand_open_ = hand || config_.has("hand_open")
+                            ? config_.numbers("hand_open", n - model_.num_arm_dofs_)
+                            : Eigen::VectorXd();
     Eigen::VectorXd open = model_.home_;
     open.tail(n - model_.num_arm_dofs_) = model_.hand_open_;
     if (!model_.withinLimits(open, 1e-9, &why)) config_.failAt("hand_open", why);
-    model_.pregrasp_offset_ = config_.number("pregrasp_offset");
+    model_.pregrasp_offset_ =
+        hand || config_.has("pregrasp_offset") ? config_.number("pregrasp_offset") : 0.0;
     model_.flange_link_ = linkOf("flange_link");
-    model_.palm_link_ = linkOf("palm_link");
+    model_.palm_link_ =
+        hand || config_.has("palm_link") ? linkOf("palm_link") : model_.flange_link_;
   }
 
   int linkOf(const char* key) const {
@@ -252,6 +322,10 @@ class RobotModelBuilder {
   }
 
   void addFingertips() {
+    const bool hand = model_.numHandDofs() > 0;
+    if (!hand && !config_.has("fingertips")) return;  // an arm without a hand
+    if (!hand)
+      config_.failAt("fingertips", "need hand_joints (an arm without a hand has no fingertips)");
     const json& tips = config_.at("fingertips");
     if (!tips.is_array() || tips.empty()) config_.failAt("fingertips", "must be a non-empty array");
     for (std::size_t i = 0; i < tips.size(); ++i) {
@@ -336,9 +410,15 @@ class RobotModelBuilder {
   }
 
   void addDisabledCollisions() {
-    const json& pairs = config_.at("disabled_collisions");
-    if (!pairs.is_array()) config_.failAt("disabled_collisions", "must be an array of name pairs");
-    for (const json& pair : pairs) {
+    // From the config's list, the SRDF's <disable_collisions>, or both.
+    if (config_.has("srdf")) addSrdfDisabledCollisions();
+    const json* pairs = config_.has("srdf") && !config_.has("disabled_collisions")
+                            ? nullptr
+                            : &config_.at("disabled_collisions");
+    if (pairs != nullptr && !pairs->is_array())
+      config_.failAt("disabled_collisions", "must be an array of name pairs");
+    for (std::size_t i = 0; pairs != nullptr && i < pairs->size(); ++i) {
+      const json& pair = (*pairs)[i];
       if (!pair.is_array() || pair.size() != 2 || !pair[0].is_string() || !pair[1].is_string())
         config_.failAt("disabled_collisions", "entries must be pairs of link names");
       const int a = model_.linkIndex(pair[0].get<std::string>());
@@ -348,6 +428,32 @@ class RobotModelBuilder {
     std::sort(model_.disabled_.begin(), model_.disabled_.end());
     model_.disabled_.erase(std::unique(model_.disabled_.begin(), model_.disabled_.end()),
                            model_.disabled_.end());
+  }
+
+  /// The SRDF's (config `srdf`) <disable_collisions link1 link2> pairs.
+  void addSrdfDisabledCollisions() {
+    (void)config_.string("srdf");  // a file name (read by RobotModel::load)
+    if (srdf_.empty()) config_.failAt("srdf", "names an SRDF whose text was not given");
+    tinyxml2::XMLDocument doc;
+    if (doc.Parse(srdf_.c_str(), srdf_.size()) != tinyxml2::XML_SUCCESS ||
+        doc.FirstChildElement("robot") == nullptr)
+      config_.failAt("srdf", "the SRDF cannot be parsed (no <robot> element)");
+    for (const tinyxml2::XMLElement* e =
+             doc.FirstChildElement("robot")->FirstChildElement("disable_collisions");
+         e != nullptr; e = e->NextSiblingElement("disable_collisions")) {
+      const char* first = e->Attribute("link1");
+      const char* second = e->Attribute("link2");
+      if (first == nullptr || second == nullptr)
+        config_.failAt("srdf", "a <disable_collisions> without link1 and link2");
+      const auto index = [&](const char* name) {
+        for (std::size_t l = 0; l < model_.links_.size(); ++l)
+          if (model_.links_[l].name == name) return static_cast<int>(l);
+        config_.failAt("srdf", std::string("<disable_collisions> names link '") + name +
+                                   "', which is not in the URDF");
+      };
+      const int a = index(first), b = index(second);
+      model_.disabled_.emplace_back(std::min(a, b), std::max(a, b));
+    }
   }
 
   /// Joint::rotation_* and slide (Rodrigues: R(v) = a a^T + cos(v) (I - a a^T) + sin(v) [a]x).
@@ -369,6 +475,7 @@ class RobotModelBuilder {
 
   void markHandLinks() {
     model_.hand_links_.assign(model_.links_.size(), false);
+    if (!model_.hasHand()) return;
     model_.hand_links_[static_cast<std::size_t>(model_.palm_link_)] = true;
     for (const Joint& joint : model_.joints_) {
       const bool parentInHand = model_.hand_links_[static_cast<std::size_t>(joint.parent_link)];
@@ -379,6 +486,7 @@ class RobotModelBuilder {
   const urdf::ModelInterface& urdf_;
   ConfigReader config_;
   std::string what_;
+  const std::string& srdf_;
   RobotModel model_;
 };
 
@@ -395,11 +503,15 @@ RobotModel RobotModel::load(const std::filesystem::path& configPath) {
     throw ModelError(what + ": urdf: is required (the URDF file, relative to the config)");
   const std::filesystem::path urdfPath =
       configPath.parent_path() / config["urdf"].get<std::string>();
-  return fromStrings(readFile(urdfPath, what), configText, what);
+  const std::string srdf =
+      config.contains("srdf") && config["srdf"].is_string()
+          ? readFile(configPath.parent_path() / config["srdf"].get<std::string>(), what)
+          : std::string();
+  return fromStrings(readFile(urdfPath, what), configText, what, srdf);
 }
 
 RobotModel RobotModel::fromStrings(const std::string& urdfXml, const std::string& configJson,
-                                   const std::string& what) {
+                                   const std::string& what, const std::string& srdfXml) {
   json config;
   try {
     config = json::parse(configJson);
@@ -409,7 +521,7 @@ RobotModel RobotModel::fromStrings(const std::string& urdfXml, const std::string
   if (!config.is_object()) throw ModelError(what + ": the config must be a JSON object");
   const urdf::ModelInterfaceSharedPtr urdf = urdf::parseURDF(urdfXml);
   if (!urdf) throw ModelError(what + ": the URDF cannot be parsed");
-  return RobotModelBuilder(*urdf, config, what).build();
+  return RobotModelBuilder(*urdf, config, what, srdfXml).build();
 }
 
 int RobotModel::linkIndex(const std::string& name) const {

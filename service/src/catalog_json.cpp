@@ -93,7 +93,9 @@ json objectsJson(const PlanningCatalog& catalog, const CatalogRobot& robot) {
                        {"nodes_per_level", nodes},
                        {"center_of_mass", vectorJson(o.geometry.center_of_mass)},
                        {"rho", o.geometry.rho},
-                       {"graspability", graspabilityJson(robot.graspability.at(name))},
+                       {"graspability", robot.graspability.count(name) > 0
+                                            ? graspabilityJson(robot.graspability.at(name))
+                                            : json()},
                        {"source_mesh", o.source_mesh}});
   }
   return {{"robot", robot.name()}, {"objects", std::move(objects)}, {"skipped", catalog.skipped()}};

@@ -14,6 +14,9 @@ namespace {
 
 using nlohmann::json;
 
+/// The most motion goals one request may give.
+constexpr std::size_t kMaxGoals = 1000;
+
 std::string joined(const std::vector<std::string>& names) {
   std::string out;
   for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
@@ -111,6 +114,55 @@ std::map<std::string, std::string> parametersOf(const JsonFields& f, const Catal
   return out;
 }
 
+/// One motion goal: {"joints": [...]} or {"pose": {...}, "link",
+/// "position_tolerance", "orientation_tolerance"}.
+planner::MotionGoal goalOf(const json& goal, const std::string& path) {
+  if (!goal.is_object()) throwInvalidParam(path, "must be an object with \"joints\" or \"pose\"");
+  const JsonFields g(goal, path);
+  g.allowOnly({"joints", "pose", "link", "position_tolerance", "orientation_tolerance"});
+  if (g.has("joints") == g.has("pose"))
+    g.fail(g.has("joints") ? "pose" : "joints", "a goal has either \"joints\" or \"pose\"");
+  if (g.has("joints")) {
+    if (g.has("link") || g.has("position_tolerance") || g.has("orientation_tolerance"))
+      g.fail("joints", "a joint goal takes no link or tolerances");
+    const json& joints = g.at("joints");
+    if (!joints.is_array()) g.fail("joints", "must be an array of joint values");
+    return planner::JointGoal{g.numbers("joints", static_cast<Eigen::Index>(joints.size()))};
+  }
+  planner::PoseGoal pose;
+  pose.pose = g.pose("pose");
+  if (g.has("link")) pose.link = g.string("link");
+  if (g.has("position_tolerance")) pose.position_tolerance = g.finite("position_tolerance");
+  if (g.has("orientation_tolerance"))
+    pose.orientation_tolerance = g.finite("orientation_tolerance");
+  return pose;
+}
+
+/// `goal` (one) or `goals` (a non-empty array), checked for the robot.
+std::vector<planner::MotionGoal> goalsOf(const JsonFields& f, const robot::RobotModel& robot,
+                                         const planner::PlanRequest& r) {
+  if (f.has("goal") && f.has("goals")) f.fail("goals", "give either \"goal\" or \"goals\"");
+  std::vector<planner::MotionGoal> goals;
+  if (f.has("goal")) {
+    goals.push_back(goalOf(f.at("goal"), "goal"));
+  } else {
+    const json& all = f.at("goals");
+    if (!all.is_array() || all.empty() || all.size() > kMaxGoals)
+      f.fail("goals", "must be an array of 1 to " + std::to_string(kMaxGoals) + " goals");
+    for (std::size_t i = 0; i < all.size(); ++i)
+      goals.push_back(goalOf(all[i], "goals[" + std::to_string(i) + "]"));
+  }
+  try {
+    planner::checkGoals(robot, goals, r.start ? *r.start : robot.home());
+  } catch (const InvalidArgument& e) {
+    // checkGoals names goals[i]; a single `goal` is goal.
+    std::string field = e.field();
+    if (f.has("goal")) field.replace(0, field.find(']') + 1, "goal");
+    throwInvalidParam(field, e.problem());
+  }
+  return goals;
+}
+
 }  // namespace
 
 bool planWantsGltf(const json& params) {
@@ -123,11 +175,18 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
   const JsonFields f(params, "");
   f.allowOnly({"robot", "scene", "object", "object_pose", "start", "time_limit", "algorithm",
                "iterations", "seed", "parameters", "trajectory_rate", "gltf", "explored",
-               "validate", "physics"});
+               "validate", "physics", "goal", "goals"});
   const CatalogRobot& planned = requestedRobot(params, catalog);
+  const bool motion = f.has("goal") || f.has("goals");
+  if (!motion && !planned.model().hasHand())
+    f.fail("goals", "robot '" + planned.model().name() +
+                        "' has no hand: it plans motions to a goal or goals only");
   planner::PlanRequest r;
   r.scene = sceneOf(f, catalog);
-  r.object = objectOf(f, catalog, r.scene);
+  // A motion plan needs no object: the scene's target, if it names one, is
+  // an obstacle.
+  if (!motion || f.has("object") || !r.scene.target_object.empty())
+    r.object = objectOf(f, catalog, r.scene);
   if (f.has("object_pose")) r.object_pose = f.pose("object_pose");
   const robot::RobotModel& robot = planned.model();
   if (f.has("start")) {
@@ -139,6 +198,7 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
     r.start = f.numbers("start", robot.numDofs());
   }
   checkStart(f, robot, r);
+  if (motion) r.goals = goalsOf(f, robot, r);
   r.time_limit = std::min(f.has("time_limit") ? f.positive("time_limit") : limits.max_time_limit,
                           limits.max_time_limit);
   const std::string algorithm = f.has("algorithm") ? f.string("algorithm") : "coupled";
@@ -158,6 +218,8 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
   if (f.has("seed")) r.seed = f.unsignedInteger("seed");
   if (f.has("explored")) r.explored = f.boolean("explored");
   if (f.has("validate")) r.validate = f.boolean("validate");
+  if (motion && r.validate)
+    f.fail("validate", "a motion plan (goal, goals) has no grasp to validate");
   if (f.has("physics")) r.simulation = simulationOptionsOf(f);
   if (f.has("trajectory_rate")) {
     r.trajectory_rate = f.finite("trajectory_rate");

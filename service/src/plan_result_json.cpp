@@ -100,11 +100,15 @@ json planResultToJson(const planner::PlanResult& result, const planner::PlanRequ
               {"joint_names", result.joint_names},
               {"path", std::move(path)},
               {"clearance", result.clearance ? json(*result.clearance) : json()},
-              {"grasp", result.success ? graspJson(result.grasp, result.joint_names) : json()},
+              {"grasp", result.success && request.goals.empty()
+                            ? graspJson(result.grasp, result.joint_names)
+                            : json()},
               {"trajectory", result.trajectory.points.empty()
                                  ? json()
                                  : trajectoryJson(result.trajectory, result.joint_names)},
               {"stats", statsJson(result.stats)}};
+  if (!request.goals.empty())
+    out["reached_goal"] = result.reached_goal ? json(*result.reached_goal) : json();
   if (request.explored) out["explored"] = exploredJson(result.explored);
   if (result.validation) {
     out["validation"] = graspCheckToJson(result.validation->check);

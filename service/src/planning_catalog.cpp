@@ -13,6 +13,7 @@ CatalogRobot catalogRobot(std::shared_ptr<const planner::PlanningWorld> world) {
   CatalogRobot r{std::move(world), {}, {}};
   const planner::PlanningWorld& w = *r.world;
   r.parameters = planner::plannerParameters(w);
+  if (!w.robot().hasHand()) return r;  // an arm without a hand grasps nothing
   const int fingers = static_cast<int>(w.robot().fingertips().size());
   for (const std::string& name : w.objectNames())
     r.graspability.emplace(

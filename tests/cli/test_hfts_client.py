@@ -139,6 +139,34 @@ class CommandLine(ClientTest):
         self.assertEqual(points[-1]["positions"], values[-1][1:1 + n])
         self.assertEqual(points[-1]["time_from_start"], plan["trajectory"]["duration"])
 
+    def test_a_motion_plan_to_joint_and_pose_goals(self):
+        # No grasp: a path to the configuration, then to the palm pose.
+        arm = [0.6, -1.2, 1.3, 0.0, 1.4, 0.0]
+        text = self.ok("plan", "--scene", "table", "--time-limit", "20",
+                       "--goal-joints", ",".join(map(str, arm)))
+        self.assertRegex(text.splitlines()[0],
+                         r"^plan: success \(kr5_sdh, table, mug, coupled, seed 1\) in [\d.]+ s$")
+        self.assertEqual(text.splitlines()[1], "motion: reached goal 0 of the request's")
+        self.assertRegex(text, r"\npath: \d+ waypoints \(start \.\.\. goal\), length ")
+        self.assertRegex(text, r"\ntrajectory: [\d.]+ s, \d+ points\n")
+        plan = json.loads(self.ok("--json", "plan", "--scene", "table", "--time-limit", "20",
+                                  "--goal-pose", "0.52,-0.35,0.6,0.295,0.955,-0.01,0.034",
+                                  "--goal-tolerance", "0.005,0.05"))
+        self.assertTrue(plan["success"], plan["message"])
+        self.assertEqual((plan["reached_goal"], plan["grasp"]), (0, None))
+        # A palm in the table top: no free IK solution within the time limit.
+        blocked = self.client("plan", "--scene", "table", "--time-limit", "1",
+                              "--goal-pose", "0.6,0.0,0.0,0,1,0,0")
+        self.assertEqual(blocked.returncode, 3, blocked.stderr)
+        self.assertRegex(blocked.stdout, r"^plan: no plan, no_valid_goal: ")
+        bad = self.client("plan", "--scene", "table", "--goal-joints", "0.1,x")
+        self.assertEqual(bad.returncode, 1)
+        self.assertIn("--goal-joints: 'x' is not a number", bad.stderr)
+        wrong = self.client("plan", "--scene", "table", "--goal-joints", "0.1,0.2")
+        self.assertEqual(wrong.returncode, 1)
+        self.assertIn("goals[0].joints: needs 13 values (every DoF) or 6 (the arm's), got 2",
+                      wrong.stderr)
+
     def test_an_inline_scene_file(self):
         scene = os.path.join(self.tmp, "my_bin.json")
         with open(os.path.join(CONFIG.source_dir, "objects", "scenes", "bin.json")) as f:
@@ -206,6 +234,25 @@ class PythonClient(ClientTest):
             self.assertAlmostEqual(client.quality(QUALITY["contacts"]), QUALITY_EPSILON,
                                    places=12)
             self.assertEqual(client.reload()["objects"], ["blob", "mug"])
+
+    def test_motion_goals(self):
+        goal = hfts_client.joint_goal([0.6, -1.2, 1.3, 0.0, 1.4, 0.0])
+        with self.connect() as client:
+            plan = client.plan("table", goal=goal, time_limit=20)
+            self.assertTrue(plan["success"], plan["message"])
+            self.assertEqual(plan["reached_goal"], 0)
+            self.assertEqual(plan["path"][-1][:6], goal["joints"])
+            self.assertEqual(plan["path"][-1][6:], plan["path"][0][6:], "the start's hand")
+            pose = hfts_client.pose_goal([0.52, -0.35, 0.6], [0.295, 0.955, -0.01, 0.034],
+                                         position_tolerance=0.005,
+                                         orientation_tolerance=0.05)
+            both = client.plan("table", goals=[pose, goal], time_limit=20)
+            self.assertTrue(both["success"], both["message"])
+            self.assertIn(both["reached_goal"], (0, 1))
+            with self.assertRaises(hfts_client.RpcError) as caught:
+                client.plan("table", goal=hfts_client.pose_goal([0, 0, 1], [0, 0, 0, 1],
+                                                                link="finger_1_distal"))
+            self.assertEqual(caught.exception.field, "goal.link")
 
     def test_errors_raise_with_code_and_field(self):
         with self.connect() as client:

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "robot/kinematics.h"
+
 #include "robot_fixture.h"
 #include "test_meshes.h"
 
@@ -122,7 +124,54 @@ TEST(RobotModel, ConfigThatDoesNotMatchTheUrdfGivesClearErrors) {
   expectModelError("<robot name='broken'><link name='a'/>", s.config, "URDF cannot be parsed");
   std::string urdf = s.urdf;
   replaceOnce(urdf, "<mimic joint=\"knuckle\"", "<nomimic joint=\"knuckle\"");
-  expectModelError(urdf, s.config, "'knuckle_mimic' is movable but neither listed nor a mimic");
+  expectModelError(urdf, s.config, "'knuckle_mimic' is movable but neither listed");
+}
+
+TEST(RobotModel, AnArmWithoutAHandHoldsItsOtherJoints) {
+  // robots/kr5_sdh/kr5_arm_only.json: the KR5 with the SDH held rigid at
+  // the full model's home posture.
+  const RobotModel arm = RobotModel::load(test::sourcePath("robots/kr5_sdh/kr5_arm_only.json"));
+  const RobotModel& full = test::kr5Sdh();
+  EXPECT_FALSE(arm.hasHand());
+  EXPECT_TRUE(full.hasHand());
+  EXPECT_EQ(arm.numDofs(), 6);
+  EXPECT_EQ(arm.numHandDofs(), 0);
+  EXPECT_TRUE(arm.fingertips().empty());
+  EXPECT_EQ(arm.handOpen().size(), 0);
+  EXPECT_EQ(arm.palmLink(), arm.flangeLink()) << "no palm_link: the flange";
+  for (std::size_t l = 0; l < arm.links().size(); ++l) EXPECT_FALSE(arm.isHandLink(int(l)));
+  // Every link where the full model puts it with the hand at its home.
+  Eigen::VectorXd q = full.home();
+  const double values[] = {0.3, -1.1, 1.2, 0.4, 1.0, -0.7};
+  for (int d = 0; d < 6; ++d) q(d) = values[d];
+  const LinkPoses a = forwardKinematics(arm, q.head(6));
+  const LinkPoses f = forwardKinematics(full, q);
+  ASSERT_EQ(a.size(), f.size());
+  for (std::size_t l = 0; l < a.size(); ++l)
+    EXPECT_TRUE(a[l].isApprox(f[l], 1e-12)) << full.links()[l].name;
+}
+
+TEST(RobotModel, HeldJointsAreChecked) {
+  Sources s;
+  std::string config = test::readBytes(test::sourcePath("robots/kr5_sdh/kr5_arm_only.json"));
+  std::string c = config;
+  replaceOnce(c, "\"knuckle\": 0,", "\"knuckle\": 9,");
+  expectModelError(s.urdf, c, "robot 'x': fixed_joints.knuckle: outside the joint's limits");
+  c = config;
+  replaceOnce(c, "\"knuckle\": 0,", "\"knuckle\": \"open\",");
+  expectModelError(s.urdf, c, "fixed_joints.knuckle: must be a finite number");
+  c = config;
+  replaceOnce(c, "\"knuckle\": 0,", "\"knuckle\": 0, \"a1\": 0,");
+  expectModelError(s.urdf, c, "fixed_joints.a1: the joint is listed in arm_joints");
+  c = config;
+  replaceOnce(c, "\"knuckle\": 0,", "\"knuckle\": 0, \"wrist\": 0,");
+  expectModelError(s.urdf, c, "fixed_joints.wrist: is not a joint of the URDF");
+  c = config;
+  replaceOnce(c, "\"knuckle\": 0,", "");
+  expectModelError(s.urdf, c, "joint 'knuckle' is movable but neither listed");
+  c = config;
+  replaceOnce(c, "\"fixed_joints\": {", "\"fingertips\": [], \"fixed_joints\": {");
+  expectModelError(s.urdf, c, "fingertips: need hand_joints");
 }
 
 TEST(RobotModel, ContactModelIsHardFingersUnlessTheConfigSaysSoft) {

@@ -209,6 +209,63 @@ TEST(PlanRequestJson, RejectsBadNumbersAndShapes) {
   expectRejected(json::array(), "params", "must be an object");
 }
 
+TEST(PlanRequestJson, GoalsMakeAMotionPlan) {
+  const json arm = {0.3, -1.2, 1.4, 0, 1.2, 0};
+  const json pose = {{"position", {0.6, 0.1, 0.5}}, {"orientation", {0, 1, 0, 0}}};
+  const planner::PlanRequest r = parse({{"scene", "bin"},
+                                        {"start", start()},
+                                        {"goals",
+                                         {{{"joints", arm}},
+                                          {{"pose", pose},
+                                           {"link", "palm"},
+                                           {"position_tolerance", 0.002},
+                                           {"orientation_tolerance", 0.05}}}}});
+  ASSERT_EQ(r.goals.size(), 2u);
+  const auto& joint = std::get<planner::JointGoal>(r.goals[0]);
+  EXPECT_EQ(joint.configuration.size(), 6) << "the arm's only; the planner adds the hand";
+  EXPECT_DOUBLE_EQ(joint.configuration(2), 1.4);
+  const auto& goal = std::get<planner::PoseGoal>(r.goals[1]);
+  EXPECT_EQ(goal.link, "palm");
+  EXPECT_TRUE(goal.pose.translation().isApprox(Eigen::Vector3d(0.6, 0.1, 0.5)));
+  EXPECT_NEAR(goal.pose.linear()(0, 0), -1.0, 1e-12);
+  EXPECT_DOUBLE_EQ(goal.position_tolerance, 0.002);
+  EXPECT_DOUBLE_EQ(goal.orientation_tolerance, 0.05);
+  EXPECT_EQ(r.object, "blob") << "the scene's target stays, as an obstacle";
+
+  const planner::PlanRequest one = parse({{"scene", "bin"}, {"goal", {{"pose", pose}}}});
+  ASSERT_EQ(one.goals.size(), 1u);
+  EXPECT_DOUBLE_EQ(std::get<planner::PoseGoal>(one.goals[0]).position_tolerance, 0.001);
+}
+
+TEST(PlanRequestJson, RejectsMalformedGoals) {
+  const json pose = {{"position", {0.6, 0.1, 0.5}}, {"orientation", {0, 1, 0, 0}}};
+  const json arm = {0.3, -1.2, 1.4, 0, 1.2, 0};
+  expectRejected({{"scene", "bin"}, {"goal", {{"joints", {0.1, 0.2}}}}}, "goal.joints",
+                 "needs 13 values (every DoF) or 6 (the arm's), got 2");
+  expectRejected(
+      {{"scene", "bin"}, {"goals", {{{"joints", arm}}, {{"joints", {9, 0, 0, 0, 0, 0}}}}}},
+      "goals[1].joints", "a1");
+  expectRejected({{"scene", "bin"}, {"goal", {{"joints", {0.3, "x", 1.4, 0, 1.2, 0}}}}},
+                 "goal.joints[1]", "must be a number");
+  expectRejected({{"scene", "bin"}, {"goal", {{"pose", pose}, {"link", "finger_1_distal"}}}},
+                 "goal.link", "must be the flange link");
+  expectRejected({{"scene", "bin"}, {"goal", {{"pose", pose}, {"position_tolerance", -0.1}}}},
+                 "goal.position_tolerance", "[0, 0.5");
+  expectRejected({{"scene", "bin"}, {"goal", {{"pose", pose}, {"orientation_tolerance", 4}}}},
+                 "goal.orientation_tolerance", "[0, pi]");
+  expectRejected({{"scene", "bin"}, {"goal", {{"joints", arm}, {"pose", pose}}}}, "goal.pose",
+                 "either");
+  expectRejected({{"scene", "bin"}, {"goal", json::object()}}, "goal.joints", "either");
+  expectRejected({{"scene", "bin"}, {"goal", {{"joints", arm}, {"link", "x"}}}}, "goal.joints",
+                 "no link");
+  expectRejected({{"scene", "bin"}, {"goal", {{"joints", arm}}}, {"goals", json::array()}}, "goals",
+                 "either");
+  expectRejected({{"scene", "bin"}, {"goals", json::array()}}, "goals", "1 to 1000 goals");
+  expectRejected({{"scene", "bin"}, {"goal", 3}}, "goal", "must be an object");
+  expectRejected({{"scene", "bin"}, {"goal", {{"joints", arm}}}, {"validate", true}}, "validate",
+                 "no grasp");
+}
+
 TEST(PlanRequestJson, RacingCopiesAreCappedAtTheServersWorkers) {
   const json two = {{"scene", "bin"}, {"parameters", {{"threads", 2}}}};
   expectRejected(two, "parameters.threads", "at most 1 on this server (its planning workers)");

@@ -32,7 +32,10 @@ std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world);
 std::string planGlb(const PlanningWorld& world, const PlanRequest& request,
                     const PlanResult& result);
 
-/// Plans a grasp and a path to it. Single-threaded (kRrtConnect: two
+/// Plans a grasp and a path to it; with request.goals, a path to one of
+/// those goals instead (motion_goal.h, docs/planning.md "Motion-only
+/// goals"; also InvalidArgument "goals[i]...", and "validate", which a
+/// motion plan cannot). Single-threaded (kRrtConnect: two
 /// threads, both joined before it returns); the same request and seed give
 /// the same result unless the time limit cuts it short (kRrtConnect: see
 /// LazyGoalRrtConnect::solve).

@@ -20,7 +20,9 @@ namespace hfts::planner {
 struct GraspTrajectory {
   std::vector<TrajectoryPoint> points;  ///< from 0 to duration, the last at duration
   double duration = 0.0;                ///< s
-  double closing_start = 0.0;           ///< s: the arm is at the pre-grasp, the hand closes
+  /// s: the arm is at the pre-grasp, the hand closes (a motion plan's:
+  /// the duration).
+  double closing_start = 0.0;
   /// Largest distance of the approach from the planned path (rad); smaller
   /// than asked when a blend had to be tightened to stay collision-free.
   double deviation = 0.0;
@@ -43,5 +45,14 @@ GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
                                 robot::CollisionChecker& checker, const MotionCheck& check,
                                 double rate, std::size_t* queries = nullptr,
                                 double maxDeviation = TrajectoryOptions{}.max_deviation);
+
+/// The trajectory of a motion plan's path (start, ..., goal: motion_goal.h)
+/// as graspTrajectory's approach, without a closing (closing_start =
+/// duration); its samples' polyline checked as transit. Same errors
+/// ("path": fewer than two configurations).
+GraspTrajectory motionTrajectory(const std::vector<Eigen::VectorXd>& path,
+                                 robot::CollisionChecker& checker, const MotionCheck& check,
+                                 double rate, std::size_t* queries = nullptr,
+                                 double maxDeviation = TrajectoryOptions{}.max_deviation);
 
 }  // namespace hfts::planner

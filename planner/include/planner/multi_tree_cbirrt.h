@@ -90,6 +90,9 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   /// `bound`; null: samples them at the final resolution. The bound must
   /// outlive the planner.
   void setCertification(const robot::MotionBound* bound) { smoothing_.final_check.bound = bound; }
+  /// The rule the proof of a path's last segment follows: kApproach (into
+  /// a pre-grasp, the default) or kTransit (into a motion goal).
+  void setLastSegmentRule(robot::CertifyRule rule) { smoothing_.last_rule = rule; }
 
   /// After a successful solve(): the path from the start to the goal's
   /// pre-grasp (smoothed and re-checked) and the goal it reaches.

@@ -27,6 +27,9 @@ struct PathSmoothing {
   unsigned steps = 200;     ///< at most, of each pass (vertex reduction, shortcutting)
   MotionCheck final_check;  ///< of the returned path; its resolution also the repair's
   std::uint32_t seed = 1;   ///< of OMPL's PathSimplifier
+  /// The proof's rule of the path's last segment: kApproach into a
+  /// pre-grasp, kTransit into a motion goal (motion_goal.h).
+  robot::CertifyRule last_rule = robot::CertifyRule::kApproach;
 };
 
 /// What the final check of a returned path found (smoothAndRecheck).
@@ -58,8 +61,8 @@ bool denselyValid(const CollisionMotionValidator& validator,
 
 /// The path a planner returns for `raw` (free at the tree resolution):
 /// smoothed with shortcuts checked at the tree resolution if that passes
-/// the final check (smoothing.final_check; the last segment ends at the
-/// pre-grasp). Else (only while `ptc` allows) repaired: the path after a
+/// the final check (smoothing.final_check; the last segment under
+/// smoothing.last_rule). Else (only while `ptc` allows) repaired: the path after a
 /// smoothing batch that passes the check (found by bisection over the
 /// batches; `raw` if need be), smoothed on for one batch of each pass with
 /// the shortcuts checked at the final check's resolution. Nothing when

@@ -1,7 +1,8 @@
 #pragma once
 // What a plan is asked for (planGrasp, grasp_motion_planner.h): the scene,
-// the object and where it stands, the start, the algorithm, the seed, the
-// time limit and the planner's settings (plan_settings.h).
+// the object and where it stands (or motion-only goals), the start, the
+// algorithm, the seed, the time limit and the planner's settings
+// (plan_settings.h).
 
 #include <Eigen/Geometry>
 
@@ -11,6 +12,7 @@
 #include <string>
 
 #include "physics/simulate_grasp.h"
+#include "planner/motion_goal.h"
 #include "planner/plan_settings.h"
 #include "robot/scene.h"
 
@@ -30,6 +32,11 @@ struct PlanRequest {
   /// Overrides scene.target_pose and its rest_on (the object is put exactly here).
   std::optional<Eigen::Isometry3d> object_pose;
   std::optional<Eigen::VectorXd> start;  ///< overrides the scene's start
+  /// Motion-only goals (motion_goal.h): when not empty, the plan is a
+  /// path from the start to whichever goal the multi-tree planner reaches
+  /// first, with no grasp; the object (`object`, else the scene's target,
+  /// when either names one) is then an obstacle like the others.
+  std::vector<MotionGoal> goals;
   PlanAlgorithm algorithm = PlanAlgorithm::kCoupled;
   /// The settings, typed; unset: defaultSettings(robot, preset). Start
   /// from defaultSettings() to change a few (resolveSettings says the order).

@@ -31,6 +31,8 @@ enum class PlanFailure {
   /// No grasp can be stable with the contacts a fingertip can touch where
   /// the object stands (mask_contacts): decided before any search.
   kNoStableGraspClearOfSupport,
+  /// Every motion goal is a joint goal, and every one of them collides.
+  kGoalInCollision,
 };
 
 /// Snake-case name used in JSON and CSV ("time_limit", ...).
@@ -77,7 +79,8 @@ struct PlanResult {
   PlanFailure failure = PlanFailure::kNone;
   std::string message;  ///< human-readable reason when unsuccessful
   /// Start, ..., pre-grasp, grasp (the hand closed until its pads touch
-  /// the object). With certify_path every segment is proven
+  /// the object); a motion plan's: start, ..., goal (its last segment
+  /// proven as a transit). With certify_path every segment is proven
   /// free (robot::certifyPath): the last under the closing rule (its
   /// fingertips' depth in the object sampled with the grasp rule at the
   /// final resolution), the one before under the approach rule, the
@@ -94,7 +97,10 @@ struct PlanResult {
   /// Where the object was: the request's object_pose, or the scene's
   /// target pose (resting on its support when the scene says so).
   Eigen::Isometry3d object_pose = Eigen::Isometry3d::Identity();
+  /// A grasp plan's grasp (empty for a motion plan).
   PlannedGrasp grasp;
+  /// A motion plan's: the index of the request's goal the path ends at.
+  std::optional<int> reached_goal;
   /// The path as a time-optimal trajectory (grasp_trajectory.h): empty
   /// points when not asked for, when the robot has no acceleration limits,
   /// or (never seen) when no collision-free one was found or it would hold

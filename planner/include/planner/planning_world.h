@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -66,11 +67,15 @@ class PlanningWorld {
   /// A world whose objects another robot's world shares.
   PlanningWorld(robot::RobotModel robot, db::HandMap handMap,
                 std::shared_ptr<const ObjectLibrary> objects);
+  /// The world of an arm without a hand (motion-only, RobotModel::hasHand
+  /// false): no hand map. Throws ModelError for a robot with a hand.
+  PlanningWorld(robot::RobotModel robot, std::shared_ptr<const ObjectLibrary> objects);
   ~PlanningWorld();
   PlanningWorld(const PlanningWorld&) = delete;
   PlanningWorld& operator=(const PlanningWorld&) = delete;
 
-  /// Loads the robot config, `<robot name>_hand_map.h5` from `dbDir` and
+  /// Loads the robot config, `<robot name>_hand_map.h5` from `dbDir` (not
+  /// for an arm without a hand) and
   /// the object databases there (ObjectLibrary::load, which appends what
   /// it skipped to `skipped`); a missing directory, robot or hand map
   /// throws (std::runtime_error naming the file).
@@ -90,8 +95,10 @@ class PlanningWorld {
   const robot::MotionBound& motionBound() const { return bound_; }
   const robot::ArmIk& ik() const { return ik_; }
   /// The map's fast query (the HFTS objective) and thorough query (Phi(h)).
-  const grasp::HandReachability& handMap() const { return fast_; }
-  const grasp::HandReachability& thoroughHandMap() const { return thorough_; }
+  /// Throw std::logic_error for an arm without a hand (grasps are refused
+  /// before they are asked).
+  const grasp::HandReachability& handMap() const;
+  const grasp::HandReachability& thoroughHandMap() const;
   /// nullptr for an unknown name.
   const db::ObjectDatabase* object(const std::string& name) const { return objects_->object(name); }
   /// The collision hierarchy of an object's mesh, built once with the
@@ -115,8 +122,8 @@ class PlanningWorld {
   std::shared_ptr<const robot::CollisionModel> collision_;
   robot::MotionBound bound_;
   robot::ArmIk ik_;
-  grasp::HandReachability fast_;
-  grasp::HandReachability thorough_;
+  std::optional<grasp::HandReachability> fast_;
+  std::optional<grasp::HandReachability> thorough_;
   std::shared_ptr<const ObjectLibrary> objects_;
   double padRadius_ = 0.0;
 };

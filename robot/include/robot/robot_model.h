@@ -115,8 +115,10 @@ class RobotModel {
   static RobotModel load(const std::filesystem::path& configPath);
 
   /// The same from in-memory texts; `what` names the source in errors.
+  /// `srdfXml`: the text of the SRDF the config's optional `srdf` names
+  /// (its <disable_collisions> pairs join disabled_collisions).
   static RobotModel fromStrings(const std::string& urdfXml, const std::string& configJson,
-                                const std::string& what);
+                                const std::string& what, const std::string& srdfXml = {});
 
   const std::string& name() const { return name_; }
   /// Configuration size: arm DoF followed by hand DoF.
@@ -164,6 +166,9 @@ class RobotModel {
   int flangeLink() const { return flange_link_; }
   int palmLink() const { return palm_link_; }
   const std::vector<Fingertip>& fingertips() const { return fingertips_; }
+  /// False for an arm without a hand (no hand joints, no fingertips: the
+  /// config lists none), which plans motions only.
+  bool hasHand() const { return !fingertips_.empty(); }
   /// Pairs of link indices (smaller first) never checked against each other.
   const std::vector<std::pair<int, int>>& disabledCollisions() const { return disabled_; }
   bool isCollisionDisabled(int a, int b) const;
