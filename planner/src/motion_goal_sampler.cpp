@@ -54,6 +54,11 @@ GoalSample MotionGoalSampler::sample(const FreeSpaceDistances& knowledge,
   return out;
 }
 
+void MotionGoalSampler::pathRejected(const GoalSample& goal) {
+  const int g = goalOf(goal.configuration);
+  if (g >= 0) pending_.push_back({goal.configuration, g});
+}
+
 int MotionGoalSampler::goalOf(const Eigen::VectorXd& q) const {
   for (const Candidate& c : handedOut_)
     if (c.q.size() == q.size() && c.q == q) return c.goal;

@@ -32,6 +32,11 @@ class MotionGoalSampler final : public GoalSampler {
   GoalSample sample(const FreeSpaceDistances& knowledge,
                     const std::function<bool()>& stop) override;
 
+  /// A goal whose path failed the final check waits to be handed out
+  /// again: a new tree may reach it by another path (a joint goal is the
+  /// only one of its kind).
+  void pathRejected(const GoalSample& goal) override;
+
   /// The goal a configuration handed out satisfies (index into the goals),
   /// -1 when it was not handed out.
   int goalOf(const Eigen::VectorXd& q) const;

@@ -470,12 +470,19 @@ bool MultiTreeCBiRRT::extractAndShortcutPath(int index, Motion* forwardEnd, Moti
   // Smoothed and through the final check: a path that fails it is never
   // returned (path_smoothing.h).
   PathCheckReport report;
+  const auto smoothingBegan = std::chrono::steady_clock::now();
   std::optional<std::vector<Eigen::VectorXd>> checked =
       smoothAndRecheck(si_, path, smoothing, ptc, &report);
+  stats_.smoothing_time +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - smoothingBegan).count();
   stats_.final_check_time += report.seconds;
   stats_.certificate_queries += report.queries;
   if (!checked) {
     ++stats_.rejected_paths;
+    // The goal itself may still be reached by another path.
+    static_cast<GraspGoal&>(*pdef_->getGoal())
+        .sampler()
+        .pathRejected(trees_[static_cast<std::size_t>(index)]->root);
     dropTree(index);
     return false;
   }

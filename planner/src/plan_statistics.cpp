@@ -21,6 +21,7 @@ PlanStatistics planStatistics(const TreeStatistics& trees, const GoalSamplerStat
   s.path_length_raw = trees.path_length_raw;
   s.path_length_smoothed = trees.path_length_smoothed;
   s.final_check_time = trees.final_check_time;
+  s.smoothing_time = trees.smoothing_time;
   s.certificate_queries = trees.certificate_queries + goals.certificate_queries;
   s.rejected = goals.rejected;
   return s;

@@ -12,6 +12,7 @@
 #include "robot/moveit_problem.h"
 #include "robot/segment_certificate.h"
 
+#include "motion_goal_sampler.h"
 #include "plan_checks.h"
 
 namespace hfts::planner {
@@ -266,6 +267,39 @@ TEST(MotionGoals, AMotionBenchMakerProblemIsPlannedAndItsPathIsFree) {
       ASSERT_FALSE(checker.inCollision(result.path[i - 1] +
                                        (result.path[i] - result.path[i - 1]) * (k / 400.0)))
           << "segment " << i << " at " << k << "/400";
+}
+
+/// Distances to a tree that is everywhere 1 away.
+class NoKnowledge : public FreeSpaceDistances {
+ public:
+  double toNonConnected(const Eigen::VectorXd&) const override { return 1.0; }
+  double toConnected(const Eigen::VectorXd&) const override { return 1.0; }
+};
+
+TEST(MotionGoals, AJointGoalWhosePathWasRejectedIsHandedOutAgain) {
+  // The sampler alone: a free joint goal once, then nothing, then again
+  // after the planner rejected the path to it (its tree is gone, and a
+  // joint goal has no other configuration).
+  PlanRequest r = shelfRequest(9);
+  const Eigen::VectorXd start = r.scene.startFor(robot().name()).value_or(robot().home());
+  const Eigen::VectorXd goal = freeConfiguration(r, start.tail(robot().numHandDofs()), 19);
+  const robot::Scene scene = test::plannedScene(world(), r);
+  robot::CollisionChecker checker(world().collisionModel(), scene,
+                                  &world().object(scene.target_object)->geometry);
+  std::mt19937_64 rng(1);
+  MotionGoalSampler sampler(world().ik(), checker, rng, scene.robot_base, {JointGoal{goal}}, start);
+  const NoKnowledge knowledge;
+  const auto never = [] { return false; };
+  const GoalSample first = sampler.sample(knowledge, never);
+  ASSERT_EQ(first.kind, GoalKind::kGoal);
+  EXPECT_EQ(first.configuration, goal);
+  EXPECT_EQ(sampler.goalOf(goal), 0);
+  EXPECT_EQ(sampler.sample(knowledge, never).kind, GoalKind::kNone);
+  sampler.pathRejected(first);
+  const GoalSample again = sampler.sample(knowledge, never);
+  ASSERT_EQ(again.kind, GoalKind::kGoal);
+  EXPECT_EQ(again.configuration, goal);
+  EXPECT_EQ(sampler.sample(knowledge, never).kind, GoalKind::kNone);
 }
 
 /// The InvalidArgument field of planGrasp for a request, or "" when none.

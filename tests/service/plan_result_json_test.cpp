@@ -98,13 +98,30 @@ TEST(PlanResultJson, EchoesTheRequestAndStatistics) {
   EXPECT_EQ(j.at("stats").at("planning_time"), 0.5);
   EXPECT_EQ(j.at("stats").at("iterations"), 42);
   EXPECT_EQ(j.at("stats").at("path_length_smoothed"), 1.5);
-  EXPECT_EQ(j.at("stats").size(), 27u);
+  EXPECT_EQ(j.at("stats").size(), 28u);
+  EXPECT_EQ(j.at("stats").at("smoothing_time"), 0.0);
+  EXPECT_FALSE(j.contains("reached_goal")) << "a grasp plan has no motion goal";
   EXPECT_EQ(j.at("stats").at("certificate_queries"), 1234);
   EXPECT_EQ(j.at("clearance"), 0.0125);
   EXPECT_EQ(j.at("stats").at("rejected_colliding"), 0);
   for (const char* key : {"dropped_goals", "physics_checks", "physics_time",
                           "rejected_no_pad_contact", "rejected_weak_at_contacts"})
     EXPECT_EQ(j.at("stats").at(key), 0) << key;
+}
+
+TEST(PlanResultJson, AMotionPlanNamesTheGoalItReachedAndHasNoGrasp) {
+  planner::PlanRequest r = request();
+  r.goals = {planner::JointGoal{Eigen::VectorXd::Zero(6)},
+             planner::JointGoal{Eigen::VectorXd::Ones(6)}};
+  planner::PlanResult result = success();
+  result.reached_goal = 1;
+  const json j = planResultToJson(result, r);
+  EXPECT_EQ(j.at("reached_goal"), 1);
+  EXPECT_TRUE(j.at("grasp").is_null());
+  EXPECT_EQ(j.at("path").size(), result.path.size());
+  result.success = false;
+  result.reached_goal.reset();
+  EXPECT_TRUE(planResultToJson(result, r).at("reached_goal").is_null());
 }
 
 TEST(PlanResultJson, TheTrajectoryIsShapedLikeARosJointTrajectory) {

@@ -86,6 +86,12 @@ class GoalSampler {
 
   const GoalSamplerStatistics& statistics() const { return stats_; }
 
+  /// The planner found a path to `goal` (a goal this sampler handed out)
+  /// that failed the final check, and dropped its tree. Nothing by
+  /// default (a grasp has other goals); a sampler whose goals are few may
+  /// hand the goal out again.
+  virtual void pathRejected(const GoalSample& goal) { (void)goal; }
+
  protected:
   GoalSampler() = default;
   GoalSamplerStatistics stats_;

@@ -26,6 +26,9 @@ struct TreeStatistics {
   /// the proofs' distance queries.
   double final_check_time = 0.0;
   std::uint64_t certificate_queries = 0;
+  /// s: smoothing found paths and their final checks (final_check_time is
+  /// part of it), the rejected ones too.
+  double smoothing_time = 0.0;
 };
 
 /// Why leaf grasps that went through Phi(h) gave no goal, each counted
@@ -96,6 +99,10 @@ struct PlanStatistics {
   double final_check_time = 0.0;
   /// Distance queries of the proofs (paths, closing motions, trajectory).
   std::uint64_t certificate_queries = 0;
+  /// s: the multi-tree planner's smoothing of found paths with their final
+  /// checks (final_check_time is part of it); the rest of planning_time is
+  /// set-up, search and the result (trajectory, physics).
+  double smoothing_time = 0.0;
   GraspRejections rejected;  ///< leaf grasps that gave no goal, by reason
 };
 
@@ -128,6 +135,7 @@ void forEachStatistic(const PlanStatistics& s, F&& f) {
   f("path_length_smoothed", s.path_length_smoothed);
   f("final_check_time", s.final_check_time);
   f("certificate_queries", s.certificate_queries);
+  f("smoothing_time", s.smoothing_time);
   f("rejected_unstable", s.rejected.unstable);
   f("rejected_no_arm_ik", s.rejected.no_arm_ik);
   f("rejected_out_of_hand_reach", s.rejected.out_of_hand_reach);
