@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <tuple>
+#include <vector>
+
 #include "robot/kinematics.h"
 
 #include "robot_fixture.h"
@@ -153,25 +156,22 @@ TEST(RobotModel, AnArmWithoutAHandHoldsItsOtherJoints) {
 
 TEST(RobotModel, HeldJointsAreChecked) {
   Sources s;
-  std::string config = test::readBytes(test::sourcePath("robots/kr5_sdh/kr5_arm_only.json"));
-  std::string c = config;
-  replaceOnce(c, "\"knuckle\": 0,", "\"knuckle\": 9,");
-  expectModelError(s.urdf, c, "robot 'x': fixed_joints.knuckle: outside the joint's limits");
-  c = config;
-  replaceOnce(c, "\"knuckle\": 0,", "\"knuckle\": \"open\",");
-  expectModelError(s.urdf, c, "fixed_joints.knuckle: must be a finite number");
-  c = config;
-  replaceOnce(c, "\"knuckle\": 0,", "\"knuckle\": 0, \"a1\": 0,");
-  expectModelError(s.urdf, c, "fixed_joints.a1: the joint is listed in arm_joints");
-  c = config;
-  replaceOnce(c, "\"knuckle\": 0,", "\"knuckle\": 0, \"wrist\": 0,");
-  expectModelError(s.urdf, c, "fixed_joints.wrist: is not a joint of the URDF");
-  c = config;
-  replaceOnce(c, "\"knuckle\": 0,", "");
-  expectModelError(s.urdf, c, "joint 'knuckle' is movable but neither listed");
-  c = config;
-  replaceOnce(c, "\"fixed_joints\": {", "\"fingertips\": [], \"fixed_joints\": {");
-  expectModelError(s.urdf, c, "fingertips: need hand_joints");
+  const std::string config = test::readBytes(test::sourcePath("robots/kr5_sdh/kr5_arm_only.json"));
+  const std::string knuckle = "\"knuckle\": 0,";
+  // (what the config says instead, the error it gives)
+  const std::vector<std::tuple<std::string, std::string, std::string>> edits = {
+      {knuckle, "\"knuckle\": 9,", "robot 'x': fixed_joints.knuckle: outside the joint's limits"},
+      {knuckle, "\"knuckle\": \"open\",", "fixed_joints.knuckle: must be a finite number"},
+      {knuckle, knuckle + " \"a1\": 0,", "fixed_joints.a1: the joint is listed in arm_joints"},
+      {knuckle, knuckle + " \"wrist\": 0,", "fixed_joints.wrist: is not a joint of the URDF"},
+      {knuckle, "", "joint 'knuckle' is movable but neither listed"},
+      {"\"fixed_joints\": {", "\"fingertips\": [], \"fixed_joints\": {",
+       "fingertips: need hand_joints"}};
+  for (const auto& [from, to, error] : edits) {
+    std::string c = config;
+    replaceOnce(c, from, to);
+    expectModelError(s.urdf, c, error);
+  }
 }
 
 TEST(RobotModel, ContactModelIsHardFingersUnlessTheConfigSaysSoft) {
