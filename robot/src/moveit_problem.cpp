@@ -8,6 +8,9 @@
 #include <map>
 #include <optional>
 
+#include "hfts_db/distance_grid.h"
+#include "hfts_db/triangle_mesh.h"
+
 namespace hfts::robot {
 
 namespace {
@@ -126,6 +129,60 @@ Obstacle primitive(const YamlFile& f, const YAML::Node& node, const std::string&
   return o;
 }
 
+/// One inline mesh (shape_msgs/Mesh: `vertices` {x, y, z}, `triangles`
+/// {vertex_indices}) in metres.
+TriangleMesh mesh(const YamlFile& f, const YAML::Node& node, const std::string& path) {
+  const YAML::Node vertices = f.at(node, "vertices", path);
+  const YAML::Node triangles = f.at(node, "triangles", path);
+  if (!vertices.IsSequence() || vertices.size() < 3)
+    f.fail(YamlFile::join(path, "vertices"), "must be a list of at least 3 points");
+  if (!triangles.IsSequence() || triangles.size() == 0)
+    f.fail(YamlFile::join(path, "triangles"), "must be a non-empty list");
+  TriangleMesh out;
+  out.vertices.resize(static_cast<Eigen::Index>(vertices.size()), 3);
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    const std::string at = indexed(YamlFile::join(path, "vertices"), i);
+    const char* axes[] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a)
+      out.vertices(static_cast<Eigen::Index>(i), a) =
+          f.number(f.at(vertices[i], axes[a], at), YamlFile::join(at, axes[a]));
+  }
+  out.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const std::string at = indexed(YamlFile::join(path, "triangles"), t);
+    const std::vector<double> v = f.numbers(f.at(triangles[t], "vertex_indices", at),
+                                            YamlFile::join(at, "vertex_indices"), 3);
+    for (int k = 0; k < 3; ++k) {
+      if (!(v[k] >= 0.0 && v[k] < static_cast<double>(vertices.size()) && v[k] == std::floor(v[k])))
+        f.fail(YamlFile::join(at, "vertex_indices"),
+               "must be indices of the " + std::to_string(vertices.size()) + " vertices");
+      out.triangles(static_cast<Eigen::Index>(t), k) = static_cast<std::uint32_t>(v[k]);
+    }
+  }
+  return out;
+}
+
+/// The object's meshes as obstacles ("<id>/mesh<k>"), each with its
+/// distance grid (signed when the mesh is closed).
+void addMeshes(const YamlFile& f, const YAML::Node& object, const std::string& path,
+               const std::string& id, const Eigen::Isometry3d& frame, Scene& scene) {
+  const std::optional<YAML::Node> meshes = YamlFile::find(object, "meshes");
+  if (!meshes || !meshes->IsSequence() || meshes->size() == 0) return;
+  const YAML::Node poses = f.at(object, "mesh_poses", path);
+  if (!poses.IsSequence() || poses.size() != meshes->size())
+    f.fail(YamlFile::join(path, "mesh_poses"), "needs one pose per mesh");
+  for (std::size_t k = 0; k < meshes->size(); ++k) {
+    Obstacle o;
+    o.type = Obstacle::Type::kMesh;
+    o.name = id + "/mesh" + std::to_string(k);
+    o.mesh = mesh(f, (*meshes)[k], indexed(YamlFile::join(path, "meshes"), k));
+    o.pose = frame * f.pose(poses[k], indexed(YamlFile::join(path, "mesh_poses"), k));
+    o.distance_grid = std::make_shared<const db::DistanceGrid>(
+        db::buildDistanceGrid(o.mesh, analyzeTopology(o.mesh).closed()));
+    scene.obstacles.push_back(std::move(o));
+  }
+}
+
 void addCollisionObjects(const YamlFile& f, Scene& scene) {
   const std::optional<YAML::Node> world = YamlFile::find(f.root(), "world");
   if (!world) return;
@@ -136,15 +193,14 @@ void addCollisionObjects(const YamlFile& f, Scene& scene) {
     const YAML::Node object = (*objects)[i];
     const std::string path = indexed("world.collision_objects", i);
     const std::string id = f.text(f.at(object, "id", path), YamlFile::join(path, "id"));
-    for (const char* unsupported : {"meshes", "planes"})
-      if (const auto n = YamlFile::find(object, unsupported); n && n->IsSequence() && n->size() > 0)
-        f.fail(YamlFile::join(path, unsupported),
-               std::string("object '") + id + "': " + unsupported +
-                   " are not supported (boxes, cylinders and spheres)");
+    if (const auto n = YamlFile::find(object, "planes"); n && n->IsSequence() && n->size() > 0)
+      f.fail(YamlFile::join(path, "planes"),
+             "object '" + id + "': planes are not supported (boxes, cylinders, spheres, meshes)");
     // Newer scenes give the object's pose and its primitives' poses in it.
     const Eigen::Isometry3d frame = YamlFile::find(object, "pose")
                                         ? f.pose(object["pose"], YamlFile::join(path, "pose"))
                                         : Eigen::Isometry3d::Identity();
+    addMeshes(f, object, path, id, frame, scene);
     const std::optional<YAML::Node> primitives = YamlFile::find(object, "primitives");
     if (!primitives) continue;
     const YAML::Node poses = f.at(object, "primitive_poses", path);

@@ -105,6 +105,27 @@ struct Edited {
   }();
 };
 
+TEST(MoveItProblem, AnInlineMeshIsAMeshObstacle) {
+  // A closed tetrahedron added to Can1 (frame: its primitive pose's parent,
+  // the world), at a mesh pose 1 m up.
+  const Edited edited(true, "- id: Can1",
+                      "- meshes: [{vertices: [{x: 0, y: 0, z: 0}, {x: 0.1, y: 0, z: 0}, {x: 0, "
+                      "y: 0.1, z: 0}, {x: 0, y: 0, z: 0.1}], triangles: [{vertex_indices: [0, 2, "
+                      "1]}, {vertex_indices: [0, 1, 3]}, {vertex_indices: [0, 3, 2]}, "
+                      "{vertex_indices: [1, 2, 3]}]}]\n      mesh_poses: [{position: [0, 0, 1], "
+                      "orientation: [0, 0, 0, 1]}]\n      id: Can1");
+  const MoveItProblem p = edited.load();
+  ASSERT_EQ(p.scene.obstacles.size(), 8u);
+  const Obstacle* mesh = p.scene.obstacle("Can1/mesh0");
+  ASSERT_NE(mesh, nullptr);
+  EXPECT_EQ(mesh->type, Obstacle::Type::kMesh);
+  EXPECT_EQ(mesh->mesh.vertices.rows(), 4);
+  EXPECT_EQ(mesh->mesh.triangles.rows(), 4);
+  EXPECT_TRUE(mesh->pose.translation().isApprox(Eigen::Vector3d(0, 0, 1)));
+  ASSERT_TRUE(mesh->distance_grid);
+  EXPECT_NE(p.scene.obstacle("Can1"), nullptr) << "the object's primitive stays";
+}
+
 void expectRejected(bool scene, const std::string& from, const std::string& to,
                     const std::vector<std::string>& words) {
   const Edited edited(scene, from, to);
@@ -119,8 +140,14 @@ TEST(MoveItProblem, WhatItCannotUseIsNamed) {
                  {"world.collision_objects[0].primitives[0].dimensions", "list of 2 numbers"});
   expectRejected(true, "dimensions: [0.14, 0.03]", "dimensions: [0.14, -0.03]",
                  {"dimensions: must be positive"});
-  expectRejected(true, "- id: Can1", "- meshes: [{vertices: []}]\n      id: Can1",
-                 {"world.collision_objects[0].meshes", "not supported"});
+  expectRejected(true, "- id: Can1", "- planes: [{coef: [0, 0, 1, 0]}]\n      id: Can1",
+                 {"world.collision_objects[0].planes", "not supported"});
+  expectRejected(true, "- id: Can1",
+                 "- meshes: [{vertices: [{x: 0, y: 0, z: 0}, {x: 1, y: 0, z: 0}, {x: 0, y: 1, "
+                 "z: 0}], triangles: [{vertex_indices: [0, 1, 3]}]}]\n      mesh_poses: "
+                 "[{position: [0, 0, 0], orientation: [0, 0, 0, 1]}]\n      id: Can1",
+                 {"world.collision_objects[0].meshes[0].triangles[0].vertex_indices",
+                  "indices of the 3 vertices"});
   expectRejected(false, "position: 1.7628", "position: 9", {"request0001.yaml", "panda_joint2"});
   expectRejected(false, "joint_name: panda_joint1", "joint_name: panda_joint9",
                  {"goal_constraints[0].joint_constraints", "no value for joint 'panda_joint1'"});

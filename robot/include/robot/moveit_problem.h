@@ -18,9 +18,10 @@
 namespace hfts::robot {
 
 struct MoveItProblem {
-  /// The collision objects as obstacles (boxes, cylinders, spheres; an
-  /// object of several primitives gives one obstacle each, named
-  /// "<id>/<k>"), the robot's base where the virtual joint puts it; no
+  /// The collision objects as obstacles (boxes, cylinders, spheres, and
+  /// inline meshes with their distance grids; an object of several
+  /// primitives gives one obstacle each, named "<id>/<k>", its meshes
+  /// "<id>/mesh<k>"), the robot's base where the virtual joint puts it; no
   /// target object. Named after the scene file's stem.
   Scene scene;
   Eigen::VectorXd start;  ///< the robot's DoF order
@@ -37,7 +38,8 @@ struct MoveItProblem {
 /// constraints (each DoF once; joints that are not DoFs of the robot are
 /// left out). Throws SceneError naming the file and the key for what it
 /// cannot use: a file that is not YAML, a missing key, a primitive other
-/// than a box, cylinder or sphere, mesh objects, a DoF without a start or
+/// than a box, cylinder or sphere, planes, a mesh whose indices are not its
+/// vertices', a DoF without a start or
 /// a goal, a value outside the joint limits.
 MoveItProblem loadMoveItProblem(const RobotModel& robot, const std::filesystem::path& sceneYaml,
                                 const std::filesystem::path& requestYaml);
