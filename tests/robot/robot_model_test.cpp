@@ -174,6 +174,29 @@ TEST(RobotModel, HeldJointsAreChecked) {
   }
 }
 
+TEST(RobotModel, AnSrdfsDisabledPairsJoinTheConfigs) {
+  const std::string dir = "robots/panda_mbm/";
+  const std::string urdf = test::readBytes(test::sourcePath(dir + "panda_spherized.urdf"));
+  const std::string config = test::readBytes(test::sourcePath(dir + "panda_mbm.json"));
+  const std::string srdf = test::readBytes(test::sourcePath(dir + "panda.srdf"));
+  const RobotModel m = RobotModel::fromStrings(urdf, config, "panda", srdf);
+  EXPECT_EQ(m.disabledCollisions().size(), 34u);
+  const auto fails = [&](const std::string& text, const std::string& problem) {
+    test::expectErrorMentioning<ModelError>(
+        [&] { RobotModel::fromStrings(urdf, config, "robot 'x'", text); },
+        {"robot 'x': srdf: ", problem});
+  };
+  fails("", "names an SRDF whose text was not given");
+  fails("<robot><disable_collisions link1=\"panda_link0\" link2=\"wrist\"/></robot>",
+        "names link 'wrist', which is not in the URDF");
+  fails("<robot><disable_collisions link1=\"panda_link0\"/></robot>", "without link1 and link2");
+  fails("not xml", "cannot be parsed");
+  const RobotModel one = RobotModel::fromStrings(
+      urdf, config, "one",
+      "<robot><disable_collisions link1=\"panda_link0\" link2=\"panda_link1\"/></robot>");
+  EXPECT_EQ(one.disabledCollisions().size(), 1u);
+}
+
 TEST(RobotModel, ContactModelIsHardFingersUnlessTheConfigSaysSoft) {
   Sources s;
   EXPECT_EQ(RobotModel::fromStrings(s.urdf, s.config, "kr5").torsionalFriction(), 0.0);
