@@ -150,6 +150,7 @@ void MultiTreeCBiRRT::applySettings(const PlanSettings& s) {
   validator_->setResolution(s.execution.collision_resolution);
   smoothing_.steps = static_cast<unsigned>(s.execution.smoothing_steps);
   smoothing_.final_check.resolution = s.execution.final_resolution;
+  smoothing_.final_check.clearance = s.path.clearance;
 }
 
 void MultiTreeCBiRRT::setProjectionDistance(double d) {

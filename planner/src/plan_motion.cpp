@@ -103,9 +103,14 @@ PlanResult search(std::chrono::steady_clock::time_point began, const SharedMotio
   robot::CollisionPair pair;
   const std::size_t colliding = sampler.collidingJointGoals(&pair);
   if (colliding == shared.goals.size())
-    return failed(std::move(result),
-                  {PlanFailure::kGoalInCollision,
-                   "every goal collides: the first, " + pair.first + " touches " + pair.second});
+    return failed(
+        std::move(result),
+        {PlanFailure::kGoalInCollision,
+         shared.collision->clearance() > 0.0
+             ? "every goal collides or is within the clearance (" +
+                   std::to_string(shared.collision->clearance()) + " m): the first, " + pair.first +
+                   " is nearer to " + pair.second
+             : "every goal collides: the first, " + pair.first + " touches " + pair.second});
   auto pdef = std::make_shared<ob::ProblemDefinition>(s.si);
   ob::ScopedState<> startState(s.si);
   weightedSpace(s.si).fromVector(shared.start, startState.get());
@@ -160,16 +165,18 @@ PlanResult planMotion(std::chrono::steady_clock::time_point began, const Plannin
     result.object_pose = scene.target_pose;
   }
   const bool holdHand = goalsKeepTheHand(world.robot(), goals, start);
+  PlanSettings settings = resolveSettings(world.robot(), request);
+  const double clearance = settings.path.clearance;
   const SharedMotion shared{
       world,
-      resolveSettings(world.robot(), request),
+      std::move(settings),
       scene,
       std::move(goals),
       start,
       std::make_shared<const robot::CollisionScene>(
           world.collisionModel(), scene, object != nullptr ? &object->geometry : nullptr,
           object != nullptr ? world.collisionMesh(name) : nullptr,
-          object != nullptr ? world.surface(name) : nullptr),
+          object != nullptr ? world.surface(name) : nullptr, clearance),
       holdHand};
   MotionSearch first(shared, request.seed);
   if (auto why = checkStart(first.checker, start); why.first != PlanFailure::kNone)

@@ -36,9 +36,16 @@ void checkLimits(const PlanRequest& request) {
 std::pair<PlanFailure, std::string> checkStart(robot::CollisionChecker& checker,
                                                const Eigen::VectorXd& start) {
   robot::CollisionPair pair;
-  if (checker.inCollision(start, &pair))
+  robot::CollisionRequest strict;
+  strict.clearance = false;
+  if (checker.inCollision(start, strict, &pair))
     return {PlanFailure::kStartInCollision,
             "the start configuration is in collision: " + pair.first + " touches " + pair.second};
+  if (checker.inCollision(start, &pair))
+    return {PlanFailure::kStartInCollision,
+            "the start configuration is within the clearance (" +
+                std::to_string(checker.scene().clearance()) + " m) of something: " + pair.first +
+                " is nearer to " + pair.second + "; lower the parameter clearance"};
   return {PlanFailure::kNone, ""};
 }
 

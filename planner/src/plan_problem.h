@@ -63,7 +63,8 @@ struct SharedProblem {
         explored(request.explored),
         simulation(request.simulation),
         collision(std::make_shared<const robot::CollisionScene>(
-            w.collisionModel(), scene, &o.geometry, w.collisionMesh(o.name), w.surface(o.name))),
+            w.collisionModel(), scene, &o.geometry, w.collisionMesh(o.name), w.surface(o.name),
+            settings.path.clearance)),
         // A robot whose fingertips have no measurable pad is not masked.
         usable(!settings.heuristics.mask_contacts || w.padRadius() <= grasp::kContactMaskClearance
                    ? std::vector<bool>{}

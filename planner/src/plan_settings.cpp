@@ -70,6 +70,7 @@ void declareSettings(ob::ParamSet& p, PlanSettings& s) {
   declareSwitch(p, "physics_check", g.physics_check);
 
   declareSwitch(p, "certify_path", s.path.certify);
+  declareParameter(p, "clearance", {0.0, 0.001, 0.1}, s.path.clearance);
 
   ExecutionOptions& e = s.execution;
   declareParameter(p, "threads", {1, 1, 32}, e.threads);

@@ -97,7 +97,8 @@ struct CollisionChecker::Impl {
   long firstCollision(const Eigen::VectorXd* const* states, std::size_t count,
                       const CollisionRequest& request, CollisionPair* pair) {
     QueryData data = queryData(request);
-    if (!useTier) {
+    const double margin = request.clearance ? shared.clearance : 0.0;
+    if (!useTier && margin <= 0.0) {
       for (std::size_t i = 0; i < count; ++i) {
         ++checks;
         place(*states[i]);
@@ -108,7 +109,9 @@ struct CollisionChecker::Impl {
       }
       return -1;
     }
-    const std::size_t batch = tier.batchSize();
+    const SphereTier& spheres = margin > 0.0 ? *shared.clearanceTier : tier;
+    const bool graspRule = request.rule == CollisionRequest::Rule::kGraspRule;
+    const std::size_t batch = spheres.batchSize();
     lanePoses.resize(batch);
     for (std::size_t begin = 0; begin < count; begin += batch) {
       const std::size_t n = std::min(batch, count - begin);
@@ -116,11 +119,12 @@ struct CollisionChecker::Impl {
       // collision at lane L only the lanes before it still matter.
       std::uint32_t placed = 0, touched = 0;
       std::size_t first = n;
-      tier.forEachTouchingPair(
+      spheres.forEachTouchingPair(
           states + begin, n, tierScratch,
           [&](const SphereTier::Pair& p, std::uint32_t lanes) -> std::uint32_t {
             if (!counts(p, request)) return (1u << first) - 1u;
             touched |= lanes;
+            data.clearance = margin > 0.0 && keepsClearance(p, graspRule) ? margin : 0.0;
             for (std::size_t lane = 0; lane < first; ++lane) {
               const std::uint32_t bit = 1u << lane;
               if ((lanes & bit) == 0) continue;
@@ -139,6 +143,13 @@ struct CollisionChecker::Impl {
       if (first < n) return found(static_cast<long>(begin + first), data, pair);
     }
     return -1;
+  }
+
+  /// Whether a pair the sphere tier names keeps the scene's clearance
+  /// (the clearance rule, CollisionScene).
+  bool keepsClearance(const SphereTier::Pair& p, bool graspRule) const {
+    if (p.other_link >= 0) return shared.keepsClearance(p.link, p.other_link);
+    return shared.keepsClearance(p.link, tier.isTarget(p.item), graspRule);
   }
 
   /// Whether the request counts a pair the sphere tier names.
@@ -229,20 +240,24 @@ struct CollisionChecker::Impl {
   /// primitives that a separating axis proves more than kApartGap apart
   /// skip the narrowphase too: FCL calls them free, and its GJK on
   /// cylinders costs microseconds (most pairs the spheres send are a
-  /// hand's neighbouring fingers, close but apart).
+  /// hand's neighbouring fingers, close but apart). With a clearance to
+  /// keep (QueryData::clearance) FCL's distance decides, unless the axis
+  /// proves the pair farther apart than the clearance.
   static bool shapesCollide(Object& a, Object& b, QueryData& data) {
-    return a.getAABB().overlap(b.getAABB()) && !provablyApart(a, b) &&
+    if (data.clearance > 0.0)
+      return !provablyApart(a, b, data.clearance + kApartGap) && collideCallback(&a, &b, &data);
+    return a.getAABB().overlap(b.getAABB()) && !provablyApart(a, b, kApartGap) &&
            collideCallback(&a, &b, &data);
   }
 
-  static bool provablyApart(const Object& a, const Object& b) {
+  static bool provablyApart(const Object& a, const Object& b, double gap) {
     const Tag& tagA = *static_cast<const Tag*>(a.getUserData());
     const Tag& tagB = *static_cast<const Tag*>(b.getUserData());
     if (tagA.primitive_type < 0 || tagB.primitive_type < 0) return false;
     const auto placed = [](const Object& o, const Tag& t) {
       return PlacedShape{t.primitive_type, t.primitive_size, o.getRotation(), o.getTranslation()};
     };
-    return robot::provablyApart(placed(a, tagA), placed(b, tagB), kApartGap);
+    return robot::provablyApart(placed(a, tagA), placed(b, tagB), gap);
   }
 
   /// The link's objects, moved to its pose in `at`.

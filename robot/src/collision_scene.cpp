@@ -6,6 +6,7 @@
 #include <fcl/narrowphase/collision.h>
 
 #include <cmath>
+#include <string>
 
 #include "core/invalid_argument.h"
 
@@ -44,7 +45,7 @@ bool touch(const Object& a, const Object& b) {
 
 void CollisionScene::Impl::addSphereTier(std::vector<SphereTier::Item> items) {
   const RobotModel& robot = model.robot;
-  tier = std::make_unique<SphereTier>(model, scene.robot_base, std::move(items));
+  tier = std::make_unique<SphereTier>(model, scene.robot_base, items);
   RobotObjects at(robot, tags.size());
   LinkPoses poses;
   forwardKinematics(robot, robot.home(), poses);
@@ -66,21 +67,33 @@ void CollisionScene::Impl::addSphereTier(std::vector<SphereTier::Item> items) {
         linksTouching[link][other] = linksTouching[other][link] = true;
     }
   }
-  for (std::size_t a = 0; a < links; ++a) {
-    if (!tier->isStatic(static_cast<int>(a))) continue;
-    for (std::size_t e = 0; e < environmentObjects.size(); ++e)
-      if (!staticTouching[a][e]) tier->skipStatic(static_cast<int>(a), e);
-    for (std::size_t b = a + 1; b < links; ++b)
-      if (tier->isStatic(static_cast<int>(b)) && !linksTouching[a][b])
-        tier->skipStaticPair(static_cast<int>(a), static_cast<int>(b));
-  }
-  tier->listPairs();
+  const auto skipClearStatic = [&](SphereTier& t) {
+    for (std::size_t a = 0; a < links; ++a) {
+      if (!t.isStatic(static_cast<int>(a))) continue;
+      for (std::size_t e = 0; e < environmentObjects.size(); ++e)
+        if (!staticTouching[a][e]) t.skipStatic(static_cast<int>(a), e);
+      for (std::size_t b = a + 1; b < links; ++b)
+        if (t.isStatic(static_cast<int>(b)) && !linksTouching[a][b])
+          t.skipStaticPair(static_cast<int>(a), static_cast<int>(b));
+    }
+    t.listPairs();
+  };
+  skipClearStatic(*tier);
+  if (clearance <= 0.0) return;
+  // The same pairs grown by the clearance: a static link need only be free
+  // (keepsClearance), so its pairs that FCL found clear stay dropped.
+  clearanceTier =
+      std::make_unique<SphereTier>(model, scene.robot_base, std::move(items), clearance);
+  skipClearStatic(*clearanceTier);
 }
 
 CollisionScene::CollisionScene(const CollisionModel& model, const Scene& scene,
                                const db::ObjectGeometry* target, const CollisionMesh* targetMesh,
-                               const ObjectSurface* targetSurface)
-    : impl_(std::make_unique<Impl>(model, scene)) {
+                               const ObjectSurface* targetSurface, double clearance)
+    : impl_(std::isfinite(clearance) && clearance >= 0.0
+                ? std::make_unique<Impl>(model, scene, clearance)
+                : throw InvalidArgument("clearance", "must be a finite distance >= 0 (m), not " +
+                                                         std::to_string(clearance))) {
   impl_->target = target;
   impl_->sharedSurface = target != nullptr ? targetSurface : nullptr;
   for (const Obstacle& o : scene.obstacles) {
@@ -120,6 +133,10 @@ const CollisionModel& CollisionScene::model() const {
 
 const Scene& CollisionScene::scene() const {
   return impl_->scene;
+}
+
+double CollisionScene::clearance() const {
+  return impl_->clearance;
 }
 
 bool CollisionScene::targetTouchesObstacles(CollisionPair* pair) const {

@@ -78,6 +78,14 @@ struct CollisionScene::Impl {
   std::vector<std::unique_ptr<Object>> meshBounds;  ///< Tag::bound of the meshes
   fcl::DynamicAABBTreeCollisionManagerd environment;
   std::unique_ptr<SphereTier> tier;
+  /// The clearance the scene's requests keep (CollisionScene's; 0: none),
+  /// and the tier whose spheres are grown by it (null without one).
+  double clearance = 0.0;
+  std::unique_ptr<SphereTier> clearanceTier;
+  /// Per link: no joint moves it. Per link pair: the clearance rule keeps
+  /// them apart (keepsClearance).
+  std::vector<bool> still;
+  std::vector<std::vector<bool>> keepApart;
   // The grasp rule's target and its surface (shared, or built here on
   // first need, once for all threads).
   const db::ObjectGeometry* target = nullptr;
@@ -85,7 +93,19 @@ struct CollisionScene::Impl {
   mutable std::once_flag surfaceBuilt;
   mutable std::unique_ptr<ObjectSurface> ownSurface;
 
-  Impl(const CollisionModel& m, const Scene& s) : model(m), scene(s) {}
+  Impl(const CollisionModel& m, const Scene& s, double c) : model(m), scene(s), clearance(c) {
+    const RobotModel& robot = m.robot;
+    const std::size_t links = robot.links().size();
+    keepApart.assign(links, std::vector<bool>(links, false));
+    for (std::size_t a = 0; a < links; ++a) {
+      still.push_back(robot.movingJointsBetween(static_cast<int>(a), -1) == 0);
+      for (std::size_t b = 0; b < links; ++b)
+        keepApart[a][b] =
+            !(robot.isHandLink(static_cast<int>(a)) && robot.isHandLink(static_cast<int>(b))) &&
+            robot.movingJointsBetween(static_cast<int>(a), static_cast<int>(b)) >
+                kClearanceJointsApart;
+    }
+  }
 
   const ObjectSurface* surface() const {
     if (sharedSurface != nullptr || target == nullptr) return sharedSurface;
@@ -122,8 +142,26 @@ struct CollisionScene::Impl {
 
   /// The sphere tier over the environment objects (same order), with the
   /// pairs that cannot change (links fixed to the base) dropped where FCL
-  /// finds them clear.
+  /// finds them clear; the clearance tier beside it when the scene keeps one.
   void addSphereTier(std::vector<SphereTier::Item> items);
+
+  /// The clearance rule (collision_checker.h, CollisionScene): whether a
+  /// link keeps the clearance from an environment object (the target, or
+  /// an obstacle) under a request of the grasp rule or not. Links that
+  /// never move need only be free, and so does the hand (the palm and its
+  /// fingers, RobotModel::isHandLink) against the target, and against
+  /// everything under the grasp rule.
+  bool keepsClearance(int link, bool againstTarget, bool graspRule) const {
+    if (still[static_cast<std::size_t>(link)]) return false;
+    return !(model.robot.isHandLink(link) && (againstTarget || graspRule));
+  }
+  /// Whether two links keep the clearance from each other: not two hand
+  /// links (the hand's own shape: an open hand's fingers lie close), nor
+  /// two links at most kClearanceJointsApart moving joints apart (a
+  /// wrist's links lie close by the arm's build, whatever the path).
+  bool keepsClearance(int a, int b) const {
+    return keepApart[static_cast<std::size_t>(a)][static_cast<std::size_t>(b)];
+  }
 };
 
 }  // namespace hfts::robot

@@ -76,9 +76,15 @@ bool collideCallback(Object* o1, Object* o2, void* raw) {
   const Tag& a = *static_cast<const Tag*>(o1->getUserData());
   const Tag& b = *static_cast<const Tag*>(o2->getUserData());
   if (ignored(a, b, *data)) return false;
-  fcl::CollisionRequestd request;
-  fcl::CollisionResultd result;
-  if (fcl::collide(o1, o2, request, result) == 0) return false;
+  if (data->clearance > 0.0) {
+    fcl::DistanceRequestd request;
+    fcl::DistanceResultd result;
+    if (fcl::distance(o1, o2, request, result) >= data->clearance) return false;
+  } else {
+    fcl::CollisionRequestd request;
+    fcl::CollisionResultd result;
+    if (fcl::collide(o1, o2, request, result) == 0) return false;
+  }
   if (data->allowFingertipContact && (a.target || b.target) && (a.fingertip || b.fingertip)) {
     const bool robotFirst = a.fingertip;
     if (withinAllowedDepth(robotFirst ? *o1 : *o2, robotFirst ? a : b, data->rule)) return false;

@@ -75,6 +75,9 @@ struct QueryData {
   bool target = true;     ///< contacts with the target count (CollisionRequest::target)
   bool obstacles = true;  ///< contacts with the obstacles count (CollisionRequest::obstacles)
   bool self = true;       ///< contacts between robot links count (CollisionRequest::self)
+  /// m: collideCallback counts a pair nearer than this as a contact (FCL's
+  /// distance; 0: only a contact counts).
+  double clearance = 0.0;
   bool collision = false;
   CollisionPair pair;
   double distance = std::numeric_limits<double>::infinity();
@@ -88,7 +91,8 @@ struct QueryData {
 /// Full rule: the broadphase's collision callback; stops at the first
 /// contact (the robot's part named first in QueryData::pair). Under
 /// QueryData::allowFingertipContact a fingertip shape may be inside the
-/// target by at most the rule's depth.
+/// target by at most the rule's depth. With QueryData::clearance a pair
+/// nearer than it counts as a contact.
 bool collideCallback(Object* o1, Object* o2, void* raw);
 
 /// The smallest distance of a robot link from anything (QueryData::distance).

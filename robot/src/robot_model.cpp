@@ -9,6 +9,7 @@
 #include <cmath>
 #include <deque>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -533,6 +534,25 @@ int RobotModel::linkIndex(const std::string& name) const {
 bool RobotModel::isCollisionDisabled(int a, int b) const {
   return std::binary_search(disabled_.begin(), disabled_.end(),
                             std::make_pair(std::min(a, b), std::max(a, b)));
+}
+
+int RobotModel::movingJointsBetween(int a, int b) const {
+  // Each link's moving joints up to the root; those the two chains share
+  // lie above the links' common ancestor.
+  const auto chain = [this](int link) {
+    std::vector<int> joints;
+    for (int j = links_[static_cast<std::size_t>(link)].parent_joint; j >= 0;
+         j = links_[static_cast<std::size_t>(joints_[static_cast<std::size_t>(j)].parent_link)]
+                 .parent_joint)
+      if (joints_[static_cast<std::size_t>(j)].type != Joint::Type::kFixed) joints.push_back(j);
+    std::sort(joints.begin(), joints.end());
+    return joints;
+  };
+  const std::vector<int> ja = chain(a), jb = b < 0 ? std::vector<int>{} : chain(b);
+  std::vector<int> apart;
+  std::set_symmetric_difference(ja.begin(), ja.end(), jb.begin(), jb.end(),
+                                std::back_inserter(apart));
+  return static_cast<int>(apart.size());
 }
 
 bool RobotModel::withinLimits(const Eigen::VectorXd& q, double tolerance, std::string* why) const {

@@ -134,7 +134,12 @@ std::vector<Proof> proofsOf(const RobotModel& model, const MotionBound& bound, c
     p.link = link;
     p.travel = travels([&](const Eigen::VectorXd& step) { return bound.link(link, step); });
     const bool hand = model.isHandLink(link);
-    if (rule == CertifyRule::kClosing && hand) {
+    // A link the motion does not move need only be free, as under the
+    // clearance rule (CollisionScene); its distance is not the motion's.
+    const bool still =
+        std::all_of(p.travel.begin(), p.travel.end(), [](double travel) { return travel <= 0.0; });
+    p.reported = !still;
+    if (still || (rule == CertifyRule::kClosing && hand)) {
       p.keeps = Keeps::kFree;
     } else if (rule == CertifyRule::kApproach && hand) {
       p.keeps = Keeps::kArriving;
@@ -162,8 +167,14 @@ std::vector<Proof> proofsOf(const RobotModel& model, const MotionBound& bound, c
                                      [](double travel) { return travel <= 0.0; });
       const bool closingHand =
           rule == CertifyRule::kClosing && (model.isHandLink(a) || model.isHandLink(b));
-      if (still || closingHand) p.keeps = Keeps::kFree;
-      p.reported = !still;
+      // As under the clearance rule (CollisionScene), two hand links need
+      // only be free of each other (an open hand's fingers lie close), and
+      // so do two links a few joints apart (a wrist's, close by the arm's
+      // build).
+      const bool builtClose = (model.isHandLink(a) && model.isHandLink(b)) ||
+                              model.movingJointsBetween(a, b) <= kClearanceJointsApart;
+      if (still || closingHand || builtClose) p.keeps = Keeps::kFree;
+      p.reported = !still && !builtClose;
       proofs.push_back(std::move(p));
     }
   return proofs;

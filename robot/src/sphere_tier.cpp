@@ -37,8 +37,8 @@ double boundingRadius(const SphereTier::Item& item) {
 }  // namespace
 
 SphereTier::SphereTier(const CollisionModel& collision, const Eigen::Isometry3d& base,
-                       std::vector<Item> items)
-    : model_(collision), batch_(kernel::batchSize()) {
+                       std::vector<Item> items, double margin)
+    : model_(collision), margin_(margin), batch_(kernel::batchSize()) {
   const RobotModel& model = collision.robot;
   compileRobot(model, base);
   kernel::buildWideTrees(program_);
@@ -87,7 +87,7 @@ void SphereTier::compileRobot(const RobotModel& model, const Eigen::Isometry3d& 
       n.x = static_cast<float>(node.sphere.center.x());
       n.y = static_cast<float>(node.sphere.center.y());
       n.z = static_cast<float>(node.sphere.center.z());
-      n.r = roundedUp(node.sphere.radius) + kernel::kPadding;
+      n.r = roundedUp(node.sphere.radius + margin_) + kernel::kPadding;
       n.left = node.left < 0 ? -1 : first + node.left;
       n.right = node.right < 0 ? -1 : first + node.right;
       p.nodes.push_back(n);
@@ -147,6 +147,7 @@ void SphereTier::listPairs() {
         program_.self.push_back({static_cast<std::uint16_t>(a), static_cast<std::uint16_t>(b)});
   kernel::buildLookups(program_);  // self_index, read below
   program_.self_maps.assign(program_.self.size(), {});
+  if (margin_ > 0.0) return;  // the maps prove pairs apart, not a margin apart
   for (const PairMap& map : model_.pair_maps) {
     const int pair = program_.self_index[static_cast<std::size_t>(map.link_a) * links +
                                          static_cast<std::size_t>(map.link_b)];

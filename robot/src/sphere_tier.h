@@ -45,7 +45,12 @@ class SphereTier {
   /// The model's spheres and pair maps against `items`; the model must
   /// outlive the tier. Read-only once the skips below are listed: threads
   /// may test configurations at once, each with its own scratch.
-  SphereTier(const CollisionModel& model, const Eigen::Isometry3d& base, std::vector<Item> items);
+  /// With a `margin` (m, > 0) every robot sphere grows by it: a pair the
+  /// tier calls clear is then more than the margin apart (a clearance
+  /// check, CollisionScene's), and the pair maps, which prove pairs apart
+  /// but not by a margin, are not used.
+  SphereTier(const CollisionModel& model, const Eigen::Isometry3d& base, std::vector<Item> items,
+             double margin = 0.0);
 
   /// Drops the pair (link, item) from the check: for a link that does not
   /// move with any DoF and that FCL found clear of the item once. Takes
@@ -114,6 +119,7 @@ class SphereTier {
   void load(const Eigen::VectorXd* const* q, std::size_t count, std::vector<float>& scratch) const;
 
   const CollisionModel& model_;
+  double margin_;
   std::size_t batch_;
   kernel::Program program_;
   std::vector<bool> static_;

@@ -672,7 +672,8 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
                                             {"physics_check", 1},
                                             // Paths sampled, not proven
                                             // (docs/planning.md#certified-paths).
-                                            {"certify_path", 0}};
+                                            {"certify_path", 0},
+                                            {"clearance", 0.0}};
   for (const PlannerParameterInfo& p : plannerParameters(world())) {
     const auto it = expected.find(p.name);
     if (it == expected.end()) continue;
@@ -680,7 +681,7 @@ TEST(GraspMotionPlanner, DeclaresThePaperParametersWithTheirDefaults) {
     expected.erase(it);
   }
   for (const auto& [name, value] : expected) ADD_FAILURE() << "not declared: " << name;
-  EXPECT_EQ(plannerParameters(world()).size(), 36u) << "a parameter was added or removed";
+  EXPECT_EQ(plannerParameters(world()).size(), 37u) << "a parameter was added or removed";
 }
 
 /// The bundled KR5 + SDH with these `planner_defaults` instead of its own.

@@ -129,7 +129,7 @@ TEST(PlanSettings, BadValuesAreRejectedNamingTheParameter) {
 
 TEST(PlanSettings, EverySettingIsListedByNameWithTheRobotsWeights) {
   const std::vector<PlannerParameterInfo> listed = describeSettings(defaultSettings(kr5()), kr5());
-  EXPECT_EQ(listed.size(), 36u);
+  EXPECT_EQ(listed.size(), 37u);
   const auto value = [&](const std::string& name) {
     const auto it = std::find_if(listed.begin(), listed.end(),
                                  [&](const PlannerParameterInfo& p) { return p.name == name; });

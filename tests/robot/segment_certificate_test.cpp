@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "bundled_objects.h"
+#include "clearance_rule.h"
 #include "core/invalid_argument.h"
 #include "robot/kinematics.h"
 #include "robot/motion_bound.h"
@@ -58,11 +59,16 @@ std::vector<Eigen::Vector3d> shapePoints(const CollisionShape& shape) {
   return points;
 }
 
-/// The distance from the robot at q to everything it may not touch: the
-/// environment (obstacles and target) and its own links.
+/// The distance from the robot at q to what a certified transit keeps its
+/// clearance from (CertifyRule::kTransit; 0 where anything touches): the
+/// environment (obstacles and target) and its own links, but not a link
+/// that never moves, nor two links of the hand or a few joints apart.
+/// Distances beyond 5 cm may be lower bounds.
 double distanceToEverything(CollisionChecker& checker, const Eigen::VectorXd& q) {
-  const double environment = checker.clearance(q);
-  return environment > 0.0 ? std::min(environment, checker.selfClearance(q)) : 0.0;
+  static const test::ClearanceRule transit(kr5(), true);
+  CollisionRequest strict;
+  strict.clearance = false;
+  return checker.inCollision(q, strict) ? 0.0 : transit.at(checker, q, false, false, 0.05).distance;
 }
 
 TEST(MotionBound, NoPointOfAnyLinkTravelsFartherThanTheBound) {

@@ -106,6 +106,12 @@ struct PathCriteria {
   /// 0.1 mm of something and are refused (docs/experiments/
   /// 2026-12-06-certified-paths.md).
   bool certify = false;
+  /// "clearance", m: what every part of the path keeps from the obstacles,
+  /// the target and the robot's own links, as the search checks it and as
+  /// the final check (proof or samples) checks it, under the clearance
+  /// rule (robot::CollisionScene; docs/planning.md#clearance): the hand
+  /// need only be free of the target, and of everything while it closes.
+  double clearance = 0.0;
 };
 
 /// How the search runs: none of these changes what a plan is.

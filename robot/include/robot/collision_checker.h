@@ -28,6 +28,11 @@ class ObjectSurface;  // object_surface.h
 /// presses (CollisionChecker::setMaxPenetration).
 inline constexpr double kDefaultMaxPenetration = 0.001;
 
+/// The clearance rule (CollisionScene) holds two links to a scene's
+/// clearance only when more than this many moving joints lie between them:
+/// nearer links (a wrist's) lie close by the arm's build, whatever the path.
+inline constexpr int kClearanceJointsApart = 2;
+
 /// The bounding-volume hierarchy of a triangle mesh for collision checks
 /// (FCL's OBBRSS BVH). Building it takes about 2.5 ms per thousand
 /// triangles, so a mesh used by many plans is built once and shared by
@@ -57,6 +62,10 @@ struct CollisionRequest {
   bool target = true;     ///< the target object counts
   bool self = true;       ///< the robot's links against each other count
   bool obstacles = true;  ///< the obstacles (every object but the target) count
+  /// Keep the scene's clearance (CollisionScene::clearance; nothing more
+  /// when it has none): a pair nearer than it counts as a contact, under
+  /// the clearance rule (CollisionScene).
+  bool clearance = true;
 
   /// The grasp rule with everything else counted.
   static CollisionRequest grasp() { return {Rule::kGraspRule, true, true, true}; }
@@ -72,23 +81,40 @@ struct CollisionRequest {
 /// in a broadphase manager, the sphere tier's compiled scene (which robot
 /// links can touch what at all), the target's exact surface. Also the
 /// queries that do not move the robot.
+///
+/// A scene may keep a clearance (docs/collision.md "Clearance"): its
+/// checks (CollisionRequest::clearance) then count a link nearer than it
+/// to what the request counts as a contact (FCL's distance, behind a
+/// sphere tier grown by the clearance), under the clearance rule:
+/// - every link that moves keeps it from the obstacles, and every link but
+///   the hand's (the palm and what moves with a hand DoF) from the target;
+/// - two links keep it from each other unless both are the hand's (an
+///   open hand's fingers lie close) or at most kClearanceJointsApart
+///   moving joints lie between them;
+/// - under the grasp rule the hand's links need only be free of the
+///   obstacles too (the fingers close on an object that stands on them);
+/// - a link that never moves need only be free.
 class CollisionScene {
  public:
   /// `target` (may be null: no target object) is placed at
   /// scene.target_pose. `targetMesh`, when given, is the prebuilt hierarchy
   /// of target's mesh (else it is built here); `targetSurface`, when given,
   /// the target's ObjectSurface (else built here when the grasp rule first
-  /// needs it). The model, target, targetMesh and targetSurface must
-  /// outlive the scene.
+  /// needs it). `clearance` (m) is what the scene's checks keep (0: none).
+  /// The model, target, targetMesh and targetSurface must outlive the
+  /// scene. Throws InvalidArgument ("clearance") for a negative or
+  /// non-finite clearance.
   CollisionScene(const CollisionModel& model, const Scene& scene, const db::ObjectGeometry* target,
                  const CollisionMesh* targetMesh = nullptr,
-                 const ObjectSurface* targetSurface = nullptr);
+                 const ObjectSurface* targetSurface = nullptr, double clearance = 0.0);
   ~CollisionScene();
   CollisionScene(const CollisionScene&) = delete;
   CollisionScene& operator=(const CollisionScene&) = delete;
 
   const CollisionModel& model() const;
   const Scene& scene() const;
+  /// The clearance the scene's checks keep (m; 0: none).
+  double clearance() const;
 
   /// True when the target object intersects an obstacle (a scene that
   /// places the object inside something).
@@ -147,7 +173,8 @@ class CollisionChecker {
   /// hand DoF, robot_model.h isHandLink), with its palm at `palm` (world
   /// frame) and its joints at `hand` (numHandDofs values), touches what
   /// `request` counts (self: the hand's links against each other). Asks
-  /// where a hand fits before any arm IK; checkCount() does not change.
+  /// where a hand fits before any arm IK (strictly: the scene's clearance
+  /// is not kept); checkCount() does not change.
   /// Throws InvalidArgument for a hand of the wrong size or a non-finite
   /// value.
   bool handInCollision(const Eigen::Isometry3d& palm, const Eigen::VectorXd& hand,
@@ -210,6 +237,7 @@ class CollisionChecker {
   /// about the pairs (link and obstacle, or two links) whose spheres touch.
   /// The spheres cover the links, so the answer is FCL's either way; false
   /// gives the FCL-only checker (broadphase over everything), to compare.
+  /// A check that keeps a clearance always goes through the (grown) tier.
   void setSphereTier(bool enabled);
   bool sphereTier() const;
   /// Of checkCount(), the checks the sphere tier settled alone (free); a

@@ -172,6 +172,10 @@ class RobotModel {
   /// Pairs of link indices (smaller first) never checked against each other.
   const std::vector<std::pair<int, int>>& disabledCollisions() const { return disabled_; }
   bool isCollisionDisabled(int a, int b) const;
+  /// The moving joints between two links (on the chain from one to the
+  /// other): 0 when nothing moves them apart. b = -1: the root (the
+  /// joints that move link a).
+  int movingJointsBetween(int a, int b) const;
   /// Links whose pose depends on a hand DoF (the hand's moving links) plus
   /// the palm: the links that may touch a grasped object's surface are only
   /// the fingertip links among them.

@@ -24,9 +24,15 @@ namespace hfts::robot {
 enum class CertifyRule {
   /// Every link keeps the clearance from the obstacles and the target,
   /// and from every link it may collide with (pairs not disabled), except
-  /// that two links that do not move relative to each other along the
-  /// motion need only be free of each other (their distance is the
-  /// robot's, not the motion's: an open hand's fingers).
+  /// that a link the motion does not move need only be free, and so need
+  /// two links that do not move relative to each other along the motion,
+  /// that are both the hand's (RobotModel::isHandLink) or that have at
+  /// most kClearanceJointsApart moving joints between them: their
+  /// distance is the robot's, not the motion's (an open hand's fingers, a
+  /// wrist). Stricter
+  /// than a scene's clearance rule (CollisionScene) only in the hand
+  /// against the target, which the approach's last stretch (kApproach)
+  /// lets come closer.
   kTransit,
   /// The approach to a pre-grasp (the motion ends there): as kTransit,
   /// but a hand link (RobotModel::isHandLink) may come closer than the
