@@ -1,6 +1,7 @@
 #include "mbm_benchmark.h"
 
 #include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/geometric/PathSimplifier.h>
 #include <ompl/geometric/SimpleSetup.h>
 #include <ompl/geometric/planners/rrt/RRTConnect.h>
 #include <ompl/util/Console.h>
@@ -63,10 +64,20 @@ class SeededSampler : public ob::RealVectorStateSampler {
   }
 };
 
+/// OMPL's path simplifier with its random choices seeded by us: with
+/// OMPL's process-wide seed the simplified path, and so whether it passes
+/// the dense check, changed from run to run.
+class SeededPathSimplifier : public og::PathSimplifier {
+ public:
+  SeededPathSimplifier(const ob::SpaceInformationPtr& si, std::uint32_t seed) : PathSimplifier(si) {
+    rng_.setLocalSeed(seed);
+  }
+};
+
 /// OMPL's RRTConnect with its default range and FCL alone (no sphere tier)
 /// as the state validity checker, held to the multi-tree planner's
 /// contract: OMPL's discrete motion validator at the planner's tree
-/// resolution (collision_resolution), OMPL's path simplification, then the
+/// resolution (collision_resolution), OMPL's path simplification (seeded), then the
 /// path sampled at the planner's final resolution (final_resolution); a
 /// path that fails that is no solution ("dense_check_failed").
 MbmRun rrtConnect(const robot::RobotModel& robot, const robot::CollisionModel& model,
@@ -109,8 +120,9 @@ MbmRun rrtConnect(const robot::RobotModel& robot, const robot::CollisionModel& m
   run.reason = run.solved ? "none" : status.asString();
   if (run.solved) {
     const auto simplifying = Clock::now();
-    setup.simplifySolution();
     og::PathGeometric& path = setup.getSolutionPath();
+    SeededPathSimplifier(setup.getSpaceInformation(), static_cast<std::uint32_t>(seed))
+        .simplify(path, ob::plannerNonTerminatingCondition());
     std::vector<Eigen::VectorXd> states;
     for (const ob::State* s : path.getStates()) {
       const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
