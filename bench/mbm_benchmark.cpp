@@ -77,9 +77,10 @@ class SeededPathSimplifier : public og::PathSimplifier {
 /// OMPL's RRTConnect with its default range and FCL alone (no sphere tier)
 /// as the state validity checker, held to the multi-tree planner's
 /// contract: OMPL's discrete motion validator at the planner's tree
-/// resolution (collision_resolution), OMPL's path simplification (seeded), then the
-/// path sampled at the planner's final resolution (final_resolution); a
-/// path that fails that is no solution ("dense_check_failed").
+/// resolution (collision_resolution), OMPL's path simplification (seeded),
+/// then the path sampled at the planner's final resolution
+/// (final_resolution); a path that fails that is no solution
+/// ("dense_check_failed").
 MbmRun rrtConnect(const robot::RobotModel& robot, const robot::CollisionModel& model,
                   const robot::MoveItProblem& p, double timeLimit, std::uint64_t seed) {
   MbmRun run;

@@ -41,7 +41,7 @@ std::pair<PlanFailure, std::string> checkStart(robot::CollisionChecker& checker,
   if (checker.inCollision(start, strict, &pair))
     return {PlanFailure::kStartInCollision,
             "the start configuration is in collision: " + pair.first + " touches " + pair.second};
-  if (checker.inCollision(start, &pair))
+  if (checker.scene().clearance() > 0.0 && checker.inCollision(start, &pair))
     return {PlanFailure::kStartInCollision,
             "the start configuration is within the clearance (" +
                 std::to_string(checker.scene().clearance()) + " m) of something: " + pair.first +

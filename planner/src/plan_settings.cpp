@@ -2,10 +2,10 @@
 // parameter's name, range and field, as an OMPL ParamSet over a
 // PlanSettings (parameters.h checks the ranges); the robot's defaults.
 #include "planner/plan_settings.h"
-#include <map>
 
 #include <ompl/base/GenericParam.h>
 
+#include <map>
 #include <string>
 
 #include "core/invalid_argument.h"

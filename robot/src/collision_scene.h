@@ -94,16 +94,17 @@ struct CollisionScene::Impl {
   mutable std::unique_ptr<ObjectSurface> ownSurface;
 
   Impl(const CollisionModel& m, const Scene& s, double c) : model(m), scene(s), clearance(c) {
+    if (c <= 0.0) return;  // keepsClearance is only asked with a clearance
     const RobotModel& robot = m.robot;
-    const std::size_t links = robot.links().size();
-    keepApart.assign(links, std::vector<bool>(links, false));
-    for (std::size_t a = 0; a < links; ++a) {
-      still.push_back(robot.movingJointsBetween(static_cast<int>(a), -1) == 0);
-      for (std::size_t b = 0; b < links; ++b)
-        keepApart[a][b] =
-            !(robot.isHandLink(static_cast<int>(a)) && robot.isHandLink(static_cast<int>(b))) &&
-            robot.movingJointsBetween(static_cast<int>(a), static_cast<int>(b)) >
-                kClearanceJointsApart;
+    const auto links = static_cast<int>(robot.links().size());
+    keepApart.assign(static_cast<std::size_t>(links),
+                     std::vector<bool>(static_cast<std::size_t>(links), false));
+    for (int a = 0; a < links; ++a) {
+      still.push_back(robot.movingJointsBetween(a, -1) == 0);
+      for (int b = 0; b < links; ++b)
+        keepApart[static_cast<std::size_t>(a)][static_cast<std::size_t>(b)] =
+            !(robot.isHandLink(a) && robot.isHandLink(b)) &&
+            robot.movingJointsBetween(a, b) > kClearanceJointsApart;
     }
   }
 

@@ -118,6 +118,7 @@ class RobotModelBuilder {
     addHandActuation();
     addDisabledCollisions();
     markHandLinks();
+    countJointsApart();
     return std::move(model_);
   }
 
@@ -484,6 +485,33 @@ class RobotModelBuilder {
     }
   }
 
+  /// RobotModel::movingJointsBetween for every pair of links and each link
+  /// and the root: the moving joints on one link's chain to the root and
+  /// not on the other's (those both share lie above the common ancestor).
+  void countJointsApart() {
+    const std::size_t links = model_.links_.size();
+    std::vector<std::vector<int>> chains(links + 1);  // sorted; the root's empty
+    for (std::size_t l = 0; l < links; ++l) {
+      for (int j = model_.links_[l].parent_joint; j >= 0;
+           j = model_
+                   .links_[static_cast<std::size_t>(
+                       model_.joints_[static_cast<std::size_t>(j)].parent_link)]
+                   .parent_joint)
+        if (model_.joints_[static_cast<std::size_t>(j)].type != Joint::Type::kFixed)
+          chains[l].push_back(j);
+      std::sort(chains[l].begin(), chains[l].end());
+    }
+    model_.joints_apart_.assign(links * (links + 1), 0);
+    std::vector<int> apart;
+    for (std::size_t a = 0; a < links; ++a)
+      for (std::size_t b = 0; b <= links; ++b) {
+        apart.clear();
+        std::set_symmetric_difference(chains[a].begin(), chains[a].end(), chains[b].begin(),
+                                      chains[b].end(), std::back_inserter(apart));
+        model_.joints_apart_[a * (links + 1) + b] = static_cast<int>(apart.size());
+      }
+  }
+
   const urdf::ModelInterface& urdf_;
   ConfigReader config_;
   std::string what_;
@@ -537,22 +565,9 @@ bool RobotModel::isCollisionDisabled(int a, int b) const {
 }
 
 int RobotModel::movingJointsBetween(int a, int b) const {
-  // Each link's moving joints up to the root; those the two chains share
-  // lie above the links' common ancestor.
-  const auto chain = [this](int link) {
-    std::vector<int> joints;
-    for (int j = links_[static_cast<std::size_t>(link)].parent_joint; j >= 0;
-         j = links_[static_cast<std::size_t>(joints_[static_cast<std::size_t>(j)].parent_link)]
-                 .parent_joint)
-      if (joints_[static_cast<std::size_t>(j)].type != Joint::Type::kFixed) joints.push_back(j);
-    std::sort(joints.begin(), joints.end());
-    return joints;
-  };
-  const std::vector<int> ja = chain(a), jb = b < 0 ? std::vector<int>{} : chain(b);
-  std::vector<int> apart;
-  std::set_symmetric_difference(ja.begin(), ja.end(), jb.begin(), jb.end(),
-                                std::back_inserter(apart));
-  return static_cast<int>(apart.size());
+  const std::size_t links = links_.size();
+  const std::size_t other = b < 0 ? links : static_cast<std::size_t>(b);
+  return joints_apart_[static_cast<std::size_t>(a) * (links + 1) + other];
 }
 
 bool RobotModel::withinLimits(const Eigen::VectorXd& q, double tolerance, std::string* why) const {

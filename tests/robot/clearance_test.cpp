@@ -135,7 +135,7 @@ TEST(Clearance, AStreamOfStatesGetsTheAnswersOfOneByOne) {
   EXPECT_GT(valid, 0);
 }
 
-TEST(Clearance, TheBaseOnTheTableNeedsOnlyBeFree) {
+TEST(Clearance, TheBaseAndTheWristNeedOnlyBeFree) {
   // The KR5's base stands 1 mm above the table: a link that never moves is
   // held to no clearance, so the start keeps 5 mm of it where the moving
   // links do.
@@ -152,6 +152,15 @@ TEST(Clearance, TheBaseOnTheTableNeedsOnlyBeFree) {
   CollisionChecker tooMuch(std::make_shared<const CollisionScene>(
       test::collisionOf(m()), scene, &mug.geometry, nullptr, nullptr, moving.distance + 0.001));
   EXPECT_TRUE(tooMuch.inCollision(start));
+  // Nor are link_4 and link_6, two joints apart: 15 mm apart at the start,
+  // and the start keeps 2 cm.
+  std::vector<double> wrist;
+  exact.pairClearances(start, {{m().linkIndex("link_4"), m().linkIndex("link_6")}}, wrist);
+  EXPECT_NEAR(wrist[0], 0.015, 0.001);
+  ASSERT_GT(moving.distance, 0.02);
+  CollisionChecker twoCentimetres(std::make_shared<const CollisionScene>(
+      test::collisionOf(m()), scene, &mug.geometry, nullptr, nullptr, 0.02));
+  EXPECT_FALSE(twoCentimetres.inCollision(start));
 }
 
 TEST(Clearance, ANegativeOrInfiniteClearanceIsRefusedByName) {

@@ -39,8 +39,8 @@ struct MoveItProblem {
 /// left out). Throws SceneError naming the file and the key for what it
 /// cannot use: a file that is not YAML, a missing key, a primitive other
 /// than a box, cylinder or sphere, planes, a mesh whose indices are not its
-/// vertices', a DoF without a start or
-/// a goal, a value outside the joint limits.
+/// vertices', a DoF without a start or a goal, a value outside the joint
+/// limits.
 MoveItProblem loadMoveItProblem(const RobotModel& robot, const std::filesystem::path& sceneYaml,
                                 const std::filesystem::path& requestYaml);
 

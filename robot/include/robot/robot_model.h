@@ -206,6 +206,8 @@ class RobotModel {
   std::vector<Fingertip> fingertips_;
   std::vector<std::pair<int, int>> disabled_;
   std::vector<bool> hand_links_;
+  /// movingJointsBetween(a, b) at a * (links + 1) + b, b = links for the root.
+  std::vector<int> joints_apart_;
 };
 
 }  // namespace hfts::robot

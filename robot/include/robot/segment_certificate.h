@@ -29,10 +29,9 @@ enum class CertifyRule {
   /// that are both the hand's (RobotModel::isHandLink) or that have at
   /// most kClearanceJointsApart moving joints between them: their
   /// distance is the robot's, not the motion's (an open hand's fingers, a
-  /// wrist). Stricter
-  /// than a scene's clearance rule (CollisionScene) only in the hand
-  /// against the target, which the approach's last stretch (kApproach)
-  /// lets come closer.
+  /// wrist). Stricter than a scene's clearance rule (CollisionScene) only
+  /// in the hand against the target, which the approach's last stretch
+  /// (kApproach) lets come closer.
   kTransit,
   /// The approach to a pre-grasp (the motion ends there): as kTransit,
   /// but a hand link (RobotModel::isHandLink) may come closer than the
