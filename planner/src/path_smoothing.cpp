@@ -1,28 +1,18 @@
 #include "planner/path_smoothing.h"
 
-#include <ompl/geometric/PathGeometric.h>
-#include <ompl/geometric/PathSimplifier.h>
-
 #include <algorithm>
 #include <chrono>
 #include <functional>
 #include <optional>
+#include <random>
 #include <stdexcept>
+#include <utility>
 
 namespace hfts::planner {
 
 namespace ob = ompl::base;
-namespace og = ompl::geometric;
 
 namespace {
-
-/// OMPL's shortcutting with its random generator seeded from ours.
-class SeededSimplifier : public og::PathSimplifier {
- public:
-  SeededSimplifier(const ob::SpaceInformationPtr& si, std::uint32_t seed) : PathSimplifier(si) {
-    rng_.setLocalSeed(seed);
-  }
-};
 
 /// A path found at the time limit is still re-checked, never returned
 /// unchecked, but for at most kGrace after the limit: then it is dropped,
@@ -130,40 +120,150 @@ bool validWithin(const CollisionMotionValidator& validator,
   return timed(true);
 }
 
-/// OMPL's passes on `path`: the path after every batch of steps, the
-/// first being `path` itself.
-std::vector<std::vector<Eigen::VectorXd>> smoothInBatches(const ob::SpaceInformationPtr& si,
-                                                          const std::vector<Eigen::VectorXd>& path,
-                                                          const PathSmoothing& smoothing,
-                                                          const std::function<bool()>& stop) {
-  std::vector<std::vector<Eigen::VectorXd>> snapshots{path};
-  if (path.size() < 3 || smoothing.steps == 0) return snapshots;
-  const WeightedStateSpace& space = weightedSpace(si);
-  og::PathGeometric geometric(si);
-  ob::State* state = si->allocState();
-  for (const Eigen::VectorXd& q : path) {
-    space.fromVector(q, state);
-    geometric.append(state);
+using Path = std::vector<Eigen::VectorXd>;
+
+/// `path` without the interior vertices that lie on the straight segment
+/// between their neighbours: a tree's extension adds a node every step
+/// along one line, so a found path has many times the vertices of its
+/// corners. The same configurations, fewer vertices, no check.
+Path withoutStraightVertices(const Path& path) {
+  // Directions that agree to this are one line: the steps of an extension
+  // differ by rounding only.
+  constexpr double kStraight = 1e-9;
+  Path out;
+  out.reserve(path.size());
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    if (i > 0 && i + 1 < path.size()) {
+      const Eigen::VectorXd in = path[i] - out.back();
+      const Eigen::VectorXd on = path[i + 1] - path[i];
+      const double inNorm = in.norm(), onNorm = on.norm();
+      if (inNorm > 0.0 && onNorm > 0.0 && (in / inNorm - on / onNorm).norm() < kStraight) continue;
+    }
+    out.push_back(path[i]);
   }
-  si->freeState(state);
-  auto keep = [&](bool shortened) {
-    if (!shortened) return false;
-    std::vector<Eigen::VectorXd>& out = snapshots.emplace_back();
-    for (const ob::State* s : geometric.getStates()) out.push_back(space.toVector(s));
-    return true;
+  return out;
+}
+
+/// Greedy vertex reduction: from each kept vertex, straight to the
+/// farthest later vertex the motion reaches free. Deterministic; a free
+/// motion is checked once per kept vertex, and a colliding one usually
+/// stops after a few states (bisection order). `stop` is polled from the
+/// second kept vertex on (the first is reduced even when it has fired: a
+/// shorter path is cheaper to re-check); once it fires, the rest of the
+/// path stays as it is.
+Path reducedVertices(const Path& path, const CollisionMotionValidator& validator,
+                     const std::function<bool()>& stop) {
+  Path out{path.front()};
+  std::size_t from = 0;
+  while (from + 1 < path.size()) {
+    std::size_t to = from + 1;
+    if (from == 0 || !stop())
+      for (to = path.size() - 1; to > from + 1; --to)
+        if (validator.checkMotion(path[from], path[to], validator.resolution())) break;
+    out.push_back(path[to]);
+    from = to;
+  }
+  return out;
+}
+
+/// The motion validator of `si`, which checks the shortcuts.
+CollisionMotionValidator& motionValidator(const ob::SpaceInformationPtr& si) {
+  auto* validator = dynamic_cast<CollisionMotionValidator*>(si->getMotionValidator().get());
+  if (validator == nullptr)
+    throw std::invalid_argument("path smoothing needs a CollisionMotionValidator");
+  return *validator;
+}
+
+/// A point on a path: at vertex `lo` when lo == hi, else between vertices
+/// lo and hi = lo + 1.
+struct PathPoint {
+  std::size_t lo = 0, hi = 0;
+  Eigen::VectorXd q;
+};
+
+/// The point at arc length `s` of `path` (cumulative lengths `arc`),
+/// snapped to a vertex within `snap`.
+PathPoint pointAt(const Path& path, const std::vector<double>& arc, double s, double snap) {
+  const auto next = static_cast<std::size_t>(
+      std::min<std::ptrdiff_t>(std::lower_bound(arc.begin(), arc.end(), s) - arc.begin(),
+                               static_cast<std::ptrdiff_t>(arc.size()) - 1));
+  if (next == 0 || arc[next] - s < snap) return {next, next, path[next]};
+  if (s - arc[next - 1] < snap) return {next - 1, next - 1, path[next - 1]};
+  const double t = (s - arc[next - 1]) / (arc[next] - arc[next - 1]);
+  return {next - 1, next, path[next - 1] + (path[next] - path[next - 1]) * t};
+}
+
+/// Random shortcuts, `attempts` of them, as OMPL's shortcutPath draws
+/// them (a point along the path, a second within a third of the path's
+/// length of it, both snapped to a vertex within 0.5 % of it), joined
+/// straight when the motion is free. A pair whose straight line would
+/// save less than kMinSaving of the path's length is not checked: near
+/// the end of smoothing most drawn pairs lie on almost straight stretches,
+/// and their checks cost a free motion's full length for nothing. Returns
+/// whether the path got shorter.
+bool shortcut(Path& path, const CollisionMotionValidator& validator,
+              const WeightedStateSpace& space, std::mt19937& rng, unsigned attempts) {
+  constexpr double kRange = 0.33, kSnap = 0.005, kMinSaving = 1e-3;
+  std::vector<double> arc(path.size(), 0.0);
+  const auto measure = [&] {
+    arc.assign(path.size(), 0.0);
+    for (std::size_t i = 1; i < path.size(); ++i)
+      arc[i] = arc[i - 1] + space.distance(path[i - 1], path[i]);
   };
-  SeededSimplifier simplifier(si, smoothing.seed);
-  // A pass ends early once two batches in a row shortened nothing: later
-  // batches rarely do (same lengths to 1-2 % on the bundled scenes), and
-  // each of their attempts costs motion checks.
+  measure();
+  bool shortened = false;
+  for (unsigned attempt = 0; attempt < attempts && path.size() > 2; ++attempt) {
+    const double length = arc.back();
+    const double s0 = std::uniform_real_distribution<double>(0.0, length)(rng);
+    const double s1 = std::uniform_real_distribution<double>(
+        std::max(0.0, s0 - kRange * length), std::min(length, s0 + kRange * length))(rng);
+    PathPoint a = pointAt(path, arc, std::min(s0, s1), kSnap * length);
+    PathPoint b = pointAt(path, arc, std::max(s0, s1), kSnap * length);
+    if (b.hi < a.lo + 2) continue;  // no vertex between them to cut
+    const double along =
+        arc[b.lo] - arc[a.hi] + space.distance(a.q, path[a.hi]) + space.distance(path[b.lo], b.q);
+    if (along - space.distance(a.q, b.q) < kMinSaving * length) continue;
+    if (!validator.checkMotion(a.q, b.q, validator.resolution())) continue;
+    Path out(path.begin(), path.begin() + static_cast<std::ptrdiff_t>(a.lo) + 1);
+    if (a.hi != a.lo) out.push_back(a.q);
+    if (b.hi != b.lo) out.push_back(b.q);
+    out.insert(out.end(), path.begin() + static_cast<std::ptrdiff_t>(b.hi), path.end());
+    path = std::move(out);
+    measure();
+    shortened = true;
+  }
+  return shortened;
+}
+
+/// The smoothing passes on `path`: the path after each step that changed
+/// it, the first being `path` itself. Straight vertices dropped, the
+/// greedy vertex reduction, then shortcuts in batches.
+std::vector<Path> smoothInBatches(const ob::SpaceInformationPtr& si, const Path& path,
+                                  const PathSmoothing& smoothing,
+                                  const std::function<bool()>& stop) {
+  std::vector<Path> snapshots{path};
+  if (path.size() < 3 || smoothing.steps == 0) return snapshots;
+  const auto keep = [&](Path next) {
+    if (next != snapshots.back()) snapshots.push_back(std::move(next));
+  };
+  keep(withoutStraightVertices(path));
+  const auto& validator = motionValidator(si);
+  keep(reducedVertices(snapshots.back(), validator, stop));
+  std::mt19937 rng(smoothing.seed);
+  const WeightedStateSpace& space = weightedSpace(si);
+  // Shortcutting ends once two batches in a row shortened nothing.
   constexpr unsigned kIdleBatches = 2;
   unsigned idle = 0;
-  for (unsigned done = 0; done < smoothing.steps && (done == 0 || !stop()) && idle < kIdleBatches;
-       done += kBatch)
-    idle = keep(simplifier.reduceVertices(geometric, kBatch, kBatch)) ? 0 : idle + 1;
-  idle = 0;
-  for (unsigned done = 0; done < smoothing.steps && !stop() && idle < kIdleBatches; done += kBatch)
-    idle = keep(simplifier.shortcutPath(geometric, kBatch, kBatch)) ? 0 : idle + 1;
+  Path current = snapshots.back();
+  for (unsigned done = 0; done < smoothing.steps && !stop() && idle < kIdleBatches;
+       done += kBatch) {
+    if (shortcut(current, validator, space, rng, std::min(kBatch, smoothing.steps - done))) {
+      keep(current);
+      idle = 0;
+    } else {
+      ++idle;
+    }
+  }
   return snapshots;
 }
 
@@ -192,9 +292,7 @@ std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
     const ob::SpaceInformationPtr& si, const std::vector<Eigen::VectorXd>& raw,
     const PathSmoothing& smoothing, const ob::PlannerTerminationCondition& ptc,
     PathCheckReport* report) {
-  const auto validator =
-      std::dynamic_pointer_cast<CollisionMotionValidator>(si->getMotionValidator());
-  if (!validator) throw std::invalid_argument("path smoothing needs a CollisionMotionValidator");
+  CollisionMotionValidator& validator = motionValidator(si);
   LimitWithGrace limit(ptc);
   const auto stop = [&limit] { return limit.fired(); };
   const std::vector<std::vector<Eigen::VectorXd>> snapshots =
@@ -205,7 +303,7 @@ std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
   PathCheckReport& found = report != nullptr ? *report : own;
   found = {};
   const auto passes = [&](const std::vector<Eigen::VectorXd>& path) {
-    return validWithin(*validator, path, check, smoothing.last_rule, limit, checked, found);
+    return validWithin(validator, path, check, smoothing.last_rule, limit, checked, found);
   };
   // The returned path's smallest clearance, from its segments' proofs.
   const auto returned = [&](const std::vector<Eigen::VectorXd>& path) {
@@ -235,7 +333,7 @@ std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
   if (limit.expired()) return returned(snapshots[good]);
   std::vector<Eigen::VectorXd> repaired;
   {
-    const ScopedResolution fine(*validator, check.resolution);
+    const ScopedResolution fine(validator, check.resolution);
     PathSmoothing oneBatch = smoothing;
     oneBatch.steps = std::min(smoothing.steps, kBatch);
     repaired = smoothInBatches(si, snapshots[good], oneBatch, stop).back();

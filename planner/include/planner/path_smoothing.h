@@ -1,7 +1,8 @@
 #pragma once
 // What a found path goes through before a planner returns it
-// (docs/planning.md): OMPL's vertex reduction and shortcutting for a
-// counted number of steps from a seeded generator, then the final check
+// (docs/planning.md): straight vertices dropped, a greedy vertex reduction
+// and random shortcuts for a counted number of steps from a seeded
+// generator, then the final check
 // (motion_check.h: every segment proven free, or sampled at the final
 // resolution); when a shortcut fails it, a repair that smooths on from a
 // batch whose path passed, with shortcuts checked at the final resolution.
@@ -24,9 +25,9 @@ namespace hfts::planner {
 
 /// How a path is smoothed and re-checked.
 struct PathSmoothing {
-  unsigned steps = 200;     ///< at most, of each pass (vertex reduction, shortcutting)
+  unsigned steps = 200;     ///< shortcut attempts, at most; 0: no smoothing at all
   MotionCheck final_check;  ///< of the returned path; its resolution also the repair's
-  std::uint32_t seed = 1;   ///< of OMPL's PathSimplifier
+  std::uint32_t seed = 1;   ///< of the shortcuts' random draws
   /// The proof's rule of the path's last segment: kApproach into a
   /// pre-grasp, kTransit into a motion goal (motion_goal.h).
   robot::CertifyRule last_rule = robot::CertifyRule::kApproach;
@@ -41,14 +42,16 @@ struct PathCheckReport {
   double seconds = 0.0;     ///< wall clock in the final check and the repair's checks
 };
 
-/// Shortens `path` with OMPL's PathSimplifier on `si` (whose motion
-/// validator checks the shortcuts): up to `steps` of vertex reduction,
-/// then up to `steps` of shortcutting, in batches of 20 between which
-/// `ptc` is polled; a pass ends early after 40 failed attempts in a row
-/// (two batches that shortened nothing). The
-/// first batch runs even when `ptc` has fired (a shorter path is cheaper
-/// to re-check). Counted steps, not a time budget, so the seed fixes the
-/// result. The end points never move.
+/// Shortens `path` on `si`, whose motion validator checks every change:
+/// the interior vertices on a straight line between their neighbours are
+/// dropped (a tree extension's steps; no check), then a greedy vertex
+/// reduction (from each kept vertex straight to the farthest later one
+/// reached free), then up to `steps` random shortcuts in batches of 20
+/// between which `ptc` is polled, ending after two batches that shortened
+/// nothing; a shortcut that would save less than 0.1 % of the path's
+/// length is not checked. The vertex reduction starts even when `ptc` has
+/// fired (a shorter path is cheaper to re-check). Counted steps, not a time
+/// budget, so the seed fixes the result. The end points never move.
 std::vector<Eigen::VectorXd> smoothPath(const ompl::base::SpaceInformationPtr& si,
                                         const std::vector<Eigen::VectorXd>& path,
                                         const PathSmoothing& smoothing,
