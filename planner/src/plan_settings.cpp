@@ -92,6 +92,10 @@ void checkSettings(const PlanSettings& settings) {
                              (name == "weight_hand" && !s.paper.weight_hand);
     if (!unsetWeight) setParameter(p, name, param->getValue());
   }
+  checkSettingOrder(s);
+}
+
+void checkSettingOrder(const PlanSettings& s) {
   if (s.paper.i_max < s.paper.i_min)
     throw InvalidArgument("parameters.i_min",
                           "must be <= i_max, got i_min = " + std::to_string(s.paper.i_min) +

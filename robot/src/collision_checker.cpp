@@ -102,9 +102,9 @@ struct CollisionChecker::Impl {
       for (std::size_t i = 0; i < count; ++i) {
         ++checks;
         place(*states[i]);
-        robot.manager.collide(environment(), &data, collideCallback);
+        robot.manager().collide(environment(), &data, collideCallback);
         if (!data.collision && request.self)
-          robot.manager.collide(&data, collideCallback);  // self-collision
+          robot.manager().collide(&data, collideCallback);  // self-collision
         if (data.collision) return found(static_cast<long>(i), data, pair);
       }
       return -1;
@@ -351,6 +351,9 @@ std::uint64_t CollisionChecker::checkCount() const {
 
 void CollisionChecker::setSphereTier(bool enabled) {
   impl_->useTier = enabled;
+  // FCL alone asks the broadphase: made now, before the first query moves
+  // the robot, so that its tree grows as it always has.
+  if (!enabled) impl_->robot.manager();
 }
 
 bool CollisionChecker::sphereTier() const {
@@ -366,7 +369,7 @@ double CollisionChecker::clearance(const Eigen::VectorXd& q) {
   impl_->place(q);  // the sphere tier may have left the broadphase where it was
   QueryData data;
   data.model = &impl_->model;
-  impl_->robot.manager.distance(impl_->environment(), &data, distanceCallback);
+  impl_->robot.manager().distance(impl_->environment(), &data, distanceCallback);
   return data.distance;
 }
 
@@ -412,7 +415,7 @@ double CollisionChecker::selfClearance(const Eigen::VectorXd& q) {
   impl_->place(q);
   QueryData data;
   data.model = &impl_->model;
-  impl_->robot.manager.distance(&data, distanceCallback);
+  impl_->robot.manager().distance(&data, distanceCallback);
   return data.distance;
 }
 

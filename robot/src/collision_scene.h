@@ -21,15 +21,14 @@ using fcl_query::Geometry;
 using fcl_query::Object;
 using fcl_query::Tag;
 
-/// The robot's FCL objects, one per collision shape of a link, in a
-/// broadphase manager: a checker's own (queries move them), and the
-/// scene's once while it decides which static pairs the tier may skip.
+/// The robot's FCL objects, one per collision shape of a link: a
+/// checker's own (queries move them), and the scene's once while it
+/// decides which static pairs the tier may skip.
 struct RobotObjects {
   std::vector<std::unique_ptr<Tag>> tags;
   std::vector<std::unique_ptr<Object>> objects;
   std::vector<std::pair<int, Eigen::Isometry3d>> shapes;  // link, shape origin
   std::vector<std::vector<std::size_t>> linkObjects;      // per link: its objects
-  fcl::DynamicAABBTreeCollisionManagerd manager;
 
   /// Tags are numbered from `firstOrder` on (after the environment's).
   RobotObjects(const RobotModel& model, std::size_t firstOrder) {
@@ -46,13 +45,11 @@ struct RobotObjects {
         tag->primitive_type = static_cast<int>(shape.type);
         tag->primitive_size = shape.size;
         object->setUserData(tag.get());
-        manager.registerObject(object.get());
         tags.push_back(std::move(tag));
         objects.push_back(std::move(object));
         shapes.emplace_back(static_cast<int>(l), shape.origin);
       }
     }
-    manager.setup();
     linkObjects.resize(model.links().size());
     for (std::size_t i = 0; i < shapes.size(); ++i)
       linkObjects[static_cast<std::size_t>(shapes[i].first)].push_back(i);
@@ -66,8 +63,24 @@ struct RobotObjects {
       objects[i]->setTransform(pose.linear(), pose.translation());
       objects[i]->computeAABB();
     }
-    manager.update();
+    if (manager_) manager_->update();
   }
+
+  /// The objects in a broadphase manager, made at the first call: only
+  /// FCL-only checks and distances ask for it (the sphere tier hands FCL
+  /// the objects pair by pair), and registering them cost a plan's set-up
+  /// about 20 us.
+  fcl::DynamicAABBTreeCollisionManagerd& manager() {
+    if (!manager_) {
+      manager_ = std::make_unique<fcl::DynamicAABBTreeCollisionManagerd>();
+      for (const std::unique_ptr<Object>& object : objects) manager_->registerObject(object.get());
+      manager_->setup();
+    }
+    return *manager_;
+  }
+
+ private:
+  std::unique_ptr<fcl::DynamicAABBTreeCollisionManagerd> manager_;
 };
 
 struct CollisionScene::Impl {

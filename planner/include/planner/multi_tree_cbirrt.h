@@ -152,9 +152,9 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
     void clear();
 
    private:
-    static constexpr std::size_t kChunkValues = 1 << 16;
+    static constexpr std::size_t kFirstChunkValues = 1 << 11, kChunkValues = 1 << 16;
     std::vector<std::unique_ptr<double[]>> chunks_;
-    std::size_t used_ = 0;
+    std::size_t used_ = 0, capacity_ = 0;  ///< of the last chunk
   };
 
   WeightedStateSpace& space_;

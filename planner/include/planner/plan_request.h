@@ -68,8 +68,9 @@ inline constexpr double kMaxTrajectoryRate = 1000.0;
 
 /// A request's settings, the one place that knows their order: its typed
 /// `settings` when given, else defaultSettings(robot, its preset); then its
-/// `parameters` by name; then its top-level `iterations`; checked
-/// (checkSettings). Throws InvalidArgument ("parameters.<name>",
+/// `parameters` by name; then its top-level `iterations`. Typed settings
+/// are checked whole (checkSettings), each value by name as it is set, and
+/// the result's order last (checkSettingOrder). Throws InvalidArgument ("parameters.<name>",
 /// "iterations") for an unknown name or a value outside its range, and
 /// ("parameters.i_min") for i_min > i_max.
 PlanSettings resolveSettings(const robot::RobotModel& robot, const PlanRequest& request);

@@ -123,7 +123,8 @@ struct ExecutionOptions {
   /// "collision_resolution": motion-check resolution of tree edges and
   /// smoothing (Eq. (3) metric).
   double collision_resolution = 0.02;
-  /// "smoothing_steps": shortcut steps of each smoothing pass, at most.
+  /// "smoothing_steps": random shortcuts of the smoothing, at most (0: no
+  /// smoothing; path_smoothing.h).
   int smoothing_steps = 200;
   /// "final_resolution": the returned path's dense re-check, and the
   /// resolution a goal's closing motion is checked at.
@@ -164,6 +165,10 @@ PlanSettings defaultSettings(const robot::RobotModel& robot,
 /// range (setSetting checks what it sets; typed settings are checked here)
 /// and ("parameters.i_min") for i_min > i_max.
 void checkSettings(const PlanSettings& settings);
+
+/// The part of checkSettings that relates settings to each other: throws
+/// InvalidArgument ("parameters.i_min") for i_min > i_max.
+void checkSettingOrder(const PlanSettings& settings);
 
 /// Sets the setting named `name` from text. Throws InvalidArgument
 /// ("parameters.<name>") for an unknown name, text that is not a number
