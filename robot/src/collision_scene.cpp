@@ -46,7 +46,8 @@ bool touch(const Object& a, const Object& b) {
 void CollisionScene::Impl::addSphereTier(std::vector<SphereTier::Item> items) {
   const RobotModel& robot = model.robot;
   tier = std::make_unique<SphereTier>(model, scene.robot_base, items);
-  RobotObjects at(robot, tags.size());
+  // The static links' shapes, once, where they stand.
+  RobotObjects at(robot, tags.size(), [this](int link) { return tier->isStatic(link); });
   LinkPoses poses;
   forwardKinematics(robot, robot.home(), poses);
   at.place(scene.robot_base, poses);
@@ -58,12 +59,11 @@ void CollisionScene::Impl::addSphereTier(std::vector<SphereTier::Item> items) {
   std::vector<std::vector<bool>> linksTouching(links, std::vector<bool>(links));
   for (std::size_t i = 0; i < at.objects.size(); ++i) {
     const auto link = static_cast<std::size_t>(at.shapes[i].first);
-    if (!tier->isStatic(static_cast<int>(link))) continue;
     for (std::size_t e = 0; e < environmentObjects.size(); ++e)
       if (touch(*at.objects[i], *environmentObjects[e])) staticTouching[link][e] = true;
     for (std::size_t j = 0; j < at.objects.size(); ++j) {
       const auto other = static_cast<std::size_t>(at.shapes[j].first);
-      if (tier->isStatic(static_cast<int>(other)) && touch(*at.objects[i], *at.objects[j]))
+      if (touch(*at.objects[i], *at.objects[j]))
         linksTouching[link][other] = linksTouching[other][link] = true;
     }
   }

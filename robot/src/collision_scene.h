@@ -4,6 +4,7 @@
 // scene reads, and the robot's FCL objects (a checker's own; the scene's
 // once while it decides which static pairs the sphere tier may skip).
 
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <utility>
@@ -31,11 +32,14 @@ struct RobotObjects {
   std::vector<std::vector<std::size_t>> linkObjects;      // per link: its objects
 
   /// Tags are numbered from `firstOrder` on (after the environment's).
-  RobotObjects(const RobotModel& model, std::size_t firstOrder) {
+  /// With `only`, the shapes of the links it accepts alone.
+  RobotObjects(const RobotModel& model, std::size_t firstOrder,
+               const std::function<bool(int link)>& only = {}) {
     std::vector<bool> fingertip(model.links().size(), false);
     for (const Fingertip& f : model.fingertips())
       fingertip[static_cast<std::size_t>(f.link)] = true;
     for (std::size_t l = 0; l < model.links().size(); ++l) {
+      if (only && !only(static_cast<int>(l))) continue;
       for (const CollisionShape& shape : model.links()[l].shapes) {
         auto object = std::make_unique<Object>(
             fcl_query::primitive(static_cast<int>(shape.type), shape.size));
