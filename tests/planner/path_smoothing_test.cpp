@@ -100,6 +100,26 @@ TEST(PathSmoothing, ShortensAndKeepsTheEndPoints) {
   EXPECT_LT(pathLength(f.space(), smoothed), pathLength(f.space(), raw));
 }
 
+TEST(PathSmoothing, OnlyCornersOfTheFoundPathSurvive) {
+  // overTheBall's four points per straight piece: the points inside a
+  // piece are dropped, the corners b and c only where no straight motion
+  // replaces them (the direct swing hits the ball).
+  const Fixture f(ballAtThePalm());
+  const std::vector<Eigen::VectorXd> raw = overTheBall();
+  ASSERT_FALSE(denselyValid(f.validator(), {raw.front(), raw.back()}, 0.02));
+  const std::vector<Eigen::VectorXd> smoothed = smoothPath(f.si, raw, {}, kNever);
+  EXPECT_EQ(smoothed.front(), raw.front());
+  EXPECT_EQ(smoothed.back(), raw.back());
+  EXPECT_TRUE(denselyValid(f.validator(), smoothed, 0.02));
+  EXPECT_LT(pathLength(f.space(), smoothed), pathLength(f.space(), raw));
+  for (std::size_t i = 1; i + 1 < smoothed.size(); ++i)
+    for (std::size_t k = 1; k + 1 < raw.size(); ++k) {
+      if (smoothed[i] != raw[k]) continue;
+      EXPECT_EQ(k % 4, 0u) << "vertex " << i << " is raw point " << k
+                           << ", inside a straight piece";
+    }
+}
+
 TEST(PathSmoothing, TheSeedFixesTheResult) {
   const Fixture f(emptyScene());
   PathSmoothing a;
