@@ -147,7 +147,8 @@ Path withoutStraightVertices(const Path& path) {
 /// Greedy vertex reduction: from each kept vertex, straight to the
 /// farthest later vertex the motion reaches free. Deterministic; a free
 /// motion is checked once per kept vertex, and a colliding one usually
-/// stops after a few states (bisection order). `stop` is polled from the
+/// stops after its first batch of states (bisection order); n vertices
+/// cost at most n (n - 1) / 2 checks. `stop` is polled from the
 /// second kept vertex on (the first is reduced even when it has fired: a
 /// shorter path is cheaper to re-check); once it fires, the rest of the
 /// path stays as it is.
