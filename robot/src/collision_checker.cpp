@@ -51,6 +51,7 @@ struct CollisionChecker::Impl {
   std::vector<std::size_t> segmentEnds;
   std::vector<Eigen::VectorXd> motionStates;
   std::vector<const Eigen::VectorXd*> motionPointers;
+  std::vector<const Eigen::VectorXd*> waypointPointers;  // scratch of the public validSegments
 
   explicit Impl(std::shared_ptr<const CollisionScene> scene)
       : owner(std::move(scene)),
@@ -437,7 +438,8 @@ bool CollisionChecker::isMotionValid(const Eigen::VectorXd& a, const Eigen::Vect
 std::size_t CollisionChecker::validSegments(const std::vector<Eigen::VectorXd>& waypoints,
                                             double resolution, const CollisionRequest& request,
                                             CollisionPair* pair) {
-  std::vector<const Eigen::VectorXd*> points;
+  std::vector<const Eigen::VectorXd*>& points = impl_->waypointPointers;
+  points.clear();
   for (const Eigen::VectorXd& w : waypoints) points.push_back(&w);
   return impl_->validSegments(points.data(), points.size(), resolution, request, pair);
 }

@@ -309,17 +309,26 @@ void broadphase(D d, const Program& program, const LinkSpheres& s, std::vector<i
       }
     }
   }
-  env.clear();
-  for (std::size_t i = 0; i < items; ++i) {
+  // The pairs in the exact check's order (by link, then item: env_index
+  // grows that way), over the few items some link is near.
+  thread_local std::vector<std::size_t> nearItems;
+  nearItems.clear();
+  for (std::size_t i = 0; i < items; ++i)
     for (std::size_t w = 0; w < words; ++w)
-      for (std::uint64_t bits = near[i * words + w]; bits != 0; bits &= bits - 1) {
-        const std::size_t link = 64 * w + static_cast<std::size_t>(__builtin_ctzll(bits));
-        if (link >= links) continue;
-        const int index = program.env_index[link * items + i];
-        if (index >= 0) env.push_back(index);
+      if (near[i * words + w] != 0) {
+        nearItems.push_back(i);
+        break;
       }
+  env.clear();
+  for (std::size_t link = 0; link < links && !nearItems.empty(); ++link) {
+    const std::size_t w = link / 64;
+    const std::uint64_t bit = std::uint64_t{1} << (link % 64);
+    for (const std::size_t i : nearItems) {
+      if ((near[i * words + w] & bit) == 0) continue;
+      const int index = program.env_index[link * items + i];
+      if (index >= 0) env.push_back(index);
+    }
   }
-  std::sort(env.begin(), env.end());
   touching.assign(links * words, 0);
   for (std::size_t a = 0; a < links; ++a) {
     if (program.root[a] < 0) continue;
