@@ -318,9 +318,9 @@ std::optional<std::vector<Eigen::VectorXd>> smoothAndRecheck(
   // A shortcut free at the tree resolution grazed an obstacle between its
   // samples. Repair: find a smoothing batch whose path passes the final
   // check and whose successor does not (bisection; the unsmoothed path
-  // must pass if it comes to that), then smooth on from there for one
-  // batch of each pass with every shortcut checked at the final
-  // resolution. The full passes at that resolution cost 2-3 times a whole
+  // must pass if it comes to that), then smooth on from there (the
+  // vertex reduction and one batch of shortcuts) with every change checked
+  // at the final resolution. The full passes at that resolution cost 2-3 times a whole
   // plan in the bin scene, for paths 0-10 % shorter than after one batch.
   std::size_t good = 0, bad = snapshots.size() - 1;
   while (bad - good > 1) {

@@ -67,8 +67,9 @@ bool denselyValid(const CollisionMotionValidator& validator,
 /// the final check (smoothing.final_check; the last segment under
 /// smoothing.last_rule). Else (only while `ptc` allows) repaired: the path after a
 /// smoothing batch that passes the check (found by bisection over the
-/// batches; `raw` if need be), smoothed on for one batch of each pass with
-/// the shortcuts checked at the final check's resolution. Nothing when
+/// batches; `raw` if need be), smoothed on (the vertex reduction and one
+/// batch of shortcuts) with every change checked at the final check's
+/// resolution. Nothing when
 /// `raw` itself fails. The check gives up (nothing, or the last path that
 /// passed) 25 ms after `ptc` fires, bounding how far a planner overruns its
 /// time limit. The motion validator's resolution is the same afterwards.
