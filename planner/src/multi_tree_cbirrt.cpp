@@ -4,6 +4,7 @@
 #include <ompl/geometric/PathGeometric.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -294,15 +295,20 @@ MultiTreeCBiRRT::GrowState MultiTreeCBiRRT::constrainedExtend(
   last = current;
   const bool backward = tree.kind != TreeKind::kForward;
   GrowState state = GrowState::kTrapped;
-  std::vector<Eigen::VectorXd>& line = lineScratch_;
+  // The line's vertices live in lineScratch_ (sized once: no allocation
+  // per step).
+  std::array<Eigen::VectorXd, kLookahead + 1>& line = lineScratch_;
+  std::array<const Eigen::VectorXd*, kLookahead + 1> vertices;
+  for (std::size_t k = 0; k <= kLookahead; ++k) vertices[k] = &line[k];
   while (!ptc()) {
     // Up to kLookahead straight steps towards the target, checked in one
     // stream (the collision checker tests their states a batch at a time);
     // the same steps, nodes and answers as one step after another.
-    line.assign(1, current->q);
+    line[0] = current->q;
+    std::size_t steps = 0;
     bool reached = false, nearTarget = false;
-    while (line.size() <= kLookahead) {
-      const Eigen::VectorXd& from = line.back();
+    while (steps < kLookahead) {
+      const Eigen::VectorXd& from = line[steps];
       const double d = distance(from, target);
       if (d < 1e-9) {
         reached = true;
@@ -312,10 +318,13 @@ MultiTreeCBiRRT::GrowState MultiTreeCBiRRT::constrainedExtend(
         nearTarget = true;
         break;
       }
-      line.push_back(d <= range_ ? target : from + (target - from) * (range_ / d));
+      if (d <= range_)
+        line[steps + 1] = target;
+      else
+        line[steps + 1] = from + (target - from) * (range_ / d);
+      ++steps;
     }
-    const std::size_t steps = line.size() - 1;
-    const std::size_t valid = steps > 0 ? validator_->validSteps(line) : 0;
+    const std::size_t valid = steps > 0 ? validator_->validSteps(vertices.data(), steps + 1) : 0;
     for (std::size_t k = 1; k <= valid; ++k) {
       current = addMotion(current->tree, line[k], current);
       last = current;

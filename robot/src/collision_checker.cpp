@@ -44,13 +44,16 @@ struct CollisionChecker::Impl {
   double maxPenetration = kDefaultMaxPenetration;
   std::vector<LinkPoses> lanePoses;  // scratch: the poses of a batch's configurations
   std::vector<float> tierScratch;    // scratch: a batch for the sphere tier
-  // Scratch of validSegments: the states in check order, as step s of
-  // motionSteps[i] along their segment (which ends at state segmentEnds[k] - 1).
-  std::vector<int> motionOrder, motionSteps;
-  std::vector<std::pair<int, int>> openRanges;  // scratch of bisect()
+  // Scratch of validSegments: the states in check order (segment k's
+  // last is state segmentEnds[k] - 1).
   std::vector<std::size_t> segmentEnds;
   std::vector<Eigen::VectorXd> motionStates;
   std::vector<const Eigen::VectorXd*> motionPointers;
+  // bisectionOrders[n]: the order in which a segment of n steps checks
+  // them, made on first use (the steps of a tree's extensions recur).
+  std::vector<std::vector<int>> bisectionOrders;
+  std::vector<int> longOrder;
+  std::vector<std::pair<int, int>> openRanges;           // scratch of bisectionOrder()
   std::vector<const Eigen::VectorXd*> waypointPointers;  // scratch of the public validSegments
 
   explicit Impl(std::shared_ptr<const CollisionScene> scene)
@@ -167,32 +170,22 @@ struct CollisionChecker::Impl {
                             CollisionPair* pair) {
     if (!(resolution > 0.0)) throw InvalidArgument("resolution", "must be > 0");
     if (count < 2) return 0;
-    // Each segment's end first, then the states between in bisection order
-    // (as OMPL's DiscreteMotionValidator): a colliding segment is usually
-    // found after a few checks, not halfway.
-    motionOrder.clear();
-    motionSteps.clear();
     segmentEnds.clear();
+    std::size_t total = 0;
     for (std::size_t s = 1; s < count; ++s) {
       const Eigen::VectorXd& a = *points[s - 1];
       const Eigen::VectorXd& b = *points[s];
       const int steps =
           std::max(1, static_cast<int>(std::ceil(metric->distance(a, b) / resolution)));
-      motionOrder.push_back(steps);
-      bisect(0, steps);
-      motionSteps.resize(motionOrder.size(), steps);
-      segmentEnds.push_back(motionOrder.size());
+      const std::vector<int>& order = bisectionOrder(steps);
+      if (motionStates.size() < total + order.size()) motionStates.resize(total + order.size());
+      const double perStep = 1.0 / steps;
+      for (const int step : order) motionStates[total++] = a + (b - a) * (step * perStep);
+      segmentEnds.push_back(total);
     }
-    if (motionStates.size() < motionOrder.size()) motionStates.resize(motionOrder.size());
-    motionPointers.clear();
-    std::size_t segment = 0;
-    for (std::size_t i = 0; i < motionOrder.size(); ++i) {
-      while (i >= segmentEnds[segment]) ++segment;
-      const Eigen::VectorXd& a = *points[segment];
-      const Eigen::VectorXd& b = *points[segment + 1];
-      motionStates[i] = a + (b - a) * (static_cast<double>(motionOrder[i]) / motionSteps[i]);
-      motionPointers.push_back(&motionStates[i]);
-    }
+    // After the states: growing motionStates moves them.
+    motionPointers.resize(total);
+    for (std::size_t i = 0; i < total; ++i) motionPointers[i] = &motionStates[i];
     const long first = firstCollision(motionPointers.data(), motionPointers.size(), request, pair);
     if (first < 0) return count - 1;
     return static_cast<std::size_t>(
@@ -200,19 +193,31 @@ struct CollisionChecker::Impl {
         segmentEnds.begin());
   }
 
-  /// Appends the midpoints of (low, high) in breadth-first bisection order.
-  void bisect(int low, int high) {
-    // A FIFO of exclusive ranges still unchecked, kept between calls.
-    openRanges.clear();
-    openRanges.emplace_back(low, high);
+  /// The steps 1..n of a segment in check order: its end first, then the
+  /// states between in breadth-first bisection order (as OMPL's
+  /// DiscreteMotionValidator): a colliding segment is usually found after a
+  /// few checks, not halfway.
+  const std::vector<int>& bisectionOrder(int n) {
+    // Longer segments (rare: a final check's) are ordered each time.
+    constexpr std::size_t kKeptUpTo = 4096;
+    const auto slot = static_cast<std::size_t>(n);
+    if (slot <= kKeptUpTo && bisectionOrders.size() <= slot) bisectionOrders.resize(slot + 1);
+    std::vector<int>& order = slot <= kKeptUpTo ? bisectionOrders[slot] : longOrder;
+    if (slot <= kKeptUpTo && !order.empty()) return order;
+    order.clear();
+    order.reserve(slot);
+    order.push_back(n);
+    // A FIFO of exclusive ranges still unchecked.
+    openRanges.assign(1, {0, n});
     for (std::size_t next = 0; next < openRanges.size(); ++next) {
       const auto [from, to] = openRanges[next];
       if (to - from < 2) continue;
       const int mid = (from + to) / 2;
-      motionOrder.push_back(mid);
+      order.push_back(mid);
       openRanges.emplace_back(from, mid);
       openRanges.emplace_back(mid, to);
     }
+    return order;
   }
 
   static long found(long index, const QueryData& data, CollisionPair* pair) {
@@ -442,6 +447,12 @@ std::size_t CollisionChecker::validSegments(const std::vector<Eigen::VectorXd>& 
   points.clear();
   for (const Eigen::VectorXd& w : waypoints) points.push_back(&w);
   return impl_->validSegments(points.data(), points.size(), resolution, request, pair);
+}
+
+std::size_t CollisionChecker::validSegments(const Eigen::VectorXd* const* waypoints,
+                                            std::size_t count, double resolution,
+                                            const CollisionRequest& request, CollisionPair* pair) {
+  return impl_->validSegments(waypoints, count, resolution, request, pair);
 }
 
 }  // namespace hfts::robot

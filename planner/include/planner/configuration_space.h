@@ -77,11 +77,11 @@ class CollisionMotionValidator : public ompl::base::MotionValidator {
                    std::pair<ompl::base::State*, double>& lastValid) const override;
   /// The same check at another resolution (the planner's final re-check).
   bool checkMotion(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution) const;
-  /// The number of leading steps of the polyline line[0] -> line[1] -> ...
-  /// that checkMotion accepts (line[0] assumed valid), all checked in one
-  /// stream (robot::CollisionChecker::validSegments).
-  std::size_t validSteps(const std::vector<Eigen::VectorXd>& line) const {
-    return checker_.validSegments(line, resolution_);
+  /// The number of leading steps of the polyline *line[0] -> *line[1] ->
+  /// ... (`count` vertices) that checkMotion accepts (line[0] assumed
+  /// valid), all checked in one stream (robot::CollisionChecker::validSegments).
+  std::size_t validSteps(const Eigen::VectorXd* const* line, std::size_t count) const {
+    return checker_.validSegments(line, count, resolution_);
   }
 
   robot::CollisionChecker& checker() const { return checker_; }

@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <deque>
 #include <functional>
 #include <memory>
@@ -185,7 +186,7 @@ class MultiTreeCBiRRT : public ompl::base::Planner {
   PathCheckReport pathCheck_;
   /// Steps constrainedExtend checks in one stream, and its scratch line.
   static constexpr std::size_t kLookahead = 8;
-  std::vector<Eigen::VectorXd> lineScratch_;
+  std::array<Eigen::VectorXd, kLookahead + 1> lineScratch_;
   GoalSample reached_;
   TreeStatistics stats_;
 };

@@ -217,6 +217,10 @@ class CollisionChecker {
   /// Counts states as checking the segments one after another would.
   std::size_t validSegments(const std::vector<Eigen::VectorXd>& waypoints, double resolution,
                             const CollisionRequest& request = {}, CollisionPair* pair = nullptr);
+  /// The same for the polyline *waypoints[0] -> ... -> *waypoints[count - 1].
+  std::size_t validSegments(const Eigen::VectorXd* const* waypoints, std::size_t count,
+                            double resolution, const CollisionRequest& request = {},
+                            CollisionPair* pair = nullptr);
 
   /// The Eq. (3) metric of isMotionValid's resolution: the robot's DoF
   /// weights unless changed. Shared with the OMPL state space made on this
