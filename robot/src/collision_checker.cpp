@@ -44,9 +44,9 @@ struct CollisionChecker::Impl {
   double maxPenetration = kDefaultMaxPenetration;
   std::vector<LinkPoses> lanePoses;  // scratch: the poses of a batch's configurations
   std::vector<float> tierScratch;    // scratch: a batch for the sphere tier
-  // Scratch of validSegments: the states in check order (segment k's
-  // last is state segmentEnds[k] - 1).
-  std::vector<std::size_t> segmentEnds;
+  // Scratch of validSegments: a batch of states in check order, each of
+  // segment stateSegments[i].
+  std::vector<std::size_t> stateSegments;
   std::vector<Eigen::VectorXd> motionStates;
   std::vector<const Eigen::VectorXd*> motionPointers;
   // bisectionOrders[n]: the order in which a segment of n steps checks
@@ -164,39 +164,54 @@ struct CollisionChecker::Impl {
 
   /// The number of leading segments of the polyline points[0] -> ... ->
   /// points[count - 1] whose states (every state at `resolution` and the
-  /// end, points[0] assumed valid) are free; all states in one stream.
+  /// end, points[0] assumed valid) are free; all states in one stream,
+  /// made a batch at a time as the check reaches them (a colliding
+  /// segment usually stops the stream early: half the states a plan's
+  /// checks would make are never checked).
   std::size_t validSegments(const Eigen::VectorXd* const* points, std::size_t count,
                             double resolution, const CollisionRequest& request,
                             CollisionPair* pair) {
     if (!(resolution > 0.0)) throw InvalidArgument("resolution", "must be > 0");
     if (count < 2) return 0;
-    segmentEnds.clear();
-    std::size_t total = 0;
-    for (std::size_t s = 1; s < count; ++s) {
-      const Eigen::VectorXd& a = *points[s - 1];
-      const Eigen::VectorXd& b = *points[s];
-      const int steps =
-          std::max(1, static_cast<int>(std::ceil(metric->distance(a, b) / resolution)));
-      const std::vector<int>& order = bisectionOrder(steps);
-      if (motionStates.size() < total + order.size()) motionStates.resize(total + order.size());
-      const double perStep = 1.0 / steps;
-      for (const int step : order) motionStates[total++] = a + (b - a) * (step * perStep);
-      segmentEnds.push_back(total);
+    const std::size_t batch = tier.batchSize();
+    if (motionStates.size() < batch) motionStates.resize(batch);
+    motionPointers.resize(batch);
+    for (std::size_t i = 0; i < batch; ++i) motionPointers[i] = &motionStates[i];
+    stateSegments.resize(batch);
+    // The segment being made, from points[segment] to points[segment + 1]:
+    // its steps in check order and the next of them.
+    std::size_t segment = 0, next = 0;
+    const std::vector<int>* order = nullptr;
+    double perStep = 0.0;
+    for (;;) {
+      std::size_t n = 0;
+      for (; n < batch && segment + 1 < count; ++n) {
+        const Eigen::VectorXd& a = *points[segment];
+        const Eigen::VectorXd& b = *points[segment + 1];
+        if (order == nullptr) {
+          const int steps =
+              std::max(1, static_cast<int>(std::ceil(metric->distance(a, b) / resolution)));
+          order = &bisectionOrder(steps);
+          perStep = 1.0 / steps;
+          next = 0;
+        }
+        motionStates[n] = a + (b - a) * ((*order)[next] * perStep);
+        stateSegments[n] = segment;
+        if (++next == order->size()) {
+          order = nullptr;
+          ++segment;
+        }
+      }
+      if (n == 0) return count - 1;
+      const long first = firstCollision(motionPointers.data(), n, request, pair);
+      if (first >= 0) return stateSegments[static_cast<std::size_t>(first)];
     }
-    // After the states: growing motionStates moves them.
-    motionPointers.resize(total);
-    for (std::size_t i = 0; i < total; ++i) motionPointers[i] = &motionStates[i];
-    const long first = firstCollision(motionPointers.data(), motionPointers.size(), request, pair);
-    if (first < 0) return count - 1;
-    return static_cast<std::size_t>(
-        std::upper_bound(segmentEnds.begin(), segmentEnds.end(), static_cast<std::size_t>(first)) -
-        segmentEnds.begin());
   }
 
   /// The steps 1..n of a segment in check order: its end first, then the
   /// states between in breadth-first bisection order (as OMPL's
   /// DiscreteMotionValidator): a colliding segment is usually found after a
-  /// few checks, not halfway.
+  /// few checks, not halfway. Valid until the next call.
   const std::vector<int>& bisectionOrder(int n) {
     // Longer segments (rare: a final check's) are ordered each time.
     constexpr std::size_t kKeptUpTo = 4096;
