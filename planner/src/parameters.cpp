@@ -6,7 +6,10 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <map>
+#include <mutex>
 #include <stdexcept>
+#include <tuple>
 
 #include "core/invalid_argument.h"
 
@@ -41,6 +44,17 @@ std::string outOfRange(const ParameterRange& range, const std::string& value) {
   return "must be in [" + shortest(range.low) + ", " + shortest(range.high) + "], got " + value;
 }
 
+/// range.suggestion(), each text made once per process: every planner a
+/// plan builds declares a dozen parameters.
+const std::string& suggestionOf(const ParameterRange& range) {
+  static std::mutex guard;
+  static std::map<std::tuple<double, double, double>, std::string> made;
+  const std::lock_guard<std::mutex> lock(guard);
+  std::string& text = made[{range.low, range.step, range.high}];
+  if (text.empty()) text = range.suggestion();
+  return text;
+}
+
 }  // namespace
 
 std::string ParameterRange::suggestion() const {
@@ -72,7 +86,7 @@ void declareParameter(ompl::base::ParamSet& params, const std::string& name,
         set(value);
       },
       std::move(get));
-  params[name].setRangeSuggestion(range.suggestion());
+  params[name].setRangeSuggestion(suggestionOf(range));
 }
 
 template void declareParameter<double>(ompl::base::ParamSet&, const std::string&,

@@ -182,16 +182,26 @@ struct PathPoint {
   Eigen::VectorXd q;
 };
 
-/// The point at arc length `s` of `path` (cumulative lengths `arc`),
-/// snapped to a vertex within `snap`.
-PathPoint pointAt(const Path& path, const std::vector<double>& arc, double s, double snap) {
+/// Sets `p` to the point at arc length `s` of `path` (cumulative lengths
+/// `arc`), snapped to a vertex within `snap` (in place: p.q keeps its
+/// storage from draw to draw).
+void pointAt(const Path& path, const std::vector<double>& arc, double s, double snap,
+             PathPoint& p) {
   const auto next = static_cast<std::size_t>(
       std::min<std::ptrdiff_t>(std::lower_bound(arc.begin(), arc.end(), s) - arc.begin(),
                                static_cast<std::ptrdiff_t>(arc.size()) - 1));
-  if (next == 0 || arc[next] - s < snap) return {next, next, path[next]};
-  if (s - arc[next - 1] < snap) return {next - 1, next - 1, path[next - 1]};
-  const double t = (s - arc[next - 1]) / (arc[next] - arc[next - 1]);
-  return {next - 1, next, path[next - 1] + (path[next] - path[next - 1]) * t};
+  if (next == 0 || arc[next] - s < snap) {
+    p.lo = p.hi = next;
+    p.q = path[next];
+  } else if (s - arc[next - 1] < snap) {
+    p.lo = p.hi = next - 1;
+    p.q = path[next - 1];
+  } else {
+    const double t = (s - arc[next - 1]) / (arc[next] - arc[next - 1]);
+    p.lo = next - 1;
+    p.hi = next;
+    p.q = path[next - 1] + (path[next] - path[next - 1]) * t;
+  }
 }
 
 /// Random shortcuts, `attempts` of them, as OMPL's shortcutPath draws
@@ -213,23 +223,25 @@ bool shortcut(Path& path, const CollisionMotionValidator& validator,
   };
   measure();
   bool shortened = false;
+  PathPoint a, b;
   for (unsigned attempt = 0; attempt < attempts && path.size() > 2; ++attempt) {
     const double length = arc.back();
     const double s0 = std::uniform_real_distribution<double>(0.0, length)(rng);
     const double s1 = std::uniform_real_distribution<double>(
         std::max(0.0, s0 - kRange * length), std::min(length, s0 + kRange * length))(rng);
-    PathPoint a = pointAt(path, arc, std::min(s0, s1), kSnap * length);
-    PathPoint b = pointAt(path, arc, std::max(s0, s1), kSnap * length);
+    pointAt(path, arc, std::min(s0, s1), kSnap * length, a);
+    pointAt(path, arc, std::max(s0, s1), kSnap * length, b);
     if (b.hi < a.lo + 2) continue;  // no vertex between them to cut
     const double along =
         arc[b.lo] - arc[a.hi] + space.distance(a.q, path[a.hi]) + space.distance(path[b.lo], b.q);
     if (along - space.distance(a.q, b.q) < kMinSaving * length) continue;
     if (!validator.checkMotion(a.q, b.q, validator.resolution())) continue;
-    Path out(path.begin(), path.begin() + static_cast<std::ptrdiff_t>(a.lo) + 1);
-    if (a.hi != a.lo) out.push_back(a.q);
-    if (b.hi != b.lo) out.push_back(b.q);
-    out.insert(out.end(), path.begin() + static_cast<std::ptrdiff_t>(b.hi), path.end());
-    path = std::move(out);
+    // The vertices strictly between the two points give way to them.
+    const auto first = path.begin() + static_cast<std::ptrdiff_t>(a.lo) + 1;
+    path.erase(first, path.begin() + static_cast<std::ptrdiff_t>(b.hi));
+    std::size_t at = a.lo + 1;
+    if (a.hi != a.lo) path.insert(path.begin() + static_cast<std::ptrdiff_t>(at++), a.q);
+    if (b.hi != b.lo) path.insert(path.begin() + static_cast<std::ptrdiff_t>(at), b.q);
     measure();
     shortened = true;
   }

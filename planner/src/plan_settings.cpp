@@ -127,18 +127,18 @@ void setSetting(PlanSettings& settings, const std::string& name, const std::stri
 ParameterRange settingRange(const std::string& name) {
   // The table of ranges once per process: every planner a plan builds asks
   // for a dozen of them (declaring all settings took 90 us a planner).
-  static const std::map<std::string, std::string> suggestions = [] {
+  static const std::map<std::string, ParameterRange> ranges = [] {
     PlanSettings s;
     ob::ParamSet p;
     declareSettings(p, s);
-    std::map<std::string, std::string> out;
-    for (const auto& [setting, param] : p.getParams()) out[setting] = param->getRangeSuggestion();
+    std::map<std::string, ParameterRange> out;
+    for (const auto& [setting, param] : p.getParams())
+      out[setting] = ParameterRange::fromSuggestion(param->getRangeSuggestion());
     return out;
   }();
-  const auto it = suggestions.find(name);
-  if (it == suggestions.end())
-    throw InvalidArgument("parameters." + name, "unknown planner parameter");
-  return ParameterRange::fromSuggestion(it->second);
+  const auto it = ranges.find(name);
+  if (it == ranges.end()) throw InvalidArgument("parameters." + name, "unknown planner parameter");
+  return it->second;
 }
 
 PlanSettings defaultSettings(const robot::RobotModel& robot, PlannerPreset preset) {

@@ -30,6 +30,39 @@ using fcl_query::QueryData;
 /// GJK), so FCL would call every such pair free.
 constexpr double kApartGap = 1e-4;
 
+namespace {
+
+/// The steps 1..n of a segment in check order: its end first, then the
+/// states between in breadth-first bisection order (as OMPL's
+/// DiscreteMotionValidator): a colliding segment is usually found after a
+/// few checks, not halfway. Kept per thread for n up to kKeptUpTo (the
+/// steps of a tree's extensions recur, and a plan's segments recur in the
+/// next plan's); valid until the thread's next call.
+const std::vector<int>& bisectionOrder(int n) {
+  constexpr std::size_t kKeptUpTo = 1024;  // at most 2 MB a thread
+  thread_local std::vector<std::vector<int>> kept(kKeptUpTo + 1);
+  thread_local std::vector<int> longer;
+  thread_local std::vector<std::pair<int, int>> open;  // ranges still unchecked, a FIFO
+  const auto slot = static_cast<std::size_t>(n);
+  std::vector<int>& order = slot <= kKeptUpTo ? kept[slot] : longer;
+  if (slot <= kKeptUpTo && !order.empty()) return order;
+  order.clear();
+  order.reserve(slot);
+  order.push_back(n);
+  open.assign(1, {0, n});
+  for (std::size_t next = 0; next < open.size(); ++next) {
+    const auto [from, to] = open[next];
+    if (to - from < 2) continue;
+    const int mid = (from + to) / 2;
+    order.push_back(mid);
+    open.emplace_back(from, mid);
+    open.emplace_back(mid, to);
+  }
+  return order;
+}
+
+}  // namespace
+
 struct CollisionChecker::Impl {
   const std::shared_ptr<const CollisionScene> owner;
   const CollisionScene::Impl& shared;
@@ -49,11 +82,6 @@ struct CollisionChecker::Impl {
   std::vector<std::size_t> stateSegments;
   std::vector<Eigen::VectorXd> motionStates;
   std::vector<const Eigen::VectorXd*> motionPointers;
-  // bisectionOrders[n]: the order in which a segment of n steps checks
-  // them, made on first use (the steps of a tree's extensions recur).
-  std::vector<std::vector<int>> bisectionOrders;
-  std::vector<int> longOrder;
-  std::vector<std::pair<int, int>> openRanges;           // scratch of bisectionOrder()
   std::vector<const Eigen::VectorXd*> waypointPointers;  // scratch of the public validSegments
 
   explicit Impl(std::shared_ptr<const CollisionScene> scene)
@@ -206,33 +234,6 @@ struct CollisionChecker::Impl {
       const long first = firstCollision(motionPointers.data(), n, request, pair);
       if (first >= 0) return stateSegments[static_cast<std::size_t>(first)];
     }
-  }
-
-  /// The steps 1..n of a segment in check order: its end first, then the
-  /// states between in breadth-first bisection order (as OMPL's
-  /// DiscreteMotionValidator): a colliding segment is usually found after a
-  /// few checks, not halfway. Valid until the next call.
-  const std::vector<int>& bisectionOrder(int n) {
-    // Longer segments (rare: a final check's) are ordered each time.
-    constexpr std::size_t kKeptUpTo = 4096;
-    const auto slot = static_cast<std::size_t>(n);
-    if (slot <= kKeptUpTo && bisectionOrders.size() <= slot) bisectionOrders.resize(slot + 1);
-    std::vector<int>& order = slot <= kKeptUpTo ? bisectionOrders[slot] : longOrder;
-    if (slot <= kKeptUpTo && !order.empty()) return order;
-    order.clear();
-    order.reserve(slot);
-    order.push_back(n);
-    // A FIFO of exclusive ranges still unchecked.
-    openRanges.assign(1, {0, n});
-    for (std::size_t next = 0; next < openRanges.size(); ++next) {
-      const auto [from, to] = openRanges[next];
-      if (to - from < 2) continue;
-      const int mid = (from + to) / 2;
-      order.push_back(mid);
-      openRanges.emplace_back(from, mid);
-      openRanges.emplace_back(mid, to);
-    }
-    return order;
   }
 
   static long found(long index, const QueryData& data, CollisionPair* pair) {

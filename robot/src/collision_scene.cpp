@@ -35,7 +35,10 @@ CollisionMesh::~CollisionMesh() = default;
 
 namespace {
 
+/// Whether two placed objects touch: FCL's narrowphase where their
+/// bounding boxes (conservative, touching included) overlap.
 bool touch(const Object& a, const Object& b) {
+  if (!a.getAABB().overlap(b.getAABB())) return false;
   fcl::CollisionRequestd request;
   fcl::CollisionResultd result;
   return fcl::collide(&a, &b, request, result) > 0;
