@@ -126,8 +126,10 @@ struct CollisionChecker::Impl {
   /// -1. Counts the states up to that one (all of them when none collides),
   /// as checking them one by one would: the sphere tier tests a batch at a
   /// time, FCL then takes the batch's configurations in order.
+  /// With `written`, the caller also wrote the states (count <= the
+  /// tier's batch) into tierScratch in the tier's batch layout.
   long firstCollision(const Eigen::VectorXd* const* states, std::size_t count,
-                      const CollisionRequest& request, CollisionPair* pair) {
+                      const CollisionRequest& request, CollisionPair* pair, bool written = false) {
     QueryData data = queryData(request);
     const double margin = request.clearance ? shared.clearance : 0.0;
     if (!useTier && margin <= 0.0) {
@@ -151,23 +153,25 @@ struct CollisionChecker::Impl {
       // collision at lane L only the lanes before it still matter.
       std::uint32_t placed = 0, touched = 0;
       std::size_t first = n;
-      spheres.forEachTouchingPair(
-          states + begin, n, tierScratch,
-          [&](const SphereTier::Pair& p, std::uint32_t lanes) -> std::uint32_t {
-            if (!counts(p, request)) return (1u << first) - 1u;
-            touched |= lanes;
-            data.clearance = margin > 0.0 && keepsClearance(p, graspRule) ? margin : 0.0;
-            for (std::size_t lane = 0; lane < first; ++lane) {
-              const std::uint32_t bit = 1u << lane;
-              if ((lanes & bit) == 0) continue;
-              if ((placed & bit) == 0) {
-                forwardKinematics(model, *states[begin + lane], lanePoses[lane]);
-                placed |= bit;
-              }
-              if (pairCollides(p, lanePoses[lane], data)) first = lane;
-            }
-            return (1u << first) - 1u;
-          });
+      const auto visit = [&](const SphereTier::Pair& p, std::uint32_t lanes) -> std::uint32_t {
+        if (!counts(p, request)) return (1u << first) - 1u;
+        touched |= lanes;
+        data.clearance = margin > 0.0 && keepsClearance(p, graspRule) ? margin : 0.0;
+        for (std::size_t lane = 0; lane < first; ++lane) {
+          const std::uint32_t bit = 1u << lane;
+          if ((lanes & bit) == 0) continue;
+          if ((placed & bit) == 0) {
+            forwardKinematics(model, *states[begin + lane], lanePoses[lane]);
+            placed |= bit;
+          }
+          if (pairCollides(p, lanePoses[lane], data)) first = lane;
+        }
+        return (1u << first) - 1u;
+      };
+      if (written)
+        spheres.forEachTouchingPairWritten(n, tierScratch, visit);
+      else
+        spheres.forEachTouchingPair(states + begin, n, tierScratch, visit);
       const std::size_t checked = std::min(first + 1, n);
       checks += checked;
       for (std::size_t lane = 0; lane < checked; ++lane)
@@ -206,6 +210,8 @@ struct CollisionChecker::Impl {
     motionPointers.resize(batch);
     for (std::size_t i = 0; i < batch; ++i) motionPointers[i] = &motionStates[i];
     stateSegments.resize(batch);
+    tier.prepareBatch(tierScratch);
+    const auto dofs = static_cast<std::size_t>(points[0]->size());
     // The segment being made, from points[segment] to points[segment + 1]:
     // its steps in check order and the next of them.
     std::size_t segment = 0, next = 0;
@@ -223,7 +229,10 @@ struct CollisionChecker::Impl {
           perStep = 1.0 / steps;
           next = 0;
         }
-        motionStates[n] = a + (b - a) * ((*order)[next] * perStep);
+        Eigen::VectorXd& state = motionStates[n];
+        state = a + (b - a) * ((*order)[next] * perStep);
+        for (std::size_t d = 0; d < dofs; ++d)
+          tierScratch[d * batch + n] = static_cast<float>(state[static_cast<Eigen::Index>(d)]);
         stateSegments[n] = segment;
         if (++next == order->size()) {
           order = nullptr;
@@ -231,7 +240,7 @@ struct CollisionChecker::Impl {
         }
       }
       if (n == 0) return count - 1;
-      const long first = firstCollision(motionPointers.data(), n, request, pair);
+      const long first = firstCollision(motionPointers.data(), n, request, pair, true);
       if (first >= 0) return stateSegments[static_cast<std::size_t>(first)];
     }
   }

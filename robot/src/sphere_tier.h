@@ -86,6 +86,30 @@ class SphereTier {
   void forEachTouchingPair(const Eigen::VectorXd* const* q, std::size_t count,
                            std::vector<float>& scratch, Visit&& visit) const {
     load(q, count, scratch);
+    forEachTouchingPairLoaded(count, scratch, visit);
+  }
+
+  /// The batch layout of `scratch` (single precision, DoF-major: DoF d of
+  /// configuration i at d * batchSize() + i), sized for a batch, for a
+  /// caller that writes its configurations there itself.
+  void prepareBatch(std::vector<float>& scratch) const {
+    scratch.resize(static_cast<std::size_t>(program_.num_dofs) * batch_);
+  }
+  /// forEachTouchingPair on the `count` configurations a caller wrote into
+  /// `scratch` in the batch layout (prepareBatch).
+  template <typename Visit>
+  void forEachTouchingPairWritten(std::size_t count, std::vector<float>& scratch,
+                                  Visit&& visit) const {
+    if (count == 1)  // one configuration: its DoF in order
+      for (std::size_t d = 1; d < static_cast<std::size_t>(program_.num_dofs); ++d)
+        scratch[d] = scratch[d * batch_];
+    forEachTouchingPairLoaded(count, scratch, visit);
+  }
+
+ private:
+  template <typename Visit>
+  void forEachTouchingPairLoaded(std::size_t count, std::vector<float>& scratch,
+                                 Visit& visit) const {
     struct Context {
       const SphereTier* tier;
       Visit* visit;
@@ -102,6 +126,7 @@ class SphereTier {
       kernel::findTouching(program_, scratch.data(), count, forward, &context);
   }
 
+ public:
   /// The pair of a kernel pair index.
   Pair pair(std::uint32_t index) const;
 
