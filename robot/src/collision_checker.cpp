@@ -81,7 +81,8 @@ struct CollisionChecker::Impl {
   // segment stateSegments[i].
   std::vector<std::size_t> stateSegments;
   std::vector<Eigen::VectorXd> motionStates;
-  std::vector<const Eigen::VectorXd*> motionPointers;
+  std::vector<const Eigen::VectorXd*> stateFrom, stateTo;
+  std::vector<double> stateAlong;
   std::vector<const Eigen::VectorXd*> waypointPointers;  // scratch of the public validSegments
 
   explicit Impl(std::shared_ptr<const CollisionScene> scene)
@@ -119,23 +120,62 @@ struct CollisionChecker::Impl {
 
   bool collide(const Eigen::VectorXd& q, const CollisionRequest& request, CollisionPair* pair) {
     const Eigen::VectorXd* state = &q;
-    return firstCollision(&state, 1, request, pair) == 0;
+    return firstCollision(PointedStates{&state}, 1, request, pair) == 0;
+  }
+
+  /// Configurations a query reads: at(i) is configuration i, and
+  /// touchingPairs hands configurations begin .. begin + n - 1 to the
+  /// sphere tier.
+  struct PointedStates {
+    const Eigen::VectorXd* const* states;
+    const Eigen::VectorXd& at(std::size_t i) const { return *states[i]; }
+    template <typename Visit>
+    void touchingPairs(const SphereTier& spheres, std::size_t begin, std::size_t n,
+                       std::vector<float>& scratch, Visit& visit) const {
+      spheres.forEachTouchingPair(states + begin, n, scratch, visit);
+    }
+  };
+
+  /// The states of a validSegments batch: written in the tier's batch
+  /// layout into tierScratch as they were made, and in double precision
+  /// only when FCL needs one (state i lies at stateAlong[i] of the way
+  /// from *stateFrom[i] to *stateTo[i]).
+  struct SegmentStates {
+    Impl& impl;
+    const Eigen::VectorXd& at(std::size_t i) const {
+      Eigen::VectorXd& q = impl.motionStates[i];
+      q.resize(impl.stateFrom[i]->size());
+      interpolate(*impl.stateFrom[i], *impl.stateTo[i], impl.stateAlong[i], q.data());
+      return q;
+    }
+    template <typename Visit>
+    void touchingPairs(const SphereTier& spheres, std::size_t, std::size_t n,
+                       std::vector<float>& scratch, Visit& visit) const {
+      spheres.forEachTouchingPairWritten(n, scratch, visit);
+    }
+  };
+
+  /// a + (b - a) t: the one formula of a segment's states, for the sphere
+  /// tier's single precision and for FCL's double.
+  static double between(double a, double b, double t) { return a + (b - a) * t; }
+  static void interpolate(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double t,
+                          double* out) {
+    for (Eigen::Index d = 0; d < a.size(); ++d) out[d] = between(a[d], b[d], t);
   }
 
   /// The index of the first of `states` (in their order) that collides, or
   /// -1. Counts the states up to that one (all of them when none collides),
   /// as checking them one by one would: the sphere tier tests a batch at a
   /// time, FCL then takes the batch's configurations in order.
-  /// With `written`, the caller also wrote the states (count <= the
-  /// tier's batch) into tierScratch in the tier's batch layout.
-  long firstCollision(const Eigen::VectorXd* const* states, std::size_t count,
-                      const CollisionRequest& request, CollisionPair* pair, bool written = false) {
+  template <typename States>
+  long firstCollision(const States& states, std::size_t count, const CollisionRequest& request,
+                      CollisionPair* pair) {
     QueryData data = queryData(request);
     const double margin = request.clearance ? shared.clearance : 0.0;
     if (!useTier && margin <= 0.0) {
       for (std::size_t i = 0; i < count; ++i) {
         ++checks;
-        place(*states[i]);
+        place(states.at(i));
         robot.manager().collide(environment(), &data, collideCallback);
         if (!data.collision && request.self)
           robot.manager().collide(&data, collideCallback);  // self-collision
@@ -161,17 +201,14 @@ struct CollisionChecker::Impl {
           const std::uint32_t bit = 1u << lane;
           if ((lanes & bit) == 0) continue;
           if ((placed & bit) == 0) {
-            forwardKinematics(model, *states[begin + lane], lanePoses[lane]);
+            forwardKinematics(model, states.at(begin + lane), lanePoses[lane]);
             placed |= bit;
           }
           if (pairCollides(p, lanePoses[lane], data)) first = lane;
         }
         return (1u << first) - 1u;
       };
-      if (written)
-        spheres.forEachTouchingPairWritten(n, tierScratch, visit);
-      else
-        spheres.forEachTouchingPair(states + begin, n, tierScratch, visit);
+      states.touchingPairs(spheres, begin, n, tierScratch, visit);
       const std::size_t checked = std::min(first + 1, n);
       checks += checked;
       for (std::size_t lane = 0; lane < checked; ++lane)
@@ -207,9 +244,10 @@ struct CollisionChecker::Impl {
     if (count < 2) return 0;
     const std::size_t batch = tier.batchSize();
     if (motionStates.size() < batch) motionStates.resize(batch);
-    motionPointers.resize(batch);
-    for (std::size_t i = 0; i < batch; ++i) motionPointers[i] = &motionStates[i];
     stateSegments.resize(batch);
+    stateFrom.resize(batch);
+    stateTo.resize(batch);
+    stateAlong.resize(batch);
     tier.prepareBatch(tierScratch);
     const auto dofs = static_cast<std::size_t>(points[0]->size());
     // The segment being made, from points[segment] to points[segment + 1]:
@@ -229,18 +267,22 @@ struct CollisionChecker::Impl {
           perStep = 1.0 / steps;
           next = 0;
         }
-        Eigen::VectorXd& state = motionStates[n];
-        state = a + (b - a) * ((*order)[next] * perStep);
-        for (std::size_t d = 0; d < dofs; ++d)
-          tierScratch[d * batch + n] = static_cast<float>(state[static_cast<Eigen::Index>(d)]);
+        const double along = (*order)[next] * perStep;
+        for (std::size_t d = 0; d < dofs; ++d) {
+          const auto k = static_cast<Eigen::Index>(d);
+          tierScratch[d * batch + n] = static_cast<float>(between(a[k], b[k], along));
+        }
         stateSegments[n] = segment;
+        stateFrom[n] = &a;
+        stateTo[n] = &b;
+        stateAlong[n] = along;
         if (++next == order->size()) {
           order = nullptr;
           ++segment;
         }
       }
       if (n == 0) return count - 1;
-      const long first = firstCollision(motionPointers.data(), n, request, pair, true);
+      const long first = firstCollision(SegmentStates{*this}, n, request, pair);
       if (first >= 0) return stateSegments[static_cast<std::size_t>(first)];
     }
   }
