@@ -28,6 +28,9 @@ def load(path, algorithm):
 
 def summary(name, runs):
     solved = [r for r in runs.values() if r["solved"] == "1"]
+    if not solved:
+        print(f"{name}: solved 0/{len(runs)}")
+        return
     ms = lambda key: st.median(float(r[key]) * 1e3 for r in solved)
     print(f"{name}: solved {len(solved)}/{len(runs)}, median {ms('time'):.3f} ms, "
           f"without smoothing {st.median((float(r['time']) - float(r['smoothing_time'])) * 1e3 for r in solved):.3f}, "

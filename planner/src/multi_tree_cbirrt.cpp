@@ -4,7 +4,6 @@
 #include <ompl/geometric/PathGeometric.h>
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>

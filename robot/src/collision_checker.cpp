@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <utility>
 
 #include "collision_scene.h"
@@ -32,33 +33,37 @@ constexpr double kApartGap = 1e-4;
 
 namespace {
 
-/// The steps 1..n of a segment in check order: its end first, then the
-/// states between in breadth-first bisection order (as OMPL's
-/// DiscreteMotionValidator): a colliding segment is usually found after a
-/// few checks, not halfway. Kept per thread for n up to kKeptUpTo (the
-/// steps of a tree's extensions recur, and a plan's segments recur in the
-/// next plan's); valid until the thread's next call.
-const std::vector<int>& bisectionOrder(int n) {
-  constexpr std::size_t kKeptUpTo = 1024;  // at most 2 MB a thread
-  thread_local std::vector<std::vector<int>> kept(kKeptUpTo + 1);
-  thread_local std::vector<int> longer;
-  thread_local std::vector<std::pair<int, int>> open;  // ranges still unchecked, a FIFO
+/// Where a segment of n steps checks its states, as fractions k / n of
+/// the way, in check order: its end first, then the states between in
+/// breadth-first bisection order (as OMPL's DiscreteMotionValidator): a
+/// colliding segment is usually found after a few checks, not halfway.
+/// Those of up to kKeptUpTo steps are kept for the thread's lifetime (a
+/// tree's extensions repeat their step counts, and a thread that plans
+/// again meets the same counts); a longer one is valid until the
+/// thread's next call.
+const std::vector<double>& checkOrder(int n) {
+  constexpr std::size_t kKeptUpTo = 1024;  // at most 4.2 MB of kept orders a thread
+  thread_local std::vector<std::vector<double>> kept(kKeptUpTo + 1);
+  thread_local std::vector<double> longer;
   const auto slot = static_cast<std::size_t>(n);
-  std::vector<int>& order = slot <= kKeptUpTo ? kept[slot] : longer;
-  if (slot <= kKeptUpTo && !order.empty()) return order;
-  order.clear();
+  if (slot <= kKeptUpTo && !kept[slot].empty()) return kept[slot];
+  // Made whole before it is kept: a kept order is never a partial one.
+  std::vector<double> order;
   order.reserve(slot);
-  order.push_back(n);
-  open.assign(1, {0, n});
+  order.push_back(1.0);
+  std::vector<std::pair<int, int>> open{{0, n}};  // ranges still unchecked, a FIFO
+  open.reserve(2 * slot + 1);
   for (std::size_t next = 0; next < open.size(); ++next) {
     const auto [from, to] = open[next];
     if (to - from < 2) continue;
     const int mid = (from + to) / 2;
-    order.push_back(mid);
+    order.push_back(static_cast<double>(mid) / n);
     open.emplace_back(from, mid);
     open.emplace_back(mid, to);
   }
-  return order;
+  std::vector<double>& place = slot <= kKeptUpTo ? kept[slot] : longer;
+  place.swap(order);
+  return place;
 }
 
 }  // namespace
@@ -77,12 +82,14 @@ struct CollisionChecker::Impl {
   double maxPenetration = kDefaultMaxPenetration;
   std::vector<LinkPoses> lanePoses;  // scratch: the poses of a batch's configurations
   std::vector<float> tierScratch;    // scratch: a batch for the sphere tier
-  // Scratch of validSegments: a batch of states in check order, each of
-  // segment stateSegments[i].
+  // Scratch of validSegments, a batch of states in check order: state i
+  // of segment stateSegments[i] lies at stateAlong[i] of the way from
+  // *stateFrom[i] to *stateTo[i]; motionStates[i] holds it in double
+  // precision once FCL asked for it (SegmentStates).
   std::vector<std::size_t> stateSegments;
-  std::vector<Eigen::VectorXd> motionStates;
   std::vector<const Eigen::VectorXd*> stateFrom, stateTo;
   std::vector<double> stateAlong;
+  std::vector<Eigen::VectorXd> motionStates;
   std::vector<const Eigen::VectorXd*> waypointPointers;  // scratch of the public validSegments
 
   explicit Impl(std::shared_ptr<const CollisionScene> scene)
@@ -136,10 +143,10 @@ struct CollisionChecker::Impl {
     }
   };
 
-  /// The states of a validSegments batch: written in the tier's batch
+  /// The states of a validSegments batch (one batch: touchingPairs is
+  /// asked for begin 0 and all of them): written in the tier's batch
   /// layout into tierScratch as they were made, and in double precision
-  /// only when FCL needs one (state i lies at stateAlong[i] of the way
-  /// from *stateFrom[i] to *stateTo[i]).
+  /// only when FCL needs one.
   struct SegmentStates {
     Impl& impl;
     const Eigen::VectorXd& at(std::size_t i) const {
@@ -241,33 +248,39 @@ struct CollisionChecker::Impl {
                             double resolution, const CollisionRequest& request,
                             CollisionPair* pair) {
     if (!(resolution > 0.0)) throw InvalidArgument("resolution", "must be > 0");
+    const auto dofs = static_cast<std::size_t>(model.numDofs());
+    for (std::size_t i = 0; i < count; ++i)
+      if (static_cast<std::size_t>(points[i]->size()) != dofs)
+        throw InvalidArgument("waypoints", "waypoint " + std::to_string(i) + " has " +
+                                               std::to_string(points[i]->size()) +
+                                               " values, the robot " + std::to_string(dofs) +
+                                               " DoF");
     if (count < 2) return 0;
-    const std::size_t batch = tier.batchSize();
+    // The tier firstCollision tests with (its batch layout).
+    const SphereTier& spheres =
+        request.clearance && shared.clearance > 0.0 ? *shared.clearanceTier : tier;
+    const std::size_t batch = spheres.batchSize();
     if (motionStates.size() < batch) motionStates.resize(batch);
     stateSegments.resize(batch);
     stateFrom.resize(batch);
     stateTo.resize(batch);
     stateAlong.resize(batch);
-    tier.prepareBatch(tierScratch);
-    const auto dofs = static_cast<std::size_t>(points[0]->size());
+    spheres.prepareBatch(tierScratch);
     // The segment being made, from points[segment] to points[segment + 1]:
     // its steps in check order and the next of them.
     std::size_t segment = 0, next = 0;
-    const std::vector<int>* order = nullptr;
-    double perStep = 0.0;
+    const std::vector<double>* order = nullptr;
     for (;;) {
       std::size_t n = 0;
       for (; n < batch && segment + 1 < count; ++n) {
         const Eigen::VectorXd& a = *points[segment];
         const Eigen::VectorXd& b = *points[segment + 1];
         if (order == nullptr) {
-          const int steps =
-              std::max(1, static_cast<int>(std::ceil(metric->distance(a, b) / resolution)));
-          order = &bisectionOrder(steps);
-          perStep = 1.0 / steps;
+          order = &checkOrder(
+              std::max(1, static_cast<int>(std::ceil(metric->distance(a, b) / resolution))));
           next = 0;
         }
-        const double along = (*order)[next] * perStep;
+        const double along = (*order)[next];
         for (std::size_t d = 0; d < dofs; ++d) {
           const auto k = static_cast<Eigen::Index>(d);
           tierScratch[d * batch + n] = static_cast<float>(between(a[k], b[k], along));
@@ -293,7 +306,8 @@ struct CollisionChecker::Impl {
   }
 
   /// FCL on the shapes of one pair the sphere tier found touching, the
-  /// robot at `at`. Each link's shapes are placed once.
+  /// robot at `at`: a link-item pair places the link's shapes as it
+  /// reaches them, a link pair both links' shapes first.
   bool pairCollides(const SphereTier::Pair& p, const LinkPoses& at, QueryData& data) {
     if (p.other_link < 0) {
       // Shape by shape, each placed when reached: nine in ten pairs the

@@ -95,8 +95,10 @@ class SphereTier {
   void prepareBatch(std::vector<float>& scratch) const {
     scratch.resize(static_cast<std::size_t>(program_.num_dofs) * batch_);
   }
-  /// forEachTouchingPair on the `count` configurations a caller wrote into
-  /// `scratch` in the batch layout (prepareBatch).
+  /// forEachTouchingPair on the `count` (<= batchSize()) configurations a
+  /// caller wrote into `scratch` in the batch layout (prepareBatch); for
+  /// one configuration it moves that configuration's values to the front
+  /// of `scratch` (the single layout) in place.
   template <typename Visit>
   void forEachTouchingPairWritten(std::size_t count, std::vector<float>& scratch,
                                   Visit&& visit) const {
@@ -105,8 +107,19 @@ class SphereTier {
         scratch[d] = scratch[d * batch_];
     forEachTouchingPairLoaded(count, scratch, visit);
   }
+  /// The pair of a kernel pair index.
+  Pair pair(std::uint32_t index) const;
+
+  /// Links whose pose does not depend on any DoF (the base and what is
+  /// fixed to it).
+  bool isStatic(int link) const { return static_[static_cast<std::size_t>(link)]; }
+  /// Whether environment item `item` is the target object.
+  bool isTarget(std::size_t item) const { return program_.items[item].target; }
 
  private:
+  void compileRobot(const RobotModel& model, const Eigen::Isometry3d& base);
+  void compileItems(const std::vector<Item>& items);
+  /// The kernel on `count` configurations loaded into `scratch`.
   template <typename Visit>
   void forEachTouchingPairLoaded(std::size_t count, std::vector<float>& scratch,
                                  Visit& visit) const {
@@ -125,20 +138,6 @@ class SphereTier {
     else
       kernel::findTouching(program_, scratch.data(), count, forward, &context);
   }
-
- public:
-  /// The pair of a kernel pair index.
-  Pair pair(std::uint32_t index) const;
-
-  /// Links whose pose does not depend on any DoF (the base and what is
-  /// fixed to it).
-  bool isStatic(int link) const { return static_[static_cast<std::size_t>(link)]; }
-  /// Whether environment item `item` is the target object.
-  bool isTarget(std::size_t item) const { return program_.items[item].target; }
-
- private:
-  void compileRobot(const RobotModel& model, const Eigen::Isometry3d& base);
-  void compileItems(const std::vector<Item>& items);
   /// Writes the batch into `scratch` (single precision, DoF-major; one
   /// configuration: its DoF in order).
   void load(const Eigen::VectorXd* const* q, std::size_t count, std::vector<float>& scratch) const;

@@ -524,6 +524,68 @@ Eigen::VectorXd randomConfiguration(std::mt19937_64& rng) {
   return q;
 }
 
+/// Whether every state a + (b - a) k / n, k = 1..n, n = ceil(d / resolution)
+/// is free, checked one by one.
+bool everyStateFree(CollisionChecker& checker, const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                    double resolution) {
+  const int n =
+      std::max(1, static_cast<int>(std::ceil(checker.metric().distance(a, b) / resolution)));
+  for (int k = 1; k <= n; ++k)
+    if (checker.inCollision(a + (b - a) * (static_cast<double>(k) / n))) return false;
+  return true;
+}
+
+TEST(CollisionChecker, AMotionChecksEveryStateOfItsSegment) {
+  // Segments from free configurations in the shelf scene, 0.3 and 2 rad
+  // long, at 0.02 and 0.0018 (up to 1,112 steps, past the 1,024 whose
+  // check order the checker keeps): isMotionValid is the one-by-one check
+  // of their states; a polyline of them is free up to its first segment
+  // that is not.
+  Scene scene = bundledScene("shelf");
+  const db::ObjectDatabase& db = objects().at(scene.target_object);
+  for (const bool spheres : {true, false}) {
+    SCOPED_TRACE(spheres ? "two tiers" : "FCL only");
+    CollisionChecker checker(test::collisionOf(m()), scene, &db.geometry);
+    checker.setSphereTier(spheres);
+    std::mt19937_64 rng(17);
+    const auto stepFrom = [&](const Eigen::VectorXd& a, double length) {
+      const Eigen::VectorXd toward = randomConfiguration(rng) - a;
+      return Eigen::VectorXd(a + toward * (length / checker.metric().distance(toward, 0 * toward)));
+    };
+    int free = 0, colliding = 0;
+    for (int i = 0; i < 16; ++i) {
+      Eigen::VectorXd a = randomConfiguration(rng);
+      while (checker.inCollision(a)) a = randomConfiguration(rng);
+      const Eigen::VectorXd b = stepFrom(a, i % 2 == 0 ? 0.3 : 2.0);
+      const double resolution = i % 3 == 0 ? 0.0018 : 0.02;
+      const bool expected = everyStateFree(checker, a, b, resolution);
+      EXPECT_EQ(checker.isMotionValid(a, b, resolution), expected) << i;
+      (expected ? free : colliding) += 1;
+    }
+    EXPECT_GT(free, 3);
+    EXPECT_GT(colliding, 3);
+    std::size_t partial = 0;
+    for (int walk = 0; walk < 30; ++walk) {
+      std::vector<Eigen::VectorXd> line{randomConfiguration(rng)};
+      while (checker.inCollision(line.front())) line.front() = randomConfiguration(rng);
+      for (int step = 0; step < 8; ++step) line.push_back(stepFrom(line.back(), 0.5));
+      std::size_t expected = 0;
+      while (expected + 1 < line.size() &&
+             everyStateFree(checker, line[expected], line[expected + 1], 0.02))
+        ++expected;
+      EXPECT_EQ(checker.validSegments(line, 0.02), expected) << walk;
+      partial += expected > 0 && expected + 1 < line.size();
+    }
+    EXPECT_GT(partial, 2u);
+  }
+  CollisionChecker checker(test::collisionOf(m()), scene, nullptr);
+  test::expectErrorMentioning<InvalidArgument>(
+      [&] {
+        checker.validSegments({m().home(), Eigen::VectorXd::Zero(3)}, 0.02);
+      },
+      {"waypoints", "waypoint 1 has 3 values"});
+}
+
 TEST(CollisionChecker, ValidSegmentsIsIsMotionValidSegmentBySegment) {
   // Random walks of 0.3-rad steps (many end in a collision somewhere), in
   // one stream and one segment at a time: the same count of valid leading
