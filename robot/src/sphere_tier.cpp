@@ -179,7 +179,7 @@ void SphereTier::skipStaticPair(int a, int b) {
 
 void SphereTier::load(const Eigen::VectorXd* const* q, std::size_t count,
                       std::vector<float>& scratch) const {
-  scratch.resize(static_cast<std::size_t>(program_.num_dofs) * batch_);
+  prepareBatch(scratch);
   if (count == 1) {
     for (int d = 0; d < program_.num_dofs; ++d)
       scratch[static_cast<std::size_t>(d)] = static_cast<float>((*q[0])(d));

@@ -107,6 +107,7 @@ class SphereTier {
         scratch[d] = scratch[d * batch_];
     forEachTouchingPairLoaded(count, scratch, visit);
   }
+
   /// The pair of a kernel pair index.
   Pair pair(std::uint32_t index) const;
 
