@@ -12,12 +12,6 @@ namespace {
 constexpr std::size_t kMaxUnsentBytes = 64u << 20;  // stop reading while this much is unsent
 constexpr auto kLinger = std::chrono::seconds(2);
 
-bool isLoopback(const asio::ip::address& a) {
-  if (a.is_v6() && a.to_v6().is_v4_mapped())
-    return asio::ip::make_address_v4(asio::ip::v4_mapped, a.to_v6()).is_loopback();
-  return a.is_loopback();
-}
-
 }  // namespace
 
 Connection::Connection(tcp::socket socket, MethodDispatcher& dispatcher,
@@ -41,7 +35,7 @@ Connection::Connection(tcp::socket socket, MethodDispatcher& dispatcher,
     const std::string address = remote.address().to_string();
     caller_.peer = (remote.address().is_v6() ? "[" + address + "]" : address) + ":" +
                    std::to_string(remote.port());
-    caller_.loopback = isLoopback(remote.address());
+    caller_.address = address;
   }
   caller_.plans = std::make_shared<CancelRegistry>();
   socket_.set_option(tcp::no_delay(true), ec);  // replies are small: do not wait to fill a segment
@@ -204,6 +198,13 @@ Responder Connection::responder(std::function<void(json)> deliver) {
   return [self = shared_from_this(), deliver = std::move(deliver)](json response) {
     deliver(std::move(response));
     --self->outstanding_;
+    if (self->caller_.session->close_after_reply && !self->input_done_) {
+      // A failed auth: nothing more is read; the reply goes out, the rest
+      // of the input is drained for a moment, then the socket closes.
+      self->linger_ = true;
+      self->endInput(/*cancelPlans=*/true);
+      return;
+    }
     self->last_activity_ = std::chrono::steady_clock::now();
     self->closeWhenDone();
     self->armDeadline();

@@ -32,21 +32,28 @@ const CatalogRobot& listedRobot(const Call& call, const PlanningCatalog& catalog
 }  // namespace
 
 MethodDispatcher::MethodDispatcher(const ServerOptions& options,
-                                   std::shared_ptr<const PlanningCatalog> catalog, PostToIo post,
-                                   std::function<void()> onShutdown)
+                                   std::shared_ptr<const PlanningCatalog> catalog,
+                                   std::shared_ptr<const TokenTable> tokens, PostToIo post,
+                                   PostAfter postAfter, std::function<void()> onShutdown)
     : options_(options),
       limits_{options.max_time_limit, workerCount(options.workers)},
       catalog_(std::move(catalog)),
+      tokens_(std::move(tokens)),
       post_(std::move(post)),
+      post_after_(std::move(postAfter)),
       on_shutdown_(std::move(onShutdown)),
       log_(options.log),
       pool_(workerCount(options.workers), options.queue_capacity),
       quality_pool_(1, options.queue_capacity),
-      methods_{
-          {"server.info", &MethodDispatcher::info},   {"objects.list", &MethodDispatcher::objects},
-          {"scenes.list", &MethodDispatcher::scenes}, {"grasp.quality", &MethodDispatcher::quality},
-          {"plan", &MethodDispatcher::plan},          {"cancel", &MethodDispatcher::cancel},
-          {"shutdown", &MethodDispatcher::shutdown},  {"reload", &MethodDispatcher::reload}} {
+      methods_{{"auth", &MethodDispatcher::auth},
+               {"server.info", &MethodDispatcher::info},
+               {"objects.list", &MethodDispatcher::objects},
+               {"scenes.list", &MethodDispatcher::scenes},
+               {"grasp.quality", &MethodDispatcher::quality},
+               {"plan", &MethodDispatcher::plan},
+               {"cancel", &MethodDispatcher::cancel},
+               {"shutdown", &MethodDispatcher::shutdown},
+               {"reload", &MethodDispatcher::reload}} {
   if (!(options.max_time_limit > 0)) throw std::invalid_argument("max time limit must be > 0");
 }
 
@@ -72,6 +79,7 @@ void MethodDispatcher::dispatch(const Call& call, const Caller& caller, Responde
     const auto method = methods_.find(call.method);
     if (method == methods_.end())
       throw RpcError(ErrorCode::kMethodNotFound, "method not found: '" + call.method + "'");
+    checkAccess(call.method, caller);
     if (stopping_ && call.method != "cancel")
       throw RpcError(ErrorCode::kShuttingDown, "the server is shutting down");
     (this->*(method->second))(call, caller, finish);
@@ -104,6 +112,60 @@ bool MethodDispatcher::idle() const {
   return pool_.idle() && quality_pool_.idle() && !reloading_;
 }
 
+void MethodDispatcher::checkAccess(const std::string& method, const Caller& caller) const {
+  const std::optional<Role> required = requiredRole(method);
+  if (!tokens_ || !required) return;
+  const Session& session = *caller.session;
+  const TokenEntry* entry = session.token ? tokens_->find(*session.token) : nullptr;
+  if (entry == nullptr)
+    throw RpcError(ErrorCode::kUnauthorized,
+                   session.token ? "unauthorized: this connection's token is no longer accepted "
+                                   "(the server's token file changed); call auth again"
+                                 : "unauthorized: call auth with a token first (docs/security.md)");
+  if (!allows(entry->role, *required))
+    throw RpcError(ErrorCode::kForbidden, "forbidden: " + method + " needs the " +
+                                              toString(*required) + " role; this connection has " +
+                                              toString(entry->role));
+}
+
+void MethodDispatcher::auth(const Call& call, const Caller& caller, const Finish& finish) {
+  const JsonFields f(call.params, "");
+  f.allowOnly({"token"});
+  const nlohmann::json& token = f.at("token");
+  if (!token.is_string()) f.fail("token", "must be a string");
+  if (!tokens_) {
+    finish({{{"role", toString(Role::kAdmin)}, {"authentication", false}},
+            std::nullopt,
+            "no tokens: every connection may call everything"});
+    return;
+  }
+  const auto now = AuthThrottle::Clock::now();
+  const TokenEntry* entry = nullptr;
+  std::string refusal;
+  if (const auto wait = throttle_.blockedFor(caller.address, now); wait.count() > 0) {
+    const auto seconds = std::chrono::ceil<std::chrono::seconds>(wait).count();
+    refusal = "unauthorized: too many failed authentications from " + caller.address +
+              "; try again in " + std::to_string(seconds) + " s";
+  } else if (entry = tokens_->find(token.get<std::string>()); entry == nullptr) {
+    throttle_.failed(caller.address, now);
+    refusal = "unauthorized: the token is not accepted; closing the connection";
+  }
+  if (entry == nullptr) {
+    // The reply waits, then the connection closes: one guess per
+    // connection and per delay, and few connections per address (throttle).
+    caller.session->token.reset();
+    caller.session->close_after_reply = true;
+    post_after_(kAuthFailureDelay, [finish, refusal] {
+      finish({nlohmann::json(), RpcError(ErrorCode::kUnauthorized, refusal), ""});
+    });
+    return;
+  }
+  caller.session->token = entry->digest;
+  finish({{{"role", toString(entry->role)}, {"authentication", true}},
+          std::nullopt,
+          std::string("role ") + toString(entry->role) + " (" + entry->name + ")"});
+}
+
 void MethodDispatcher::info(const Call& call, const Caller&, const Finish& finish) {
   noParams(call);
   if (info_.is_null()) info_ = staticInfo();
@@ -128,8 +190,9 @@ json MethodDispatcher::staticInfo() const {
           {"version", HFTS_VERSION},
           {"protocol", "JSON-RPC 2.0, one message per line"},
           {"methods",
-           {"server.info", "objects.list", "scenes.list", "plan", "grasp.quality", "cancel",
+           {"auth", "server.info", "objects.list", "scenes.list", "plan", "grasp.quality", "cancel",
             "shutdown", "reload"}},
+          {"authentication", tokens_ != nullptr},
           {"robot", robotJson(catalog_->robot())},
           {"robots", robotsJson(*catalog_)},
           {"objects", catalog_->world().objectNames().size()},
@@ -247,10 +310,8 @@ void MethodDispatcher::cancel(const Call& call, const Caller& caller, const Fini
   finish({{{"id", id}, {"cancelled", found}}, std::nullopt, found ? "cancelled" : "no such plan"});
 }
 
-void MethodDispatcher::shutdown(const Call& call, const Caller& caller, const Finish& finish) {
+void MethodDispatcher::shutdown(const Call& call, const Caller&, const Finish& finish) {
   noParams(call);
-  if (!caller.loopback)
-    throw RpcError(ErrorCode::kForbidden, "shutdown is only accepted from the local machine");
   finish({{{"shutting_down", true}}, std::nullopt, ""});
   post_(on_shutdown_);
 }

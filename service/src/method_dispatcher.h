@@ -16,6 +16,7 @@
 #include "cancel_registry.h"
 #include "json_rpc.h"
 #include "request_log.h"
+#include "service/access_tokens.h"
 #include "service/plan_request_json.h"
 #include "service/planning_catalog.h"
 #include "service/server_options.h"
@@ -23,19 +24,37 @@
 
 namespace hfts::service {
 
+/// What a connection has proven about itself (docs/security.md).
+struct Session {
+  /// The digest of the token it authenticated with; its role is looked up
+  /// again on every call, so a token taken out of the file (SIGHUP) stops
+  /// working at once.
+  std::optional<TokenDigest> token;
+  /// A failed auth: the connection reads nothing more and closes once the
+  /// reply is written.
+  bool close_after_reply = false;
+};
+
 /// The connection a call came from.
 struct Caller {
   std::string peer;                       ///< "address:port", for the log
-  bool loopback = false;                  ///< shutdown is only accepted from loopback peers
+  std::string address;                    ///< the peer's address alone (the auth throttle)
   std::shared_ptr<CancelRegistry> plans;  ///< the connection's cancellable plans
+  std::shared_ptr<Session> session = std::make_shared<Session>();
 };
 
 /// Receives the response of one call (null for a notification). Always
 /// called exactly once, on the I/O thread.
 using Responder = std::function<void(nlohmann::json response)>;
 
-/// Runs a function on the I/O thread (asio::post).
+/// Runs a function on the I/O thread (asio::post), after a delay when
+/// one is given.
 using PostToIo = std::function<void(std::function<void()>)>;
+using PostAfter = std::function<void(std::chrono::milliseconds, std::function<void()>)>;
+
+/// How long the reply to a failed auth is held back: a guesser gets one try
+/// per connection and per this much time.
+inline constexpr std::chrono::milliseconds kAuthFailureDelay{1000};
 
 /// The connections' share of server.info's "load" (the server knows it).
 struct ConnectionLoad {
@@ -46,14 +65,19 @@ struct ConnectionLoad {
 class MethodDispatcher {
  public:
   /// `onShutdown` is called (on the I/O thread) after a `shutdown` call
-  /// has been answered.
+  /// has been answered. `tokens` null: no authentication, every connection
+  /// may call every method (a server bound to loopback, or --insecure).
   MethodDispatcher(const ServerOptions& options, std::shared_ptr<const PlanningCatalog> catalog,
-                   PostToIo post, std::function<void()> onShutdown);
+                   std::shared_ptr<const TokenTable> tokens, PostToIo post, PostAfter postAfter,
+                   std::function<void()> onShutdown);
   ~MethodDispatcher();
   MethodDispatcher(const MethodDispatcher&) = delete;
   MethodDispatcher& operator=(const MethodDispatcher&) = delete;
 
   void dispatch(const Call& call, const Caller& caller, Responder respond);
+  /// The tokens from now on (a SIGHUP re-read the file); a connection whose
+  /// token is no longer there must authenticate again.
+  void setTokens(std::shared_ptr<const TokenTable> tokens) { tokens_ = std::move(tokens); }
   /// Where server.info reads the connection figures of "load".
   void setConnectionLoad(std::function<ConnectionLoad()> load) {
     connection_load_ = std::move(load);
@@ -79,6 +103,9 @@ class MethodDispatcher {
   using Finish = std::function<void(Outcome)>;
   using Handler = void (MethodDispatcher::*)(const Call&, const Caller&, const Finish&);
 
+  /// Throws unless the caller's role may call `method` (with tokens).
+  void checkAccess(const std::string& method, const Caller& caller) const;
+  void auth(const Call& call, const Caller& caller, const Finish& finish);
   void info(const Call& call, const Caller& caller, const Finish& finish);
   void objects(const Call& call, const Caller& caller, const Finish& finish);
   void scenes(const Call& call, const Caller& caller, const Finish& finish);
@@ -100,7 +127,10 @@ class MethodDispatcher {
   ServerOptions options_;
   PlanLimits limits_;
   std::shared_ptr<const PlanningCatalog> catalog_;
+  std::shared_ptr<const TokenTable> tokens_;
+  AuthThrottle throttle_;
   PostToIo post_;
+  PostAfter post_after_;
   std::function<void()> on_shutdown_;
   RequestLog log_;
   WorkerPool pool_;          // plans

@@ -39,6 +39,8 @@ const char* toString(ErrorCode code) {
       return "input_budget_exhausted";
     case ErrorCode::kTimedOut:
       return "timed_out";
+    case ErrorCode::kUnauthorized:
+      return "unauthorized";
   }
   return "unknown";
 }

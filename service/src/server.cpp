@@ -63,6 +63,25 @@ tcp::endpoint endpointOf(const ServerOptions& options) {
   return {address, options.port};
 }
 
+bool isLoopback(const asio::ip::address& a) {
+  if (a.is_v6() && a.to_v6().is_v4_mapped())
+    return asio::ip::make_address_v4(asio::ip::v4_mapped, a.to_v6()).is_loopback();
+  return a.is_loopback();
+}
+
+/// The tokens of options.auth_tokens (null: none). Without tokens the
+/// server listens only on a loopback address, unless options.insecure.
+std::shared_ptr<const TokenTable> tokensOf(const ServerOptions& options) {
+  if (!options.auth_tokens.empty())
+    return std::make_shared<const TokenTable>(TokenTable::load(options.auth_tokens));
+  if (!options.insecure && !isLoopback(endpointOf(options).address()))
+    throw std::invalid_argument(
+        "listening on " + options.bind_address +
+        " without tokens would let anyone who reaches the port plan, reload and shut the "
+        "server down: give --auth-tokens FILE (docs/security.md), or --insecure to do it anyway");
+  return nullptr;
+}
+
 }  // namespace
 
 class Server::Impl {
@@ -71,8 +90,12 @@ class Server::Impl {
       : options_(std::move(options)),
         initial_(catalog),
         dispatcher_(
-            options_, std::move(catalog),
+            options_, std::move(catalog), tokensOf(options_),
             [this](std::function<void()> f) { asio::post(io_, std::move(f)); },
+            [this](std::chrono::milliseconds delay, std::function<void()> f) {
+              auto timer = std::make_shared<asio::steady_timer>(io_, delay);
+              timer->async_wait([timer, f = std::move(f)](const asio::error_code&) { f(); });
+            },
             [this] { beginShutdown("shutdown requested"); }),
         acceptor_(io_),
         signals_(io_),
@@ -90,9 +113,8 @@ class Server::Impl {
     if (options_.handle_signals) {
       signals_.add(SIGINT);
       signals_.add(SIGTERM);
-      signals_.async_wait([this](const asio::error_code& error, int signal) {
-        if (!error) beginShutdown("signal " + std::to_string(signal));
-      });
+      if (!options_.auth_tokens.empty()) signals_.add(SIGHUP);
+      waitForSignal();
     }
   }
 
@@ -248,6 +270,27 @@ class Server::Impl {
     waitForConnections();
   }
 
+  void waitForSignal() {
+    signals_.async_wait([this](const asio::error_code& error, int signal) {
+      if (error) return;
+      if (signal != SIGHUP) return beginShutdown("signal " + std::to_string(signal));
+      rereadTokens();
+      waitForSignal();
+    });
+  }
+
+  /// SIGHUP: the token file again. A file that does not load leaves the
+  /// old tokens in force.
+  void rereadTokens() {
+    try {
+      auto tokens = std::make_shared<const TokenTable>(TokenTable::load(options_.auth_tokens));
+      log_.event("token file re-read: " + std::to_string(tokens->size()) + " tokens");
+      dispatcher_.setTokens(std::move(tokens));
+    } catch (const std::exception& e) {
+      log_.event(std::string("token file not re-read, the old tokens stay in force: ") + e.what());
+    }
+  }
+
   void waitForConnections() {
     prune();
     if (connections_.empty() && dispatcher_.idle()) {
@@ -277,7 +320,10 @@ class Server::Impl {
   bool stopping_ = false;
 };
 
-Server::Server(ServerOptions options) : Server(options, PlanningCatalog::load(options.sources)) {}
+// The access options are checked before the catalog loads (which takes
+// seconds): a bad token file or an unguarded address fails at once.
+Server::Server(ServerOptions options)
+    : Server(options, (tokensOf(options), PlanningCatalog::load(options.sources))) {}
 
 Server::Server(ServerOptions options, std::shared_ptr<const PlanningCatalog> catalog)
     : impl_(std::make_unique<Impl>(std::move(options), std::move(catalog))) {}

@@ -1,8 +1,8 @@
 // hfts-server: the planning service (docs/protocol.md). Loads the robots,
 // their hand maps, the object databases and the scenes, prints
 // "hfts-server listening on ADDRESS:PORT" on standard output and serves
-// until a shutdown call, SIGINT or SIGTERM. One log line per request on
-// standard error.
+// until a shutdown call, SIGINT or SIGTERM (SIGHUP re-reads the token file of
+// --auth-tokens). One log line per request on standard error.
 #include <CLI/CLI.hpp>
 
 #include <iostream>
@@ -63,6 +63,13 @@ int main(int argc, char** argv) {
                  "(0: none)")
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
+  std::string tokens;
+  app.add_option("--auth-tokens", tokens,
+                 "Token file: one 'ROLE TOKEN [NAME]' per line, ROLE plan or admin; not readable "
+                 "by every user; re-read on SIGHUP (docs/security.md)");
+  app.add_flag("--insecure", o.insecure,
+               "Listen on a non-loopback address without --auth-tokens (anyone who reaches the "
+               "port may plan, reload and shut the server down)");
   app.add_flag("--quiet", quiet, "No request log on standard error");
   CLI11_PARSE(app, argc, argv);
 
@@ -79,6 +86,10 @@ int main(int argc, char** argv) {
   o.max_message_bytes = static_cast<std::size_t>(maxMessageMiB * (1 << 20));
   o.max_buffered_bytes = static_cast<std::size_t>(maxBufferedMiB * (1 << 20));
   o.log = quiet ? nullptr : &std::cerr;
+  o.auth_tokens = tokens;
+  if (o.insecure && tokens.empty())
+    std::cerr << "hfts-server: warning: --insecure: no authentication; anyone who reaches "
+              << o.bind_address << ":" << o.port << " may plan, reload and shut the server down\n";
   try {
     hfts::service::Server server(o);
     for (const std::string& why : server.initialCatalog().skipped())

@@ -20,13 +20,15 @@ enum class ErrorCode : int {
   kInternalError = -32603,
   kBusy = -32001,                ///< a queue (plans, grasp.quality) is full; try again later
   kShuttingDown = -32002,        ///< the server is stopping and takes no new work
-  kForbidden = -32003,           ///< e.g. shutdown from a non-loopback peer
+  kForbidden = -32003,           ///< the connection's role may not call the method
   kMessageTooLarge = -32004,     ///< over the size limit; the connection is closed
   kReloadFailed = -32005,        ///< reload could not read the robot, map or scenes
   kTooManyConnections = -32006,  ///< at the connection cap: sent, then the connection is closed
   kInputBudgetExhausted =
       -32007,          ///< the server's input buffers are full; the connection is closed
   kTimedOut = -32008,  ///< a message not finished in time, or a silent connection; closed
+  kUnauthorized =
+      -32009,  ///< no valid token yet (docs/security.md); a failed auth closes the connection
 };
 
 /// Thrown by method handlers; becomes the reply's "error" member.

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <iosfwd>
 #include <string>
 
@@ -25,7 +26,12 @@ struct ServerOptions {
   std::size_t max_buffered_bytes = std::size_t{512} << 20;
   double read_timeout = 30.0;   ///< s to finish a begun message; 0: none
   double idle_timeout = 300.0;  ///< s of silence with no call pending; 0: none
-  bool handle_signals = true;   ///< SIGINT/SIGTERM shut down gracefully
+  bool handle_signals = true;   ///< SIGINT/SIGTERM shut down gracefully; SIGHUP re-reads tokens
+  /// The token file (access_tokens.h; docs/security.md); empty: no
+  /// authentication, allowed only on a loopback address unless `insecure`.
+  std::filesystem::path auth_tokens;
+  /// Listen on a non-loopback address without tokens anyway.
+  bool insecure = false;
   std::ostream* log = nullptr;  ///< one line per request; nullptr: no log
 };
 

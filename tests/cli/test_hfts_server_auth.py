@@ -1,0 +1,207 @@
+#!/usr/bin/env python3
+"""Integration tests of hfts-server's access control (docs/security.md): tokens
+and roles, the failed-auth delay and throttle, SIGHUP, the start-up checks.
+Run by ctest with Debian's /usr/bin/python3; standard library only."""
+
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import tempfile
+import time
+import unittest
+
+from hfts_server_fixture import CONFIG, NO_PHYSICS, RunningServer, run_tests, wait_until
+
+PLAN_TOKEN = "plan-token-6b0d5f2e9c1a4b7d"
+ADMIN_TOKEN = "admin-token-3e8f1c7a2d9b5e40"
+TOKENS = f"# test tokens\nplan {PLAN_TOKEN} alice\nadmin {ADMIN_TOKEN} operator\n"
+UNAUTHORIZED, FORBIDDEN = -32009, -32003
+QUICK_PLAN = {"scene": "table", "seed": 1, "time_limit": 5, "parameters": NO_PHYSICS}
+
+
+def write_tokens(path, text, mode=0o600):
+    with open(path, "w") as f:
+        f.write(text)
+    os.chmod(path, mode)
+
+
+class WithTokens(unittest.TestCase):
+    """A server with a plan and an admin token (a new one per test: some stop it)."""
+
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="hfts-auth-")
+        self.tokens = os.path.join(self.tmp, "tokens")
+        write_tokens(self.tokens, TOKENS)
+        self.server = RunningServer(os.path.join(self.tmp, "server.log"), "--workers", "1",
+                                    "--auth-tokens", self.tokens)
+
+    def tearDown(self):
+        self.server.stop()
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def authenticated(self, token):
+        c = self.server.connect()
+        response = c.call("auth", {"token": token}, request_id="auth")
+        self.assertIn("result", response, response)
+        return c
+
+    def assertRefused(self, response, code, contains, request_id=1):
+        self.assertEqual(response["id"], request_id, response)
+        self.assertEqual(response["error"]["code"], code, response)
+        self.assertIn(contains, response["error"]["message"])
+
+    def test_every_method_without_a_token_is_refused_and_has_no_effect(self):
+        with self.server.connect() as c:
+            for method, params in (("server.info", None), ("objects.list", None),
+                                   ("scenes.list", None), ("plan", QUICK_PLAN),
+                                   ("grasp.quality", {"contacts": []}), ("cancel", {"id": 1}),
+                                   ("reload", None), ("shutdown", None)):
+                self.assertRefused(c.call(method, params), UNAUTHORIZED, "call auth with a token")
+            self.assertIsNone(self.server.process.poll())  # still running
+        log = self.server.log_text().splitlines()
+        self.assertEqual(sum("error -32009" in line for line in log), 8)
+        self.assertFalse([line for line in log if " reload " in line and " ok" in line])
+        with self.authenticated(ADMIN_TOKEN) as c:
+            load = c.call("server.info")["result"]["load"]
+        self.assertEqual((load["running"], load["queued"]), (0, 0))
+        self.assertNotIn("shutting down", self.server.log_text())
+
+    def test_a_plan_token_plans_but_cannot_reload_or_shut_down(self):
+        with self.authenticated(PLAN_TOKEN) as c:
+            info = c.call("server.info")["result"]
+            self.assertTrue(info["authentication"])
+            self.assertTrue(c.call("plan", QUICK_PLAN)["result"]["success"])
+            self.assertRefused(c.call("reload"), FORBIDDEN, "reload needs the admin role")
+            self.assertRefused(c.call("shutdown"), FORBIDDEN, "shutdown needs the admin role")
+        self.assertIsNone(self.server.process.poll())
+        self.assertIn("auth", self.server.log_text())
+        self.assertIn("ok role plan (alice)", self.server.log_text())
+        self.assertNotIn(PLAN_TOKEN, self.server.log_text())  # the log never shows a token
+
+    def test_an_admin_token_reloads_and_shuts_down(self):
+        with self.authenticated(ADMIN_TOKEN) as c:
+            self.assertIn("objects", c.call("reload")["result"])
+            self.assertEqual(c.call("shutdown")["result"], {"shutting_down": True})
+        self.assertEqual(self.server.process.wait(timeout=30), 0)
+
+    def test_a_wrong_token_is_answered_late_and_the_connection_closed(self):
+        with self.server.connect() as c:
+            began = time.monotonic()
+            response = c.call("auth", {"token": "not-a-token-of-this-server"}, request_id="a")
+            waited = time.monotonic() - began
+            self.assertRefused(response, UNAUTHORIZED, "not accepted", request_id="a")
+            self.assertGreaterEqual(waited, 0.9)
+            self.assertIsNone(c.read())  # closed
+        self.assertIn("error -32009", self.server.log_text())
+
+    def test_repeated_failures_from_one_address_are_throttled(self):
+        for _ in range(5):
+            with self.server.connect() as c:
+                c.call("auth", {"token": "guess-guess-guess-guess"})
+        # Now even the right token is refused from this address, unchecked.
+        with self.server.connect() as c:
+            self.assertRefused(c.call("auth", {"token": ADMIN_TOKEN}), UNAUTHORIZED,
+                               "too many failed authentications from 127.0.0.1")
+        self.assertIsNone(self.server.process.poll())
+
+    def test_sighup_rereads_the_tokens_and_a_removed_token_stops_working(self):
+        plan = self.authenticated(PLAN_TOKEN)
+        new_token = "rotated-token-9f3b2a6c4d1e"
+        write_tokens(self.tokens, f"admin {ADMIN_TOKEN}\nplan {new_token} bob\n")
+        self.server.process.send_signal(signal.SIGHUP)
+        self.assertTrue(wait_until(lambda: "token file re-read: 2 tokens" in
+                                   self.server.log_text()))
+        self.assertRefused(plan.call("server.info"), UNAUTHORIZED, "no longer accepted")
+        plan.close()
+        with self.authenticated(new_token) as c:
+            self.assertIn("result", c.call("scenes.list"))
+        # A broken file leaves the tokens in force.
+        write_tokens(self.tokens, "superuser x\n")
+        self.server.process.send_signal(signal.SIGHUP)
+        self.assertTrue(wait_until(lambda: "the old tokens stay in force" in
+                                   self.server.log_text()))
+        with self.authenticated(new_token) as c:
+            self.assertIn("result", c.call("scenes.list"))
+
+
+class WithoutTokens(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="hfts-auth-")
+
+    def tearDown(self):
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def start(self, *args):
+        return subprocess.run(
+            [CONFIG.server, "--db", CONFIG.db_dir, "--port", "0",
+             "--robot", os.path.join(CONFIG.source_dir, "robots", "kr5_sdh", "kr5_sdh.json"),
+             "--scenes", os.path.join(CONFIG.source_dir, "objects", "scenes"), *args],
+            capture_output=True, text=True, timeout=60)
+
+    def test_auth_succeeds_and_says_there_is_no_authentication(self):
+        server = RunningServer(os.path.join(self.tmp, "log"), "--workers", "1")
+        try:
+            response = server.call("auth", {"token": "anything-at-all-here"})
+            self.assertEqual(response["result"], {"role": "admin", "authentication": False})
+        finally:
+            self.assertEqual(server.stop(), 0)
+
+    def test_a_non_loopback_address_needs_tokens_or_insecure(self):
+        result = self.start("--bind", "0.0.0.0")
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("without tokens", result.stderr)
+        self.assertIn("--auth-tokens FILE", result.stderr)
+        server = RunningServer(os.path.join(self.tmp, "log"), "--bind", "0.0.0.0", "--insecure",
+                               "--workers", "1")
+        try:
+            self.assertIn("warning: --insecure", server.log_text())
+        finally:
+            self.assertEqual(server.stop(), 0)
+
+    def test_a_token_file_every_user_may_read_is_refused(self):
+        tokens = os.path.join(self.tmp, "tokens")
+        write_tokens(tokens, TOKENS, mode=0o644)
+        result = self.start("--auth-tokens", tokens)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("chmod 600", result.stderr)
+        write_tokens(tokens, "plan short\n")
+        result = self.start("--auth-tokens", tokens)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("line 1: a token must have 16 to 1024 characters", result.stderr)
+
+    def test_a_plan_token_from_another_machine_cannot_shut_down(self):
+        address = non_loopback_address()
+        if address is None:
+            self.skipTest("no non-loopback address to connect from")
+        tokens = os.path.join(self.tmp, "tokens")
+        write_tokens(tokens, TOKENS)
+        server = RunningServer(os.path.join(self.tmp, "log"), "--bind", "0.0.0.0",
+                               "--auth-tokens", tokens, "--workers", "1")
+        try:
+            with socket.create_connection((address, server.port), timeout=30) as s:
+                reader = s.makefile("rb")
+                for message in (b'{"jsonrpc":"2.0","id":1,"method":"auth",'
+                                b'"params":{"token":"' + PLAN_TOKEN.encode() + b'"}}\n',
+                                b'{"jsonrpc":"2.0","id":2,"method":"shutdown"}\n'):
+                    s.sendall(message)
+                    response = reader.readline()
+                self.assertIn(b'"code":-32003', response)
+            self.assertIsNone(server.process.poll())
+        finally:
+            self.assertEqual(server.stop(), 0)
+
+
+def non_loopback_address():
+    try:
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+            s.connect(("192.0.2.1", 9))  # no packet is sent: this only picks a route
+            address = s.getsockname()[0]
+        return None if address.startswith("127.") else address
+    except OSError:
+        return None
+
+
+if __name__ == "__main__":
+    run_tests()
