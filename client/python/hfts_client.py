@@ -20,7 +20,10 @@ reach another instance behind a balancer), nor are send()/receive().
         if plan["success"]:
             print(plan["grasp"]["epsilon"], len(plan["path"]), plan["joint_names"])
 
-As a program: hfts_client.py [--host H] [--port P] info|objects|scenes|shutdown
+A server started with --auth-tokens wants a token (docs/security.md):
+HftsClient(..., token=...) sends it with `auth` on every connection it makes.
+
+As a program: hfts_client.py [--host H] [--port P] [--token-file F] info|objects|scenes|shutdown
 or hfts_client.py plan SCENE [--object NAME] [--time-limit S] [--seed N];
 it prints the JSON result.
 """
@@ -28,6 +31,7 @@ it prints the JSON result.
 import argparse
 import itertools
 import json
+import os
 import socket
 import sys
 import time
@@ -49,11 +53,14 @@ NOT_REPEATED = {"cancel", "shutdown"}
 
 
 class HftsClient:
-    def __init__(self, host="127.0.0.1", port=DEFAULT_PORT, timeout=None, retries=2, backoff=0.2):
+    def __init__(self, host="127.0.0.1", port=DEFAULT_PORT, timeout=None, retries=2, backoff=0.2,
+                 token=None):
         """retries: further attempts when the connection fails before an answer
-        (0: none); backoff: seconds before the first, doubling up to 2 s."""
+        (0: none); backoff: seconds before the first, doubling up to 2 s;
+        token: sent with `auth` on every connection (a server with tokens)."""
         if retries < 0 or backoff < 0:
             raise ValueError("retries and backoff must be >= 0")
+        self._token = token
         self._address = (host, port)
         self._timeout = timeout
         self._retries = retries
@@ -68,6 +75,11 @@ class HftsClient:
         self._socket.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         self._reader = self._socket.makefile("rb")
         self._waiting = {}  # responses that arrived for other ids
+        if self._token:
+            message = {"jsonrpc": "2.0", "id": "auth", "method": "auth",
+                       "params": {"token": self._token}}
+            self._socket.sendall(json.dumps(message).encode() + b"\n")
+            self.receive("auth")
 
     def _with_retries(self, allowed, attempt):
         """Runs attempt() until it does not lose the connection, at most 1 + retries times."""
@@ -222,10 +234,23 @@ def goals_of(parser, joints, poses):
     return goals or None
 
 
+def token_from(token_file):
+    """The first line of token_file when given, else $HFTS_TOKEN, else None."""
+    if token_file is None:
+        return os.environ.get("HFTS_TOKEN", "").strip() or None
+    with open(token_file, encoding="utf-8") as f:
+        token = f.readline().strip()
+    if not token:
+        raise ValueError(f"{token_file} holds no token on its first line")
+    return token
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description="hfts-server client (prints JSON results)")
     parser.add_argument("--host", default="127.0.0.1")
     parser.add_argument("--port", type=int, default=DEFAULT_PORT)
+    parser.add_argument("--token-file", metavar="FILE",
+                        help="the token for a server with --auth-tokens (default: $HFTS_TOKEN)")
     parser.add_argument("--retries", type=int, default=2,
                         help="attempts again when the connection fails before the answer")
     parser.add_argument("command", choices=["info", "objects", "scenes", "plan", "shutdown"])
@@ -242,7 +267,8 @@ def main(argv=None):
                         help="plan: a motion putting the palm at this world pose, repeatable")
     args = parser.parse_args(argv)
     try:
-        with HftsClient(args.host, args.port, retries=args.retries) as client:
+        token = token_from(args.token_file)
+        with HftsClient(args.host, args.port, retries=args.retries, token=token) as client:
             if args.command == "plan":
                 if not args.scene:
                     parser.error("plan needs a scene")
@@ -254,7 +280,7 @@ def main(argv=None):
                 result = getattr(client, args.command)(args.robot)
             else:
                 result = getattr(client, args.command)()
-    except (RpcError, OSError) as e:
+    except (RpcError, OSError, ValueError) as e:
         print(f"hfts_client: {e}", file=sys.stderr)
         return 1
     print(json.dumps(result, indent=2))

@@ -8,7 +8,10 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <cstdlib>
+#include <fstream>
 #include <istream>
 #include <thread>
 
@@ -32,10 +35,35 @@ bool repeatable(const std::string& method) {
 
 }  // namespace
 
+std::string tokenFrom(const std::string& tokenFile) {
+  const auto trimmed = [](std::string text) {
+    const auto space = [](unsigned char c) { return std::isspace(c) != 0; };
+    text.erase(text.begin(), std::find_if_not(text.begin(), text.end(), space));
+    text.erase(std::find_if_not(text.rbegin(), text.rend(), space).base(), text.end());
+    return text;
+  };
+  if (tokenFile.empty()) {
+    const char* fromEnvironment = std::getenv("HFTS_TOKEN");
+    return fromEnvironment != nullptr ? trimmed(fromEnvironment) : std::string();
+  }
+  std::ifstream in(tokenFile);
+  std::string line;
+  if (!in || !std::getline(in, line))
+    throw std::runtime_error("cannot read a token from '" + tokenFile + "'");
+  std::string token = trimmed(line);
+  if (token.empty())
+    throw std::runtime_error("'" + tokenFile + "' holds no token on its first line");
+  return token;
+}
+
 class RpcClient::Impl {
  public:
-  Impl(std::string host, std::uint16_t port, RetryPolicy retry)
-      : host_(std::move(host)), port_(port), retry_(std::move(retry)), socket_(io_) {
+  Impl(std::string host, std::uint16_t port, RetryPolicy retry, Access access)
+      : host_(std::move(host)),
+        port_(port),
+        retry_(std::move(retry)),
+        access_(std::move(access)),
+        socket_(io_) {
     if (retry_.retries < 0) throw std::invalid_argument("retries must be >= 0");
     if (!(retry_.backoff >= 0.0)) throw std::invalid_argument("backoff must be >= 0 s");
     withRetries(true, [this] { connect(); });
@@ -84,6 +112,7 @@ class RpcClient::Impl {
     if (!ec) asio::connect(socket_, endpoints, ec);
     if (ec) throw LostConnection("cannot connect to " + where + ": " + ec.message());
     socket_.set_option(tcp::no_delay(true), ec);
+    if (!access_.token.empty()) send("auth", {{"token", access_.token}});
   }
 
   json send(const std::string& method, const json& params) {
@@ -139,14 +168,15 @@ class RpcClient::Impl {
   std::string host_;
   std::uint16_t port_;
   RetryPolicy retry_;
+  Access access_;
   asio::io_context io_;
   tcp::socket socket_;
   asio::streambuf buffer_;
   std::uint64_t last_id_ = 0;
 };
 
-RpcClient::RpcClient(const std::string& host, std::uint16_t port, RetryPolicy retry)
-    : impl_(std::make_unique<Impl>(host, port, std::move(retry))) {}
+RpcClient::RpcClient(const std::string& host, std::uint16_t port, RetryPolicy retry, Access access)
+    : impl_(std::make_unique<Impl>(host, port, std::move(retry), std::move(access))) {}
 RpcClient::~RpcClient() = default;
 
 json RpcClient::call(const std::string& method, const json& params) {

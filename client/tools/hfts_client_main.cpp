@@ -4,7 +4,8 @@
 // or the raw result with --json; --out FILE saves the result (JSON), plan
 // --trajectory-csv / --gltf FILE its trajectory and animation; --retries N
 // connects and sends again when the connection fails before the answer (a
-// balancer's instance died). Exit codes: 0 done, 1 the server or the
+// balancer's instance died); --token-file FILE (or HFTS_TOKEN) authenticates
+// to a server with tokens. Exit codes: 0 done, 1 the server or the
 // connection failed (message on standard error), 3 the plan found no
 // solution.
 #include <CLI/CLI.hpp>
@@ -31,6 +32,7 @@ struct Options {
   bool json = false;
   std::string out;
   int retries = 2;
+  std::string token_file;
 };
 
 struct PlanOptions {
@@ -252,6 +254,10 @@ int main(int argc, char** argv) {
                  "answer (not for shutdown)")
       ->check(CLI::Range(0, 100))
       ->capture_default_str();
+  app.add_option("--token-file", o.token_file,
+                 "The token for a server with --auth-tokens: the file's first line (default: "
+                 "the environment variable HFTS_TOKEN, if set)")
+      ->type_name("FILE");
   app.add_subcommand("info", "Server version, robots, limits and load");
   std::string listedRobot;
   addRobotOption(*app.add_subcommand("objects", "The object databases and their graspability"),
@@ -265,7 +271,7 @@ int main(int argc, char** argv) {
       ->required();
   qualityCmd->add_option("--object", quality.object,
                          "Contacts are in this object's frame: centre and rho from its database");
-  app.add_subcommand("shutdown", "Stop the server (from the same machine only)");
+  app.add_subcommand("shutdown", "Stop the server (an admin token, when it has tokens)");
   ViewOptions view;
   CLI::App* viewCmd =
       app.add_subcommand("view", "Write a plan as one HTML page with the 3-D viewer (no server)");
@@ -310,7 +316,7 @@ int main(int argc, char** argv) {
       std::cerr << "hfts-client: " << why << "; trying again (attempt " << attempt << " of "
                 << o.retries + 1 << ")\n";
     };
-    hfts::client::RpcClient client(o.host, o.port, retry);
+    hfts::client::RpcClient client(o.host, o.port, retry, {hfts::client::tokenFrom(o.token_file)});
     const json result = client.call(method, params);
     const int status = output(o, method, result);
     if (command == "plan" && !plan.trajectory_csv.empty() && status == 0) {

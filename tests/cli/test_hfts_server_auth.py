@@ -8,11 +8,16 @@ import shutil
 import signal
 import socket
 import subprocess
+import sys
 import tempfile
 import time
 import unittest
 
 from hfts_server_fixture import CONFIG, NO_PHYSICS, RunningServer, run_tests, wait_until
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "client",
+                                "python"))
+import hfts_client  # noqa: E402  (client/python)
 
 PLAN_TOKEN = "plan-token-6b0d5f2e9c1a4b7d"
 ADMIN_TOKEN = "admin-token-3e8f1c7a2d9b5e40"
@@ -124,6 +129,40 @@ class WithTokens(unittest.TestCase):
                                    self.server.log_text()))
         with self.authenticated(new_token) as c:
             self.assertIn("result", c.call("scenes.list"))
+
+
+    def client(self, *args, env=None):
+        return subprocess.run([CONFIG.client, "--port", str(self.server.port), *args],
+                              capture_output=True, text=True, timeout=60,
+                              env=dict(os.environ, **(env or {})))
+
+    def test_hfts_client_sends_the_token_of_its_file_or_environment(self):
+        plan_file = os.path.join(self.tmp, "plan.token")
+        write_tokens(plan_file, PLAN_TOKEN + "\n")
+        result = self.client("--token-file", plan_file, "--json", "info")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn('"authentication": true', result.stdout)
+        result = self.client("--token-file", plan_file, "shutdown")
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("shutdown needs the admin role", result.stderr)
+        result = self.client("info")  # no token at all
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("call auth with a token first", result.stderr)
+        result = self.client("shutdown", env={"HFTS_TOKEN": ADMIN_TOKEN})
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertEqual(self.server.process.wait(timeout=30), 0)
+
+    def test_the_python_client_authenticates_and_reports_a_refusal(self):
+        with hfts_client.HftsClient(self.server.host, self.server.port, timeout=60,
+                                    token=PLAN_TOKEN) as client:
+            self.assertTrue(client.info()["authentication"])
+            with self.assertRaises(hfts_client.RpcError) as caught:
+                client.reload()
+            self.assertEqual(caught.exception.code, FORBIDDEN)
+        with self.assertRaises(hfts_client.RpcError) as caught:
+            hfts_client.HftsClient(self.server.host, self.server.port, timeout=60,
+                                   token="not-a-token-of-this-server")
+        self.assertEqual(caught.exception.code, UNAUTHORIZED)
 
 
 class WithoutTokens(unittest.TestCase):

@@ -48,11 +48,27 @@ struct RetryPolicy {
   std::function<void(const std::string& why, int attempt)> on_retry;
 };
 
+/// How the client proves who it is to a server with tokens
+/// (docs/security.md).
+struct Access {
+  /// Sent with `auth` as the first call on every connection (again after a
+  /// reconnection); empty: none (a server without tokens).
+  std::string token;
+};
+
+/// The token for a client from `tokenFile` (its first line, without
+/// surrounding spaces) when given, else from the environment variable
+/// HFTS_TOKEN, else empty. Throws std::runtime_error naming a file that
+/// cannot be read or holds no token.
+std::string tokenFrom(const std::string& tokenFile);
+
 class RpcClient {
  public:
-  /// Connects (with the policy's retries); throws ConnectionError naming
-  /// host and port.
-  RpcClient(const std::string& host, std::uint16_t port, RetryPolicy retry = {});
+  /// Connects (with the policy's retries) and authenticates when `access`
+  /// has a token; throws ConnectionError naming host and port, and
+  /// RpcCallError (-32009) for a token the server does not accept.
+  RpcClient(const std::string& host, std::uint16_t port, RetryPolicy retry = {},
+            Access access = {});
   ~RpcClient();
   RpcClient(const RpcClient&) = delete;
   RpcClient& operator=(const RpcClient&) = delete;
