@@ -207,6 +207,7 @@ json MethodDispatcher::staticInfo() const {
             {"read_timeout", options_.read_timeout},
             {"idle_timeout", options_.idle_timeout},
             {"queue_capacity", pool_.capacity()},
+            {"max_plans_per_client", options_.max_plans_per_client},
             {"max_batch_calls", kMaxBatchCalls},
             {"max_nesting_depth", kMaxNestingDepth}}}};
 }
@@ -251,15 +252,30 @@ MethodDispatcher::Outcome MethodDispatcher::runQuality(const PlanningCatalog& ca
   }
 }
 
+std::string MethodDispatcher::clientOf(const Caller& caller) {
+  const Session& session = *caller.session;
+  if (session.token) return "token " + std::string(session.token->begin(), session.token->end());
+  return "connection " + caller.peer;
+}
+
 void MethodDispatcher::plan(const Call& call, const Caller& caller, const Finish& finish) {
   auto request = std::make_shared<const planner::PlanRequest>(
       planRequestFromJson(call.params, *catalog_, limits_));
+  const std::string client = clientOf(caller);
+  const std::size_t cap = options_.max_plans_per_client;
+  if (const auto held = plans_of_client_.find(client);
+      cap > 0 && held != plans_of_client_.end() && held->second >= cap)
+    throw RpcError(ErrorCode::kBusy,
+                   "busy: this client already has " + std::to_string(cap) +
+                       " plans queued or running (the server's --max-plans-per-client); wait "
+                       "for one to finish");
   const planner::PlanningWorld* world = requestedRobot(call.params, *catalog_).world.get();
   const bool gltf = planWantsGltf(call.params);
   auto flag = std::make_shared<std::atomic<bool>>(false);
   const std::string key = call.id.dump();
-  Finish done = [plans = caller.plans, key, flag, finish](Outcome o) {
+  Finish done = [this, plans = caller.plans, key, flag, finish, client](Outcome o) {
     plans->remove(key, flag);
+    if (--plans_of_client_[client] == 0) plans_of_client_.erase(client);
     finish(std::move(o));
   };
   // The catalog keeps the world alive while the plan runs.
@@ -267,10 +283,11 @@ void MethodDispatcher::plan(const Call& call, const Caller& caller, const Finish
     auto outcome = std::make_shared<Outcome>(runPlan(*world, *request, *flag, gltf));
     post([done, outcome] { done(std::move(*outcome)); });
   };
-  if (!pool_.trySubmit(flag, std::move(job)))
+  if (!pool_.trySubmit(flag, std::move(job), client))
     throw RpcError(ErrorCode::kBusy,
                    "busy: " + std::to_string(pool_.threads()) + " workers are planning and " +
                        std::to_string(pool_.capacity()) + " plans are waiting; try again later");
+  ++plans_of_client_[client];
   caller.plans->add(key, flag);
 }
 

@@ -103,6 +103,9 @@ class MethodDispatcher {
   using Finish = std::function<void(Outcome)>;
   using Handler = void (MethodDispatcher::*)(const Call&, const Caller&, const Finish&);
 
+  /// Who a plan counts for (max_plans_per_client, the pool's fair share):
+  /// the connection's token, or the connection on a server without tokens.
+  static std::string clientOf(const Caller& caller);
   /// Throws unless the caller's role may call `method` (with tokens).
   void checkAccess(const std::string& method, const Caller& caller) const;
   void auth(const Call& call, const Caller& caller, const Finish& finish);
@@ -136,6 +139,7 @@ class MethodDispatcher {
   WorkerPool pool_;          // plans
   WorkerPool quality_pool_;  // grasp.quality: one thread, queue as long as the plans'
   std::map<std::string, Handler> methods_;
+  std::map<std::string, std::size_t> plans_of_client_;  // queued or running, by clientOf
   bool stopping_ = false;
   bool reloading_ = false;
   std::thread reload_thread_;

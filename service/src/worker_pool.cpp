@@ -19,11 +19,12 @@ WorkerPool::~WorkerPool() {
   for (std::thread& t : threads_) t.join();
 }
 
-bool WorkerPool::trySubmit(CancelFlag cancel, std::function<void()> job) {
+bool WorkerPool::trySubmit(CancelFlag cancel, std::function<void()> job, std::string client) {
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     if (queue_.size() >= capacity_) return false;
-    queue_.push_back({std::move(cancel), std::move(job)});
+    ++clients_[client].queued;
+    queue_.push_back({std::move(cancel), std::move(job), std::move(client)});
   }
   wake_.notify_one();
   return true;
@@ -50,19 +51,37 @@ bool WorkerPool::idle() const {
   return queue_.empty() && running_.empty();
 }
 
+std::deque<WorkerPool::Job>::iterator WorkerPool::next() {
+  auto best = queue_.begin();
+  const auto rank = [this](const Job& job) {
+    const Client& c = clients_.at(job.client);
+    return std::make_pair(c.running, c.last_start);
+  };
+  for (auto job = queue_.begin() + 1; job != queue_.end(); ++job)
+    if (rank(*job) < rank(*best)) best = job;
+  return best;
+}
+
 void WorkerPool::work() {
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
     wake_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
     if (queue_.empty()) return;  // stopping, and nothing left to run
-    Job job = std::move(queue_.front());
-    queue_.pop_front();
+    const auto chosen = next();
+    Job job = std::move(*chosen);
+    queue_.erase(chosen);
+    Client& client = clients_.at(job.client);
+    --client.queued;
+    ++client.running;
+    client.last_start = ++starts_;
     running_.push_back(job.cancel);
     lock.unlock();
     job.run();
     job.run = nullptr;  // release what the job holds before it counts as done
     lock.lock();
     running_.erase(std::find(running_.begin(), running_.end(), job.cancel));
+    const auto done = clients_.find(job.client);
+    if (--done->second.running == 0 && done->second.queued == 0) clients_.erase(done);
   }
 }
 

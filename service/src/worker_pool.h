@@ -4,10 +4,13 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
+#include <cstdint>
 #include <deque>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -16,9 +19,12 @@ namespace hfts::service {
 /// Raised to stop a job (planGrasp polls it).
 using CancelFlag = std::shared_ptr<std::atomic<bool>>;
 
-/// `threads` workers take jobs in order from a queue of at most
-/// `queueCapacity` waiting jobs. Every job carries a cancel flag, so that
-/// cancelAll() can stop the queued and running ones (graceful shutdown).
+/// `threads` workers take jobs from a queue of at most `queueCapacity`
+/// waiting jobs. Every job carries a cancel flag, so that cancelAll() can
+/// stop the queued and running ones (graceful shutdown), and the client it
+/// is for: a free worker takes the first queued job of the client with the
+/// fewest jobs running, of those the one whose last job started longest
+/// ago (a client whose jobs wait behind another client's many goes next).
 /// Thread-safe.
 class WorkerPool {
  public:
@@ -29,9 +35,9 @@ class WorkerPool {
   WorkerPool(const WorkerPool&) = delete;
   WorkerPool& operator=(const WorkerPool&) = delete;
 
-  /// Queues `job`; false (and nothing queued) when the queue is full. A
-  /// job must not throw.
-  bool trySubmit(CancelFlag cancel, std::function<void()> job);
+  /// Queues `job` for `client`; false (and nothing queued) when the queue
+  /// is full. A job must not throw.
+  bool trySubmit(CancelFlag cancel, std::function<void()> job, std::string client = {});
   /// Raises the flag of every queued and running job.
   void cancelAll();
 
@@ -46,14 +52,24 @@ class WorkerPool {
   struct Job {
     CancelFlag cancel;
     std::function<void()> run;
+    std::string client;
+  };
+  /// What the pool knows of a client with jobs queued or running.
+  struct Client {
+    std::size_t queued = 0, running = 0;
+    std::uint64_t last_start = 0;  // 0: none started yet
   };
   void work();
+  /// The queued job a free worker takes next (queue_ not empty).
+  std::deque<Job>::iterator next();
 
   const std::size_t capacity_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<Job> queue_;
   std::vector<CancelFlag> running_;
+  std::map<std::string, Client> clients_;
+  std::uint64_t starts_ = 0;
   bool stopping_ = false;
   std::vector<std::thread> threads_;
 };

@@ -39,6 +39,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--queue", o.queue_capacity, "Plans that may wait for a worker")
       ->capture_default_str();
+  app.add_option("--max-plans-per-client", o.max_plans_per_client,
+                 "Plans one client (a token; without tokens a connection) may have queued or "
+                 "running at once; 0: no cap")
+      ->capture_default_str();
   app.add_option("--max-time-limit", o.max_time_limit, "Largest plan time_limit (s)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

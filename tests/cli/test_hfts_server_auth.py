@@ -13,7 +13,8 @@ import tempfile
 import time
 import unittest
 
-from hfts_server_fixture import CONFIG, NO_PHYSICS, RunningServer, run_tests, wait_until
+from hfts_server_fixture import (CONFIG, ENDLESS, NO_PHYSICS, TABLE, RunningServer, run_tests,
+                                 wait_until)
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "client",
                                 "python"))
@@ -163,6 +164,59 @@ class WithTokens(unittest.TestCase):
             hfts_client.HftsClient(self.server.host, self.server.port, timeout=60,
                                    token="not-a-token-of-this-server")
         self.assertEqual(caught.exception.code, UNAUTHORIZED)
+
+
+class FairShare(unittest.TestCase):
+    """Two workers; a client (a token) may have 3 plans queued or running."""
+
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="hfts-fair-")
+        tokens = os.path.join(self.tmp, "tokens")
+        write_tokens(tokens, TOKENS)
+        self.server = RunningServer(os.path.join(self.tmp, "server.log"), "--workers", "2",
+                                    "--auth-tokens", tokens, "--max-plans-per-client", "3")
+
+    def tearDown(self):
+        self.assertEqual(self.server.stop(), 0)
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def connect(self, token):
+        c = self.server.connect()
+        self.assertIn("result", c.call("auth", {"token": token}, request_id="auth"))
+        return c
+
+    def test_a_flooding_client_leaves_room_for_another(self):
+        def slow(seconds):  # a plan that runs its whole time limit
+            return dict(ENDLESS, time_limit=seconds, parameters=NO_PHYSICS)
+        flood = [self.connect(PLAN_TOKEN), self.connect(PLAN_TOKEN)]  # one client, two links
+        try:
+            # f0 frees a worker after 2 s, f1 holds the other for 12 s, f2 waits.
+            for i, seconds in enumerate((2, 12, 6)):
+                flood[0].request("plan", slow(seconds), request_id=f"f{i}")
+            with self.connect(ADMIN_TOKEN) as watch:
+                def load():
+                    return watch.call("server.info")["result"]["load"]
+                self.assertTrue(wait_until(lambda: (load()["running"], load()["queued"]) == (2, 1)))
+            # The same token on another connection is the same client: over its cap.
+            busy = flood[1].call("plan", slow(2), request_id="f3")
+            self.assertEqual(busy["error"]["code"], -32001, busy)
+            self.assertIn("this client already has 3 plans", busy["error"]["message"])
+            with self.connect(ADMIN_TOKEN) as other:
+                began = time.monotonic()
+                other.request("plan", dict(TABLE, time_limit=20), request_id="other")
+                answer = other.read()
+                waited = time.monotonic() - began
+            self.assertTrue(answer["result"]["success"], answer)
+            # The first free worker (after 2 s) took it before the flood's f2,
+            # which came first: in arrival order it would have waited 2 + 6 s.
+            self.assertLess(waited, 7)
+            replies = [flood[0].read()["id"] for _ in range(3)]
+            self.assertEqual(sorted(replies), ["f0", "f1", "f2"])
+            log = self.server.log_text()
+            self.assertLess(log.index("id=\"other\" plan"), log.index("id=\"f2\" plan"))
+        finally:
+            for c in flood:
+                c.close()
 
 
 class WithoutTokens(unittest.TestCase):

@@ -4,6 +4,9 @@
 
 #include <chrono>
 #include <future>
+#include <mutex>
+#include <string>
+#include <vector>
 
 namespace hfts::service {
 namespace {
@@ -29,6 +32,32 @@ TEST(WorkerPool, RunsEveryJob) {
     for (int i = 0; i < 50; ++i) EXPECT_TRUE(pool.trySubmit(flag(), [&done] { ++done; }));
   }  // the destructor runs what is still queued
   EXPECT_EQ(done.load(), 50);
+}
+
+TEST(WorkerPool, AClientWaitingBehindAnothersJobsGoesNext) {
+  WorkerPool pool(1, 10);
+  const CancelFlag blocker = flag();
+  std::promise<void> started;
+  ASSERT_TRUE(pool.trySubmit(blocker, waitForCancel(blocker, &started), "flood"));
+  started.get_future().wait();
+  std::mutex mutex;
+  std::vector<std::string> order;
+  const auto record = [&](std::string name) {
+    return [&, name] {
+      const std::lock_guard<std::mutex> lock(mutex);
+      order.push_back(name);
+    };
+  };
+  for (const char* name : {"flood 1", "flood 2", "flood 3"})
+    ASSERT_TRUE(pool.trySubmit(flag(), record(name), "flood"));
+  ASSERT_TRUE(pool.trySubmit(flag(), record("other 1"), "other"));
+  ASSERT_TRUE(pool.trySubmit(flag(), record("other 2"), "other"));
+  blocker->store(true);
+  while (!pool.idle()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  // "flood" started last (its blocker), so "other" goes first; then they
+  // take turns, each client's jobs in the order they came.
+  EXPECT_EQ(order,
+            (std::vector<std::string>{"other 1", "flood 1", "other 2", "flood 2", "flood 3"}));
 }
 
 TEST(WorkerPool, RefusesJobsBeyondTheQueueCapacity) {

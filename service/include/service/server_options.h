@@ -13,11 +13,14 @@
 namespace hfts::service {
 
 struct ServerOptions {
-  CatalogSources sources;                     ///< robot, databases, scenes (reload re-reads them)
-  std::string bind_address = "127.0.0.1";     ///< IPv4 or IPv6 address to listen on
-  std::uint16_t port = 0;                     ///< 0: an ephemeral port (see Server::port())
-  int workers = 0;                            ///< planning threads; 0: one per hardware thread
-  std::size_t queue_capacity = 64;            ///< plans waiting for a worker; more are "busy"
+  CatalogSources sources;                  ///< robot, databases, scenes (reload re-reads them)
+  std::string bind_address = "127.0.0.1";  ///< IPv4 or IPv6 address to listen on
+  std::uint16_t port = 0;                  ///< 0: an ephemeral port (see Server::port())
+  int workers = 0;                         ///< planning threads; 0: one per hardware thread
+  std::size_t queue_capacity = 64;         ///< plans waiting for a worker; more are "busy"
+  /// Plans one client (a token, or a connection on a server without
+  /// tokens) may have queued or running at once; more are "busy". 0: no cap.
+  std::size_t max_plans_per_client = 16;
   double max_time_limit = 60.0;               ///< s; caps (and defaults) a plan's time_limit
   std::size_t max_message_bytes = 16u << 20;  ///< one message; larger closes the connection
   std::size_t max_connections = 256;          ///< open at once; one more is refused
