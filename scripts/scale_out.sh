@@ -4,6 +4,7 @@
 #
 #   scripts/scale_out.sh N [--port 7450] [--base-port 7451] [--workers 1]
 #                          [--db build/databases] [--dir RUN_DIR]
+#                          [--auth-tokens FILE --check-token FILE]
 #                          [--bin build/bin] [-- more hfts-server options]
 #
 # Clients talk to the balancer on --port as to one server. Instance i
@@ -14,16 +15,20 @@
 # "haproxy pid PID" and finally "balancer listening on 127.0.0.1:PORT" go
 # to standard output.
 # The config is deploy/haproxy/hfts.cfg with one server line per instance.
+# With --auth-tokens every instance requires tokens (docs/security.md); the
+# health check and the readiness call use the plan token in the first line
+# of --check-token's file.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 
-usage() { sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+usage() { sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 fail() { echo "scale_out: $*" >&2; exit 1; }
 
 [[ $# -ge 1 && "$1" =~ ^[0-9]+$ && "$1" -ge 1 ]] || usage
 instances=$1
 shift
 port=7450 base_port=7451 workers=1 db=$root/build/databases run_dir="" bin=$root/build/bin
+tokens="" check_token=""
 server_args=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
@@ -33,6 +38,8 @@ while [[ $# -gt 0 ]]; do
     --db) db=$2; shift 2 ;;
     --dir) run_dir=$2; shift 2 ;;
     --bin) bin=$2; shift 2 ;;
+    --auth-tokens) tokens=$2; shift 2 ;;
+    --check-token) check_token=$2; shift 2 ;;
     --) shift; server_args=("$@"); break ;;
     *) usage ;;
   esac
@@ -40,6 +47,17 @@ done
 for number in "$port" "$base_port" "$workers"; do
   [[ "$number" =~ ^[0-9]+$ ]] || fail "not a number: '$number'"
 done
+
+[[ -z $tokens || -n $check_token ]] || fail "--auth-tokens needs --check-token FILE (a plan token)"
+client_args=() token_args=()
+if [[ -n $tokens ]]; then
+  [[ -r $check_token ]] || fail "cannot read the check token file '$check_token'"
+  check_token=$(realpath "$check_token")
+  token_args=(--auth-tokens "$(realpath "$tokens")")
+  client_args=(--token-file "$check_token")
+  HFTS_CHECK_TOKEN=$(head -n 1 "$check_token" | tr -d '[:space:]')
+  export HFTS_CHECK_TOKEN
+fi
 
 server=$bin/hfts-server client=$bin/hfts-client
 [[ -x $server && -x $client ]] || fail "$server or $client is missing: run scripts/build.sh first"
@@ -79,7 +97,7 @@ cp "$root/deploy/haproxy/hfts.cfg" "$cfg"
 for i in $(seq "$instances"); do
   instance_port=$((base_port == 0 ? 0 : base_port + i - 1))
   "$server" --db "$db" --bind 127.0.0.1 --port "$instance_port" --workers "$workers" \
-    "${server_args[@]}" >"$run_dir/server$i.out" 2>"$run_dir/server$i.log" &
+    "${token_args[@]}" "${server_args[@]}" >"$run_dir/server$i.out" 2>"$run_dir/server$i.log" &
   pids+=($!)
   line=$(wait_for_line "$run_dir/server$i.out" "listening on" $!) ||
     fail "instance $i did not start: $(tail -n 3 "$run_dir/server$i.log")"
@@ -89,6 +107,7 @@ for i in $(seq "$instances"); do
 done
 
 export HFTS_BIND=127.0.0.1 HFTS_PORT=$port HFTS_STATS_SOCKET=$run_dir/haproxy.sock
+export HFTS_CHECK_TOKEN=${HFTS_CHECK_TOKEN:-}
 haproxy -c -q -f "$cfg" || fail "haproxy rejected $cfg"
 haproxy -db -f "$cfg" 2>"$run_dir/haproxy.log" &
 pids+=($!)
@@ -96,7 +115,7 @@ echo "haproxy pid ${pids[-1]}"
 
 # Ready when a call through the balancer is answered.
 for _ in $(seq 100); do
-  if "$client" --port "$port" --retries 0 info >/dev/null 2>&1; then
+  if "$client" --port "$port" --retries 0 "${client_args[@]}" info >/dev/null 2>&1; then
     echo "balancer listening on 127.0.0.1:$port ($instances instances; logs in $run_dir)"
     # Until Ctrl-C, or until HAProxy ends.
     wait "${pids[-1]}" || true

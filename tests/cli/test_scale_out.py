@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
-"""Plans through HAProxy in front of three hfts-server instances
-(scripts/scale_out.sh, deploy/haproxy/hfts.cfg): the health check sees
-every instance; one instance killed mid-load loses no request, because
-the clients (Python and hfts-client) send their calls again and a plan is
-determined by its seed. Standard library only; run by ctest.
+"""Plans through HAProxy in front of three hfts-server instances with tokens
+(scripts/scale_out.sh, deploy/haproxy/hfts.cfg, docs/security.md): the
+health check (which authenticates) sees every instance; one instance
+killed mid-load loses no request, because the clients (Python and
+hfts-client, with a plan token) send their calls again and a plan is
+determined by its seed; a plan token cannot shut an instance down through
+the balancer. Standard library only; run by ctest.
 
     test_scale_out.py --server S --preprocess P --client C --source-dir D
 """
@@ -26,6 +28,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import hfts_client  # noqa: E402
 
 INSTANCES = 3
+PLAN_TOKEN = "scale-out-plan-token-51f0c2"
+ADMIN_TOKEN = "scale-out-admin-token-8d3e7a"
 SEEDS = range(1, 19)
 PYTHON_CLIENTS = 4  # threads with one connection each, kept across calls
 COMMAND_LINE_CLIENTS = 2  # threads that run hfts-client once per plan
@@ -43,11 +47,18 @@ class Balancer:
     def __init__(self, run_dir):
         self.run_dir = run_dir
         self.port = free_port()
+        tokens = os.path.join(run_dir, "tokens")
+        self.token_file = os.path.join(run_dir, "plan.token")
+        for path, text in ((tokens, f"plan {PLAN_TOKEN} clients\nadmin {ADMIN_TOKEN} ops\n"),
+                           (self.token_file, PLAN_TOKEN + "\n")):
+            with open(path, "w") as f:
+                f.write(text)
+            os.chmod(path, 0o600)
         script = os.path.join(CONFIG.source_dir, "scripts", "scale_out.sh")
         self.process = subprocess.Popen(
             [script, str(INSTANCES), "--port", str(self.port), "--base-port", "0",
              "--db", CONFIG.db_dir, "--bin", os.path.dirname(CONFIG.server), "--dir", run_dir,
-             "--", "--quiet"],
+             "--auth-tokens", tokens, "--check-token", self.token_file, "--", "--quiet"],
             stdout=subprocess.PIPE, text=True)
         self.instances = {}  # name in the HAProxy config -> pid
         for line in self.process.stdout:
@@ -105,7 +116,7 @@ class ScaleOut(unittest.TestCase):
 
         def python_client():
             with hfts_client.HftsClient("127.0.0.1", self.balancer.port, timeout=120,
-                                        retries=3, backoff=0.2) as client:
+                                        retries=3, backoff=0.2, token=PLAN_TOKEN) as client:
                 while True:
                     try:
                         seed = work.get_nowait()
@@ -124,7 +135,8 @@ class ScaleOut(unittest.TestCase):
                 except queue.Empty:
                     return
                 run = subprocess.run(
-                    [CONFIG.client, "--port", str(self.balancer.port), "--retries", "3", "--json",
+                    [CONFIG.client, "--port", str(self.balancer.port), "--retries", "3",
+                     "--token-file", self.balancer.token_file, "--json",
                      "plan", "--scene", "table", "--seed", str(seed), "--time-limit", "20",
                      "--param", "physics_check=0"],
                     capture_output=True, text=True, timeout=120)
@@ -145,13 +157,29 @@ class ScaleOut(unittest.TestCase):
             thread.join(timeout=300)
         return results, retries[0]
 
-    def test_an_instance_killed_mid_load_loses_no_request(self):
-        # Every instance passes the health check (server.info answered).
-        def every_instance_up():
-            states = {name: status for name, (status, _) in self.balancer.stats().items()}
-            return states == {name: "UP" for name in self.balancer.instances}
+    def every_instance_up(self):
+        states = {name: status for name, (status, _) in self.balancer.stats().items()}
+        return states == {name: "UP" for name in self.balancer.instances}
 
-        self.assertTrue(wait_until(every_instance_up, timeout=10), self.balancer.stats())
+    def test_a_plan_token_cannot_shut_an_instance_down_through_the_balancer(self):
+        self.assertTrue(wait_until(self.every_instance_up, timeout=10), self.balancer.stats())
+        with hfts_client.HftsClient("127.0.0.1", self.balancer.port, timeout=60, retries=0,
+                                    token=PLAN_TOKEN) as client:
+            with self.assertRaises(hfts_client.RpcError) as caught:
+                client.shutdown()
+            self.assertEqual(caught.exception.code, -32003)
+        with hfts_client.HftsClient("127.0.0.1", self.balancer.port, timeout=60,
+                                    retries=0) as client:  # no token at all
+            with self.assertRaises(hfts_client.RpcError) as caught:
+                client.shutdown()
+            self.assertEqual(caught.exception.code, -32009)
+        for pid in self.balancer.instances.values():
+            self.assertTrue(os.path.exists(f"/proc/{pid}"), "an instance stopped")
+        self.assertTrue(self.every_instance_up(), self.balancer.stats())
+
+    def test_an_instance_killed_mid_load_loses_no_request(self):
+        # Every instance passes the health check (auth and server.info answered).
+        self.assertTrue(wait_until(self.every_instance_up, timeout=10), self.balancer.stats())
         reference, _ = self.plan_all()
         self.assertEqual(sorted(reference), list(SEEDS))
         self.assertTrue(all(result["success"] for result in reference.values()))
