@@ -17,7 +17,7 @@ find_package(ompl 1.5 REQUIRED)
 find_package(mujoco 2.2 REQUIRED)  # physics/: does a grasp hold?
 find_package(nlohmann_json 3.11 REQUIRED)
 find_package(CLI11 2.1 REQUIRED)
-find_package(OpenSSL 3 REQUIRED COMPONENTS Crypto)
+find_package(OpenSSL 3 REQUIRED COMPONENTS Crypto SSL)
 find_package(tinyxml2 9 REQUIRED)  # SRDF files (robot configs' `srdf`)
 find_package(yaml-cpp 0.7 REQUIRED)  # MoveIt planning scenes (MotionBenchMaker)
 find_package(PkgConfig REQUIRED)

@@ -20,6 +20,7 @@ PACKAGES=(
   # (scripts/fuzz.sh, scripts/sanitize.sh); HAProxy (scripts/scale_out.sh)
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev haproxy
+  openssl  # self-signed certificates of the TLS tests (scripts/scale_out.sh --tls)
   # Python tooling (runs under /usr/bin/python3)
   python3 python3-numpy python3-h5py python3-matplotlib
   # the viewer (viewer/): node and npm for three.js, esbuild, the glTF

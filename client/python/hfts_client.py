@@ -22,8 +22,11 @@ reach another instance behind a balancer), nor are send()/receive().
 
 A server started with --auth-tokens wants a token (docs/security.md):
 HftsClient(..., token=...) sends it with `auth` on every connection it makes.
+HftsClient(..., tls=True, ca_file=...) speaks TLS and verifies the server's
+certificate (against ca_file, else the system's CAs) and host name.
 
-As a program: hfts_client.py [--host H] [--port P] [--token-file F] info|objects|scenes|shutdown
+As a program: hfts_client.py [--host H] [--port P] [--token-file F] [--tls] [--ca-file F]
+info|objects|scenes|shutdown
 or hfts_client.py plan SCENE [--object NAME] [--time-limit S] [--seed N];
 it prints the JSON result.
 """
@@ -33,6 +36,7 @@ import itertools
 import json
 import os
 import socket
+import ssl
 import sys
 import time
 
@@ -54,13 +58,16 @@ NOT_REPEATED = {"cancel", "shutdown"}
 
 class HftsClient:
     def __init__(self, host="127.0.0.1", port=DEFAULT_PORT, timeout=None, retries=2, backoff=0.2,
-                 token=None):
+                 token=None, tls=False, ca_file=None):
         """retries: further attempts when the connection fails before an answer
         (0: none); backoff: seconds before the first, doubling up to 2 s;
-        token: sent with `auth` on every connection (a server with tokens)."""
+        token: sent with `auth` on every connection (a server with tokens);
+        tls: speak TLS, verifying the server's certificate against ca_file
+        (PEM; None: the system's CAs) and its host name (ca_file implies tls)."""
         if retries < 0 or backoff < 0:
             raise ValueError("retries and backoff must be >= 0")
         self._token = token
+        self._tls = ssl.create_default_context(cafile=ca_file) if tls or ca_file else None
         self._address = (host, port)
         self._timeout = timeout
         self._retries = retries
@@ -73,6 +80,14 @@ class HftsClient:
     def _connect(self):
         self._socket = socket.create_connection(self._address, timeout=self._timeout)
         self._socket.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        if self._tls is not None:
+            try:
+                self._socket = self._tls.wrap_socket(self._socket,
+                                                     server_hostname=self._address[0])
+            except ssl.SSLCertVerificationError:
+                self._socket.close()
+                self._socket = None
+                raise  # not a lost connection: another attempt would not verify either
         self._reader = self._socket.makefile("rb")
         self._waiting = {}  # responses that arrived for other ids
         if self._token:
@@ -251,6 +266,10 @@ def main(argv=None):
     parser.add_argument("--port", type=int, default=DEFAULT_PORT)
     parser.add_argument("--token-file", metavar="FILE",
                         help="the token for a server with --auth-tokens (default: $HFTS_TOKEN)")
+    parser.add_argument("--tls", action="store_true",
+                        help="speak TLS; the server's certificate must verify")
+    parser.add_argument("--ca-file", metavar="FILE",
+                        help="verify the server's certificate against these CAs (implies --tls)")
     parser.add_argument("--retries", type=int, default=2,
                         help="attempts again when the connection fails before the answer")
     parser.add_argument("command", choices=["info", "objects", "scenes", "plan", "shutdown"])
@@ -268,7 +287,8 @@ def main(argv=None):
     args = parser.parse_args(argv)
     try:
         token = token_from(args.token_file)
-        with HftsClient(args.host, args.port, retries=args.retries, token=token) as client:
+        with HftsClient(args.host, args.port, retries=args.retries, token=token, tls=args.tls,
+                        ca_file=args.ca_file) as client:
             if args.command == "plan":
                 if not args.scene:
                     parser.error("plan needs a scene")

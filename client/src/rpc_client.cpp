@@ -3,6 +3,9 @@
 #include <asio/connect.hpp>
 #include <asio/ip/tcp.hpp>
 #include <asio/read_until.hpp>
+#include <asio/ssl/context.hpp>
+#include <asio/ssl/host_name_verification.hpp>
+#include <asio/ssl/stream.hpp>
 #include <asio/streambuf.hpp>
 #include <asio/write.hpp>
 #include <nlohmann/json.hpp>
@@ -13,6 +16,8 @@
 #include <cstdlib>
 #include <fstream>
 #include <istream>
+#include <memory>
+#include <optional>
 #include <thread>
 
 namespace hfts::client {
@@ -64,6 +69,7 @@ class RpcClient::Impl {
         retry_(std::move(retry)),
         access_(std::move(access)),
         socket_(io_) {
+    if (access_.tls) tls_context_.emplace(clientTlsContext(access_.ca_file));
     if (retry_.retries < 0) throw std::invalid_argument("retries must be >= 0");
     if (!(retry_.backoff >= 0.0)) throw std::invalid_argument("backoff must be >= 0 s");
     withRetries(true, [this] { connect(); });
@@ -93,6 +99,7 @@ class RpcClient::Impl {
         return;
       } catch (const LostConnection& e) {
         asio::error_code ignored;
+        tls_.reset();
         socket_.close(ignored);
         buffer_.consume(buffer_.size());
         if (n >= attempts) throw;
@@ -112,7 +119,49 @@ class RpcClient::Impl {
     if (!ec) asio::connect(socket_, endpoints, ec);
     if (ec) throw LostConnection("cannot connect to " + where + ": " + ec.message());
     socket_.set_option(tcp::no_delay(true), ec);
+    if (tls_context_) {
+      tls_ = std::make_unique<asio::ssl::stream<tcp::socket&>>(socket_, *tls_context_);
+      tls_->set_verify_mode(asio::ssl::verify_peer);
+      tls_->set_verify_callback(asio::ssl::host_name_verification(host_));
+      // The server name for servers that hold several certificates (SNI;
+      // never an address). SSL_set_tlsext_host_name's macro, without its cast.
+      asio::error_code notAnAddress;
+      asio::ip::make_address(host_, notAnAddress);
+      if (notAnAddress)
+        SSL_ctrl(tls_->native_handle(), SSL_CTRL_SET_TLSEXT_HOSTNAME, TLSEXT_NAMETYPE_host_name,
+                 static_cast<void*>(const_cast<char*>(host_.c_str())));
+      tls_->handshake(asio::ssl::stream_base::client, ec);
+      if (ec) {
+        // A certificate that does not verify will not verify on a retry.
+        const bool certificate = ec.category() == asio::error::get_ssl_category();
+        const std::string why = "TLS handshake with " + where + " failed: " + ec.message() +
+                                (certificate ? " (is --ca-file the server's CA?)" : "");
+        if (certificate) {
+          tls_.reset();
+          socket_.close(ec);
+          throw ConnectionError(why);
+        }
+        throw LostConnection(why);
+      }
+    }
     if (!access_.token.empty()) send("auth", {{"token", access_.token}});
+  }
+
+  static asio::ssl::context clientTlsContext(const std::string& caFile) {
+    asio::ssl::context context(asio::ssl::context::tls_client);
+    context.set_options(asio::ssl::context::default_workarounds | asio::ssl::context::no_sslv2 |
+                        asio::ssl::context::no_sslv3 | asio::ssl::context::no_tlsv1 |
+                        asio::ssl::context::no_tlsv1_1);
+    asio::error_code ec;
+    if (caFile.empty())
+      context.set_default_verify_paths(ec);
+    else
+      context.load_verify_file(caFile, ec);
+    if (ec)
+      throw ConnectionError("cannot load the CA certificates" +
+                            (caFile.empty() ? std::string() : " of '" + caFile + "'") + ": " +
+                            ec.message());
+    return context;
   }
 
   json send(const std::string& method, const json& params) {
@@ -120,7 +169,10 @@ class RpcClient::Impl {
     const std::string line =
         json{{"jsonrpc", "2.0"}, {"id", id}, {"method", method}, {"params", params}}.dump() + "\n";
     asio::error_code ec;
-    asio::write(socket_, asio::buffer(line), ec);
+    if (tls_)
+      asio::write(*tls_, asio::buffer(line), ec);
+    else
+      asio::write(socket_, asio::buffer(line), ec);
     if (ec) throw LostConnection("cannot send the request: " + ec.message());
     for (;;) {
       const json response = readResponse();
@@ -134,10 +186,15 @@ class RpcClient::Impl {
  private:
   json readResponse() {
     asio::error_code ec;
-    asio::read_until(socket_, buffer_, '\n', ec);
-    if (ec)
-      throw LostConnection(ec == asio::error::eof ? "the server closed the connection"
-                                                  : "cannot read the response: " + ec.message());
+    if (tls_)
+      asio::read_until(*tls_, buffer_, '\n', ec);
+    else
+      asio::read_until(socket_, buffer_, '\n', ec);
+    // The server ends a TLS connection without close_notify (a TCP
+    // half-close): the end of the stream, as for plain TCP.
+    if (ec == asio::error::eof || ec == asio::ssl::error::stream_truncated)
+      throw LostConnection("the server closed the connection");
+    if (ec) throw LostConnection("cannot read the response: " + ec.message());
     std::istream in(&buffer_);
     std::string text;
     std::getline(in, text);
@@ -170,7 +227,9 @@ class RpcClient::Impl {
   RetryPolicy retry_;
   Access access_;
   asio::io_context io_;
+  std::optional<asio::ssl::context> tls_context_;
   tcp::socket socket_;
+  std::unique_ptr<asio::ssl::stream<tcp::socket&>> tls_;  // over socket_, when TLS
   asio::streambuf buffer_;
   std::uint64_t last_id_ = 0;
 };

@@ -5,9 +5,8 @@
 // --trajectory-csv / --gltf FILE its trajectory and animation; --retries N
 // connects and sends again when the connection fails before the answer (a
 // balancer's instance died); --token-file FILE (or HFTS_TOKEN) authenticates
-// to a server with tokens. Exit codes: 0 done, 1 the server or the
-// connection failed (message on standard error), 3 the plan found no
-// solution.
+// to a server with tokens; --tls [--ca-file FILE] speaks TLS. Exit codes: 0 done, 1 the server or
+// the connection failed (message on standard error), 3 the plan found no solution.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -33,6 +32,8 @@ struct Options {
   std::string out;
   int retries = 2;
   std::string token_file;
+  bool tls = false;
+  std::string ca_file;
 };
 
 struct PlanOptions {
@@ -258,6 +259,12 @@ int main(int argc, char** argv) {
                  "The token for a server with --auth-tokens: the file's first line (default: "
                  "the environment variable HFTS_TOKEN, if set)")
       ->type_name("FILE");
+  app.add_flag("--tls", o.tls,
+               "Speak TLS; the server's certificate must verify (system CAs, or --ca-file)");
+  app.add_option("--ca-file", o.ca_file,
+                 "Verify the server's certificate against these CA certificates (PEM; implies "
+                 "--tls)")
+      ->type_name("FILE");
   app.add_subcommand("info", "Server version, robots, limits and load");
   std::string listedRobot;
   addRobotOption(*app.add_subcommand("objects", "The object databases and their graspability"),
@@ -316,7 +323,11 @@ int main(int argc, char** argv) {
       std::cerr << "hfts-client: " << why << "; trying again (attempt " << attempt << " of "
                 << o.retries + 1 << ")\n";
     };
-    hfts::client::RpcClient client(o.host, o.port, retry, {hfts::client::tokenFrom(o.token_file)});
+    hfts::client::Access access;
+    access.token = hfts::client::tokenFrom(o.token_file);
+    access.tls = o.tls || !o.ca_file.empty();
+    access.ca_file = o.ca_file;
+    hfts::client::RpcClient client(o.host, o.port, retry, access);
     const json result = client.call(method, params);
     const int status = output(o, method, result);
     if (command == "plan" && !plan.trajectory_csv.empty() && status == 0) {

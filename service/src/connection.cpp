@@ -14,10 +14,10 @@ constexpr auto kLinger = std::chrono::seconds(2);
 
 }  // namespace
 
-Connection::Connection(tcp::socket socket, MethodDispatcher& dispatcher,
+Connection::Connection(tcp::socket socket, asio::ssl::context* tls, MethodDispatcher& dispatcher,
                        const ConnectionLimits& limits, InputBudget& budget,
                        std::function<void()> onLargeBufferFreed)
-    : socket_(std::move(socket)),
+    : stream_(std::move(socket), tls),
       dispatcher_(dispatcher),
       limits_(limits),
       budget_(budget),
@@ -25,10 +25,10 @@ Connection::Connection(tcp::socket socket, MethodDispatcher& dispatcher,
       framer_(limits.max_message_bytes),
       charged_(reservedBytes(limits)),
       last_activity_(std::chrono::steady_clock::now()),
-      linger_timer_(socket_.get_executor()),
-      deadline_timer_(socket_.get_executor()) {
+      linger_timer_(stream_.socket().get_executor()),
+      deadline_timer_(stream_.socket().get_executor()) {
   asio::error_code ec;
-  const tcp::endpoint remote = socket_.remote_endpoint(ec);
+  const tcp::endpoint remote = stream_.socket().remote_endpoint(ec);
   if (ec) {
     caller_.peer = "unknown";
   } else {
@@ -38,28 +38,36 @@ Connection::Connection(tcp::socket socket, MethodDispatcher& dispatcher,
     caller_.address = address;
   }
   caller_.plans = std::make_shared<CancelRegistry>();
-  socket_.set_option(tcp::no_delay(true), ec);  // replies are small: do not wait to fill a segment
+  // Replies are small: do not wait to fill a segment.
+  stream_.socket().set_option(tcp::no_delay(true), ec);
 }
 
 void Connection::start() {
-  readMore();
   armDeadline();
+  stream_.handshake([self = shared_from_this()](const asio::error_code& error) {
+    if (self->closed_) return;
+    if (error) return self->close();  // no TLS: nothing can be said to the peer
+    self->handshaking_ = false;
+    self->last_activity_ = std::chrono::steady_clock::now();
+    self->readMore();
+    self->armDeadline();
+  });
 }
 
 void Connection::finish() {
   input_done_ = true;
+  if (handshaking_) return close();
   closeWhenDone();
 }
 
 void Connection::readMore() {
-  if (reading_ || input_done_ || closed_ || outbox_bytes_ > kMaxUnsentBytes) return;
+  if (handshaking_ || reading_ || input_done_ || closed_ || outbox_bytes_ > kMaxUnsentBytes) return;
   reading_ = true;
-  socket_.async_read_some(
-      asio::buffer(buffer_),
-      [self = shared_from_this()](const asio::error_code& error, std::size_t bytes) {
-        self->reading_ = false;
-        self->onRead(error, bytes);
-      });
+  stream_.readSome(asio::buffer(buffer_),
+                   [self = shared_from_this()](const asio::error_code& error, std::size_t bytes) {
+                     self->reading_ = false;
+                     self->onRead(error, bytes);
+                   });
 }
 
 void Connection::onRead(const asio::error_code& error, std::size_t bytes) {
@@ -142,6 +150,10 @@ void Connection::refuseAndClose(ErrorCode code, const std::string& message) {
 }
 
 std::optional<std::chrono::steady_clock::time_point> Connection::deadline() const {
+  if (handshaking_) {
+    if (limits_.read_timeout.count() == 0) return std::nullopt;
+    return last_activity_ + limits_.read_timeout;
+  }
   if (framer_.inMessage()) {
     if (limits_.read_timeout.count() == 0) return std::nullopt;
     return message_began_ + limits_.read_timeout;
@@ -179,6 +191,7 @@ void Connection::onDeadline() {
     armDeadline();
     return;
   }
+  if (handshaking_) return close();  // a TLS handshake not finished in time
   const auto seconds = [](std::chrono::milliseconds t) {
     return t.count() % 1000 == 0 ? std::to_string(t.count() / 1000) + " s"
                                  : std::to_string(t.count()) + " ms";
@@ -260,23 +273,23 @@ void Connection::writeMore() {
   outbox_.clear();
   std::vector<asio::const_buffer> buffers;
   for (const std::string& line : in_flight_) buffers.push_back(asio::buffer(line));
-  asio::async_write(socket_, buffers,
-                    [self = shared_from_this()](const asio::error_code& error, std::size_t bytes) {
-                      self->writing_ = false;
-                      self->outbox_bytes_ -= bytes;
-                      self->in_flight_.clear();
-                      if (error) {  // the peer is gone
-                        self->caller_.plans->cancelAll();
-                        self->input_done_ = true;
-                        self->close();
-                        return;
-                      }
-                      self->last_activity_ = std::chrono::steady_clock::now();
-                      self->writeMore();
-                      self->readMore();
-                      self->closeWhenDone();
-                      self->armDeadline();
-                    });
+  stream_.write(buffers,
+                [self = shared_from_this()](const asio::error_code& error, std::size_t bytes) {
+                  self->writing_ = false;
+                  self->outbox_bytes_ -= bytes;
+                  self->in_flight_.clear();
+                  if (error) {  // the peer is gone
+                    self->caller_.plans->cancelAll();
+                    self->input_done_ = true;
+                    self->close();
+                    return;
+                  }
+                  self->last_activity_ = std::chrono::steady_clock::now();
+                  self->writeMore();
+                  self->readMore();
+                  self->closeWhenDone();
+                  self->armDeadline();
+                });
 }
 
 void Connection::endInput(bool cancelPlans) {
@@ -295,8 +308,7 @@ void Connection::closeWhenDone() {
 
 void Connection::drainThenClose() {
   linger_ = false;
-  asio::error_code ec;
-  socket_.shutdown(tcp::socket::shutdown_send, ec);
+  stream_.shutdownSend();
   linger_timer_.expires_after(kLinger);
   linger_timer_.async_wait([self = shared_from_this()](const asio::error_code& error) {
     if (!error) self->close();
@@ -305,7 +317,7 @@ void Connection::drainThenClose() {
     std::shared_ptr<Connection> self;
     void operator()(const asio::error_code& error, std::size_t) {
       if (error || self->closed_) return self->close();
-      self->socket_.async_read_some(asio::buffer(self->buffer_), std::move(*this));
+      self->stream_.readSome(asio::buffer(self->buffer_), std::move(*this));
     }
   };
   Drain{shared_from_this()}(asio::error_code(), 0);
@@ -316,8 +328,7 @@ void Connection::close() {
   closed_ = true;
   linger_timer_.cancel();
   deadline_timer_.cancel();
-  asio::error_code ec;
-  socket_.close(ec);
+  stream_.close();
   outbox_.clear();
   outbox_.shrink_to_fit();
   outbox_bytes_ = 0;

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "byte_stream.h"
 #include "method_dispatcher.h"
 #include "service/message_framer.h"
 
@@ -81,7 +82,9 @@ class Connection : public std::enable_shared_from_this<Connection> {
   /// closes after it held a large message: the server then returns free
   /// memory to the system. The caller has taken reservedBytes() from
   /// `budget` for it; the connection gives them back when it closes.
-  Connection(asio::ip::tcp::socket socket, MethodDispatcher& dispatcher,
+  /// `tls` (may be null: plain TCP) must outlive the connection; a TLS
+  /// handshake not done within the read timeout closes it.
+  Connection(asio::ip::tcp::socket socket, asio::ssl::context* tls, MethodDispatcher& dispatcher,
              const ConnectionLimits& limits, InputBudget& budget,
              std::function<void()> onLargeBufferFreed);
 
@@ -119,7 +122,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
   void drainThenClose();
   void close();
 
-  asio::ip::tcp::socket socket_;
+  ByteStream stream_;
   MethodDispatcher& dispatcher_;
   ConnectionLimits limits_;
   InputBudget& budget_;
@@ -135,6 +138,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
   std::vector<std::string> in_flight_;  // the strings of the write in progress
   std::size_t outbox_bytes_ = 0;
   std::size_t outstanding_ = 0;  // calls not answered yet
+  bool handshaking_ = true;      // until the TLS handshake is done (plain TCP: start())
   bool reading_ = false;
   bool writing_ = false;
   bool input_done_ = false;

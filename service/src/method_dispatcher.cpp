@@ -193,6 +193,7 @@ json MethodDispatcher::staticInfo() const {
            {"auth", "server.info", "objects.list", "scenes.list", "plan", "grasp.quality", "cancel",
             "shutdown", "reload"}},
           {"authentication", tokens_ != nullptr},
+          {"tls", !options_.tls_cert.empty()},
           {"robot", robotJson(catalog_->robot())},
           {"robots", robotsJson(*catalog_)},
           {"objects", catalog_->world().objectNames().size()},

@@ -17,6 +17,7 @@
 #include <malloc.h>
 #endif
 
+#include "byte_stream.h"
 #include "connection.h"
 #include "method_dispatcher.h"
 
@@ -63,6 +64,14 @@ tcp::endpoint endpointOf(const ServerOptions& options) {
   return {address, options.port};
 }
 
+/// The TLS context of options.tls_cert and tls_key; nullopt for plain TCP.
+std::optional<asio::ssl::context> tlsOf(const ServerOptions& options) {
+  if (options.tls_cert.empty() != options.tls_key.empty())
+    throw std::invalid_argument("TLS needs both a certificate (--tls-cert) and a key (--tls-key)");
+  if (options.tls_cert.empty()) return std::nullopt;
+  return serverTlsContext(options.tls_cert.string(), options.tls_key.string());
+}
+
 bool isLoopback(const asio::ip::address& a) {
   if (a.is_v6() && a.to_v6().is_v4_mapped())
     return asio::ip::make_address_v4(asio::ip::v4_mapped, a.to_v6()).is_loopback();
@@ -102,6 +111,7 @@ class Server::Impl {
         timer_(io_),
         trim_timer_(io_),
         log_(options_.log),
+        tls_(tlsOf(options_)),
         limits_(limitsOf(options_)),
         budget_(options_.max_buffered_bytes) {
     listen(endpointOf(options_));
@@ -123,8 +133,8 @@ class Server::Impl {
   const PlanningCatalog& initialCatalog() const { return *initial_; }
 
   void run() {
-    log_.event("listening on " + options_.bind_address + ":" + std::to_string(port()) + " with " +
-               std::to_string(workers()) + " workers");
+    log_.event("listening on " + options_.bind_address + ":" + std::to_string(port()) +
+               (tls_ ? " (TLS)" : "") + " with " + std::to_string(workers()) + " workers");
     accept();
     io_.run();
     log_.event("stopped");
@@ -186,8 +196,9 @@ class Server::Impl {
       refuse(std::move(socket), ErrorCode::kInputBudgetExhausted,
              "the server's input buffers are full; try again later");
     } else {
-      auto connection = std::make_shared<Connection>(std::move(socket), dispatcher_, limits_,
-                                                     budget_, [this] { trimSoon(); });
+      auto connection =
+          std::make_shared<Connection>(std::move(socket), tls_ ? &*tls_ : nullptr, dispatcher_,
+                                       limits_, budget_, [this] { trimSoon(); });
       connections_.push_back(connection);
       connection->start();
     }
@@ -202,6 +213,11 @@ class Server::Impl {
     if (refused_ == 1 || refused_ % 1000 == 0)
       log_.event("refused a connection (" + message + "; " + std::to_string(refused_) +
                  " refused so far)");
+    if (tls_) {  // the error line would need a handshake first: closed at once
+      asio::error_code ignored;
+      socket.close(ignored);
+      return;
+    }
     auto s = std::make_shared<tcp::socket>(std::move(socket));
     auto line =
         std::make_shared<std::string>(serialize(errorResponse(nullptr, RpcError(code, message))));
@@ -310,6 +326,7 @@ class Server::Impl {
   asio::steady_timer timer_;
   asio::steady_timer trim_timer_;
   RequestLog log_;
+  std::optional<asio::ssl::context> tls_;
   ConnectionLimits limits_;
   InputBudget budget_;
   std::vector<std::weak_ptr<Connection>> connections_;
@@ -323,7 +340,8 @@ class Server::Impl {
 // The access options are checked before the catalog loads (which takes
 // seconds): a bad token file or an unguarded address fails at once.
 Server::Server(ServerOptions options)
-    : Server(options, (tokensOf(options), PlanningCatalog::load(options.sources))) {}
+    : Server(options, (tokensOf(options), tlsOf(options), PlanningCatalog::load(options.sources))) {
+}
 
 Server::Server(ServerOptions options, std::shared_ptr<const PlanningCatalog> catalog)
     : impl_(std::make_unique<Impl>(std::move(options), std::move(catalog))) {}

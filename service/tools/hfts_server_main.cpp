@@ -74,6 +74,10 @@ int main(int argc, char** argv) {
   app.add_flag("--insecure", o.insecure,
                "Listen on a non-loopback address without --auth-tokens (anyone who reaches the "
                "port may plan, reload and shut the server down)");
+  std::string tlsCert, tlsKey;
+  app.add_option("--tls-cert", tlsCert,
+                 "Speak TLS with this PEM certificate chain (with --tls-key; docs/security.md)");
+  app.add_option("--tls-key", tlsKey, "The PEM private key of --tls-cert");
   app.add_flag("--quiet", quiet, "No request log on standard error");
   CLI11_PARSE(app, argc, argv);
 
@@ -91,6 +95,8 @@ int main(int argc, char** argv) {
   o.max_buffered_bytes = static_cast<std::size_t>(maxBufferedMiB * (1 << 20));
   o.log = quiet ? nullptr : &std::cerr;
   o.auth_tokens = tokens;
+  o.tls_cert = tlsCert;
+  o.tls_key = tlsKey;
   if (o.insecure && tokens.empty())
     std::cerr << "hfts-server: warning: --insecure: no authentication; anyone who reaches "
               << o.bind_address << ":" << o.port << " may plan, reload and shut the server down\n";

@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
 """Integration tests of hfts-server's access control (docs/security.md): tokens
-and roles, the failed-auth delay and throttle, SIGHUP, the start-up checks.
+and roles, the failed-auth delay and throttle, SIGHUP, the fair share between
+clients, TLS with both clients, the start-up checks.
 Run by ctest with Debian's /usr/bin/python3; standard library only."""
 
 import os
 import shutil
 import signal
 import socket
+import ssl
 import subprocess
 import sys
 import tempfile
@@ -219,6 +221,84 @@ class FairShare(unittest.TestCase):
                 c.close()
 
 
+def make_certificate(directory, host="localhost"):
+    """A self-signed certificate for host and 127.0.0.1: (certificate, key) paths."""
+    cert, key = os.path.join(directory, "cert.pem"), os.path.join(directory, "key.pem")
+    subprocess.run(["openssl", "req", "-x509", "-newkey", "rsa:2048", "-nodes", "-keyout", key,
+                    "-out", cert, "-days", "2", "-subj", f"/CN={host}", "-addext",
+                    f"subjectAltName=DNS:{host},IP:127.0.0.1"],
+                   check=True, capture_output=True)
+    return cert, key
+
+
+class Tls(unittest.TestCase):
+    """A server with tokens that speaks TLS with a self-signed certificate."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="hfts-tls-")
+        cls.cert, key = make_certificate(cls.tmp)
+        tokens = os.path.join(cls.tmp, "tokens")
+        write_tokens(tokens, TOKENS)
+        cls.token_file = os.path.join(cls.tmp, "plan.token")
+        write_tokens(cls.token_file, PLAN_TOKEN + "\n")
+        cls.server = RunningServer(os.path.join(cls.tmp, "server.log"), "--workers", "1",
+                                   "--auth-tokens", tokens, "--tls-cert", cls.cert,
+                                   "--tls-key", key)
+
+    @classmethod
+    def tearDownClass(cls):
+        code = cls.server.stop()
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+        assert code == 0, code
+
+    def client(self, *args):
+        return subprocess.run([CONFIG.client, "--port", str(self.server.port), "--retries", "0",
+                               *args], capture_output=True, text=True, timeout=60)
+
+    def test_a_round_trip_with_the_python_client(self):
+        for host in ("127.0.0.1", "localhost"):
+            with hfts_client.HftsClient(host, self.server.port, timeout=60, token=PLAN_TOKEN,
+                                        ca_file=self.cert) as client:
+                info = client.info()
+                self.assertTrue(info["tls"])
+                self.assertTrue(info["authentication"])
+                self.assertTrue(client.plan(**QUICK_PLAN)["success"])
+
+    def test_a_round_trip_with_hfts_client(self):
+        result = self.client("--ca-file", self.cert, "--token-file", self.token_file, "--json",
+                             "info")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn('"tls": true', result.stdout)
+        result = self.client("--host", "localhost", "--tls", "--ca-file", self.cert,
+                             "--token-file", self.token_file, "scenes")
+        self.assertEqual(result.returncode, 0, result.stderr)
+
+    def test_both_clients_refuse_a_certificate_they_cannot_verify(self):
+        with self.assertRaises(ssl.SSLCertVerificationError):
+            hfts_client.HftsClient("127.0.0.1", self.server.port, timeout=60, retries=0,
+                                   token=PLAN_TOKEN, tls=True)  # the system's CAs only
+        result = self.client("--tls", "--token-file", self.token_file, "info")
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("certificate verify failed", result.stderr)
+        # Another CA's certificate, for the right host: refused too.
+        other = tempfile.mkdtemp(prefix="hfts-tls-other-")
+        try:
+            other_cert, _ = make_certificate(other)
+            result = self.client("--ca-file", other_cert, "--token-file", self.token_file, "info")
+            self.assertEqual(result.returncode, 1)
+            self.assertIn("certificate verify failed", result.stderr)
+        finally:
+            shutil.rmtree(other, ignore_errors=True)
+        self.assertNotIn(PLAN_TOKEN, self.server.log_text())
+
+    def test_a_plain_client_gets_nothing_but_a_closed_connection(self):
+        with socket.create_connection(("127.0.0.1", self.server.port), timeout=30) as s:
+            s.sendall(b'{"jsonrpc":"2.0","id":1,"method":"server.info"}\n')
+            self.assertEqual(s.makefile("rb").readline(), b"")
+        self.assertIsNone(self.server.process.poll())
+
+
 class WithoutTokens(unittest.TestCase):
     def setUp(self):
         self.tmp = tempfile.mkdtemp(prefix="hfts-auth-")
@@ -252,6 +332,18 @@ class WithoutTokens(unittest.TestCase):
             self.assertIn("warning: --insecure", server.log_text())
         finally:
             self.assertEqual(server.stop(), 0)
+
+    def test_tls_needs_a_certificate_and_a_key_that_load(self):
+        cert, key = make_certificate(self.tmp)
+        result = self.start("--tls-cert", cert)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("needs both a certificate (--tls-cert) and a key (--tls-key)", result.stderr)
+        result = self.start("--tls-cert", cert + ".missing", "--tls-key", key)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("cannot use the TLS certificate '" + cert + ".missing'", result.stderr)
+        result = self.start("--tls-cert", cert, "--tls-key", cert)  # not a key
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("cannot use the TLS private key", result.stderr)
 
     def test_a_token_file_every_user_may_read_is_refused(self):
         tokens = os.path.join(self.tmp, "tokens")

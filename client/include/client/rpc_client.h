@@ -48,12 +48,15 @@ struct RetryPolicy {
   std::function<void(const std::string& why, int attempt)> on_retry;
 };
 
-/// How the client proves who it is to a server with tokens
-/// (docs/security.md).
+/// How the client reaches a server with tokens or TLS (docs/security.md).
 struct Access {
   /// Sent with `auth` as the first call on every connection (again after a
   /// reconnection); empty: none (a server without tokens).
   std::string token;
+  /// Speak TLS (TLS 1.2 or later). The server's certificate must verify
+  /// against `ca_file` (PEM; empty: the system's CAs) and name the host.
+  bool tls = false;
+  std::string ca_file;
 };
 
 /// The token for a client from `tokenFile` (its first line, without
@@ -64,9 +67,11 @@ std::string tokenFrom(const std::string& tokenFile);
 
 class RpcClient {
  public:
-  /// Connects (with the policy's retries) and authenticates when `access`
-  /// has a token; throws ConnectionError naming host and port, and
-  /// RpcCallError (-32009) for a token the server does not accept.
+  /// Connects (with the policy's retries; with TLS, verifying the server's
+  /// certificate) and authenticates when `access` has a token; throws
+  /// ConnectionError naming host and port (and a certificate that does not
+  /// verify), and RpcCallError (-32009) for a token the server does not
+  /// accept.
   RpcClient(const std::string& host, std::uint16_t port, RetryPolicy retry = {},
             Access access = {});
   ~RpcClient();

@@ -35,6 +35,9 @@ struct ServerOptions {
   std::filesystem::path auth_tokens;
   /// Listen on a non-loopback address without tokens anyway.
   bool insecure = false;
+  /// TLS (both or neither): the PEM certificate chain and private key;
+  /// empty: plain TCP.
+  std::filesystem::path tls_cert, tls_key;
   std::ostream* log = nullptr;  ///< one line per request; nullptr: no log
 };
 
