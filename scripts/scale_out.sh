@@ -4,7 +4,7 @@
 #
 #   scripts/scale_out.sh N [--port 7450] [--base-port 7451] [--workers 1]
 #                          [--db build/databases] [--dir RUN_DIR]
-#                          [--auth-tokens FILE --check-token FILE]
+#                          [--auth-tokens FILE --check-token FILE] [--tls]
 #                          [--bin build/bin] [-- more hfts-server options]
 #
 # Clients talk to the balancer on --port as to one server. Instance i
@@ -17,18 +17,21 @@
 # The config is deploy/haproxy/hfts.cfg with one server line per instance.
 # With --auth-tokens every instance requires tokens (docs/security.md); the
 # health check and the readiness call use the plan token in the first line
-# of --check-token's file.
+# of --check-token's file. With --tls HAProxy speaks TLS to the clients
+# with a self-signed certificate for localhost and 127.0.0.1 made in
+# RUN_DIR (cert.pem: give it to the clients as their CA file) and plain TCP
+# to the instances.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 
-usage() { sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+usage() { sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 fail() { echo "scale_out: $*" >&2; exit 1; }
 
 [[ $# -ge 1 && "$1" =~ ^[0-9]+$ && "$1" -ge 1 ]] || usage
 instances=$1
 shift
 port=7450 base_port=7451 workers=1 db=$root/build/databases run_dir="" bin=$root/build/bin
-tokens="" check_token=""
+tokens="" check_token="" tls=no
 server_args=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
@@ -40,6 +43,7 @@ while [[ $# -gt 0 ]]; do
     --bin) bin=$2; shift 2 ;;
     --auth-tokens) tokens=$2; shift 2 ;;
     --check-token) check_token=$2; shift 2 ;;
+    --tls) tls=yes; shift ;;
     --) shift; server_args=("$@"); break ;;
     *) usage ;;
   esac
@@ -108,6 +112,16 @@ done
 
 export HFTS_BIND=127.0.0.1 HFTS_PORT=$port HFTS_STATS_SOCKET=$run_dir/haproxy.sock
 export HFTS_CHECK_TOKEN=${HFTS_CHECK_TOKEN:-}
+if [[ $tls == yes ]]; then
+  command -v openssl >/dev/null || fail "openssl is missing: run scripts/setup.sh"
+  (umask 077 && openssl req -x509 -newkey rsa:2048 -nodes -days 30 -subj /CN=localhost \
+    -addext "subjectAltName=DNS:localhost,IP:127.0.0.1" -keyout "$run_dir/key.pem" \
+    -out "$run_dir/cert.pem" 2>"$run_dir/openssl.log" &&
+    cat "$run_dir/cert.pem" "$run_dir/key.pem" >"$run_dir/haproxy.pem") ||
+    fail "openssl failed: $run_dir/openssl.log"
+  export HFTS_TLS_PEM=$run_dir/haproxy.pem
+  client_args+=(--ca-file "$run_dir/cert.pem")
+fi
 haproxy -c -q -f "$cfg" || fail "haproxy rejected $cfg"
 haproxy -db -f "$cfg" 2>"$run_dir/haproxy.log" &
 pids+=($!)
@@ -116,7 +130,9 @@ echo "haproxy pid ${pids[-1]}"
 # Ready when a call through the balancer is answered.
 for _ in $(seq 100); do
   if "$client" --port "$port" --retries 0 "${client_args[@]}" info >/dev/null 2>&1; then
-    echo "balancer listening on 127.0.0.1:$port ($instances instances; logs in $run_dir)"
+    tls_note=""
+    [[ $tls == yes ]] && tls_note=", TLS with the CA $run_dir/cert.pem"
+    echo "balancer listening on 127.0.0.1:$port ($instances instances$tls_note; logs in $run_dir)"
     # Until Ctrl-C, or until HAProxy ends.
     wait "${pids[-1]}" || true
     exit 0

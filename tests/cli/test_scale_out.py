@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Plans through HAProxy in front of three hfts-server instances with tokens
-(scripts/scale_out.sh, deploy/haproxy/hfts.cfg, docs/security.md): the
+"""Plans through HAProxy, which speaks TLS to the clients, in front of three
+hfts-server instances with tokens (scripts/scale_out.sh --tls,
+deploy/haproxy/hfts.cfg, docs/security.md): the
 health check (which authenticates) sees every instance; one instance
 killed mid-load loses no request, because the clients (Python and
 hfts-client, with a plan token) send their calls again and a plan is
@@ -58,8 +59,10 @@ class Balancer:
         self.process = subprocess.Popen(
             [script, str(INSTANCES), "--port", str(self.port), "--base-port", "0",
              "--db", CONFIG.db_dir, "--bin", os.path.dirname(CONFIG.server), "--dir", run_dir,
-             "--auth-tokens", tokens, "--check-token", self.token_file, "--", "--quiet"],
+             "--auth-tokens", tokens, "--check-token", self.token_file, "--tls",
+             "--", "--quiet"],
             stdout=subprocess.PIPE, text=True)
+        self.ca_file = os.path.join(run_dir, "cert.pem")  # scale_out.sh --tls makes it
         self.instances = {}  # name in the HAProxy config -> pid
         for line in self.process.stdout:
             words = line.split()
@@ -116,7 +119,8 @@ class ScaleOut(unittest.TestCase):
 
         def python_client():
             with hfts_client.HftsClient("127.0.0.1", self.balancer.port, timeout=120,
-                                        retries=3, backoff=0.2, token=PLAN_TOKEN) as client:
+                                        retries=3, backoff=0.2, token=PLAN_TOKEN,
+                                        ca_file=self.balancer.ca_file) as client:
                 while True:
                     try:
                         seed = work.get_nowait()
@@ -136,7 +140,8 @@ class ScaleOut(unittest.TestCase):
                     return
                 run = subprocess.run(
                     [CONFIG.client, "--port", str(self.balancer.port), "--retries", "3",
-                     "--token-file", self.balancer.token_file, "--json",
+                     "--token-file", self.balancer.token_file,
+                     "--ca-file", self.balancer.ca_file, "--json",
                      "plan", "--scene", "table", "--seed", str(seed), "--time-limit", "20",
                      "--param", "physics_check=0"],
                     capture_output=True, text=True, timeout=120)
@@ -164,15 +169,19 @@ class ScaleOut(unittest.TestCase):
     def test_a_plan_token_cannot_shut_an_instance_down_through_the_balancer(self):
         self.assertTrue(wait_until(self.every_instance_up, timeout=10), self.balancer.stats())
         with hfts_client.HftsClient("127.0.0.1", self.balancer.port, timeout=60, retries=0,
-                                    token=PLAN_TOKEN) as client:
+                                    token=PLAN_TOKEN, ca_file=self.balancer.ca_file) as client:
             with self.assertRaises(hfts_client.RpcError) as caught:
                 client.shutdown()
             self.assertEqual(caught.exception.code, -32003)
-        with hfts_client.HftsClient("127.0.0.1", self.balancer.port, timeout=60,
-                                    retries=0) as client:  # no token at all
+        with hfts_client.HftsClient("127.0.0.1", self.balancer.port, timeout=60, retries=0,
+                                    ca_file=self.balancer.ca_file) as client:  # no token
             with self.assertRaises(hfts_client.RpcError) as caught:
                 client.shutdown()
             self.assertEqual(caught.exception.code, -32009)
+        # The balancer speaks TLS only: plain JSON gets no answer.
+        with socket.create_connection(("127.0.0.1", self.balancer.port), timeout=30) as s:
+            s.sendall(b'{"jsonrpc":"2.0","id":1,"method":"server.info"}\n')
+            self.assertNotIn(b'"jsonrpc"', s.makefile("rb").read())
         for pid in self.balancer.instances.values():
             self.assertTrue(os.path.exists(f"/proc/{pid}"), "an instance stopped")
         self.assertTrue(self.every_instance_up(), self.balancer.stats())
