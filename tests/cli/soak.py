@@ -98,6 +98,11 @@ PLOTTED = ["plan", "plan_cancelled", "cancel", "grasp.quality", "server.info", "
            "large"]
 
 
+# With --tls and --auth (docs/security.md): every Link speaks TLS with this
+# context and authenticates with this token before its first request.
+ACCESS = {"tls": None, "token": None}
+
+
 class Link:
     """One TCP connection: sends bytes, reads response lines before a deadline."""
 
@@ -105,7 +110,19 @@ class Link:
         self.socket = socket.create_connection((host, port), timeout=timeout)
         # Pipelined requests must not wait for the server's delayed ACK (Nagle).
         self.socket.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        if ACCESS["tls"] is not None:
+            self.socket = ACCESS["tls"].wrap_socket(self.socket, server_hostname=host)
         self.buffer = bytearray()
+        if ACCESS["token"] is not None:
+            self.send(message("auth", {"token": ACCESS["token"]}, "auth"))
+            reply = self.read_line(time.monotonic() + timeout)
+            if reply is None or b'"result"' not in reply:
+                raise ConnectionError(f"auth refused: {reply!r}")
+
+    def half_close(self):
+        """No more bytes to the server (TCP half-close; under TLS the TLS
+        layer stays, so that replies can still be read)."""
+        socket.socket.shutdown(self.socket, socket.SHUT_WR)
 
     def send(self, data):
         self.socket.settimeout(120)
@@ -432,7 +449,7 @@ class Client(threading.Thread):
         self.send(link, "plan_halfclose", message("plan", self.plan_params(1, 5), request_id),
                   request_id, ("result", BUSY))
         time.sleep(self.rng.uniform(0, 0.3))
-        link.socket.shutdown(socket.SHUT_WR)
+        link.half_close()
         saved, self.link = self.link, link
         self.await_replies(link)
         self.link = saved
@@ -853,6 +870,10 @@ def parse(argv):
     p.add_argument("--rss-tolerance-pct", type=float, default=5.0)
     p.add_argument("--rss-tolerance-mib", type=float, default=20.0)
     p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--auth", action="store_true",
+                   help="the started server has tokens; every connection authenticates")
+    p.add_argument("--tls", action="store_true",
+                   help="the started server speaks TLS (a self-signed certificate in --out)")
     p.add_argument("--verbose", "-v", action="store_true", help="a line per sample")
     o = p.parse_args(argv)
     o.port_given = o.port is not None
@@ -881,7 +902,25 @@ def start_server(o):
                  "(or give --db DIR, or --preprocess BIN)")
     o.binary = {"path": CONFIG.server, "modified": time.strftime(  # before a rebuild replaces it
         "%Y-%m-%dT%H:%M:%S", time.localtime(os.path.getmtime(CONFIG.server)))}
-    server = RunningServer(os.path.join(o.out, "server.log"), db_dir=db)
+    extra = []
+    if o.auth:
+        token = "soak-plan-token-" + "".join(random.choice("0123456789abcdef") for _ in range(24))
+        tokens = os.path.join(o.out, "tokens")
+        with open(os.open(tokens, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600), "w") as f:
+            f.write(f"plan {token} soak\n")
+        extra += ["--auth-tokens", tokens]
+        ACCESS["token"] = token
+    if o.tls:
+        import ssl
+        import subprocess
+        cert, key = os.path.join(o.out, "cert.pem"), os.path.join(o.out, "key.pem")
+        subprocess.run(["openssl", "req", "-x509", "-newkey", "rsa:2048", "-nodes", "-keyout", key,
+                        "-out", cert, "-days", "2", "-subj", "/CN=localhost", "-addext",
+                        "subjectAltName=DNS:localhost,IP:127.0.0.1"],
+                       check=True, capture_output=True)
+        extra += ["--tls-cert", cert, "--tls-key", key]
+        ACCESS["tls"] = ssl.create_default_context(cafile=cert)
+    server = RunningServer(os.path.join(o.out, "server.log"), *extra, db_dir=db)
     o.host, o.port, o.pid = server.host, server.port, server.process.pid
     return server, tmp
 
