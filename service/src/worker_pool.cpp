@@ -23,7 +23,9 @@ bool WorkerPool::trySubmit(CancelFlag cancel, std::function<void()> job, std::st
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     if (queue_.size() >= capacity_) return false;
-    ++clients_[client].queued;
+    Client& c = clients_[client];
+    if (c.queued == 0 && c.running == 0) c.served = ++events_;  // new: counts from now
+    ++c.queued;
     queue_.push_back({std::move(cancel), std::move(job), std::move(client)});
   }
   wake_.notify_one();
@@ -55,7 +57,7 @@ std::deque<WorkerPool::Job>::iterator WorkerPool::next() {
   auto best = queue_.begin();
   const auto rank = [this](const Job& job) {
     const Client& c = clients_.at(job.client);
-    return std::make_pair(c.running, c.last_start);
+    return std::make_pair(c.running, c.served);
   };
   for (auto job = queue_.begin() + 1; job != queue_.end(); ++job)
     if (rank(*job) < rank(*best)) best = job;
@@ -73,7 +75,7 @@ void WorkerPool::work() {
     Client& client = clients_.at(job.client);
     --client.queued;
     ++client.running;
-    client.last_start = ++starts_;
+    client.served = ++events_;
     running_.push_back(job.cancel);
     lock.unlock();
     job.run();

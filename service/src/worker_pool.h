@@ -23,8 +23,11 @@ using CancelFlag = std::shared_ptr<std::atomic<bool>>;
 /// waiting jobs. Every job carries a cancel flag, so that cancelAll() can
 /// stop the queued and running ones (graceful shutdown), and the client it
 /// is for: a free worker takes the first queued job of the client with the
-/// fewest jobs running, of those the one whose last job started longest
-/// ago (a client whose jobs wait behind another client's many goes next).
+/// fewest jobs running, of those the client served longest ago (a client
+/// not served yet counts from the arrival of its first queued job). So
+/// clients with the same number of jobs running take turns, a client whose
+/// one job waits behind another's many goes next, and no job waits for
+/// ever: a newcomer never goes before a client that waited longer.
 /// Thread-safe.
 class WorkerPool {
  public:
@@ -57,7 +60,7 @@ class WorkerPool {
   /// What the pool knows of a client with jobs queued or running.
   struct Client {
     std::size_t queued = 0, running = 0;
-    std::uint64_t last_start = 0;  // 0: none started yet
+    std::uint64_t served = 0;  // when its last job started, or its first arrived
   };
   void work();
   /// The queued job a free worker takes next (queue_ not empty).
@@ -69,7 +72,7 @@ class WorkerPool {
   std::deque<Job> queue_;
   std::vector<CancelFlag> running_;
   std::map<std::string, Client> clients_;
-  std::uint64_t starts_ = 0;
+  std::uint64_t events_ = 0;  // the clock of Client::served: arrivals and starts
   bool stopping_ = false;
   std::vector<std::thread> threads_;
 };

@@ -204,16 +204,15 @@ class FairShare(unittest.TestCase):
             self.assertEqual(busy["error"]["code"], -32001, busy)
             self.assertIn("this client already has 3 plans", busy["error"]["message"])
             with self.connect(ADMIN_TOKEN) as other:
-                began = time.monotonic()
                 other.request("plan", dict(TABLE, time_limit=20), request_id="other")
                 answer = other.read()
-                waited = time.monotonic() - began
             self.assertTrue(answer["result"]["success"], answer)
-            # The first free worker (after 2 s) took it before the flood's f2,
-            # which came first: in arrival order it would have waited 2 + 6 s.
-            self.assertLess(waited, 7)
             replies = [flood[0].read()["id"] for _ in range(3)]
             self.assertEqual(sorted(replies), ["f0", "f1", "f2"])
+            # The first free worker (f0's, after 2 s) took it before the
+            # flood's f2, which came first, so it was answered first: in
+            # arrival order it would have started after f2's 6 s (f1 holds
+            # the other worker for 12 s), whatever the machine's load.
             log = self.server.log_text()
             self.assertLess(log.index("id=\"other\" plan"), log.index("id=\"f2\" plan"))
         finally:

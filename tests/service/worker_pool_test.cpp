@@ -54,10 +54,39 @@ TEST(WorkerPool, AClientWaitingBehindAnothersJobsGoesNext) {
   ASSERT_TRUE(pool.trySubmit(flag(), record("other 2"), "other"));
   blocker->store(true);
   while (!pool.idle()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  // "flood" started last (its blocker), so "other" goes first; then they
-  // take turns, each client's jobs in the order they came.
+  // With no job running, the two take turns: "flood" was served (its
+  // blocker started) before "other" arrived, so it goes first; each
+  // client's jobs in the order they came.
   EXPECT_EQ(order,
-            (std::vector<std::string>{"other 1", "flood 1", "other 2", "flood 2", "flood 3"}));
+            (std::vector<std::string>{"flood 1", "other 1", "flood 2", "other 2", "flood 3"}));
+}
+
+TEST(WorkerPool, ANewcomerNeverGoesBeforeAClientServedBeforeItCame) {
+  // One worker. "c" has two jobs queued; while its first runs, newcomers
+  // arrive. When the worker comes free, "c" (served before they came)
+  // goes before every one of them: a stream of newcomers cannot keep a
+  // waiting client's job back for ever.
+  WorkerPool pool(1, 20);
+  std::mutex mutex;
+  std::vector<std::string> order;
+  const auto record = [&](std::string name) {
+    return [&, name] {
+      const std::lock_guard<std::mutex> lock(mutex);
+      order.push_back(name);
+    };
+  };
+  const CancelFlag first = flag();
+  std::promise<void> started;
+  ASSERT_TRUE(pool.trySubmit(first, waitForCancel(first, &started), "c"));
+  ASSERT_TRUE(pool.trySubmit(flag(), record("c 2"), "c"));
+  started.get_future().wait();
+  for (int i = 0; i < 3; ++i) {
+    const std::string name = "new " + std::to_string(i);
+    ASSERT_TRUE(pool.trySubmit(flag(), record(name), name));
+  }
+  first->store(true);
+  while (!pool.idle()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_EQ(order, (std::vector<std::string>{"c 2", "new 0", "new 1", "new 2"}));
 }
 
 TEST(WorkerPool, RefusesJobsBeyondTheQueueCapacity) {
