@@ -72,6 +72,10 @@ void Connection::readMore() {
 
 void Connection::onRead(const asio::error_code& error, std::size_t bytes) {
   if (closed_) return;
+  if (draining_) {  // the read was in flight when the draining began
+    if (error) return close();
+    return drainMore();
+  }
   if (input_done_) {  // shutting down: what arrives now is not served
     closeWhenDone();
     return;
@@ -308,19 +312,28 @@ void Connection::closeWhenDone() {
 
 void Connection::drainThenClose() {
   linger_ = false;
+  draining_ = true;
   stream_.shutdownSend();
   linger_timer_.expires_after(kLinger);
   linger_timer_.async_wait([self = shared_from_this()](const asio::error_code& error) {
     if (!error) self->close();
   });
-  struct Drain {
-    std::shared_ptr<Connection> self;
-    void operator()(const asio::error_code& error, std::size_t) {
-      if (error || self->closed_) return self->close();
-      self->stream_.readSome(asio::buffer(self->buffer_), std::move(*this));
-    }
-  };
-  Drain{shared_from_this()}(asio::error_code(), 0);
+  drainMore();
+}
+
+void Connection::drainMore() {
+  // One read at a time: a read still in flight (a timeout closed the
+  // connection while it waited) goes on draining when it completes
+  // (onRead). A second read on the same stream would be two TLS reads at
+  // once, which corrupt memory.
+  if (reading_ || closed_) return;
+  reading_ = true;
+  stream_.readSome(asio::buffer(buffer_),
+                   [self = shared_from_this()](const asio::error_code& error, std::size_t) {
+                     self->reading_ = false;
+                     if (error || self->closed_) return self->close();
+                     self->drainMore();
+                   });
 }
 
 void Connection::close() {

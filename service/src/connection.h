@@ -120,6 +120,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
   void endInput(bool cancelPlans);
   void closeWhenDone();
   void drainThenClose();
+  /// The next read of the draining (none while a read is in flight).
+  void drainMore();
   void close();
 
   ByteStream stream_;
@@ -142,7 +144,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
   bool reading_ = false;
   bool writing_ = false;
   bool input_done_ = false;
-  bool linger_ = false;  // drain the input before closing (oversized message)
+  bool linger_ = false;    // drain the input before closing (oversized message)
+  bool draining_ = false;  // reading only to drop the input, until the close
   bool closed_ = false;
   asio::steady_timer linger_timer_;
   asio::steady_timer deadline_timer_;

@@ -11,6 +11,11 @@ docs/reliability.md:
     /usr/bin/python3 tests/cli/server_attack.py --port 7450 --pid PID \\
         --connections 200 --mib 15
 
+Against a server with TLS and tokens (docs/security.md): --ca-file FILE
+makes every connection speak TLS, --token-file FILE makes the probes
+authenticate (the attackers do not, unless --attackers-authenticate: an
+attacker without a token is what tokens are for).
+
 Standard library only.
 """
 
@@ -24,6 +29,23 @@ import threading
 import time
 
 PREFIX = b'{"jsonrpc":"2.0","id":1,"method":"plan","params":{"scene":"'
+# --ca-file and --token-file: the TLS context of every connection, and the
+# token of the probes (and, with --attackers-authenticate, the attackers).
+ACCESS = {"tls": None, "token": None, "attackers_authenticate": False}
+
+
+def connect(host, port, timeout, authenticate):
+    """A connection as ACCESS says: TLS when it has a context, `auth` first
+    when `authenticate` and it has a token (raises OSError when refused)."""
+    sock = socket.create_connection((host, port), timeout=timeout)
+    if ACCESS["tls"] is not None:
+        sock = ACCESS["tls"].wrap_socket(sock, server_hostname=host)
+    if authenticate and ACCESS["token"] is not None:
+        sock.sendall(json.dumps({"jsonrpc": "2.0", "id": "auth", "method": "auth",
+                                 "params": {"token": ACCESS["token"]}}).encode() + b"\n")
+        if read_line(sock, wait=timeout) is None:
+            raise ConnectionError("auth not answered")
+    return sock
 
 
 def resident_bytes(pid):
@@ -47,7 +69,7 @@ class Attacker(threading.Thread):
 
     def run(self):
         try:
-            self.socket = socket.create_connection((self.host, self.port), timeout=30)
+            self.socket = connect(self.host, self.port, 30, ACCESS["attackers_authenticate"])
         except OSError as e:
             self.outcome = f"connect failed: {e}"
             return
@@ -90,7 +112,7 @@ def info_latency(host, port):
     """Seconds for server.info on a fresh connection, or None when refused."""
     start = time.monotonic()
     try:
-        with socket.create_connection((host, port), timeout=10) as s:
+        with connect(host, port, 10, authenticate=True) as s:
             s.sendall(b'{"jsonrpc":"2.0","id":"probe","method":"server.info"}\n')
             reply = json.loads(s.makefile("rb").readline())
     except (OSError, ValueError):
@@ -183,7 +205,18 @@ def main():
     parser.add_argument("--attacker-cpus", type=int, nargs="+",
                         help="run the attackers on these CPUs only (pin the server elsewhere, "
                         "e.g. with taskset, to model attackers on other machines)")
+    parser.add_argument("--ca-file", help="speak TLS, trusting these CA certificates")
+    parser.add_argument("--token-file", help="the probes authenticate with this file's token")
+    parser.add_argument("--attackers-authenticate", action="store_true",
+                        help="the attackers authenticate too (with --token-file's token)")
     args = parser.parse_args()
+    if args.ca_file:
+        import ssl
+        ACCESS["tls"] = ssl.create_default_context(cafile=args.ca_file)
+    if args.token_file:
+        with open(args.token_file, encoding="utf-8") as f:
+            ACCESS["token"] = f.readline().strip()
+    ACCESS["attackers_authenticate"] = args.attackers_authenticate
     result = attack(args.host, args.port, args.pid, args.connections, int(args.mib * 2**20),
                     log=print, attacker_cpus=args.attacker_cpus)
     mib = {k: round(result[k] / 2**20, 1) for k in ("idle", "peak", "held", "after")}

@@ -21,6 +21,7 @@ from hfts_server_fixture import (CONFIG, ENDLESS, NO_PHYSICS, TABLE, RunningServ
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "client",
                                 "python"))
 import hfts_client  # noqa: E402  (client/python)
+import server_attack  # noqa: E402  (tests/cli)
 
 PLAN_TOKEN = "plan-token-6b0d5f2e9c1a4b7d"
 ADMIN_TOKEN = "admin-token-3e8f1c7a2d9b5e40"
@@ -290,6 +291,27 @@ class Tls(unittest.TestCase):
         finally:
             shutil.rmtree(other, ignore_errors=True)
         self.assertNotIn(PLAN_TOKEN, self.server.log_text())
+
+    def test_a_flood_of_unfinished_messages_over_tls_leaves_the_server_serving(self):
+        # The flood of docs/reliability.md, scaled down, over TLS: connections
+        # refused over the input budget are drained and closed while their
+        # reads may still be in flight (two TLS reads at once crashed it).
+        server = RunningServer(os.path.join(self.tmp, "flood.log"), "--workers", "1",
+                               "--max-buffered-mib", "16", "--tls-cert", self.cert,
+                               "--tls-key", os.path.join(self.tmp, "key.pem"))
+        try:
+            server_attack.ACCESS["tls"] = ssl.create_default_context(cafile=self.cert)
+            result = server_attack.attack(server.host, server.port, server.process.pid,
+                                          connections=24, size=6 << 20)
+            self.assertIsNone(server.process.poll(), "the server died")
+            self.assertGreater(result["outcomes"].get("sent, error -32007", 0) +
+                               result["outcomes"].get("closed by server, error -32007", 0), 0,
+                               result)
+            self.assertGreater(result["probes"], 0, result)
+            self.assertEqual(result["refused_probes"], 0, result)
+        finally:
+            server_attack.ACCESS["tls"] = None
+            self.assertEqual(server.stop(), 0)
 
     def test_a_plain_client_gets_nothing_but_a_closed_connection(self):
         with socket.create_connection(("127.0.0.1", self.server.port), timeout=30) as s:
