@@ -34,30 +34,42 @@ TEST(WorkerPool, RunsEveryJob) {
   EXPECT_EQ(done.load(), 50);
 }
 
+/// The order in which the jobs it makes ran.
+class RunOrder {
+ public:
+  std::function<void()> record(std::string name) {
+    return [this, name] {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      names_.push_back(name);
+    };
+  }
+  std::vector<std::string> names() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return names_;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::string> names_;
+};
+
 TEST(WorkerPool, AClientWaitingBehindAnothersJobsGoesNext) {
   WorkerPool pool(1, 10);
   const CancelFlag blocker = flag();
   std::promise<void> started;
   ASSERT_TRUE(pool.trySubmit(blocker, waitForCancel(blocker, &started), "flood"));
   started.get_future().wait();
-  std::mutex mutex;
-  std::vector<std::string> order;
-  const auto record = [&](std::string name) {
-    return [&, name] {
-      const std::lock_guard<std::mutex> lock(mutex);
-      order.push_back(name);
-    };
-  };
+  RunOrder run;
   for (const char* name : {"flood 1", "flood 2", "flood 3"})
-    ASSERT_TRUE(pool.trySubmit(flag(), record(name), "flood"));
-  ASSERT_TRUE(pool.trySubmit(flag(), record("other 1"), "other"));
-  ASSERT_TRUE(pool.trySubmit(flag(), record("other 2"), "other"));
+    ASSERT_TRUE(pool.trySubmit(flag(), run.record(name), "flood"));
+  ASSERT_TRUE(pool.trySubmit(flag(), run.record("other 1"), "other"));
+  ASSERT_TRUE(pool.trySubmit(flag(), run.record("other 2"), "other"));
   blocker->store(true);
   while (!pool.idle()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   // With no job running, the two take turns: "flood" was served (its
   // blocker started) before "other" arrived, so it goes first; each
   // client's jobs in the order they came.
-  EXPECT_EQ(order,
+  EXPECT_EQ(run.names(),
             (std::vector<std::string>{"flood 1", "other 1", "flood 2", "other 2", "flood 3"}));
 }
 
@@ -67,26 +79,19 @@ TEST(WorkerPool, ANewcomerNeverGoesBeforeAClientServedBeforeItCame) {
   // goes before every one of them: a stream of newcomers cannot keep a
   // waiting client's job back for ever.
   WorkerPool pool(1, 20);
-  std::mutex mutex;
-  std::vector<std::string> order;
-  const auto record = [&](std::string name) {
-    return [&, name] {
-      const std::lock_guard<std::mutex> lock(mutex);
-      order.push_back(name);
-    };
-  };
+  RunOrder run;
   const CancelFlag first = flag();
   std::promise<void> started;
   ASSERT_TRUE(pool.trySubmit(first, waitForCancel(first, &started), "c"));
-  ASSERT_TRUE(pool.trySubmit(flag(), record("c 2"), "c"));
+  ASSERT_TRUE(pool.trySubmit(flag(), run.record("c 2"), "c"));
   started.get_future().wait();
   for (int i = 0; i < 3; ++i) {
     const std::string name = "new " + std::to_string(i);
-    ASSERT_TRUE(pool.trySubmit(flag(), record(name), name));
+    ASSERT_TRUE(pool.trySubmit(flag(), run.record(name), name));
   }
   first->store(true);
   while (!pool.idle()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  EXPECT_EQ(order, (std::vector<std::string>{"c 2", "new 0", "new 1", "new 2"}));
+  EXPECT_EQ(run.names(), (std::vector<std::string>{"c 2", "new 0", "new 1", "new 2"}));
 }
 
 TEST(WorkerPool, RefusesJobsBeyondTheQueueCapacity) {
