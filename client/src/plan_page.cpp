@@ -1,4 +1,4 @@
-#include "plan_page.h"
+#include "client/plan_page.h"
 
 #include <nlohmann/json.hpp>
 

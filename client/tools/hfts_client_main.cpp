@@ -15,10 +15,10 @@
 #include <iostream>
 #include <sstream>
 
+#include "client/plan_page.h"
 #include "client/rpc_client.h"
 #include "core/atomic_file.h"
 #include "core/base64.h"
-#include "plan_page.h"
 #include "result_printer.h"
 
 namespace {

@@ -394,6 +394,25 @@ bool CollisionChecker::inCollision(const Eigen::VectorXd& q, const CollisionRequ
   return impl_->collide(q, request, pair);
 }
 
+std::size_t CollisionChecker::inCollision(const Eigen::VectorXd* const* states, std::size_t count,
+                                          const CollisionRequest& request, bool* colliding) {
+  // Up to the first collision, the states are free; the search goes on
+  // after it.
+  std::size_t collisions = 0;
+  for (std::size_t begin = 0; begin < count;) {
+    const long first =
+        impl_->firstCollision(Impl::PointedStates{states + begin}, count - begin, request, nullptr);
+    const std::size_t free = first < 0 ? count - begin : static_cast<std::size_t>(first);
+    std::fill(colliding + begin, colliding + begin + free, false);
+    begin += free;
+    if (first >= 0) {
+      colliding[begin++] = true;
+      ++collisions;
+    }
+  }
+  return collisions;
+}
+
 void CollisionChecker::setMaxPenetration(double depth) {
   if (!(depth >= 0.0) || !std::isfinite(depth))
     throw InvalidArgument("max_penetration", "must be a finite number >= 0 (m)");

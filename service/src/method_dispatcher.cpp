@@ -6,6 +6,7 @@
 #include "json_fields.h"
 #include "service/catalog_json.h"
 #include "service/plan_result_json.h"
+#include "service/ros_messages.h"
 
 namespace hfts::service {
 
@@ -271,7 +272,7 @@ void MethodDispatcher::plan(const Call& call, const Caller& caller, const Finish
                        " plans queued or running (the server's --max-plans-per-client); wait "
                        "for one to finish");
   const planner::PlanningWorld* world = requestedRobot(call.params, *catalog_).world.get();
-  const bool gltf = planWantsGltf(call.params);
+  const PlanExtras extras = planExtras(call.params);
   auto flag = std::make_shared<std::atomic<bool>>(false);
   const std::string key = call.id.dump();
   Finish done = [this, plans = caller.plans, key, flag, finish, client](Outcome o) {
@@ -280,8 +281,8 @@ void MethodDispatcher::plan(const Call& call, const Caller& caller, const Finish
     finish(std::move(o));
   };
   // The catalog keeps the world alive while the plan runs.
-  auto job = [catalog = catalog_, world, request, flag, done, post = post_, gltf] {
-    auto outcome = std::make_shared<Outcome>(runPlan(*world, *request, *flag, gltf));
+  auto job = [catalog = catalog_, world, request, flag, done, post = post_, extras] {
+    auto outcome = std::make_shared<Outcome>(runPlan(*world, *request, *flag, extras));
     post([done, outcome] { done(std::move(*outcome)); });
   };
   if (!pool_.trySubmit(flag, std::move(job), client))
@@ -294,7 +295,8 @@ void MethodDispatcher::plan(const Call& call, const Caller& caller, const Finish
 
 MethodDispatcher::Outcome MethodDispatcher::runPlan(const planner::PlanningWorld& world,
                                                     const planner::PlanRequest& request,
-                                                    const std::atomic<bool>& cancel, bool gltf) {
+                                                    const std::atomic<bool>& cancel,
+                                                    const PlanExtras& extras) {
   try {
     planner::PlanResult result;
     if (cancel.load()) {  // cancelled while queued: no need to set anything up
@@ -306,8 +308,9 @@ MethodDispatcher::Outcome MethodDispatcher::runPlan(const planner::PlanningWorld
     }
     json out = planResultToJson(result, request);
     out["robot"] = world.robot().name();
-    if (gltf && !result.trajectory.points.empty())
+    if (extras.gltf && !result.trajectory.points.empty())
       out["gltf"] = core::base64Encode(planner::planGlb(world, request, result));
+    if (extras.ros) out["ros"] = rosPlan(world, request, result);
     return {std::move(out), std::nullopt,
             result.success ? "success" : planner::toString(result.failure)};
   } catch (const InvalidArgument& e) {  // planGrasp checks parameter values

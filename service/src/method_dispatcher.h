@@ -123,7 +123,7 @@ class MethodDispatcher {
   /// What server.info reports that changes only with the catalog.
   nlohmann::json staticInfo() const;
   static Outcome runPlan(const planner::PlanningWorld& world, const planner::PlanRequest& request,
-                         const std::atomic<bool>& cancel, bool gltf);
+                         const std::atomic<bool>& cancel, const PlanExtras& extras);
   static Outcome runQuality(const PlanningCatalog& catalog, const nlohmann::json& params,
                             const std::atomic<bool>& cancel);
 

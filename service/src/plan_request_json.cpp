@@ -165,16 +165,24 @@ std::vector<planner::MotionGoal> goalsOf(const JsonFields& f, const robot::Robot
 
 }  // namespace
 
-bool planWantsGltf(const json& params) {
+PlanExtras planExtras(const json& params) {
   const JsonFields f(params, "");
-  return f.has("gltf") && f.boolean("gltf");
+  PlanExtras extras;
+  extras.gltf = f.has("gltf") && f.boolean("gltf");
+  if (f.has("format")) {
+    const std::string format = f.string("format");
+    if (format != "json" && format != "ros")
+      f.fail("format", "must be \"json\" (the default) or \"ros\"");
+    extras.ros = format == "ros";
+  }
+  return extras;
 }
 
 planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatalog& catalog,
                                          const PlanLimits& limits) {
   const JsonFields f(params, "");
   f.allowOnly({"robot", "scene", "object", "object_pose", "start", "time_limit", "algorithm",
-               "iterations", "seed", "parameters", "trajectory_rate", "gltf", "explored",
+               "iterations", "seed", "parameters", "trajectory_rate", "gltf", "format", "explored",
                "validate", "physics", "goal", "goals"});
   const CatalogRobot& planned = requestedRobot(params, catalog);
   const bool motion = f.has("goal") || f.has("goals");

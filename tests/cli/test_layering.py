@@ -2,7 +2,8 @@
 """The libraries depend one way (docs/architecture.md):
 core <- hfts_db <- robot <- grasp, physics <- planner <- service, bench; preprocess uses
 core and hfts_db only (its program also robot and grasp); the client no library but
-core (the error type, the atomic file writer and base64). Checked on the sources' #include lines and on what
+core (the error type, the atomic file writer and base64); the Python module
+(python/) any library. Checked on the sources' #include lines and on what
 the built programs link. Within the libraries, no include circle between
 files (x.h and x.cpp taken as one) and no file over 600 lines in planner/
 and robot/ (the SIMD kernel aside)."""
@@ -25,6 +26,9 @@ ALLOWED = {
     "preprocess": {"core", "hfts_db", "robot", "grasp"},  # robot and grasp: tools/ only
     "service": {"core", "hfts_db", "robot", "grasp", "physics", "planner"},
     "client": {"core"},
+    # the in-process Python module (python/): a front end over every library
+    "python": {"core", "hfts_db", "robot", "grasp", "physics", "planner", "preprocess", "service",
+               "client"},
 }
 LIBRARY_FOLDERS = set(ALLOWED) | {"bench"}
 INCLUDE = re.compile(r'^[ \t]*#[ \t]*include[ \t]+"([a-z_]+)/[^"]+"', re.MULTILINE)

@@ -162,6 +162,11 @@ class CollisionChecker {
   bool inCollision(const Eigen::VectorXd& q, CollisionPair* pair = nullptr) {
     return inCollision(q, CollisionRequest{}, pair);
   }
+  /// Each of `count` configurations checked as inCollision checks one,
+  /// the sphere tier testing them a batch at a time: colliding[i] says
+  /// whether states[i] collides. Returns how many collide.
+  std::size_t inCollision(const Eigen::VectorXd* const* states, std::size_t count,
+                          const CollisionRequest& request, bool* colliding);
 
   /// The grasp rule's allowed fingertip depth in the target (m;
   /// kDefaultMaxPenetration unless set). Throws InvalidArgument

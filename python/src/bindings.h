@@ -1,0 +1,56 @@
+#pragma once
+// What the binding files of the Python module share (module.cpp calls each
+// file's bind function once, in the order of its dependencies).
+
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include <Eigen/Geometry>
+
+#include <string>
+
+namespace hfts::python {
+
+namespace py = pybind11;
+
+/// The exception classes (hfts.Error and its subclasses) and the
+/// translation of the libraries' exceptions to them.
+void bindErrors(py::module_& m);
+/// Robots, scenes, planning worlds, IK and collision checks.
+void bindRobot(py::module_& m);
+/// Grasp quality, object databases and hand maps.
+void bindGrasp(py::module_& m);
+/// Planner settings, plans, their validation, trajectories and ROS messages.
+void bindPlanner(py::module_& m);
+
+/// JSON as Python objects (dict, list, float, int, str, bool, None).
+py::object toPython(const nlohmann::json& value);
+
+/// A configuration from Python (any sequence of numbers or a 1-D array).
+using Configuration = Eigen::VectorXd;
+
+/// A C-contiguous float64 array of Python's, converted (copied) only when
+/// it is not one already. (Fixed-size Eigen arguments are avoided: their
+/// pybind11 caster trips GCC's maybe-uninitialized warning.)
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+/// A 4 x 4 homogeneous matrix as a rigid transform. Throws InvalidArgument
+/// (`field`) for another shape, a matrix that is not finite or not a
+/// rotation and a translation over the row 0 0 0 1.
+Eigen::Isometry3d isometryOf(const DoubleArray& matrix, const std::string& field);
+
+/// A 3-vector. Throws InvalidArgument (`field`) for another shape or a
+/// value that is not finite.
+Eigen::Vector3d vector3Of(const DoubleArray& vector, const std::string& field);
+
+/// Throws InvalidArgument (`field`) unless `array` has `dims` dimensions
+/// and, where `shape` is not -1, those sizes.
+void checkShape(const DoubleArray& array, const std::string& field,
+                std::initializer_list<py::ssize_t> shape);
+
+}  // namespace hfts::python

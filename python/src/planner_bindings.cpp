@@ -1,0 +1,473 @@
+// Planner settings, plans, their validation, trajectories and the ROS
+// shapes of a plan.
+
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <fstream>
+
+#include "bindings.h"
+#include "client/plan_page.h"
+#include "core/atomic_file.h"
+#include "core/invalid_argument.h"
+#include "planner/grasp_motion_planner.h"
+#include "planner/time_parameterization.h"
+#include "service/plan_result_json.h"
+#include "service/ros_messages.h"
+#include "service/validation_json.h"
+
+namespace hfts::python {
+namespace {
+
+using planner::PlanningWorld;
+
+/// A plan with what it was asked and the world it was made in: what its
+/// conversions (JSON, ROS, glTF, the viewer page) need.
+struct Plan {
+  std::shared_ptr<const PlanningWorld> world;
+  planner::PlanRequest request;
+  planner::PlanResult result;
+
+  nlohmann::json json() const {
+    nlohmann::json out = service::planResultToJson(result, request);
+    out["robot"] = world->robot().name();
+    return out;
+  }
+};
+
+/// A trajectory and the joints it moves.
+struct Trajectory {
+  planner::GraspTrajectory trajectory;
+  std::vector<std::string> joint_names;
+
+  /// The points' `member` stacked: an (T, dofs) array.
+  py::array_t<double> stacked(Eigen::VectorXd planner::TrajectoryPoint::*member) const {
+    const auto rows = static_cast<py::ssize_t>(trajectory.points.size());
+    const auto cols = static_cast<py::ssize_t>(joint_names.size());
+    py::array_t<double> out({rows, cols});
+    double* data = out.mutable_data();
+    for (const planner::TrajectoryPoint& p : trajectory.points) {
+      const Eigen::VectorXd& v = p.*member;
+      std::copy(v.data(), v.data() + v.size(), data);
+      data += cols;
+    }
+    return out;
+  }
+};
+
+/// A flag another thread sets to stop a plan.
+struct Cancel {
+  std::atomic<bool> flag{false};
+};
+
+planner::PlanAlgorithm algorithmOf(const std::string& name) {
+  if (name == "coupled") return planner::PlanAlgorithm::kCoupled;
+  if (name == "decoupled") return planner::PlanAlgorithm::kDecoupled;
+  if (name == "rrtconnect") return planner::PlanAlgorithm::kRrtConnect;
+  throw InvalidArgument(
+      "algorithm", "must be \"coupled\", \"decoupled\" or \"rrtconnect\", got \"" + name + "\"");
+}
+
+planner::PlannerPreset presetOf(const std::string& name) {
+  if (name == "default") return planner::PlannerPreset::kDefault;
+  if (name == "paper") return planner::PlannerPreset::kPaper;
+  throw InvalidArgument("preset", "must be \"default\" or \"paper\", got \"" + name + "\"");
+}
+
+/// A parameter's value as the text setSetting reads: a bool as 0 or 1, a
+/// number as Python writes it, a string as it is.
+std::string parameterText(const std::string& name, const py::handle& value) {
+  if (py::isinstance<py::bool_>(value)) return value.cast<bool>() ? "1" : "0";
+  if (py::isinstance<py::int_>(value) || py::isinstance<py::float_>(value) ||
+      py::isinstance<py::str>(value))
+    return py::str(value).cast<std::string>();
+  throw InvalidArgument("parameters." + name, "must be a number, a bool or a string");
+}
+
+py::array_t<double> pathArray(const std::vector<Eigen::VectorXd>& path, int dofs) {
+  py::array_t<double> out({static_cast<py::ssize_t>(path.size()), static_cast<py::ssize_t>(dofs)});
+  double* data = out.mutable_data();
+  for (const Eigen::VectorXd& q : path) {
+    std::copy(q.data(), q.data() + q.size(), data);
+    data += dofs;
+  }
+  return out;
+}
+
+Plan plan(std::shared_ptr<PlanningWorld> world, const robot::Scene& scene,
+          const std::string& object, const std::optional<DoubleArray>& objectPose,
+          const std::optional<Eigen::VectorXd>& start,
+          const std::vector<planner::MotionGoal>& goals, const std::string& algorithm,
+          const std::optional<planner::PlanSettings>& settings, const std::string& preset,
+          const std::optional<int>& iterations, std::uint64_t seed, double timeLimit,
+          const py::dict& parameters, double trajectoryRate, bool explored, bool validate,
+          const std::optional<physics::SimulationOptions>& simulation, Cancel* cancel) {
+  Plan out;
+  out.world = world;
+  planner::PlanRequest& r = out.request;
+  r.scene = scene;
+  r.object = object.empty() ? scene.target_object : object;
+  if (objectPose) r.object_pose = isometryOf(*objectPose, "object_pose");
+  r.start = start;
+  r.goals = goals;
+  r.algorithm = algorithmOf(algorithm);
+  r.settings = settings;
+  r.preset = presetOf(preset);
+  r.iterations = iterations;
+  r.seed = seed;
+  r.time_limit = timeLimit;
+  for (const auto& [key, value] : parameters) {
+    const std::string name = py::str(key).cast<std::string>();
+    r.parameters[name] = parameterText(name, value);
+  }
+  r.trajectory_rate = trajectoryRate;
+  r.explored = explored;
+  r.validate = validate;
+  if (simulation) r.simulation = *simulation;
+  py::gil_scoped_release release;
+  out.result = planner::planGrasp(*world, r, cancel ? &cancel->flag : nullptr);
+  return out;
+}
+
+py::object validate(const Plan& p, const std::optional<physics::SimulationOptions>& simulation) {
+  planner::PlanRequest request = p.request;
+  if (simulation) request.simulation = *simulation;
+  planner::Validation v;
+  {
+    py::gil_scoped_release release;
+    v = planner::validatePlan(*p.world, request, p.result);
+  }
+  nlohmann::json out = {{"holds", v.holds()}, {"check", service::graspCheckToJson(v.check)}};
+  if (v.physics) out["physics"] = service::physicsToJson(*v.physics, /*motion=*/true);
+  return toPython(out);
+}
+
+Trajectory timeParameterize(const robot::RobotModel& robot, const DoubleArray& path, double rate,
+                            double maxDeviation) {
+  checkShape(path, "path", {-1, robot.numDofs()});
+  if (path.shape(0) < 2) throw InvalidArgument("path", "needs at least two configurations");
+  if (robot.maxAccelerations().size() != robot.numDofs())
+    throw InvalidArgument(
+        "robot", "'" + robot.name() + "' has no max_accelerations in its config: no trajectory");
+  std::vector<Eigen::VectorXd> waypoints;
+  for (py::ssize_t i = 0; i < path.shape(0); ++i)
+    waypoints.emplace_back(Eigen::Map<const Eigen::VectorXd>(path.data(i, 0), robot.numDofs()));
+  planner::TrajectoryOptions options;
+  options.max_deviation = maxDeviation;
+  Trajectory out;
+  out.joint_names = robot.dofNames();
+  py::gil_scoped_release release;
+  const planner::TimeOptimalTrajectory t(waypoints, robot.maxVelocities(), robot.maxAccelerations(),
+                                         options);
+  out.trajectory.points = t.sample(rate);
+  out.trajectory.duration = t.duration();
+  out.trajectory.closing_start = t.duration();
+  out.trajectory.deviation = t.deviation();
+  return out;
+}
+
+template <typename Struct>
+std::string describe(const char* name, const Struct& s, const py::object& self) {
+  static_cast<void>(s);
+  std::string out = std::string("hfts.") + name + "(";
+  bool first = true;
+  for (const auto& item : self.attr("__class__").attr("__dict__").cast<py::dict>()) {
+    const std::string key = py::str(item.first).cast<std::string>();
+    if (key.rfind("_", 0) == 0 || !py::hasattr(item.second, "fset")) continue;
+    out += (first ? "" : ", ") + key + "=" + py::repr(self.attr(key.c_str())).cast<std::string>();
+    first = false;
+  }
+  return out + ")";
+}
+
+template <typename Class>
+void addRepr(Class& cls, const char* name) {
+  using Struct = typename Class::type;
+  cls.def("__repr__", [name](const py::object& self) {
+    return describe(name, self.cast<const Struct&>(), self);
+  });
+}
+
+void bindSettings(py::module_& m) {
+  using namespace planner;
+  py::class_<PaperParameters> paper(m, "PaperParameters",
+                                    "The paper's parameters (its Fig. 6), at its values.");
+  paper.def(py::init<>())
+      .def_readwrite("step_size", &PaperParameters::step_size)
+      .def_readwrite("p_max", &PaperParameters::p_max)
+      .def_readwrite("p_min", &PaperParameters::p_min)
+      .def_readwrite("p_w", &PaperParameters::p_w)
+      .def_readwrite("p_goal_tree", &PaperParameters::p_goal_tree)
+      .def_readwrite("d_m", &PaperParameters::d_m)
+      .def_readwrite("w_f", &PaperParameters::w_f)
+      .def_readwrite("w_c", &PaperParameters::w_c)
+      .def_readwrite("n_a", &PaperParameters::n_a)
+      .def_readwrite("kappa", &PaperParameters::kappa)
+      .def_readwrite("i_min", &PaperParameters::i_min)
+      .def_readwrite("i_max", &PaperParameters::i_max)
+      .def_readwrite("alpha", &PaperParameters::alpha)
+      .def_readwrite("friction", &PaperParameters::friction)
+      .def_readwrite("cone_edges", &PaperParameters::cone_edges)
+      .def_readwrite("weight_arm", &PaperParameters::weight_arm)
+      .def_readwrite("weight_hand", &PaperParameters::weight_hand)
+      .def_readwrite("decoupled_iterations", &PaperParameters::decoupled_iterations);
+  addRepr(paper, "PaperParameters");
+
+  py::class_<SearchHeuristics> heuristics(
+      m, "SearchHeuristics",
+      "The project's additions to the paper's search (docs/planning.md); preset \"paper\" turns "
+      "every one off.");
+  heuristics.def(py::init<>())
+      .def_readwrite("p_local", &SearchHeuristics::p_local)
+      .def_readwrite("local_radius", &SearchHeuristics::local_radius)
+      .def_readwrite("other_postures", &SearchHeuristics::other_postures)
+      .def_readwrite("palm_turns", &SearchHeuristics::palm_turns)
+      .def_readwrite("mask_contacts", &SearchHeuristics::mask_contacts)
+      .def_readwrite("unstable_by_reach", &SearchHeuristics::unstable_by_reach)
+      .def_readwrite("fit_check", &SearchHeuristics::fit_check)
+      .def_readwrite("fit_clearance", &SearchHeuristics::fit_clearance);
+  addRepr(heuristics, "SearchHeuristics");
+
+  py::class_<GoalCriteria> goal(m, "GoalCriteria", "What a goal must pass.");
+  goal.def(py::init<>())
+      .def_readwrite("max_fingertip_error", &GoalCriteria::max_fingertip_error)
+      .def_readwrite("min_epsilon", &GoalCriteria::min_epsilon)
+      .def_readwrite("max_penetration", &GoalCriteria::max_penetration)
+      .def_readwrite("physics_check", &GoalCriteria::physics_check);
+  addRepr(goal, "GoalCriteria");
+
+  py::class_<PathCriteria> path(m, "PathCriteria", "What a returned motion must be.");
+  path.def(py::init<>())
+      .def_readwrite("certify", &PathCriteria::certify)
+      .def_readwrite("clearance", &PathCriteria::clearance);
+  addRepr(path, "PathCriteria");
+
+  py::class_<ExecutionOptions> execution(m, "ExecutionOptions",
+                                         "How the search runs (none changes what a plan is).");
+  execution.def(py::init<>())
+      .def_readwrite("threads", &ExecutionOptions::threads)
+      .def_readwrite("sphere_tier", &ExecutionOptions::sphere_tier)
+      .def_readwrite("collision_resolution", &ExecutionOptions::collision_resolution)
+      .def_readwrite("smoothing_steps", &ExecutionOptions::smoothing_steps)
+      .def_readwrite("final_resolution", &ExecutionOptions::final_resolution);
+  addRepr(execution, "ExecutionOptions");
+
+  py::class_<PlanSettings> settings(
+      m, "PlanSettings",
+      "A plan's settings, typed (docs/planning.md#parameters). Start from "
+      "World.default_settings() to change a few.");
+  settings.def(py::init<>())
+      .def_readwrite("paper", &PlanSettings::paper)
+      .def_readwrite("heuristics", &PlanSettings::heuristics)
+      .def_readwrite("goal", &PlanSettings::goal)
+      .def_readwrite("path", &PlanSettings::path)
+      .def_readwrite("execution", &PlanSettings::execution)
+      .def(
+          "set",
+          [](PlanSettings& s, const std::string& name, const py::handle& value) {
+            setSetting(s, name, parameterText(name, value));
+          },
+          py::arg("name"), py::arg("value"),
+          "Sets a setting by its parameter name (\"p_max\", \"threads\"), checked against its "
+          "range.")
+      .def("check", &checkSettings, "Raises InvalidArgument for a value out of its range.");
+  addRepr(settings, "PlanSettings");
+
+  py::class_<physics::SimulationOptions> simulation(
+      m, "SimulationOptions", "The physics check's options (docs/physics.md).");
+  simulation.def(py::init<>())
+      .def_readwrite("density", &physics::SimulationOptions::density)
+      .def_readwrite("friction", &physics::SimulationOptions::friction)
+      .def_readwrite("lift_height", &physics::SimulationOptions::lift_height)
+      .def_readwrite("perturb", &physics::SimulationOptions::perturb)
+      .def_readwrite("min_held_fraction", &physics::SimulationOptions::min_held_fraction)
+      .def_readwrite("max_displacement", &physics::SimulationOptions::max_displacement)
+      .def_readwrite("max_rotation", &physics::SimulationOptions::max_rotation);
+  addRepr(simulation, "SimulationOptions");
+
+  py::class_<JointGoal>(m, "JointGoal", "A configuration to reach: every DoF, or the arm's only.")
+      .def(py::init([](const Eigen::VectorXd& q) { return JointGoal{q}; }),
+           py::arg("configuration"))
+      .def_readwrite("configuration", &JointGoal::configuration);
+  py::class_<PoseGoal>(m, "PoseGoal",
+                       "A pose (4 x 4, world frame) of the palm or flange link to reach within "
+                       "tolerances (m, rad).")
+      .def(py::init([](const DoubleArray& pose, const std::string& link, double position_tolerance,
+                       double orientation_tolerance) {
+             return PoseGoal{link, isometryOf(pose, "pose"), position_tolerance,
+                             orientation_tolerance};
+           }),
+           py::arg("pose"), py::arg("link") = "", py::arg("position_tolerance") = 0.001,
+           py::arg("orientation_tolerance") = 0.01)
+      .def_property_readonly("pose", [](const PoseGoal& g) { return g.pose.matrix(); })
+      .def_readonly("link", &PoseGoal::link)
+      .def_readonly("position_tolerance", &PoseGoal::position_tolerance)
+      .def_readonly("orientation_tolerance", &PoseGoal::orientation_tolerance);
+}
+
+}  // namespace
+
+void bindPlanner(py::module_& m) {
+  bindSettings(m);
+
+  py::class_<Cancel>(m, "Cancel", "Stops a plan from another thread: pass it to World.plan.")
+      .def(py::init<>())
+      .def(
+          "cancel", [](Cancel& c) { c.flag = true; }, "Asks the plan to stop.")
+      .def_property_readonly("cancelled", [](const Cancel& c) { return c.flag.load(); });
+
+  py::class_<Trajectory>(m, "Trajectory",
+                         "A trajectory sampled at a fixed rate: times (T,), positions, "
+                         "velocities, accelerations (T, num_dofs).")
+      .def_property_readonly(
+          "times",
+          [](const Trajectory& t) {
+            py::array_t<double> out(static_cast<py::ssize_t>(t.trajectory.points.size()));
+            double* data = out.mutable_data();
+            for (const auto& p : t.trajectory.points) *data++ = p.time;
+            return out;
+          })
+      .def_property_readonly(
+          "positions",
+          [](const Trajectory& t) { return t.stacked(&planner::TrajectoryPoint::positions); })
+      .def_property_readonly(
+          "velocities",
+          [](const Trajectory& t) { return t.stacked(&planner::TrajectoryPoint::velocities); })
+      .def_property_readonly(
+          "accelerations",
+          [](const Trajectory& t) { return t.stacked(&planner::TrajectoryPoint::accelerations); })
+      .def_readonly("joint_names", &Trajectory::joint_names)
+      .def_property_readonly("duration", [](const Trajectory& t) { return t.trajectory.duration; })
+      .def_property_readonly("closing_start",
+                             [](const Trajectory& t) { return t.trajectory.closing_start; })
+      .def_property_readonly("deviation",
+                             [](const Trajectory& t) { return t.trajectory.deviation; })
+      .def(
+          "to_ros",
+          [](const Trajectory& t) {
+            return toPython(service::rosJointTrajectory(t.trajectory, t.joint_names));
+          },
+          "The trajectory as a dict shaped like trajectory_msgs/JointTrajectory.")
+      .def("__len__", [](const Trajectory& t) { return t.trajectory.points.size(); });
+
+  py::class_<Plan>(m, "Plan", "A plan: success or why not, the path, the grasp, the trajectory.")
+      .def_property_readonly("success", [](const Plan& p) { return p.result.success; })
+      .def_property_readonly("failure",
+                             [](const Plan& p) { return planner::toString(p.result.failure); })
+      .def_property_readonly("message", [](const Plan& p) { return p.result.message; })
+      .def_property_readonly("joint_names", [](const Plan& p) { return p.result.joint_names; })
+      .def_property_readonly(
+          "path",
+          [](const Plan& p) { return pathArray(p.result.path, p.world->robot().numDofs()); },
+          "The path, one configuration per row: start, ..., pre-grasp, grasp.")
+      .def_property_readonly("seed", [](const Plan& p) { return p.result.seed; })
+      .def_property_readonly("object", [](const Plan& p) { return p.request.object; })
+      .def_property_readonly("object_pose",
+                             [](const Plan& p) { return p.result.object_pose.matrix(); })
+      .def_property_readonly("clearance", [](const Plan& p) { return p.result.clearance; })
+      .def_property_readonly("reached_goal", [](const Plan& p) { return p.result.reached_goal; })
+      .def_property_readonly(
+          "grasp", [](const Plan& p) { return toPython(p.json()["grasp"]); },
+          "The grasp as executed (dict; None for a failed or motion plan): contacts with inward "
+          "normals, epsilon, penetration, hand_configuration, ...")
+      .def_property_readonly(
+          "trajectory",
+          [](const Plan& p) -> std::optional<Trajectory> {
+            if (p.result.trajectory.points.empty()) return std::nullopt;
+            return Trajectory{p.result.trajectory, p.result.joint_names};
+          },
+          "The time-parameterised path (None when not asked for or not possible).")
+      .def_property_readonly("stats", [](const Plan& p) { return toPython(p.json()["stats"]); })
+      .def_property_readonly("validation",
+                             [](const Plan& p) -> py::object {
+                               const nlohmann::json j = p.json();
+                               if (!j.contains("validation")) return py::none();
+                               return toPython({{"check", j["validation"]},
+                                                {"physics", j.value("physics", nlohmann::json())},
+                                                {"holds", p.result.validation->holds()}});
+                             })
+      .def(
+          "to_dict", [](const Plan& p) { return toPython(p.json()); },
+          "The plan as the service's plan result (docs/protocol.md).")
+      .def(
+          "to_ros",
+          [](const Plan& p) { return toPython(service::rosPlan(*p.world, p.request, p.result)); },
+          "{\"grasp\": moveit_msgs/Grasp, \"trajectory\": trajectory_msgs/JointTrajectory} as "
+          "dicts (docs/python.md#ros-shaped-results).")
+      .def(
+          "glb",
+          [](const Plan& p) {
+            std::string bytes;
+            {
+              py::gil_scoped_release release;
+              bytes = planner::planGlb(*p.world, p.request, p.result);
+            }
+            return py::bytes(bytes);
+          },
+          "The plan as an animated binary glTF (needs a trajectory).")
+      .def(
+          "write_viewer_page",
+          [](const Plan& p, const std::filesystem::path& path,
+             const std::filesystem::path& viewer_dir) {
+            const std::string glb = planner::planGlb(*p.world, p.request, p.result);
+            core::writeFileAtomically(path, client::planPage(p.json(), glb, viewer_dir));
+          },
+          py::arg("path"), py::arg("viewer_dir"),
+          "Writes the plan's page with the viewer (docs/viewer.md): one HTML file that opens "
+          "from disk.")
+      .def("__repr__", [](const Plan& p) {
+        return std::string("<hfts.Plan ") +
+               (p.result.success ? "success" : planner::toString(p.result.failure)) + ", " +
+               std::to_string(p.result.path.size()) + " waypoints>";
+      });
+
+  auto world = py::reinterpret_borrow<py::class_<PlanningWorld, std::shared_ptr<PlanningWorld>>>(
+      m.attr("World"));
+  world
+      .def(
+          "default_settings",
+          [](const PlanningWorld& w, const std::string& preset) {
+            return planner::defaultSettings(w.robot(), presetOf(preset));
+          },
+          py::arg("preset") = "default",
+          "The settings a plan starts from for this robot: \"default\" (the planner as "
+          "measured best) or \"paper\" (the paper's algorithm exactly).")
+      .def(
+          "parameters",
+          [](const PlanningWorld& w) {
+            py::list out;
+            for (const planner::PlannerParameterInfo& p : planner::plannerParameters(w))
+              out.append(py::dict(py::arg("name") = p.name, py::arg("default") = p.default_value,
+                                  py::arg("range") = p.range));
+            return out;
+          },
+          "Every planner parameter by name with its default and range.")
+      .def("plan", &plan, py::arg("scene"), py::arg("object") = "",
+           py::arg("object_pose") = py::none(), py::arg("start") = py::none(),
+           py::arg("goals") = std::vector<planner::MotionGoal>{}, py::arg("algorithm") = "coupled",
+           py::arg("settings") = py::none(), py::arg("preset") = "default",
+           py::arg("iterations") = py::none(), py::arg("seed") = 1, py::arg("time_limit") = 60.0,
+           py::arg("parameters") = py::dict(), py::arg("trajectory_rate") = 100.0,
+           py::arg("explored") = false, py::arg("validate") = false,
+           py::arg("simulation") = py::none(), py::arg("cancel") = nullptr,
+           "Plans a grasp of `object` (default the scene's target) and a path to it (or, with "
+           "goals, a path to one of them). The GIL is released while it plans. Raises "
+           "InvalidArgument naming the field for a malformed request.")
+      .def(
+          "validate",
+          [](const PlanningWorld&, const Plan& p,
+             const std::optional<physics::SimulationOptions>& simulation) {
+            return validate(p, simulation);
+          },
+          py::arg("plan"), py::arg("simulation") = py::none(),
+          "A successful plan's grasp checked again and simulated in MuJoCo: {holds, check, "
+          "physics}.");
+
+  m.def("time_parameterize", &timeParameterize, py::arg("robot"), py::arg("path"),
+        py::arg("rate") = 100.0,
+        py::arg("max_deviation") = planner::TrajectoryOptions{}.max_deviation,
+        "A time-optimal trajectory through a path (N, num_dofs) under the robot's limits, "
+        "sampled at `rate` Hz. Not collision-checked: plans' own trajectories are.");
+}
+
+}  // namespace hfts::python
