@@ -23,6 +23,11 @@ PACKAGES=(
   openssl  # self-signed certificates of the TLS tests (scripts/scale_out.sh --tls)
   # Python tooling (runs under /usr/bin/python3)
   python3 python3-numpy python3-h5py python3-matplotlib
+  # the in-process Python module (python/, docs/python.md): pybind11 and the
+  # headers it builds against; its wheel (python3 -m build, venv); the ROS
+  # messages its results are shaped like (round-tripped in its tests)
+  python3-dev pybind11-dev python3-pybind11 python3-build python3-venv python3-setuptools
+  python3-wheel python3-trajectory-msgs python3-geometry-msgs
   # the viewer (viewer/): node and npm for three.js, esbuild, the glTF
   # validator and puppeteer-core (Debian's npm package is added below
   # unless the nodejs installed already brings npm); chromium for its tests

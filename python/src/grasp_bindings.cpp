@@ -15,7 +15,8 @@ grasp::GraspQualityRequest commonRequest(const Eigen::Vector3d& center, double t
                                          double friction, int coneEdges, double torsionalFriction,
                                          const std::string& normals) {
   if (normals != "inward" && normals != "outward")
-    throw InvalidArgument("normals", "must be \"inward\" or \"outward\", got \"" + normals + "\"");
+    throw InvalidArgument("normal_direction",
+                          "must be \"inward\" or \"outward\", got \"" + normals + "\"");
   grasp::GraspQualityRequest request;
   request.center = center;
   request.torque_scale = torqueScale;

@@ -104,11 +104,11 @@ Eigen::MatrixXd solutionsOf(const PlanningWorld& world, const DoubleArray& pose,
                             const std::string& link, std::uint64_t seed) {
   if (link != "palm" && link != "flange")
     throw InvalidArgument("link", "must be \"palm\" or \"flange\", got \"" + link + "\"");
-  const Eigen::Matrix<double, 4, 4, Eigen::RowMajor> rows = isometryOf(pose, "pose").matrix();
+  isometryOf(pose, "pose");  // checked here to name the field; solved as given
   IkSolutions found;
   {
     py::gil_scoped_release release;
-    found = armIkBatch(world.ik(), rows.data(), 1, link == "palm", seed);
+    found = armIkBatch(world.ik(), pose.data(), 1, link == "palm", seed);
   }
   const auto arm = static_cast<Eigen::Index>(world.robot().numArmDofs());
   return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
@@ -272,7 +272,7 @@ void bindRobot(py::module_& m) {
             return c.inCollision(q, collisionRequest(rule, target, self, obstacles));
           },
           py::arg("configuration"), py::arg("rule") = "strict", py::arg("target") = true,
-          py::arg("self") = true, py::arg("obstacles") = true,
+          py::arg("self_collision") = true, py::arg("obstacles") = true,
           "Whether the robot at the configuration touches what counts: rule \"strict\" (any "
           "contact) or \"grasp\" (fingertips may touch the target, docs/collision.md).")
       .def(
@@ -282,7 +282,7 @@ void bindRobot(py::module_& m) {
             return c.inCollisionBatch(q, collisionRequest(rule, target, self, obstacles));
           },
           py::arg("configurations"), py::arg("rule") = "strict", py::arg("target") = true,
-          py::arg("self") = true, py::arg("obstacles") = true,
+          py::arg("self_collision") = true, py::arg("obstacles") = true,
           "in_collision of each row of an (N, num_dofs) array, the sphere tier testing them a "
           "batch at a time: a bool array of N.")
       .def("clearance", &SceneChecker::clearance, py::arg("configuration"),
