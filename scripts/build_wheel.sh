@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Builds the wheel of the Python module hfts (docs/python.md) offline into
+# dist/ (or the folder given as the only argument): Debian's python3-build
+# without an isolated environment (no PyPI), CMake building the extension.
+# HFTS_CMAKE_BUILD_DIR may name a configured build folder to reuse (the
+# tests reuse build/); by default the extension is built in build/wheel.
+# Install it with:
+#   /usr/bin/python3 -m venv --system-site-packages VENV
+#   VENV/bin/pip install --no-index dist/hfts-*.whl
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh >/dev/null
+mkdir -p "${1:-dist}"
+out="$(cd "${1:-dist}" && pwd)"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+# setuptools writes its build and egg-info folders beside setup.py: build a
+# copy of python/ so that the checkout stays clean.
+cp -r python "$work/python"
+HFTS_SOURCE_ROOT="$PWD" /usr/bin/python3 -m build --no-isolation --wheel --outdir "$out" "$work/python"
