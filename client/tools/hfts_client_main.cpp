@@ -2,7 +2,8 @@
 // Subcommands info, objects, scenes, plan, quality, shutdown, and view (a
 // saved plan as an HTML page; no server). Prints a human-readable summary,
 // or the raw result with --json; --out FILE saves the result (JSON), plan
-// --trajectory-csv / --gltf FILE its trajectory and animation; --retries N
+// --trajectory-csv / --gltf / --ros FILE its trajectory, animation and ROS
+// messages; --retries N
 // connects and sends again when the connection fails before the answer (a
 // balancer's instance died); --token-file FILE (or HFTS_TOKEN) authenticates
 // to a server with tokens; --tls [--ca-file FILE] speaks TLS. Exit codes: 0 done, 1 the server or
@@ -45,7 +46,7 @@ struct PlanOptions {
   std::vector<double> goal_tolerance;
   std::vector<std::string> parameters;
   double time_limit = 0.0, trajectory_rate = 0.0;
-  std::string trajectory_csv, gltf;
+  std::string trajectory_csv, gltf, ros;
   int iterations = 0;
   bool explored = false;
   bool validate = false;
@@ -162,6 +163,7 @@ json planParams(const PlanOptions& p, const CLI::App& cmd) {
   if (cmd.count("--iterations")) params["iterations"] = p.iterations;
   if (cmd.count("--trajectory-rate")) params["trajectory_rate"] = p.trajectory_rate;
   if (!p.gltf.empty()) params["gltf"] = true;
+  if (!p.ros.empty()) params["format"] = "ros";
   if (p.explored) params["explored"] = true;
   if (p.validate) params["validate"] = true;
   if (!p.parameters.empty()) {
@@ -214,6 +216,10 @@ void addPlanOptions(CLI::App& cmd, PlanOptions& p) {
   cmd.add_flag("--validate", p.validate,
                "Check the grasp as executed again and simulate it: does it hold? (seconds)");
   cmd.add_option("--gltf", p.gltf, "Write the plan as an animated binary glTF to FILE (.glb)")
+      ->type_name("FILE");
+  cmd.add_option("--ros", p.ros,
+                 "Write the plan as ROS messages to FILE (JSON: moveit_msgs/Grasp and "
+                 "trajectory_msgs/JointTrajectory, docs/protocol.md)")
       ->type_name("FILE");
 }
 
@@ -335,6 +341,8 @@ int main(int argc, char** argv) {
       hfts::client::writeTrajectoryCsv(result, csv);
       hfts::core::writeFileAtomically(plan.trajectory_csv, csv.str());
     }
+    if (command == "plan" && !plan.ros.empty() && status == 0)
+      hfts::core::writeFileAtomically(plan.ros, result.at("ros").dump(2) + "\n");
     if (command == "plan" && !plan.gltf.empty() && status == 0) {
       if (!result.contains("gltf"))
         throw std::runtime_error("the plan has no trajectory to animate");

@@ -139,6 +139,26 @@ class CommandLine(ClientTest):
         self.assertEqual(points[-1]["positions"], values[-1][1:1 + n])
         self.assertEqual(points[-1]["time_from_start"], plan["trajectory"]["duration"])
 
+    def test_ros_messages_are_written(self):
+        ros_path = os.path.join(self.tmp, "plan_ros.json")
+        self.ok("plan", "--scene", "table", "--seed", "1", "--time-limit", "20", "--ros", ros_path,
+                *NO_PHYSICS_ARGS)
+        with open(ros_path) as f:
+            ros = json.load(f)
+        self.assertEqual(ros["grasp"]["id"], "mug")
+        self.assertEqual(ros["grasp"]["grasp_pose"]["header"]["frame_id"], "world")
+        points = ros["trajectory"]["points"]
+        self.assertEqual(points[0]["time_from_start"], {"secs": 0, "nsecs": 0})
+        # The same plan through the Python client, asked for the ROS format.
+        with hfts_client.HftsClient(self.server.host, self.server.port, timeout=120) as c:
+            plan = c.plan("table", seed=1, time_limit=20, parameters=NO_PHYSICS, format="ros")
+        self.assertEqual(plan["ros"], ros)
+        last = plan["trajectory"]["points"][-1]
+        self.assertEqual(points[-1]["positions"], last["positions"])
+        self.assertAlmostEqual(points[-1]["time_from_start"]["secs"]
+                               + 1e-9 * points[-1]["time_from_start"]["nsecs"],
+                               last["time_from_start"], delta=1e-9)
+
     def test_a_motion_plan_to_joint_and_pose_goals(self):
         # No grasp: a path to the configuration, then to the palm pose.
         arm = [0.6, -1.2, 1.3, 0.0, 1.4, 0.0]
