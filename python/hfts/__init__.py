@@ -42,8 +42,11 @@ def write_viewer_page(plan, path):
     opens from disk in a web browser (docs/viewer.md)."""
     folder = viewer_dir()
     if folder is None:
-        raise Error("no built viewer: run scripts/setup.sh (it bundles viewer/dist/viewer.js) "
-                    "or set HFTS_VIEWER_DIR")
+        problem = ("no built viewer: run scripts/setup.sh (it bundles viewer/dist/viewer.js) "
+                   "or set HFTS_VIEWER_DIR")
+        error = Error("viewer: " + problem)
+        error.field, error.problem = "viewer", problem
+        raise error
     plan.write_viewer_page(path, folder)
 
 

@@ -144,7 +144,7 @@ class ObjectDatabase:
         cone_edges: int = 8,
         torsional_friction: float = 0.0,
     ) -> float:
-        """Epsilon of a grasp on contacts of this database (indices), about its centre of mass scaled by rho."""
+        """Epsilon of contacts of this database (indices) about its centre of mass, scale rho."""
 
 class HandMap:
     """A hand reachability map: fingertip positions and pad normals of sampled hand postures."""
@@ -242,36 +242,35 @@ class Scene:
 class CollisionChecker:
     """Collision checks of a world's robot in one scene (World.checker); thread-safe."""
 
-    # The fourth argument is named `self`; it can only be given by position.
     def in_collision(
-        this,
-        /,
+        self,
         configuration: ArrayLike,
         rule: str = "strict",
         target: bool = True,
-        self: bool = True,
+        self_collision: bool = True,
         obstacles: bool = True,
     ) -> bool:
         """Whether the robot at the configuration touches what counts (rule "strict" or "grasp")."""
     def in_collision_batch(
-        this,
-        /,
+        self,
         configurations: ArrayLike,
         rule: str = "strict",
         target: bool = True,
-        self: bool = True,
+        self_collision: bool = True,
         obstacles: bool = True,
     ) -> NDArray[numpy.bool_]:
         """in_collision of each row of an (N, num_dofs) array: N bools."""
     def clearance(self, configuration: ArrayLike) -> float:
-        """Smallest distance (m) between the robot and the scene, the target included; 0 in collision."""
+        """Smallest distance (m) from the robot to the scene and the target; 0 in collision."""
     @property
     def scene(self) -> Scene: ...
 
 class World:
     """A robot, its hand map and object databases: what plans are made with. Immutable."""
 
-    def __init__(self, robot: Robot, hand_map: HandMap, objects: Sequence[ObjectDatabase]) -> None: ...
+    def __init__(
+        self, robot: Robot, hand_map: HandMap, objects: Sequence[ObjectDatabase]
+    ) -> None: ...
     @staticmethod
     def load(robot_config: _Path, db_dir: _Path) -> World:
         """A robot config and, from db_dir, its hand map and every object database."""
@@ -284,13 +283,13 @@ class World:
     def checker(
         self, scene: Scene, object: str = "", object_pose: Optional[ArrayLike] = None
     ) -> CollisionChecker:
-        """A collision checker of the robot in `scene`, with `object` (default the scene's target)."""
+        """A collision checker of the robot in `scene` with `object` (default: the target)."""
     def ik(self, pose: ArrayLike, link: str = "palm", seed: int = 1) -> _Floats:
-        """Every arm IK solution (M, num_arm_dofs) of a palm or flange pose in the robot's base frame."""
+        """Every arm IK solution (M, num_arm_dofs) of a palm or flange pose (base frame)."""
     def ik_batch(
         self, poses: ArrayLike, link: str = "palm", seed: int = 1
     ) -> Tuple[_Floats, NDArray[numpy.int64]]:
-        """The IK of (N, 4, 4) poses: solutions (M, num_arm_dofs) and the pose index of each (M,)."""
+        """The IK of (N, 4, 4) poses: solutions (M, num_arm_dofs) and each one's pose index (M,)."""
     def default_settings(self, preset: str = "default") -> PlanSettings:
         """The settings a plan starts from for this robot: preset "default" or "paper"."""
     def parameters(self) -> List[Dict[str, str]]:
@@ -412,11 +411,12 @@ class SimulationOptions:
 class JointGoal:
     """A configuration to reach: every DoF, or the arm's only."""
 
-    configuration: _Floats
     def __init__(self, configuration: ArrayLike) -> None: ...
+    @property
+    def configuration(self) -> _Floats: ...
 
 class PoseGoal:
-    """A pose (4 x 4, world frame) of the palm or flange link to reach within tolerances (m, rad)."""
+    """A pose (4 x 4, world frame) of the palm or flange link to reach, within tolerances."""
 
     def __init__(
         self,
@@ -516,13 +516,13 @@ class Plan:
     def to_dict(self) -> _Json:
         """The plan as the service's plan result."""
     def to_ros(self) -> _Json:
-        """{"grasp": moveit_msgs/Grasp or None, "trajectory": trajectory_msgs/JointTrajectory or None}."""
+        """{"grasp": moveit_msgs/Grasp, "trajectory": trajectory_msgs/JointTrajectory} (or None)."""
     def glb(self) -> bytes:
         """The plan as an animated binary glTF (needs a trajectory)."""
     def write_viewer_page(self, path: _Path, viewer_dir: _Path) -> None:
-        """Writes the plan's page with the viewer from viewer_dir (hfts.write_viewer_page finds it)."""
+        """Writes the plan's viewer page; hfts.write_viewer_page finds viewer_dir."""
 
 def time_parameterize(
     robot: Robot, path: ArrayLike, rate: float = 100.0, max_deviation: float = 0.0025
 ) -> Trajectory:
-    """A time-optimal trajectory through a path (N, num_dofs) under the robot's limits; not collision-checked."""
+    """The time-optimal trajectory through a path (N, num_dofs); not collision-checked."""

@@ -27,7 +27,12 @@ void graspQualities(const double* positions, const double* normals, std::size_t 
     try {
       epsilons[g] = grasp::graspQuality(request).epsilon;
     } catch (const std::invalid_argument& e) {
-      throw InvalidArgument(indexed("grasps", g), e.what());
+      // graspQuality's message is "<field>: <problem>".
+      const std::string what = e.what();
+      const std::size_t colon = what.find(": ");
+      if (colon == std::string::npos) throw InvalidArgument(indexed("grasps", g), what);
+      throw InvalidArgument(indexed("grasps", g) + "." + what.substr(0, colon),
+                            what.substr(colon + 2));
     }
   }
 }

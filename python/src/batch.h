@@ -19,8 +19,8 @@ namespace hfts::python {
 /// `normals` hold grasp after grasp, contact after contact, x y z (grasps x
 /// contacts x 3 doubles); every other field of the query comes from
 /// `common` (its positions and normals are ignored). Writes `grasps` values
-/// to `epsilons`. Throws InvalidArgument ("positions[i]", "normals[i]", ...)
-/// naming the first grasp the quality refuses.
+/// to `epsilons`. Throws InvalidArgument ("grasps[g].normals[i]", ...)
+/// naming the first grasp the quality refuses and the contact's field.
 void graspQualities(const double* positions, const double* normals, std::size_t grasps,
                     int contacts, const grasp::GraspQualityRequest& common, double* epsilons);
 

@@ -12,6 +12,7 @@
 
 #include <Eigen/Geometry>
 
+#include <cstdint>
 #include <string>
 
 namespace hfts::python {
@@ -47,6 +48,10 @@ Eigen::Isometry3d isometryOf(const DoubleArray& matrix, const std::string& field
 /// A 3-vector. Throws InvalidArgument (`field`) for another shape or a
 /// value that is not finite.
 Eigen::Vector3d vector3Of(const DoubleArray& vector, const std::string& field);
+
+/// A seed from Python. Throws InvalidArgument ("seed") for an integer
+/// outside [0, 2^64).
+std::uint64_t seedOf(const py::int_& seed);
 
 /// Throws InvalidArgument (`field`) unless `array` has `dims` dimensions
 /// and, where `shape` is not -1, those sizes.

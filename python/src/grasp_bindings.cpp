@@ -48,11 +48,12 @@ double quality(const DoubleArray& positions, const DoubleArray& normals,
     graspQualities(positions.data(), normals.data(), 1, static_cast<int>(positions.shape(0)),
                    common, &epsilon);
   } catch (const InvalidArgument& e) {
-    // graspQualities names the grasp ("grasps[0]"); one grasp has no index.
-    const std::string what = e.problem();
-    const std::size_t at = what.find(": ");
-    throw InvalidArgument(at == std::string::npos ? "positions" : what.substr(0, at),
-                          at == std::string::npos ? what : what.substr(at + 2));
+    // graspQualities names the grasp ("grasps[0].normals[1]"); one grasp
+    // has no index.
+    const std::string prefix = "grasps[0].";
+    const std::string& field = e.field();
+    throw InvalidArgument(field.rfind(prefix, 0) == 0 ? field.substr(prefix.size()) : field,
+                          e.problem());
   }
   return epsilon;
 }
@@ -100,7 +101,8 @@ double databaseQuality(const db::ObjectDatabase& object, const std::vector<std::
 db::ObjectDatabase buildFromArrays(
     const DoubleArray& vertices,
     const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& triangles,
-    const std::string& name, const db::BuildParameters& parameters, double density) {
+    const std::string& name, const std::optional<db::BuildParameters>& given, double density) {
+  const db::BuildParameters parameters = given.value_or(db::BuildParameters{});
   checkShape(vertices, "vertices", {-1, 3});
   if (triangles.ndim() != 2 || triangles.shape(1) != 3)
     throw InvalidArgument("triangles", "must be an array of shape (n, 3) of vertex indices");
@@ -169,7 +171,7 @@ void bindGrasp(py::module_& m) {
 
   py::class_<db::BuildParameters>(m, "BuildParameters",
                                   "How an object database is built (hfts-preprocess's options, "
-                                  "docs/preprocessing.md).")
+                                  "docs/preprocess.md).")
       .def(py::init<>())
       .def_readwrite("scale", &db::BuildParameters::scale)
       .def_readwrite("sample_density", &db::BuildParameters::sample_density)
@@ -182,25 +184,26 @@ void bindGrasp(py::module_& m) {
       .def_readwrite("seed", &db::BuildParameters::seed);
 
   py::class_<db::ObjectDatabase>(m, "ObjectDatabase",
-                                 "An object's HFTS database (docs/database_format.md): contacts "
+                                 "An object's HFTS database (docs/database.md): contacts "
                                  "in hierarchy order with outward normals, geometry, hierarchy.")
       .def_static(
           "load", [](const std::filesystem::path& path) { return db::loadObjectDatabase(path); },
-          py::arg("path"))
+          py::arg("path"), "Reads a database file (HDF5, hfts-preprocess's output).")
       .def_static(
           "build",
-          [](const std::filesystem::path& mesh, const db::BuildParameters& parameters,
-             double density) {
+          [](const std::filesystem::path& mesh,
+             const std::optional<db::BuildParameters>& parameters, double density) {
             py::gil_scoped_release release;
-            return std::move(
-                preprocess::buildObjectDatabaseFromFile(mesh, parameters, density).database);
+            return std::move(preprocess::buildObjectDatabaseFromFile(
+                                 mesh, parameters.value_or(db::BuildParameters{}), density)
+                                 .database);
           },
-          py::arg("mesh"), py::arg("parameters") = db::BuildParameters{},
+          py::arg("mesh"), py::arg("parameters") = py::none(),
           py::arg("density") = db::kDefaultDensity,
           "Builds the database of a mesh file (as hfts-preprocess does; a sidecar beside the "
           "mesh sets its density).")
       .def_static("from_arrays", &buildFromArrays, py::arg("vertices"), py::arg("triangles"),
-                  py::arg("name"), py::arg("parameters") = db::BuildParameters{},
+                  py::arg("name"), py::arg("parameters") = py::none(),
                   py::arg("density") = db::kDefaultDensity,
                   "Builds the database of a mesh given as arrays: vertices (V, 3) in metres "
                   "(before parameters.scale), triangles (T, 3) of vertex indices.")

@@ -38,6 +38,15 @@ Eigen::Vector3d vector3Of(const DoubleArray& array, const std::string& field) {
   return v;
 }
 
+std::uint64_t seedOf(const py::int_& seed) {
+  const unsigned long long value = PyLong_AsUnsignedLongLong(seed.ptr());
+  if (value == static_cast<unsigned long long>(-1) && PyErr_Occurred()) {
+    PyErr_Clear();
+    throw InvalidArgument("seed", "must be an integer in [0, 2^64)");
+  }
+  return value;
+}
+
 void checkShape(const DoubleArray& array, const std::string& field,
                 std::initializer_list<py::ssize_t> shape) {
   bool ok = array.ndim() == static_cast<py::ssize_t>(shape.size());

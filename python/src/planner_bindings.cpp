@@ -28,11 +28,17 @@ struct Plan {
   planner::PlanRequest request;
   planner::PlanResult result;
 
-  nlohmann::json json() const {
-    nlohmann::json out = service::planResultToJson(result, request);
-    out["robot"] = world->robot().name();
-    return out;
+  /// The plan as the service's result, made once on first use.
+  const nlohmann::json& json() const {
+    if (!asJson) {
+      asJson = service::planResultToJson(result, request);
+      (*asJson)["robot"] = world->robot().name();
+    }
+    return *asJson;
   }
+
+ private:
+  mutable std::optional<nlohmann::json> asJson;
 };
 
 /// A trajectory and the joints it moves.
@@ -99,7 +105,7 @@ Plan plan(std::shared_ptr<PlanningWorld> world, const robot::Scene& scene,
           const std::optional<Eigen::VectorXd>& start,
           const std::vector<planner::MotionGoal>& goals, const std::string& algorithm,
           const std::optional<planner::PlanSettings>& settings, const std::string& preset,
-          const std::optional<int>& iterations, std::uint64_t seed, double timeLimit,
+          const std::optional<int>& iterations, const py::int_& seed, double timeLimit,
           const py::dict& parameters, double trajectoryRate, bool explored, bool validate,
           const std::optional<physics::SimulationOptions>& simulation, Cancel* cancel) {
   Plan out;
@@ -114,7 +120,7 @@ Plan plan(std::shared_ptr<PlanningWorld> world, const robot::Scene& scene,
   r.settings = settings;
   r.preset = presetOf(preset);
   r.iterations = iterations;
-  r.seed = seed;
+  r.seed = seedOf(seed);
   r.time_limit = timeLimit;
   for (const auto& [key, value] : parameters) {
     const std::string name = py::str(key).cast<std::string>();
@@ -156,6 +162,9 @@ Trajectory timeParameterize(const robot::RobotModel& robot, const DoubleArray& p
   options.max_deviation = maxDeviation;
   Trajectory out;
   out.joint_names = robot.dofNames();
+  for (std::size_t i = 0; i < waypoints.size(); ++i)
+    if (!waypoints[i].allFinite())
+      throw InvalidArgument("path[" + std::to_string(i) + "]", "must be finite");
   py::gil_scoped_release release;
   const planner::TimeOptimalTrajectory t(waypoints, robot.maxVelocities(), robot.maxAccelerations(),
                                          options);
@@ -288,7 +297,7 @@ void bindSettings(py::module_& m) {
   py::class_<JointGoal>(m, "JointGoal", "A configuration to reach: every DoF, or the arm's only.")
       .def(py::init([](const Eigen::VectorXd& q) { return JointGoal{q}; }),
            py::arg("configuration"))
-      .def_readwrite("configuration", &JointGoal::configuration);
+      .def_readonly("configuration", &JointGoal::configuration);
   py::class_<PoseGoal>(m, "PoseGoal",
                        "A pose (4 x 4, world frame) of the palm or flange link to reach within "
                        "tolerances (m, rad).")
@@ -446,10 +455,11 @@ void bindPlanner(py::module_& m) {
            py::arg("object_pose") = py::none(), py::arg("start") = py::none(),
            py::arg("goals") = std::vector<planner::MotionGoal>{}, py::arg("algorithm") = "coupled",
            py::arg("settings") = py::none(), py::arg("preset") = "default",
-           py::arg("iterations") = py::none(), py::arg("seed") = 1, py::arg("time_limit") = 60.0,
-           py::arg("parameters") = py::dict(), py::arg("trajectory_rate") = 100.0,
-           py::arg("explored") = false, py::arg("validate") = false,
-           py::arg("simulation") = py::none(), py::arg("cancel") = nullptr,
+           py::arg("iterations") = py::none(), py::arg("seed") = py::int_(1),
+           py::arg("time_limit") = 60.0, py::arg("parameters") = py::dict(),
+           py::arg("trajectory_rate") = 100.0, py::arg("explored") = false,
+           py::arg("validate") = false, py::arg("simulation") = py::none(),
+           py::arg("cancel") = py::none(),
            "Plans a grasp of `object` (default the scene's target) and a path to it (or, with "
            "goals, a path to one of them). The GIL is released while it plans. Raises "
            "InvalidArgument naming the field for a malformed request.")

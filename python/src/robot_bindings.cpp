@@ -101,14 +101,15 @@ robot::CollisionRequest collisionRequest(const std::string& rule, bool target, b
 
 /// The IK of one pose: solutions as rows.
 Eigen::MatrixXd solutionsOf(const PlanningWorld& world, const DoubleArray& pose,
-                            const std::string& link, std::uint64_t seed) {
+                            const std::string& link, const py::int_& seed) {
   if (link != "palm" && link != "flange")
     throw InvalidArgument("link", "must be \"palm\" or \"flange\", got \"" + link + "\"");
   isometryOf(pose, "pose");  // checked here to name the field; solved as given
+  const std::uint64_t first = seedOf(seed);
   IkSolutions found;
   {
     py::gil_scoped_release release;
-    found = armIkBatch(world.ik(), pose.data(), 1, link == "palm", seed);
+    found = armIkBatch(world.ik(), pose.data(), 1, link == "palm", first);
   }
   const auto arm = static_cast<Eigen::Index>(world.robot().numArmDofs());
   return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
@@ -116,16 +117,17 @@ Eigen::MatrixXd solutionsOf(const PlanningWorld& world, const DoubleArray& pose,
 }
 
 py::tuple ikBatch(const PlanningWorld& world, const DoubleArray& poses, const std::string& link,
-                  std::uint64_t seed) {
+                  const py::int_& seed) {
   if (link != "palm" && link != "flange")
     throw InvalidArgument("link", "must be \"palm\" or \"flange\", got \"" + link + "\"");
   checkShape(poses, "poses", {-1, 4, 4});
+  const std::uint64_t first = seedOf(seed);
   const double* data = poses.data();
   const auto count = static_cast<std::size_t>(poses.shape(0));
   IkSolutions found;
   {
     py::gil_scoped_release release;
-    found = armIkBatch(world.ik(), data, count, link == "palm", seed);
+    found = armIkBatch(world.ik(), data, count, link == "palm", first);
   }
   const auto arm = static_cast<py::ssize_t>(world.robot().numArmDofs());
   const auto n = static_cast<py::ssize_t>(found.pose_index.size());
@@ -243,7 +245,7 @@ void bindRobot(py::module_& m) {
                           "positions and pad normals of sampled hand postures.")
       .def_static(
           "load", [](const std::filesystem::path& path) { return db::loadHandMap(path); },
-          py::arg("path"))
+          py::arg("path"), "Reads a hand map file (<robot>_hand_map.h5, hfts-preprocess --hand).")
       .def_static(
           "build",
           [](const RobotModel& robot) {
@@ -346,11 +348,12 @@ void bindRobot(py::module_& m) {
       .def(
           "ik",
           [](const PlanningWorld& w, const DoubleArray& pose, const std::string& link,
-             std::uint64_t seed) { return solutionsOf(w, pose, link, seed); },
-          py::arg("pose"), py::arg("link") = "palm", py::arg("seed") = 1,
+             const py::int_& seed) { return solutionsOf(w, pose, link, seed); },
+          py::arg("pose"), py::arg("link") = "palm", py::arg("seed") = py::int_(1),
           "Every arm IK solution (rows of num_arm_dofs) for a 4 x 4 pose of the palm or the "
           "flange in the robot's base frame.")
-      .def("ik_batch", &ikBatch, py::arg("poses"), py::arg("link") = "palm", py::arg("seed") = 1,
+      .def("ik_batch", &ikBatch, py::arg("poses"), py::arg("link") = "palm",
+           py::arg("seed") = py::int_(1),
            "The IK of an (N, 4, 4) array of poses in one call: (solutions (M, num_arm_dofs), "
            "pose_index (M,)), pose i solved with seed + i.")
       .def("__repr__", [](const PlanningWorld& w) {

@@ -75,6 +75,8 @@ class Errors(unittest.TestCase):
         self.assertField("algorithm", WORLD.plan, TABLE, algorithm="astar")
         self.assertField("preset", WORLD.plan, TABLE, preset="fast")
         self.assertField("time_limit", WORLD.plan, TABLE, time_limit=-1.0)
+        self.assertField("seed", WORLD.plan, TABLE, seed=-1)
+        self.assertField("seed", WORLD.ik_batch, np.stack([np.eye(4)]), seed=2**64)
         settings = WORLD.default_settings()
         settings.paper.i_min = 500
         self.assertField("parameters.i_min", WORLD.plan, TABLE, settings=settings)
@@ -83,6 +85,11 @@ class Errors(unittest.TestCase):
     def test_other_arguments(self):
         self.assertField("positions", hfts.grasp_quality, np.zeros((3, 2)), np.zeros((3, 3)))
         self.assertField("normals[0]", hfts.grasp_quality, np.eye(3), np.zeros((3, 3)))
+        self.assertField("grasps[1].normals[2]", hfts.grasp_quality_batch,
+                         np.stack([np.eye(3)] * 2), np.array([-np.eye(3), [[-1, 0, 0], [0, -1, 0],
+                                                                        [0, 0, 0.5]]]))
+        self.assertField("path[1]", hfts.time_parameterize, WORLD.robot,
+                         np.array([np.zeros(13), np.full(13, np.nan)]))
         self.assertField("normals", hfts.grasp_quality_batch, np.zeros((5, 3, 3)),
                          np.zeros((4, 3, 3)))
         self.assertField("normal_direction", hfts.grasp_quality, np.eye(3), -np.eye(3),
