@@ -1,6 +1,6 @@
 #pragma once
 // A plan in the shapes of the ROS messages a robot stack already speaks
-// (docs/protocol.md "ROS-shaped results", docs/python.md): the grasp as a
+// (docs/protocol.md and docs/python.md, "ROS-shaped results"): the grasp as a
 // moveit_msgs/Grasp and the trajectory as a trajectory_msgs/JointTrajectory,
 // as JSON objects with the messages' field names (ROS 1 layout, as
 // rosbridge and genpy write them: durations and stamps {"secs", "nsecs"}).
