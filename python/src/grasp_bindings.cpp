@@ -132,42 +132,39 @@ db::ObjectDatabase buildFromArrays(
   return std::move(built.database);
 }
 
+/// Defines `name`: `compute` of the contacts and the query's other fields
+/// (the arguments grasp_quality and grasp_quality_batch share).
+template <typename Result>
+void defineQuality(py::module_& m, const char* name,
+                   Result (*compute)(const DoubleArray&, const DoubleArray&,
+                                     const grasp::GraspQualityRequest&),
+                   const char* doc) {
+  m.def(
+      name,
+      [compute](const DoubleArray& positions, const DoubleArray& normals,
+                const std::optional<DoubleArray>& center, double torque_scale, double friction,
+                int cone_edges, double torsional_friction, const std::string& normal_direction) {
+        return compute(
+            positions, normals,
+            commonRequest(center ? vector3Of(*center, "center") : Eigen::Vector3d::Zero(),
+                          torque_scale, friction, cone_edges, torsional_friction,
+                          normal_direction));
+      },
+      py::arg("positions"), py::arg("normals"), py::arg("center") = py::none(),
+      py::arg("torque_scale") = 1.0, py::arg("friction") = 0.5, py::arg("cone_edges") = 8,
+      py::arg("torsional_friction") = 0.0, py::arg("normal_direction") = "inward", doc);
+}
+
 }  // namespace
 
 void bindGrasp(py::module_& m) {
-  m.def(
-      "grasp_quality",
-      [](const DoubleArray& positions, const DoubleArray& normals,
-         const std::optional<DoubleArray>& center, double torque_scale, double friction,
-         int cone_edges, double torsional_friction, const std::string& normal_direction) {
-        return quality(
-            positions, normals,
-            commonRequest(center ? vector3Of(*center, "center") : Eigen::Vector3d::Zero(),
-                          torque_scale, friction, cone_edges, torsional_friction,
-                          normal_direction));
-      },
-      py::arg("positions"), py::arg("normals"), py::arg("center") = py::none(),
-      py::arg("torque_scale") = 1.0, py::arg("friction") = 0.5, py::arg("cone_edges") = 8,
-      py::arg("torsional_friction") = 0.0, py::arg("normal_direction") = "inward",
-      "Ferrari-Canny epsilon (docs/grasp_quality.md) of contacts at `positions` (k, 3) with "
-      "unit `normals` (k, 3), torques about `center` (default the origin) scaled by 1 / "
-      "torque_scale.");
-  m.def(
-      "grasp_quality_batch",
-      [](const DoubleArray& positions, const DoubleArray& normals,
-         const std::optional<DoubleArray>& center, double torque_scale, double friction,
-         int cone_edges, double torsional_friction, const std::string& normal_direction) {
-        return qualityBatch(
-            positions, normals,
-            commonRequest(center ? vector3Of(*center, "center") : Eigen::Vector3d::Zero(),
-                          torque_scale, friction, cone_edges, torsional_friction,
-                          normal_direction));
-      },
-      py::arg("positions"), py::arg("normals"), py::arg("center") = py::none(),
-      py::arg("torque_scale") = 1.0, py::arg("friction") = 0.5, py::arg("cone_edges") = 8,
-      py::arg("torsional_friction") = 0.0, py::arg("normal_direction") = "inward",
-      "grasp_quality of N grasps of k contacts each in one call: positions and normals (N, k, "
-      "3), an array of N epsilons. The GIL is released while it runs.");
+  defineQuality(m, "grasp_quality", &quality,
+                "Ferrari-Canny epsilon (docs/grasp_quality.md) of contacts at `positions` (k, 3) "
+                "with unit `normals` (k, 3), torques about `center` (default the origin) scaled "
+                "by 1 / torque_scale.");
+  defineQuality(m, "grasp_quality_batch", &qualityBatch,
+                "grasp_quality of N grasps of k contacts each in one call: positions and normals "
+                "(N, k, 3), an array of N epsilons. The GIL is released while it runs.");
 
   py::class_<db::BuildParameters>(m, "BuildParameters",
                                   "How an object database is built (hfts-preprocess's options, "

@@ -3,7 +3,11 @@ databases of bundled objects (standard library only)."""
 
 import argparse
 import os
+import shutil
 import subprocess
+import sys
+import tempfile
+import unittest
 
 
 def sanitizer_slowdown():
@@ -42,6 +46,21 @@ def build_databases(preprocess, source_dir, out_dir, objects, robots=("kr5_sdh",
     for robot in robots:
         config = os.path.join(source_dir, "robots", robot, robot + ".json")
         run(preprocess, "--hand", config, "-o", out_dir, check=0)
+
+
+def run_tests_with_databases(preprocess, source_dir, objects, rest, use_folder):
+    """Builds the named objects' databases and the KR5 + SDH hand map into a
+    temporary folder, hands the folder to use_folder, runs the __main__
+    module's tests (arguments `rest`), removes the folder and exits with
+    the tests' verdict."""
+    folder = tempfile.mkdtemp(prefix="hfts-test-db-")
+    try:
+        use_folder(folder)
+        build_databases(preprocess, source_dir, folder, objects)
+        program = unittest.main(argv=[sys.argv[0], *rest], verbosity=2, exit=False)
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    sys.exit(0 if program.result.wasSuccessful() else 1)
 
 
 def bench_options():

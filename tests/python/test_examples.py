@@ -8,14 +8,12 @@ SDH hand map are built once into a temporary folder.
 """
 import argparse
 import os
-import shutil
 import subprocess
 import sys
-import tempfile
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "cli"))
-from cli_support import build_databases  # noqa: E402
+from cli_support import run_tests_with_databases  # noqa: E402
 
 ARGS = None
 
@@ -57,13 +55,8 @@ def main():
     ARGS, rest = parser.parse_known_args()
     ARGS.python_dir = os.path.abspath(ARGS.python_dir)
     ARGS.source_dir = os.path.abspath(ARGS.source_dir)
-    ARGS.db_dir = tempfile.mkdtemp(prefix="hfts-examples-")
-    try:
-        build_databases(ARGS.preprocess, ARGS.source_dir, ARGS.db_dir, ["mug"])
-        program = unittest.main(argv=[sys.argv[0], *rest], verbosity=2, exit=False)
-    finally:
-        shutil.rmtree(ARGS.db_dir, ignore_errors=True)
-    sys.exit(0 if program.result.wasSuccessful() else 1)
+    run_tests_with_databases(ARGS.preprocess, ARGS.source_dir, ["mug"], rest,
+                             lambda folder: setattr(ARGS, "db_dir", folder))
 
 
 if __name__ == "__main__":

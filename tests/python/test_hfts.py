@@ -27,7 +27,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "cli"))
 
 import hfts_server_fixture as fixture  # noqa: E402
-from cli_support import build_databases  # noqa: E402
+from cli_support import run_tests_with_databases  # noqa: E402
 
 hfts = None  # imported from --python-dir in main()
 ARGS = None
@@ -402,7 +402,6 @@ class Results(unittest.TestCase):
 
 def round_trip(message_class, shaped):
     """A message from its dict, serialised with genpy and read back."""
-    import genpy
     message = fill(message_class(), shaped)
     buffer = io.BytesIO()
     message.serialize(buffer)
@@ -441,14 +440,11 @@ def main():
     for key in ("server", "preprocess", "source_dir"):
         setattr(fixture.CONFIG, key, os.path.abspath(getattr(ARGS, key)))
     ARGS.source_dir = os.path.abspath(ARGS.source_dir)
-    ARGS.db_dir = tempfile.mkdtemp(prefix="hfts-python-db-")
-    fixture.CONFIG.db_dir = ARGS.db_dir
-    try:
-        build_databases(ARGS.preprocess, ARGS.source_dir, ARGS.db_dir, ["mug", "blob"])
-        program = unittest.main(argv=[sys.argv[0], *rest], verbosity=2, exit=False)
-    finally:
-        shutil.rmtree(ARGS.db_dir, ignore_errors=True)
-    sys.exit(0 if program.result.wasSuccessful() else 1)
+
+    def use(folder):
+        ARGS.db_dir = fixture.CONFIG.db_dir = folder
+
+    run_tests_with_databases(ARGS.preprocess, ARGS.source_dir, ["mug", "blob"], rest, use)
 
 
 if __name__ == "__main__":
