@@ -33,7 +33,7 @@ if [[ $build == yes ]]; then
   scripts/setup.sh
   cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_COMPILER=clang \
     -DCMAKE_CXX_COMPILER=clang++ -DHFTS_BUILD_TESTS=OFF -DHFTS_BUILD_BENCHMARKS=OFF \
-    -DHFTS_BUILD_FUZZERS=ON >/dev/null
+    -DHFTS_BUILD_FUZZERS=ON -DHFTS_BUILD_PYTHON=OFF >/dev/null
   cmake --build "$BUILD" -j 2 --target hfts_fuzzers
 fi
 [[ $run == yes ]] || exit 0

@@ -172,7 +172,8 @@ class HftsClient:
     def plan(self, scene, **options):
         """Plans a grasp and a path. scene: a scene name or an inline scene (dict);
         options: robot, object, object_pose, start, time_limit, algorithm, iterations, seed,
-        parameters, trajectory_rate (docs/protocol.md); goal or goals (joint_goal(),
+        parameters, trajectory_rate, format ("ros": also the plan as ROS messages)
+        (docs/protocol.md); goal or goals (joint_goal(),
         pose_goal()) plan a motion to them instead of a grasp."""
         return self.call("plan", plan_params(scene, **options))
 
