@@ -175,14 +175,16 @@ Trajectory timeParameterize(const robot::RobotModel& robot, const DoubleArray& p
   return out;
 }
 
-template <typename Struct>
-std::string describe(const char* name, const Struct& s, const py::object& self) {
-  static_cast<void>(s);
+/// "hfts.<name>(field=value, ...)" of a settings object: its class's
+/// properties that can be set, in the order they were defined.
+std::string describe(const char* name, const py::object& self) {
   std::string out = std::string("hfts.") + name + "(";
   bool first = true;
   for (const auto& item : self.attr("__class__").attr("__dict__").cast<py::dict>()) {
     const std::string key = py::str(item.first).cast<std::string>();
-    if (key.rfind("_", 0) == 0 || !py::hasattr(item.second, "fset")) continue;
+    if (key.rfind("_", 0) == 0 || !py::hasattr(item.second, "fset") ||
+        item.second.attr("fset").is_none())
+      continue;
     out += (first ? "" : ", ") + key + "=" + py::repr(self.attr(key.c_str())).cast<std::string>();
     first = false;
   }
@@ -191,10 +193,7 @@ std::string describe(const char* name, const Struct& s, const py::object& self) 
 
 template <typename Class>
 void addRepr(Class& cls, const char* name) {
-  using Struct = typename Class::type;
-  cls.def("__repr__", [name](const py::object& self) {
-    return describe(name, self.cast<const Struct&>(), self);
-  });
+  cls.def("__repr__", [name](const py::object& self) { return describe(name, self); });
 }
 
 void bindSettings(py::module_& m) {
