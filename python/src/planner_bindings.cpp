@@ -4,7 +4,9 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
-#include <fstream>
+#include <chrono>
+#include <future>
+#include <thread>
 
 #include "bindings.h"
 #include "client/plan_page.h"
@@ -100,6 +102,41 @@ py::array_t<double> pathArray(const std::vector<Eigen::VectorXd>& path, int dofs
   return out;
 }
 
+/// planGrasp in a thread of its own while this one, the GIL released,
+/// looks every 50 ms at the Python signals (Ctrl-C) and the request's
+/// Cancel: either stops the plan. A signal's exception (KeyboardInterrupt)
+/// is raised once the plan has stopped.
+planner::PlanResult planInterruptibly(const PlanningWorld& world,
+                                      const planner::PlanRequest& request, const Cancel* cancel) {
+  std::atomic<bool> stop{false};
+  std::promise<planner::PlanResult> promise;
+  std::future<planner::PlanResult> done = promise.get_future();
+  bool interrupted = false;
+  {
+    py::gil_scoped_release release;
+    std::thread planning([&] {
+      try {
+        promise.set_value(planner::planGrasp(world, request, &stop));
+      } catch (...) {
+        promise.set_exception(std::current_exception());
+      }
+    });
+    while (done.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+      if (cancel != nullptr && cancel->flag.load()) stop = true;
+      if (!interrupted) {
+        py::gil_scoped_acquire python;
+        if (PyErr_CheckSignals() != 0) {
+          interrupted = true;  // the error stays set until the plan has stopped
+          stop = true;
+        }
+      }
+    }
+    planning.join();
+  }
+  if (interrupted) throw py::error_already_set();
+  return done.get();
+}
+
 Plan plan(std::shared_ptr<PlanningWorld> world, const robot::Scene& scene,
           const std::string& object, const std::optional<DoubleArray>& objectPose,
           const std::optional<Eigen::VectorXd>& start,
@@ -130,8 +167,7 @@ Plan plan(std::shared_ptr<PlanningWorld> world, const robot::Scene& scene,
   r.explored = explored;
   r.validate = validate;
   if (simulation) r.simulation = *simulation;
-  py::gil_scoped_release release;
-  out.result = planner::planGrasp(*world, r, cancel ? &cancel->flag : nullptr);
+  out.result = planInterruptibly(*world, r, cancel);
   return out;
 }
 
@@ -359,21 +395,34 @@ void bindPlanner(py::module_& m) {
       .def("__len__", [](const Trajectory& t) { return t.trajectory.points.size(); });
 
   py::class_<Plan>(m, "Plan", "A plan: success or why not, the path, the grasp, the trajectory.")
-      .def_property_readonly("success", [](const Plan& p) { return p.result.success; })
-      .def_property_readonly("failure",
-                             [](const Plan& p) { return planner::toString(p.result.failure); })
-      .def_property_readonly("message", [](const Plan& p) { return p.result.message; })
+      .def_property_readonly(
+          "success", [](const Plan& p) { return p.result.success; },
+          "A grasp (or motion) was found and the path reaches it.")
+      .def_property_readonly(
+          "failure", [](const Plan& p) { return planner::toString(p.result.failure); },
+          "\"none\" on success, else why not: \"time_limit\", \"cancelled\", "
+          "\"no_valid_goal\", ... (docs/python.md)")
+      .def_property_readonly(
+          "message", [](const Plan& p) { return p.result.message; },
+          "Why not, in words (empty on success).")
       .def_property_readonly("joint_names", [](const Plan& p) { return p.result.joint_names; })
       .def_property_readonly(
           "path",
           [](const Plan& p) { return pathArray(p.result.path, p.world->robot().numDofs()); },
           "The path, one configuration per row: start, ..., pre-grasp, grasp.")
-      .def_property_readonly("seed", [](const Plan& p) { return p.result.seed; })
+      .def_property_readonly(
+          "seed", [](const Plan& p) { return p.result.seed; },
+          "The seed of the search the plan is from (with racing, the winner's): one thread and "
+          "this seed plan the same path again.")
       .def_property_readonly("object", [](const Plan& p) { return p.request.object; })
       .def_property_readonly("object_pose",
                              [](const Plan& p) { return p.result.object_pose.matrix(); })
-      .def_property_readonly("clearance", [](const Plan& p) { return p.result.clearance; })
-      .def_property_readonly("reached_goal", [](const Plan& p) { return p.result.reached_goal; })
+      .def_property_readonly(
+          "clearance", [](const Plan& p) { return p.result.clearance; },
+          "With certify_path: the smallest distance (m) the path's proofs measured; else None.")
+      .def_property_readonly(
+          "reached_goal", [](const Plan& p) { return p.result.reached_goal; },
+          "A motion plan's: the index of the goal the path ends at.")
       .def_property_readonly(
           "grasp", [](const Plan& p) { return toPython(p.json()["grasp"]); },
           "The grasp as executed (dict; None for a failed or motion plan): contacts with inward "
@@ -385,7 +434,10 @@ void bindPlanner(py::module_& m) {
             return Trajectory{p.result.trajectory, p.result.joint_names};
           },
           "The time-parameterised path (None when not asked for or not possible).")
-      .def_property_readonly("stats", [](const Plan& p) { return toPython(p.json()["stats"]); })
+      .def_property_readonly(
+          "stats", [](const Plan& p) { return toPython(p.json()["stats"]); },
+          "The search's statistics (dict): planning_time (s), collision_checks, rejections by "
+          "reason, ...")
       .def_property_readonly("validation",
                              [](const Plan& p) -> py::object {
                                const nlohmann::json j = p.json();

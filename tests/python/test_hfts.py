@@ -15,6 +15,7 @@ import argparse
 import io
 import os
 import shutil
+import signal
 import sys
 import tempfile
 import threading
@@ -219,6 +220,19 @@ class Threads(unittest.TestCase):
         self.assertEqual(outcome["plan"].failure, "cancelled")
         self.assertLess(outcome["seconds"], 10)
         self.assertTrue(cancel.cancelled)
+
+    def test_ctrl_c_stops_a_plan(self):
+        """SIGINT (Ctrl-C) during a plan that cannot succeed raises
+        KeyboardInterrupt soon, not at the end of its time limit."""
+        timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+        timer.start()
+        started = time.monotonic()
+        with self.assertRaises(KeyboardInterrupt):
+            WORLD.plan(TABLE, object_pose=FAR_AWAY, time_limit=30, parameters=NO_PHYSICS)
+        timer.join()
+        self.assertLess(time.monotonic() - started, 5)
+        # The world plans again afterwards.
+        self.assertTrue(WORLD.plan(TABLE, seed=1, time_limit=30, parameters=NO_PHYSICS).success)
 
     def test_a_checker_shared_by_threads(self):
         checker = WORLD.checker(TABLE)
