@@ -49,6 +49,16 @@ Eigen::Isometry3d isometryOf(const DoubleArray& matrix, const std::string& field
 /// value that is not finite.
 Eigen::Vector3d vector3Of(const DoubleArray& vector, const std::string& field);
 
+/// "hfts.<name>(field=value, ...)" of an object whose fields are its
+/// class's properties that can be set, in the order they were defined.
+std::string describe(const char* name, const py::object& self);
+
+/// Gives a class of such fields (settings, options) that __repr__.
+template <typename Class>
+void addRepr(Class& cls, const char* name) {
+  cls.def("__repr__", [name](const py::object& self) { return describe(name, self); });
+}
+
 /// A seed from Python. Throws InvalidArgument ("seed") for an integer
 /// outside [0, 2^64).
 std::uint64_t seedOf(const py::int_& seed);

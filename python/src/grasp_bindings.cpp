@@ -166,10 +166,10 @@ void bindGrasp(py::module_& m) {
                 "grasp_quality of N grasps of k contacts each in one call: positions and normals "
                 "(N, k, 3), an array of N epsilons. The GIL is released while it runs.");
 
-  py::class_<db::BuildParameters>(m, "BuildParameters",
-                                  "How an object database is built (hfts-preprocess's options, "
-                                  "docs/preprocess.md).")
-      .def(py::init<>())
+  py::class_<db::BuildParameters> buildParameters(
+      m, "BuildParameters",
+      "How an object database is built (hfts-preprocess's options, docs/preprocess.md).");
+  buildParameters.def(py::init<>())
       .def_readwrite("scale", &db::BuildParameters::scale)
       .def_readwrite("sample_density", &db::BuildParameters::sample_density)
       .def_readwrite("max_samples", &db::BuildParameters::max_samples)
@@ -179,6 +179,7 @@ void bindGrasp(py::module_& m) {
       .def_readwrite("max_curvature", &db::BuildParameters::max_curvature)
       .def_readwrite("branching", &db::BuildParameters::branching)
       .def_readwrite("seed", &db::BuildParameters::seed);
+  addRepr(buildParameters, "BuildParameters");
 
   py::class_<db::ObjectDatabase>(m, "ObjectDatabase",
                                  "An object's HFTS database (docs/database.md): contacts "
@@ -220,7 +221,10 @@ void bindGrasp(py::module_& m) {
                     "Unit normals (n, 3) pointing out of the object (a read-only view).")
       .def_property_readonly("center_of_mass",
                              [](const db::ObjectDatabase& d) { return d.geometry.center_of_mass; })
-      .def_property_readonly("rho", [](const db::ObjectDatabase& d) { return d.geometry.rho; })
+      .def_property_readonly(
+          "rho", [](const db::ObjectDatabase& d) { return d.geometry.rho; },
+          "The largest distance from the centre of mass to the surface (m): the quality's "
+          "torque scale.")
       .def_property_readonly(
           "mass", [](const db::ObjectDatabase& d) { return d.density * d.geometry.volume; })
       .def_property_readonly(

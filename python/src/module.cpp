@@ -38,6 +38,20 @@ Eigen::Vector3d vector3Of(const DoubleArray& array, const std::string& field) {
   return v;
 }
 
+std::string describe(const char* name, const py::object& self) {
+  std::string out = std::string("hfts.") + name + "(";
+  bool first = true;
+  for (const auto& item : self.attr("__class__").attr("__dict__").cast<py::dict>()) {
+    const std::string key = py::str(item.first).cast<std::string>();
+    if (key.rfind("_", 0) == 0 || !py::hasattr(item.second, "fset") ||
+        item.second.attr("fset").is_none())
+      continue;
+    out += (first ? "" : ", ") + key + "=" + py::repr(self.attr(key.c_str())).cast<std::string>();
+    first = false;
+  }
+  return out + ")";
+}
+
 std::uint64_t seedOf(const py::int_& seed) {
   const unsigned long long value = PyLong_AsUnsignedLongLong(seed.ptr());
   if (value == static_cast<unsigned long long>(-1) && PyErr_Occurred()) {

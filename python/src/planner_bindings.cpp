@@ -211,27 +211,6 @@ Trajectory timeParameterize(const robot::RobotModel& robot, const DoubleArray& p
   return out;
 }
 
-/// "hfts.<name>(field=value, ...)" of a settings object: its class's
-/// properties that can be set, in the order they were defined.
-std::string describe(const char* name, const py::object& self) {
-  std::string out = std::string("hfts.") + name + "(";
-  bool first = true;
-  for (const auto& item : self.attr("__class__").attr("__dict__").cast<py::dict>()) {
-    const std::string key = py::str(item.first).cast<std::string>();
-    if (key.rfind("_", 0) == 0 || !py::hasattr(item.second, "fset") ||
-        item.second.attr("fset").is_none())
-      continue;
-    out += (first ? "" : ", ") + key + "=" + py::repr(self.attr(key.c_str())).cast<std::string>();
-    first = false;
-  }
-  return out + ")";
-}
-
-template <typename Class>
-void addRepr(Class& cls, const char* name) {
-  cls.def("__repr__", [name](const py::object& self) { return describe(name, self); });
-}
-
 void bindSettings(py::module_& m) {
   using namespace planner;
   py::class_<PaperParameters> paper(m, "PaperParameters",
@@ -332,7 +311,10 @@ void bindSettings(py::module_& m) {
   py::class_<JointGoal>(m, "JointGoal", "A configuration to reach: every DoF, or the arm's only.")
       .def(py::init([](const Eigen::VectorXd& q) { return JointGoal{q}; }),
            py::arg("configuration"))
-      .def_readonly("configuration", &JointGoal::configuration);
+      .def_readonly("configuration", &JointGoal::configuration)
+      .def("__repr__", [](const JointGoal& g) {
+        return "<hfts.JointGoal of " + std::to_string(g.configuration.size()) + " values>";
+      });
   py::class_<PoseGoal>(m, "PoseGoal",
                        "A pose (4 x 4, world frame) of the palm or flange link to reach within "
                        "tolerances (m, rad).")
@@ -346,7 +328,13 @@ void bindSettings(py::module_& m) {
       .def_property_readonly("pose", [](const PoseGoal& g) { return g.pose.matrix(); })
       .def_readonly("link", &PoseGoal::link)
       .def_readonly("position_tolerance", &PoseGoal::position_tolerance)
-      .def_readonly("orientation_tolerance", &PoseGoal::orientation_tolerance);
+      .def_readonly("orientation_tolerance", &PoseGoal::orientation_tolerance)
+      .def("__repr__", [](const PoseGoal& g) {
+        const Eigen::Vector3d p = g.pose.translation();
+        return "<hfts.PoseGoal of " + (g.link.empty() ? std::string("the palm") : g.link) +
+               " at (" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ", " +
+               std::to_string(p.z()) + ")>";
+      });
 }
 
 }  // namespace
@@ -358,7 +346,10 @@ void bindPlanner(py::module_& m) {
       .def(py::init<>())
       .def(
           "cancel", [](Cancel& c) { c.flag = true; }, "Asks the plan to stop.")
-      .def_property_readonly("cancelled", [](const Cancel& c) { return c.flag.load(); });
+      .def_property_readonly("cancelled", [](const Cancel& c) { return c.flag.load(); })
+      .def("__repr__", [](const Cancel& c) {
+        return std::string("<hfts.Cancel ") + (c.flag.load() ? "set" : "not set") + ">";
+      });
 
   py::class_<Trajectory>(m, "Trajectory",
                          "A trajectory sampled at a fixed rate: times (T,), positions, "
@@ -392,7 +383,11 @@ void bindPlanner(py::module_& m) {
             return toPython(service::rosJointTrajectory(t.trajectory, t.joint_names));
           },
           "The trajectory as a dict shaped like trajectory_msgs/JointTrajectory.")
-      .def("__len__", [](const Trajectory& t) { return t.trajectory.points.size(); });
+      .def("__len__", [](const Trajectory& t) { return t.trajectory.points.size(); })
+      .def("__repr__", [](const Trajectory& t) {
+        return "<hfts.Trajectory of " + std::to_string(t.trajectory.points.size()) +
+               " points over " + std::to_string(t.trajectory.duration) + " s>";
+      });
 
   py::class_<Plan>(m, "Plan", "A plan: success or why not, the path, the grasp, the trajectory.")
       .def_property_readonly(

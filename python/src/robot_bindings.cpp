@@ -181,11 +181,14 @@ void bindRobot(py::module_& m) {
       .def_property_readonly("num_dofs", &RobotModel::numDofs)
       .def_property_readonly("num_arm_dofs", &RobotModel::numArmDofs)
       .def_property_readonly("num_hand_dofs", &RobotModel::numHandDofs)
-      .def_property_readonly("dof_names", &RobotModel::dofNames)
+      .def_property_readonly("dof_names", &RobotModel::dofNames,
+                             "Every DoF's name: the arm's joints from the base, then the hand's.")
       .def_property_readonly("lower_limits", &RobotModel::lowerLimits)
       .def_property_readonly("upper_limits", &RobotModel::upperLimits)
       .def_property_readonly("max_velocities", &RobotModel::maxVelocities)
-      .def_property_readonly("max_accelerations", &RobotModel::maxAccelerations)
+      .def_property_readonly("max_accelerations", &RobotModel::maxAccelerations,
+                             "From the config (rad/s^2, m/s^2); empty when it gives none (then "
+                             "no trajectories).")
       .def_property_readonly("home", &RobotModel::home)
       .def_property_readonly("has_hand", &RobotModel::hasHand)
       .def_property_readonly("link_names", &linkNames)
@@ -262,7 +265,12 @@ void bindRobot(py::module_& m) {
           py::arg("path"), "Writes the map (HDF5, atomically).")
       .def_readonly("robot_name", &db::HandMap::robot_name)
       .def_property_readonly("num_samples", &db::HandMap::numSamples)
-      .def_readonly("configurations", &db::HandMap::configurations);
+      .def_readonly("configurations", &db::HandMap::configurations,
+                    "The sampled hand postures (N, hand DoF), a read-only view.")
+      .def("__repr__", [](const db::HandMap& h) {
+        return "<hfts.HandMap of '" + h.robot_name + "' with " + std::to_string(h.numSamples()) +
+               " samples>";
+      });
 
   py::class_<SceneChecker>(m, "CollisionChecker",
                            "Collision checks of a world's robot in one scene (World.checker). "
@@ -290,7 +298,12 @@ void bindRobot(py::module_& m) {
       .def("clearance", &SceneChecker::clearance, py::arg("configuration"),
            "Smallest distance (m) between the robot and the scene (the target included); 0 "
            "in collision.")
-      .def_property_readonly("scene", &SceneChecker::scene);
+      .def_property_readonly("scene", &SceneChecker::scene)
+      .def("__repr__", [](const SceneChecker& c) {
+        return "<hfts.CollisionChecker in '" + c.scene().name + "'" +
+               (c.scene().target_object.empty() ? "" : " with '" + c.scene().target_object + "'") +
+               ">";
+      });
 
   py::class_<PlanningWorld, std::shared_ptr<PlanningWorld>>(
       m, "World",
