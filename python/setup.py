@@ -15,6 +15,7 @@ import os
 import pathlib
 import shutil
 import subprocess
+import sys
 
 from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
@@ -33,10 +34,13 @@ class BuildWithCMake(build_ext):
 
     def build_extension(self, ext):
         build_dir = pathlib.Path(os.environ.get("HFTS_CMAKE_BUILD_DIR") or ROOT / "build" / "wheel")
+        if not build_dir.is_absolute():
+            raise RuntimeError(f"HFTS_CMAKE_BUILD_DIR must be an absolute path, got {build_dir}")
         if not (build_dir / "CMakeCache.txt").exists():
             subprocess.run(["cmake", "-S", str(ROOT), "-B", str(build_dir),
                             "-DCMAKE_BUILD_TYPE=Release", "-DHFTS_BUILD_TESTS=OFF",
-                            "-DHFTS_BUILD_BENCHMARKS=OFF", "-DHFTS_BUILD_PYTHON=ON"], check=True)
+                            "-DHFTS_BUILD_BENCHMARKS=OFF", "-DHFTS_BUILD_PYTHON=ON",
+                            f"-DPython3_EXECUTABLE={sys.executable}"], check=True)
         subprocess.run(["cmake", "--build", str(build_dir), "--target", "hfts_python", "-j",
                         str(os.cpu_count() or 1)], check=True)
         built = sorted((build_dir / "python" / "hfts").glob("_hfts*.so"))

@@ -130,6 +130,8 @@ Validation validatePlan(const PlanningWorld& world, const PlanRequest& request,
                         const PlanResult& plan) {
   if (!plan.success || plan.path.size() < 2)
     throw InvalidArgument("plan", "only a successful plan has a grasp to validate");
+  if (!request.goals.empty() || !world.robot().hasHand())
+    throw InvalidArgument("plan", "a motion plan has no grasp to validate");
   return validateGrasp(world, validationRequest(world, request, plan));
 }
 

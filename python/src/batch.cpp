@@ -71,8 +71,9 @@ std::size_t collisionBatch(robot::CollisionChecker& checker, const double* confi
   for (std::size_t i = 0; i < count; ++i) {
     states[i] = Eigen::Map<const Eigen::VectorXd>(
         configurations + i * static_cast<std::size_t>(dofs), dofs);
-    if (!states[i].allFinite())
-      throw InvalidArgument(indexed("configurations", i), "must be finite");
+    std::string why;
+    if (!checker.model().withinLimits(states[i], 1e-9, &why))
+      throw InvalidArgument(indexed("configurations", i), why);
     pointers[i] = &states[i];
   }
   return checker.inCollision(pointers.data(), count, request, colliding);

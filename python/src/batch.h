@@ -41,7 +41,7 @@ IkSolutions armIkBatch(const robot::ArmIk& ik, const double* poses, std::size_t 
 /// Whether each of `count` configurations (`dofs` values each, one after
 /// the other) collides, as CollisionChecker::inCollision checks a batch.
 /// Returns how many collide. Throws InvalidArgument ("configurations[i]")
-/// for a configuration that is not finite.
+/// for a configuration that is not finite or outside the joint limits.
 std::size_t collisionBatch(robot::CollisionChecker& checker, const double* configurations,
                            std::size_t count, int dofs, const robot::CollisionRequest& request,
                            bool* colliding);

@@ -61,7 +61,7 @@ void addRepr(Class& cls, const char* name) {
 
 /// A seed from Python. Throws InvalidArgument ("seed") for an integer
 /// outside [0, 2^64).
-std::uint64_t seedOf(const py::int_& seed);
+std::uint64_t seedOf(const py::object& seed);
 
 /// Throws InvalidArgument (`field`) unless `array` has `dims` dimensions
 /// and, where `shape` is not -1, those sizes.

@@ -98,14 +98,19 @@ double databaseQuality(const db::ObjectDatabase& object, const std::vector<std::
   }
 }
 
-db::ObjectDatabase buildFromArrays(
-    const DoubleArray& vertices,
-    const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& triangles,
-    const std::string& name, const std::optional<db::BuildParameters>& given, double density) {
+db::ObjectDatabase buildFromArrays(const DoubleArray& vertices, const py::array& given_triangles,
+                                   const std::string& name,
+                                   const std::optional<db::BuildParameters>& given,
+                                   double density) {
   const db::BuildParameters parameters = given.value_or(db::BuildParameters{});
   checkShape(vertices, "vertices", {-1, 3});
-  if (triangles.ndim() != 2 || triangles.shape(1) != 3)
-    throw InvalidArgument("triangles", "must be an array of shape (n, 3) of vertex indices");
+  // Integers only: a float index would be truncated silently.
+  const char kind = given_triangles.dtype().kind();
+  if ((kind != 'i' && kind != 'u') || given_triangles.ndim() != 2 || given_triangles.shape(1) != 3)
+    throw InvalidArgument("triangles",
+                          "must be an integer array of shape (n, 3) of vertex indices");
+  const auto triangles =
+      py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(given_triangles);
   if (!robot::isSafeName(name))
     throw InvalidArgument("name", "must be a file stem (letters, digits, '_', '-', '.')");
   if (!(density > 0.0) || !std::isfinite(density))

@@ -52,8 +52,14 @@ std::string describe(const char* name, const py::object& self) {
   return out + ")";
 }
 
-std::uint64_t seedOf(const py::int_& seed) {
-  const unsigned long long value = PyLong_AsUnsignedLongLong(seed.ptr());
+std::uint64_t seedOf(const py::object& seed) {
+  // Any integer, numpy's too (operator.index), but not a float.
+  const py::object index = py::reinterpret_steal<py::object>(PyNumber_Index(seed.ptr()));
+  if (!index) {
+    PyErr_Clear();
+    throw InvalidArgument("seed", "must be an integer in [0, 2^64)");
+  }
+  const unsigned long long value = PyLong_AsUnsignedLongLong(index.ptr());
   if (value == static_cast<unsigned long long>(-1) && PyErr_Occurred()) {
     PyErr_Clear();
     throw InvalidArgument("seed", "must be an integer in [0, 2^64)");

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <filesystem>
 #include <future>
 #include <thread>
 
@@ -68,6 +69,13 @@ struct Cancel {
   std::atomic<bool> flag{false};
 };
 
+/// The plan as an animated binary glTF. Throws InvalidArgument ("plan")
+/// for a failed plan, ("trajectory") for one without a trajectory.
+std::string glbOf(const Plan& p) {
+  if (!p.result.success) throw InvalidArgument("plan", "a failed plan has nothing to show");
+  return planner::planGlb(*p.world, p.request, p.result);
+}
+
 planner::PlanAlgorithm algorithmOf(const std::string& name) {
   if (name == "coupled") return planner::PlanAlgorithm::kCoupled;
   if (name == "decoupled") return planner::PlanAlgorithm::kDecoupled;
@@ -85,10 +93,16 @@ planner::PlannerPreset presetOf(const std::string& name) {
 /// A parameter's value as the text setSetting reads: a bool as 0 or 1, a
 /// number as Python writes it, a string as it is.
 std::string parameterText(const std::string& name, const py::handle& value) {
-  if (py::isinstance<py::bool_>(value)) return value.cast<bool>() ? "1" : "0";
-  if (py::isinstance<py::int_>(value) || py::isinstance<py::float_>(value) ||
-      py::isinstance<py::str>(value))
-    return py::str(value).cast<std::string>();
+  static const py::handle numpyBool =
+      py::object(py::module_::import("numpy").attr("bool_")).release();
+  if (py::isinstance<py::bool_>(value) || py::isinstance(value, numpyBool))
+    return py::cast<bool>(py::bool_(py::reinterpret_borrow<py::object>(value))) ? "1" : "0";
+  if (PyIndex_Check(value.ptr()))  // int, numpy's integers
+    return py::str(py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr())))
+        .cast<std::string>();
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if (PyNumber_Check(value.ptr()))  // float, numpy's floats
+    return py::str(py::float_(py::reinterpret_borrow<py::object>(value))).cast<std::string>();
   throw InvalidArgument("parameters." + name, "must be a number, a bool or a string");
 }
 
@@ -102,28 +116,55 @@ py::array_t<double> pathArray(const std::vector<Eigen::VectorXd>& path, int dofs
   return out;
 }
 
+/// Whether the calling thread is Python's main thread, the only one that
+/// sees signals (Ctrl-C). Needs the GIL.
+bool onPythonsMainThread() {
+  static const py::handle mainThread =
+      py::module_::import("threading").attr("main_thread")().release();
+  return mainThread.attr("ident").cast<unsigned long>() == PyThread_get_thread_ident();
+}
+
+/// A thread joined, after `stop` is set, however its owner's scope ends
+/// (an exception, or the interpreter ending the owner's thread).
+class StoppingThread {
+ public:
+  StoppingThread(std::atomic<bool>& stop, std::thread thread)
+      : stop_(stop), thread_(std::move(thread)) {}
+  ~StoppingThread() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+  }
+  StoppingThread(const StoppingThread&) = delete;
+  StoppingThread& operator=(const StoppingThread&) = delete;
+
+ private:
+  std::atomic<bool>& stop_;
+  std::thread thread_;
+};
+
 /// planGrasp in a thread of its own while this one, the GIL released,
-/// looks every 50 ms at the Python signals (Ctrl-C) and the request's
-/// Cancel: either stops the plan. A signal's exception (KeyboardInterrupt)
-/// is raised once the plan has stopped.
+/// looks every 50 ms at the request's Cancel and, on Python's main thread,
+/// at its signals (Ctrl-C): either stops the plan. A signal's exception
+/// (KeyboardInterrupt) is raised once the plan has stopped.
 planner::PlanResult planInterruptibly(const PlanningWorld& world,
                                       const planner::PlanRequest& request, const Cancel* cancel) {
+  const bool watchSignals = onPythonsMainThread();
   std::atomic<bool> stop{false};
   std::promise<planner::PlanResult> promise;
   std::future<planner::PlanResult> done = promise.get_future();
   bool interrupted = false;
   {
     py::gil_scoped_release release;
-    std::thread planning([&] {
-      try {
-        promise.set_value(planner::planGrasp(world, request, &stop));
-      } catch (...) {
-        promise.set_exception(std::current_exception());
-      }
-    });
+    const StoppingThread planning(stop, std::thread([&] {
+                                    try {
+                                      promise.set_value(planner::planGrasp(world, request, &stop));
+                                    } catch (...) {
+                                      promise.set_exception(std::current_exception());
+                                    }
+                                  }));
     while (done.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
       if (cancel != nullptr && cancel->flag.load()) stop = true;
-      if (!interrupted) {
+      if (watchSignals && !interrupted) {
         py::gil_scoped_acquire python;
         if (PyErr_CheckSignals() != 0) {
           interrupted = true;  // the error stays set until the plan has stopped
@@ -131,7 +172,6 @@ planner::PlanResult planInterruptibly(const PlanningWorld& world,
         }
       }
     }
-    planning.join();
   }
   if (interrupted) throw py::error_already_set();
   return done.get();
@@ -142,7 +182,7 @@ Plan plan(std::shared_ptr<PlanningWorld> world, const robot::Scene& scene,
           const std::optional<Eigen::VectorXd>& start,
           const std::vector<planner::MotionGoal>& goals, const std::string& algorithm,
           const std::optional<planner::PlanSettings>& settings, const std::string& preset,
-          const std::optional<int>& iterations, const py::int_& seed, double timeLimit,
+          const std::optional<int>& iterations, const py::object& seed, double timeLimit,
           const py::dict& parameters, double trajectoryRate, bool explored, bool validate,
           const std::optional<physics::SimulationOptions>& simulation, Cancel* cancel) {
   Plan out;
@@ -198,9 +238,11 @@ Trajectory timeParameterize(const robot::RobotModel& robot, const DoubleArray& p
   options.max_deviation = maxDeviation;
   Trajectory out;
   out.joint_names = robot.dofNames();
-  for (std::size_t i = 0; i < waypoints.size(); ++i)
-    if (!waypoints[i].allFinite())
-      throw InvalidArgument("path[" + std::to_string(i) + "]", "must be finite");
+  for (std::size_t i = 0; i < waypoints.size(); ++i) {
+    std::string why;
+    if (!robot.withinLimits(waypoints[i], 1e-9, &why))
+      throw InvalidArgument("path[" + std::to_string(i) + "]", why);
+  }
   py::gil_scoped_release release;
   const planner::TimeOptimalTrajectory t(waypoints, robot.maxVelocities(), robot.maxAccelerations(),
                                          options);
@@ -455,7 +497,7 @@ void bindPlanner(py::module_& m) {
             std::string bytes;
             {
               py::gil_scoped_release release;
-              bytes = planner::planGlb(*p.world, p.request, p.result);
+              bytes = glbOf(p);
             }
             return py::bytes(bytes);
           },
@@ -464,8 +506,16 @@ void bindPlanner(py::module_& m) {
           "write_viewer_page",
           [](const Plan& p, const std::filesystem::path& path,
              const std::filesystem::path& viewer_dir) {
-            const std::string glb = planner::planGlb(*p.world, p.request, p.result);
-            core::writeFileAtomically(path, client::planPage(p.json(), glb, viewer_dir));
+            for (const char* file : {"src/page.html", "dist/viewer.js"})
+              if (!std::filesystem::is_regular_file(viewer_dir / file))
+                throw InvalidArgument("viewer_dir", "has no " + std::string(file) +
+                                                        " (scripts/setup.sh bundles the viewer)");
+            const std::string page = client::planPage(p.json(), glbOf(p), viewer_dir);
+            try {
+              core::writeFileAtomically(path, page);
+            } catch (const std::exception& e) {
+              throw InvalidArgument("path", e.what());
+            }
           },
           py::arg("path"), py::arg("viewer_dir"),
           "Writes the plan's page with the viewer (docs/viewer.md): one HTML file that opens "

@@ -18,12 +18,11 @@ using planner::PlanningWorld;
 using robot::RobotModel;
 using robot::Scene;
 
-/// The robot's configuration `q` checked: numDofs() finite values.
+/// The robot's configuration `q` checked: numDofs() finite values within
+/// the joint limits.
 void checkConfiguration(const RobotModel& robot, const Eigen::VectorXd& q, const char* field) {
-  if (q.size() != robot.numDofs() || !q.allFinite())
-    throw InvalidArgument(field, "must be " + std::to_string(robot.numDofs()) +
-                                     " finite joint values (" + robot.name() + "), got " +
-                                     std::to_string(q.size()));
+  std::string why;
+  if (!robot.withinLimits(q, 1e-9, &why)) throw InvalidArgument(field, why);
 }
 
 /// One robot in one scene for collision checks: a checker (one thread's
@@ -101,7 +100,7 @@ robot::CollisionRequest collisionRequest(const std::string& rule, bool target, b
 
 /// The IK of one pose: solutions as rows.
 Eigen::MatrixXd solutionsOf(const PlanningWorld& world, const DoubleArray& pose,
-                            const std::string& link, const py::int_& seed) {
+                            const std::string& link, const py::object& seed) {
   if (link != "palm" && link != "flange")
     throw InvalidArgument("link", "must be \"palm\" or \"flange\", got \"" + link + "\"");
   isometryOf(pose, "pose");  // checked here to name the field; solved as given
@@ -117,7 +116,7 @@ Eigen::MatrixXd solutionsOf(const PlanningWorld& world, const DoubleArray& pose,
 }
 
 py::tuple ikBatch(const PlanningWorld& world, const DoubleArray& poses, const std::string& link,
-                  const py::int_& seed) {
+                  const py::object& seed) {
   if (link != "palm" && link != "flange")
     throw InvalidArgument("link", "must be \"palm\" or \"flange\", got \"" + link + "\"");
   checkShape(poses, "poses", {-1, 4, 4});
@@ -316,10 +315,20 @@ void bindRobot(py::module_& m) {
             std::shared_ptr<const PlanningWorld> world;
             {
               py::gil_scoped_release release;
-              world = PlanningWorld::load(robot_config, db_dir, &skipped);
+              try {
+                world = PlanningWorld::load(robot_config, db_dir, &skipped);
+              } catch (const robot::ModelError&) {
+                throw;
+              } catch (const db::DatabaseError&) {
+                throw;
+              } catch (const std::runtime_error& e) {
+                // A missing folder or hand map: the files a world is read from.
+                throw db::DatabaseError(e.what());
+              }
             }
             for (const std::string& s : skipped)
-              PyErr_WarnEx(PyExc_RuntimeWarning, ("skipped a database: " + s).c_str(), 1);
+              if (PyErr_WarnEx(PyExc_RuntimeWarning, ("skipped a database: " + s).c_str(), 1) < 0)
+                throw py::error_already_set();  // warnings are errors
             return std::const_pointer_cast<PlanningWorld>(world);
           },
           py::arg("robot_config"), py::arg("db_dir"),
@@ -361,7 +370,7 @@ void bindRobot(py::module_& m) {
       .def(
           "ik",
           [](const PlanningWorld& w, const DoubleArray& pose, const std::string& link,
-             const py::int_& seed) { return solutionsOf(w, pose, link, seed); },
+             const py::object& seed) { return solutionsOf(w, pose, link, seed); },
           py::arg("pose"), py::arg("link") = "palm", py::arg("seed") = py::int_(1),
           "Every arm IK solution (rows of num_arm_dofs) for a 4 x 4 pose of the palm or the "
           "flange in the robot's base frame.")

@@ -85,15 +85,17 @@ json planResultToJson(const planner::PlanResult& result, const planner::PlanRequ
   for (const Eigen::VectorXd& q : result.path) path.push_back(vectorJson(q));
   const bool coupled = request.algorithm == planner::PlanAlgorithm::kCoupled;
   const bool paper = coupled && request.preset == planner::PlannerPreset::kPaper;
+  const bool rrtConnect = request.algorithm == planner::PlanAlgorithm::kRrtConnect;
   json out = {{"success", result.success},
               {"reason", planner::toString(result.failure)},
               {"message", result.message},
               {"scene", request.scene.name},
               {"object", request.object},
               {"object_pose", poseJson(result.object_pose)},
-              {"algorithm", paper     ? "paper"
-                            : coupled ? "coupled"
-                                      : "decoupled"},
+              {"algorithm", paper        ? "paper"
+                            : coupled    ? "coupled"
+                            : rrtConnect ? "rrtconnect"
+                                         : "decoupled"},
               {"seed", request.seed},
               {"plan_seed", result.seed},
               {"time_limit", request.time_limit},

@@ -103,6 +103,15 @@ class Errors(unittest.TestCase):
         self.assertField("configurations[1]", checker.in_collision_batch,
                          np.array([np.zeros(13), np.full(13, np.inf)]))
         self.assertField("configuration", checker.in_collision, np.zeros(2))
+        beyond = WORLD.robot.home.copy()
+        beyond[6] = 1e20  # finite, far outside the limits
+        self.assertField("configuration", checker.in_collision, beyond)
+        self.assertField("configuration", checker.clearance, beyond)
+        self.assertField("configurations[1]", checker.in_collision_batch,
+                         np.stack([WORLD.robot.home, beyond]))
+        self.assertField("configuration", WORLD.robot.link_poses, beyond)
+        self.assertField("triangles", hfts.ObjectDatabase.from_arrays, np.eye(3),
+                         np.array([[0, 1, 2.7]]), "floats")
         self.assertField("rule", checker.in_collision, np.zeros(13), rule="loose")
         self.assertField("object", WORLD.checker, TABLE, object="anvil")
         self.assertField("triangles[0]", hfts.ObjectDatabase.from_arrays, np.eye(3),
@@ -110,11 +119,41 @@ class Errors(unittest.TestCase):
         self.assertField("name", hfts.ObjectDatabase.from_arrays, np.eye(3),
                          np.array([[0, 1, 2]]), "../evil")
 
+    def test_numpy_scalars_are_numbers(self):
+        poses = np.stack([np.eye(4)])
+        np.testing.assert_array_equal(WORLD.ik_batch(poses, seed=np.int64(3))[0],
+                                      WORLD.ik_batch(poses, seed=3)[0])
+        a = WORLD.plan(TABLE, seed=np.uint8(2), time_limit=30,
+                       parameters={"physics_check": np.bool_(False), "p_max": np.float32(0.75),
+                                   "smoothing_steps": np.int64(40)})
+        b = WORLD.plan(TABLE, seed=2, time_limit=30,
+                       parameters={"physics_check": 0, "p_max": 0.75, "smoothing_steps": 40})
+        self.assertTrue(a.success, a.message)
+        np.testing.assert_array_equal(a.path, b.path)
+        self.assertField("seed", WORLD.plan, TABLE, seed=1.5)
+
+    def test_what_a_plan_cannot_give(self):
+        failed = WORLD.plan(TABLE, object_pose=FAR_AWAY, time_limit=0.2, parameters=NO_PHYSICS)
+        self.assertField("plan", WORLD.validate, failed)
+        self.assertField("plan", failed.glb)
+        motion = WORLD.plan(TABLE, goals=[hfts.JointGoal(WORLD.robot.home[:6] + 0.1)],
+                            time_limit=30)
+        self.assertTrue(motion.success, motion.message)
+        self.assertField("plan", WORLD.validate, motion)
+        grasp = WORLD.plan(TABLE, seed=1, time_limit=30, parameters=NO_PHYSICS)
+        with tempfile.TemporaryDirectory() as folder:
+            self.assertField("viewer_dir", grasp.write_viewer_page,
+                             os.path.join(folder, "page.html"), folder)
+
     def test_files_that_do_not_load(self):
         with self.assertRaises(hfts.SceneError):
             hfts.Scene.from_json('{"name": "x", "obstacles": [{"type": "box"}]}')
         with self.assertRaises(hfts.ModelError):
             hfts.Robot.from_strings("<robot name='r'/>", "{}")
+        with self.assertRaises(hfts.DatabaseError):
+            hfts.World.load(robot_config("kr5_sdh"), "/nonexistent/folder")
+        with tempfile.TemporaryDirectory() as empty, self.assertRaises(hfts.DatabaseError):
+            hfts.World.load(robot_config("kr5_sdh"), empty)  # no hand map
         with tempfile.NamedTemporaryFile(suffix=".h5") as bad:
             bad.write(b"not hdf5")
             bad.flush()

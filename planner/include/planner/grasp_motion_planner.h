@@ -57,7 +57,8 @@ PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
 /// (grasp_validation.h) with the request's planner parameters
 /// (min_epsilon, max_penetration, final_resolution, friction) and
 /// simulation options: what PlanRequest::validate adds to a result.
-/// Throws InvalidArgument ("plan") for a plan without a grasp.
+/// Throws InvalidArgument ("plan") for a plan without a grasp: a failed
+/// plan, or a motion plan (request.goals, or a robot without a hand).
 Validation validatePlan(const PlanningWorld& world, const PlanRequest& request,
                         const PlanResult& plan);
 
