@@ -26,8 +26,16 @@ void bindErrors(py::module_& m);
 void bindRobot(py::module_& m);
 /// Grasp quality, object databases and hand maps.
 void bindGrasp(py::module_& m);
-/// Planner settings, plans, their validation, trajectories and ROS messages.
+/// The planner's typed settings, the physics check's options, motion goals.
+void bindSettings(py::module_& m);
+/// Plans, their validation, trajectories and ROS messages.
 void bindPlanner(py::module_& m);
+
+/// A planner parameter's value from Python as the text
+/// planner::setSetting reads: a bool (numpy's too) as 0 or 1, an integer
+/// or a float as Python writes it, a string as it is. Throws
+/// InvalidArgument ("parameters.<name>") for anything else.
+std::string parameterText(const std::string& name, const py::handle& value);
 
 /// JSON as Python objects (dict, list, float, int, str, bool, None).
 py::object toPython(const nlohmann::json& value);

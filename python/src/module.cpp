@@ -96,5 +96,6 @@ PYBIND11_MODULE(_hfts, m) {
   hfts::python::bindErrors(m);
   hfts::python::bindGrasp(m);
   hfts::python::bindRobot(m);
+  hfts::python::bindSettings(m);
   hfts::python::bindPlanner(m);
 }
