@@ -348,6 +348,8 @@ RunRecord runOnce(const Experiment& e, const Case& c, const Algorithm& algorithm
   request.iterations = algorithm.iterations;
   request.parameters = algorithm.parameters;
   request.preset = algorithm.preset;
+  // The paper's planner ends with the hand closed; the others lift.
+  if (algorithm.preset == hfts::planner::PlannerPreset::kPaper) request.lift.reset();
   request.seed = static_cast<std::uint64_t>(seed);
   request.time_limit = e.timeLimit;
   request.validate = e.physics;

@@ -44,6 +44,15 @@ PlanResult search(std::chrono::steady_clock::time_point began, const SharedProbl
   result.path.push_back(found.goal.grasp);
   result.clearance = found.path_check.clearance;
   result.grasp = describeGrasp(problem, found.goal);
+  if (problem.lift) {
+    // The baseline's goals were not checked for a lift: its first chance.
+    std::string why;
+    result.lift =
+        found.lift ? std::move(found.lift) : liftOf(problem, found.goal, result.stats, &why);
+    if (!result.lift)
+      return failed(std::move(result), {PlanFailure::kLiftBlocked,
+                                        "no lift of the grasp found is free (" + why + ")"});
+  }
   if (found.verdict) {
     // The search simulated this grasp already: the same verdict.
     ValidationRequest v = validationRequest(shared.world, request, result);
@@ -53,9 +62,19 @@ PlanResult search(std::chrono::steady_clock::time_point began, const SharedProbl
   }
   if (request.trajectory_rate > 0.0 && shared.world.robot().maxAccelerations().size() > 0) {
     std::size_t queries = 0;
+    const MotionCheck& check = problem.planner->smoothing().final_check;
     result.trajectory =
-        graspTrajectory(result.path, problem.checker, problem.planner->smoothing().final_check,
-                        request.trajectory_rate, &queries);
+        graspTrajectory(result.path, problem.checker, check, request.trajectory_rate, &queries);
+    if (result.lift) {
+      const Hold hold = holdObject(shared.world.collisionModel(), shared.scene.robot_base,
+                                   problem.object.geometry, problem.object.name,
+                                   shared.scene.target_pose, result.path.back());
+      const GraspTrajectory lift = liftTrajectory(hold, shared.scene, *result.lift, check,
+                                                  request.trajectory_rate, &queries);
+      // A lift whose samples cannot be made free leaves no trajectory at all.
+      result.trajectory.lift_start = appendTrajectory(result.trajectory, lift);
+      if (result.trajectory.lift_start < 0.0) result.trajectory = {};
+    }
     result.stats.certificate_queries += queries;
   }
   return result;
@@ -117,6 +136,7 @@ PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
   if (request.validate && !request.goals.empty())
     throw InvalidArgument("validate", "a motion plan (goals) has no grasp to validate");
   if (request.validate) physics::validateOptions(request.simulation);
+  if (request.lift) checkLiftOptions(*request.lift);
   PlanResult result = request.goals.empty() ? plan(began, world, request, cancel)
                                             : planMotion(began, world, request, cancel);
   result.stats.planning_time =

@@ -1,5 +1,6 @@
 #include "planner/grasp_trajectory.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/invalid_argument.h"
@@ -64,6 +65,7 @@ GraspTrajectory checkedTrajectory(const std::vector<Eigen::VectorXd>& path,
     if (!collisionFree(out.points, checker, check, rule, queries)) continue;
     out.closing_start = moving.duration();
     out.duration = moving.duration() + closingDuration;
+    out.lift_start = out.duration;
     out.deviation = moving.deviation();
     appendAfter(std::move(closing), out.closing_start, out.points);
     return out;
@@ -117,6 +119,15 @@ GraspTrajectory motionTrajectory(const std::vector<Eigen::VectorXd>& path,
   checkInputs(path, checker.model(), rate, "needs a start and a goal");
   return checkedTrajectory(path, {}, 0.0, checker, check, robot::CertifyRule::kTransit, rate,
                            queries != nullptr ? *queries : ownQueries, maxDeviation);
+}
+
+double appendTrajectory(GraspTrajectory& trajectory, const GraspTrajectory& next) {
+  if (trajectory.points.empty() || next.points.empty()) return -1.0;
+  const double start = trajectory.duration;
+  appendAfter(next.points, start, trajectory.points);
+  trajectory.duration += next.duration;
+  trajectory.deviation = std::max(trajectory.deviation, next.deviation);
+  return start;
 }
 
 }  // namespace hfts::planner

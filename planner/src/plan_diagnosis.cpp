@@ -19,7 +19,8 @@ std::string rejectionText(const GraspRejections& r) {
         std::pair{r.colliding, "colliding"},
         std::pair{r.no_pad_contact, "without every pad on the object when the hand closes"},
         std::pair{r.weak_at_contacts, "below min_epsilon where the pads touch"},
-        std::pair{r.closing_blocked, "closing blocked"}})
+        std::pair{r.closing_blocked, "closing blocked"},
+        std::pair{r.lift_blocked, "reached but without a free lift"}})
     if (count > 0) out += (out.empty() ? "" : ", ") + std::to_string(count) + " " + what;
   return out.empty() ? "none tried" : out;
 }
@@ -56,10 +57,20 @@ std::pair<PlanFailure, std::string> failureOf(const SearchOutcome& found,
     return {PlanFailure::kNoValidGoal, "no valid goal within the time limit; of the " +
                                            std::to_string(goals.rejected.total()) +
                                            " leaf grasps tried: " + rejectionText(goals.rejected)};
+  // The goals the trees reached that their goal check refused: each check
+  // that ran refused one (the search failed), in its order.
   std::string dropped;
-  if (found.stats.dropped_goals > 0)
-    dropped = " (the paths to " + std::to_string(found.stats.dropped_goals) +
-              " of them ended in grasps that did not hold in physics)";
+  if (const std::uint64_t reached = found.stats.dropped_goals; reached > 0) {
+    const std::uint64_t physics = found.stats.physics_checks;
+    const std::uint64_t lift = found.stats.rejected.lift_blocked;
+    const std::uint64_t closing = reached - std::min(reached, physics + lift);
+    std::string why;
+    for (const auto& [count, what] :
+         {std::pair{closing, "closing not proven free"},
+          std::pair{physics, "grasp did not hold in physics"}, std::pair{lift, "no free lift"}})
+      if (count > 0) why += (why.empty() ? "" : ", ") + std::to_string(count) + " " + what;
+    dropped = " (the trees reached " + std::to_string(reached) + " of them: " + why + ")";
+  }
   return {PlanFailure::kTimeLimit, "no path to any of the " + std::to_string(goals.valid_goals) +
                                        " goals found within the time limit" + dropped};
 }

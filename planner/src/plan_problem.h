@@ -62,6 +62,7 @@ struct SharedProblem {
         scene(sceneOf(request, o)),
         explored(request.explored),
         simulation(request.simulation),
+        lift(request.goals.empty() ? request.lift : std::nullopt),
         collision(std::make_shared<const robot::CollisionScene>(
             w.collisionModel(), scene, &o.geometry, w.collisionMesh(o.name), w.surface(o.name),
             settings.path.clearance)),
@@ -92,6 +93,7 @@ struct SharedProblem {
   const robot::Scene scene;
   const bool explored;                          ///< record the goal hierarchy cache's nodes
   const physics::SimulationOptions simulation;  ///< of physics_check and validate
+  const std::optional<LiftOptions> lift;        ///< every goal's lift (none: no lift)
   const std::shared_ptr<const robot::CollisionScene> collision;
   /// Contacts a fingertip can touch here (empty: mask_contacts off, all).
   const std::vector<bool> usable;
@@ -113,6 +115,7 @@ struct Problem {
         seed(seedOfSearch),
         explored(shared.explored),
         simulation(shared.simulation),
+        lift(shared.lift),
         checker(shared.collision),
         si(makeSpaceInformation(world.robot(), checker, kTreeResolution)),
         planner(plannerFor(si, settings)),
@@ -142,6 +145,7 @@ struct Problem {
   const std::uint64_t seed;
   const bool explored;
   const physics::SimulationOptions& simulation;
+  const std::optional<LiftOptions>& lift;
   robot::CollisionChecker checker;
   const ob::SpaceInformationPtr si;
   /// Algorithm 1's planner, with the settings applied.

@@ -24,6 +24,8 @@ const char* toString(PlanFailure failure) {
       return "no_stable_grasp_clear_of_support";
     case PlanFailure::kGoalInCollision:
       return "goal_in_collision";
+    case PlanFailure::kLiftBlocked:
+      return "lift_blocked";
   }
   return "unknown";
 }

@@ -47,22 +47,29 @@ MultiTreeCBiRRT::GoalCheck physicsGoalCheck(const Problem& p, SearchOutcome& out
 /// What a reached goal must pass before it ends the search: with
 /// certify_path its closing motion proven free (the closing rule; a goal
 /// refused counts as closing_blocked), then with physics_check its grasp
-/// holding in physics. None when neither is asked for.
+/// holding in physics, then with a lift its lift free (lift_blocked). None
+/// when nothing is asked for.
 MultiTreeCBiRRT::GoalCheck goalCheck(Problem& p, SearchOutcome& out,
                                      const ob::PlannerTerminationCondition& ptc) {
   MultiTreeCBiRRT::GoalCheck physics =
       p.settings.goal.physics_check ? physicsGoalCheck(p, out, ptc) : MultiTreeCBiRRT::GoalCheck{};
   const MotionCheck& check = p.planner->smoothing().final_check;
-  if (!check.certifies()) return physics;
+  if (!check.certifies() && !p.lift) return physics;
   return [&p, &out, &check, physics = std::move(physics)](const GoalSample& goal) {
-    const MotionVerdict closing = checkMotion(p.checker, check, {goal.configuration, goal.grasp},
-                                              robot::CertifyRule::kClosing);
-    out.stats.certificate_queries += closing.queries;
-    if (!closing.free) {
-      ++out.stats.rejected.closing_blocked;
-      return false;
+    if (check.certifies()) {
+      const MotionVerdict closing = checkMotion(p.checker, check, {goal.configuration, goal.grasp},
+                                                robot::CertifyRule::kClosing);
+      out.stats.certificate_queries += closing.queries;
+      if (!closing.free) {
+        ++out.stats.rejected.closing_blocked;
+        return false;
+      }
     }
-    return !physics || physics(goal);
+    if (physics && !physics(goal)) return false;
+    if (!p.lift) return true;
+    out.lift = liftOf(p, goal, out.stats);
+    if (!out.lift) ++out.stats.rejected.lift_blocked;
+    return out.lift.has_value();
   };
 }
 
@@ -84,6 +91,17 @@ std::vector<ExploredNode> exploredNodes(const GoalHierarchyCache& cache, Samplin
 }
 
 }  // namespace
+
+std::optional<LiftPath> liftOf(const Problem& p, const GoalSample& goal, PlanStatistics& stats,
+                               std::string* why) {
+  const Hold hold = holdObject(p.world.collisionModel(), p.scene.robot_base, p.object.geometry,
+                               p.object.name, p.scene.target_pose, goal.grasp);
+  std::size_t queries = 0;
+  std::optional<LiftPath> lift = planLift(hold, p.scene, goal.grasp, p.lift->height,
+                                          p.planner->smoothing().final_check, why, &queries);
+  stats.certificate_queries += queries;
+  return lift;
+}
 
 /// The multi-tree CBiRRT (Algorithm 1) with the coupled goal sampler
 /// (Algorithm 2) or the decoupled one.
@@ -121,6 +139,7 @@ SearchOutcome searchMultiTree(Problem& p, bool coupled,
   out.stats.physics_time = checked.physics_time;
   out.stats.certificate_queries += checked.certificate_queries;
   out.stats.rejected.closing_blocked += checked.rejected.closing_blocked;
+  out.stats.rejected.lift_blocked += checked.rejected.lift_blocked;
   if (const auto* hfts = dynamic_cast<const HftsGoalSampler*>(sampler.get());
       hfts != nullptr && p.explored)
     out.explored = exploredNodes(hfts->cache(), tools);

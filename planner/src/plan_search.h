@@ -28,7 +28,15 @@ struct SearchOutcome {
   PlanStatistics stats;
   /// With physics_check: the verdict of the goal the search ended at.
   std::optional<physics::GraspVerdict> verdict;
+  /// With a lift: the lift of the goal the search ended at (the goal
+  /// check's; the baseline's goals are not checked: none).
+  std::optional<LiftPath> lift;
 };
+
+/// The lift of a reached goal (p.lift's height; none when blocked, with
+/// what blocked it in `why`), its proofs' queries counted in `stats`.
+std::optional<LiftPath> liftOf(const Problem& p, const GoalSample& goal, PlanStatistics& stats,
+                               std::string* why = nullptr);
 
 /// The multi-tree CBiRRT (Algorithm 1) with the coupled goal sampler
 /// (Algorithm 2) or the decoupled one.

@@ -313,6 +313,7 @@ class World:
         validate: bool = False,
         simulation: Optional[SimulationOptions] = None,
         cancel: Optional[Cancel] = None,
+        lift: Union[bool, float] = True,
     ) -> Plan:
         """Plans a grasp of `object` and a path to it, or with goals a path to one of them."""
     def validate(self, plan: Plan, simulation: Optional[SimulationOptions] = None) -> _Json:
@@ -469,6 +470,9 @@ class Trajectory:
     def closing_start(self) -> float:
         """When the hand starts closing (the duration when it does not close)."""
     @property
+    def lift_start(self) -> float:
+        """When the palm starts lifting the object (the duration without a lift)."""
+    @property
     def deviation(self) -> float:
         """Largest distance (rad) of the approach from the planned path."""
     def to_ros(self) -> _Json:
@@ -502,6 +506,9 @@ class Plan:
     @property
     def reached_goal(self) -> Optional[int]:
         """The index of the goal a motion plan reached."""
+    @property
+    def lift(self) -> Optional[_Json]:
+        """The lift from the grasp: {direction, path}; None without one."""
     @property
     def grasp(self) -> Optional[_Json]:
         """The grasp as executed (None for a failed or motion plan)."""

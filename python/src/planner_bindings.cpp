@@ -167,7 +167,8 @@ Plan plan(std::shared_ptr<PlanningWorld> world, const robot::Scene& scene,
           const std::optional<planner::PlanSettings>& settings, const std::string& preset,
           const std::optional<int>& iterations, const py::object& seed, double timeLimit,
           const py::dict& parameters, double trajectoryRate, bool explored, bool validate,
-          const std::optional<physics::SimulationOptions>& simulation, Cancel* cancel) {
+          const std::optional<physics::SimulationOptions>& simulation, Cancel* cancel,
+          const py::object& lift) {
   Plan out;
   out.world = world;
   planner::PlanRequest& r = out.request;
@@ -190,6 +191,15 @@ Plan plan(std::shared_ptr<PlanningWorld> world, const robot::Scene& scene,
   r.explored = explored;
   r.validate = validate;
   if (simulation) r.simulation = *simulation;
+  // True: the default lift; False: none; a number: its height (m).
+  if (py::isinstance<py::bool_>(lift)) {
+    if (!lift.cast<bool>()) r.lift.reset();
+  } else if (py::isinstance<py::float_>(lift) || py::isinstance<py::int_>(lift)) {
+    r.lift = planner::LiftOptions{lift.cast<double>()};
+  } else {
+    throw InvalidArgument("lift", "must be True, False or a height in metres");
+  }
+  if (r.lift && !r.goals.empty()) r.lift.reset();  // a motion plan holds no object
   out.result = planInterruptibly(*world, r, cancel);
   return out;
 }
@@ -232,6 +242,7 @@ Trajectory timeParameterize(const robot::RobotModel& robot, const DoubleArray& p
   out.trajectory.points = t.sample(rate);
   out.trajectory.duration = t.duration();
   out.trajectory.closing_start = t.duration();
+  out.trajectory.lift_start = t.duration();
   out.trajectory.deviation = t.deviation();
   return out;
 }
@@ -272,6 +283,9 @@ void bindPlanner(py::module_& m) {
       .def_property_readonly("duration", [](const Trajectory& t) { return t.trajectory.duration; })
       .def_property_readonly("closing_start",
                              [](const Trajectory& t) { return t.trajectory.closing_start; })
+      .def_property_readonly(
+          "lift_start", [](const Trajectory& t) { return t.trajectory.lift_start; },
+          "When the palm starts lifting the object (the duration without a lift).")
       .def_property_readonly("deviation",
                              [](const Trajectory& t) { return t.trajectory.deviation; })
       .def(
@@ -315,6 +329,16 @@ void bindPlanner(py::module_& m) {
       .def_property_readonly(
           "reached_goal", [](const Plan& p) { return p.result.reached_goal; },
           "A motion plan's: the index of the goal the path ends at.")
+      .def_property_readonly(
+          "lift",
+          [](const Plan& p) -> py::object {
+            if (!p.result.lift) return py::none();
+            return py::dict(
+                py::arg("direction") = p.result.lift->direction,
+                py::arg("path") = pathArray(p.result.lift->path, p.world->robot().numDofs()));
+          },
+          "The lift from the grasp (dict: direction, path one configuration per row, the grasp "
+          "first), the object in the hand; None without one.")
       .def_property_readonly(
           "grasp", [](const Plan& p) { return toPython(p.json()["grasp"]); },
           "The grasp as executed (dict; None for a failed or motion plan): contacts with inward "
@@ -410,10 +434,12 @@ void bindPlanner(py::module_& m) {
            py::arg("time_limit") = 60.0, py::arg("parameters") = py::dict(),
            py::arg("trajectory_rate") = 100.0, py::arg("explored") = false,
            py::arg("validate") = false, py::arg("simulation") = py::none(),
-           py::arg("cancel") = py::none(),
+           py::arg("cancel") = py::none(), py::arg("lift") = true,
            "Plans a grasp of `object` (default the scene's target) and a path to it (or, with "
-           "goals, a path to one of them). The GIL is released while it plans. Raises "
-           "InvalidArgument naming the field for a malformed request.")
+           "goals, a path to one of them), then a lift of the object clear of its support "
+           "(`lift`: True, the default height; False, none; a number, the height in m). The GIL "
+           "is released while it plans. Raises InvalidArgument naming the field for a malformed "
+           "request.")
       .def(
           "validate",
           [](const PlanningWorld&, const Plan& p,

@@ -12,4 +12,15 @@ std::shared_ptr<const CollisionModel> buildCollisionModel(RobotModel robot,
   return model;
 }
 
+std::shared_ptr<const CollisionModel> withHeldBody(const CollisionModel& model,
+                                                   const std::string& name,
+                                                   const Eigen::Isometry3d& inPalm,
+                                                   std::shared_ptr<const TriangleMesh> mesh,
+                                                   const SphereModelOptions& spheres) {
+  auto held = std::make_shared<CollisionModel>(CollisionModel{
+      model.robot.withHeldBody(name, inPalm, std::move(mesh)), model.spheres, model.pair_maps});
+  held->spheres.links.push_back(coverLink(held->robot.links().back(), spheres));
+  return held;
+}
+
 }  // namespace hfts::robot

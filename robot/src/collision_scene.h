@@ -22,7 +22,8 @@ using fcl_query::Geometry;
 using fcl_query::Object;
 using fcl_query::Tag;
 
-/// The robot's FCL objects, one per collision shape of a link: a
+/// The robot's FCL objects, one per collision shape of a link (and one
+/// for a held body's mesh, RobotModel::withHeldBody): a
 /// checker's own (queries move them), and the scene's once while it
 /// decides which static pairs the tier may skip.
 struct RobotObjects {
@@ -52,6 +53,18 @@ struct RobotObjects {
         tags.push_back(std::move(tag));
         objects.push_back(std::move(object));
         shapes.emplace_back(static_cast<int>(l), shape.origin);
+      }
+      if (const std::shared_ptr<const TriangleMesh>& mesh = model.links()[l].mesh) {
+        // A held body: its mesh's hierarchy, made for this set of objects
+        // (a few milliseconds per thousand triangles).
+        auto object = std::make_unique<Object>(fcl_query::meshGeometry(*mesh));
+        auto tag =
+            std::make_unique<Tag>(Tag{static_cast<int>(l), false, false, model.links()[l].name});
+        tag->order = firstOrder + tags.size();
+        object->setUserData(tag.get());
+        tags.push_back(std::move(tag));
+        objects.push_back(std::move(object));
+        shapes.emplace_back(static_cast<int>(l), Eigen::Isometry3d::Identity());
       }
     }
     linkObjects.resize(model.links().size());

@@ -1,6 +1,7 @@
 #include "robot/link_spheres.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -164,6 +165,98 @@ class ShapeCoverer {
   Points points_;
 };
 
+/// Covers a held body's surface (link_spheres.h, Link::mesh): its
+/// triangles, split until no edge is longer than `edge`, are grouped by
+/// halving them at the median of their centroids along the group's
+/// longest extent until a group's sphere has at most `leafRadius`; every
+/// node's sphere holds every vertex of its triangles, hence the triangles.
+/// The surface is what FCL checks of a mesh, so the spheres hold it, not
+/// the volume inside.
+class MeshCoverer {
+ public:
+  MeshCoverer(const TriangleMesh& mesh, double tolerance) : leaf_radius_(tolerance / 2) {
+    // A triangle's sphere about its centroid reaches at most 0.58 of its
+    // longest edge: edges of 0.8 leaf radii keep one triangle a leaf.
+    const double edge = 0.8 * leaf_radius_;
+    for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+      const auto corner = [&](int c) -> Eigen::Vector3d {
+        return mesh.vertices.row(mesh.triangles(t, c)).transpose();
+      };
+      split({corner(0), corner(1), corner(2)}, edge);
+    }
+  }
+
+  /// Adds the tree to `out` (leaves to out.spheres), returns its root and
+  /// raises out.excess (at most twice a leaf's radius: a sphere's centre
+  /// lies within its radius of a vertex).
+  int cover(LinkSpheres& out) { return build(0, triangles_.size(), out); }
+
+ private:
+  using Triangle = std::array<Eigen::Vector3d, 3>;
+
+  void split(const Triangle& t, double edge) {
+    const double longest =
+        std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()});
+    if (longest <= edge) {
+      triangles_.push_back(t);
+      return;
+    }
+    const Eigen::Vector3d a = (t[0] + t[1]) / 2, b = (t[1] + t[2]) / 2, c = (t[2] + t[0]) / 2;
+    split({t[0], a, c}, edge);
+    split({a, t[1], b}, edge);
+    split({c, b, t[2]}, edge);
+    split({a, b, c}, edge);
+  }
+
+  static Eigen::Vector3d centroid(const Triangle& t) { return (t[0] + t[1] + t[2]) / 3; }
+
+  LinkSphere sphereOf(std::size_t begin, std::size_t end) const {
+    Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector3d high = -low;
+    for (std::size_t i = begin; i < end; ++i)
+      for (const Eigen::Vector3d& v : triangles_[i]) {
+        low = low.cwiseMin(v);
+        high = high.cwiseMax(v);
+      }
+    LinkSphere sphere{(low + high) / 2, 0.0};
+    for (std::size_t i = begin; i < end; ++i)
+      for (const Eigen::Vector3d& v : triangles_[i])
+        sphere.radius = std::max(sphere.radius, (v - sphere.center).norm());
+    return sphere;
+  }
+
+  int build(std::size_t begin, std::size_t end, LinkSpheres& out) {
+    SphereNode node{sphereOf(begin, end), -1, -1};
+    if (node.sphere.radius <= leaf_radius_ || end - begin == 1) {
+      out.spheres.push_back(node.sphere);
+      out.excess = std::max(out.excess, 2 * node.sphere.radius);
+    } else {
+      Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+      Eigen::Vector3d high = -low;
+      for (std::size_t i = begin; i < end; ++i) {
+        low = low.cwiseMin(centroid(triangles_[i]));
+        high = high.cwiseMax(centroid(triangles_[i]));
+      }
+      Eigen::Index axis = 0;
+      (high - low).maxCoeff(&axis);
+      const std::size_t middle = begin + (end - begin) / 2;
+      std::nth_element(triangles_.begin() + static_cast<std::ptrdiff_t>(begin),
+                       triangles_.begin() + static_cast<std::ptrdiff_t>(middle),
+                       triangles_.begin() + static_cast<std::ptrdiff_t>(end),
+                       [axis](const Triangle& a, const Triangle& b) {
+                         return centroid(a)[axis] < centroid(b)[axis];
+                       });
+      node.left = build(begin, middle, out);
+      node.right = build(middle, end, out);
+    }
+    out.tree.push_back(node);
+    return static_cast<int>(out.tree.size()) - 1;
+  }
+
+  double leaf_radius_;
+  std::vector<Triangle> triangles_;
+};
+
 /// The smallest sphere that holds two spheres.
 LinkSphere enclosing(const LinkSphere& a, const LinkSphere& b) {
   const double d = (b.center - a.center).norm();
@@ -227,6 +320,17 @@ LinkSpheres coverLink(const Link& link, const SphereModelOptions& options) {
     throw std::invalid_argument("sphere model tolerance must be positive and finite, got " +
                                 std::to_string(options.tolerance));
   LinkSpheres result;
+  // Joins a covered piece's tree (root `root`) to the link's.
+  const auto join = [&result](int root) {
+    if (result.root < 0) {
+      result.root = root;
+      return;
+    }
+    const LinkSphere& a = result.tree[static_cast<std::size_t>(result.root)].sphere;
+    const LinkSphere& b = result.tree[static_cast<std::size_t>(root)].sphere;
+    result.tree.push_back({enclosing(a, b), result.root, root});
+    result.root = static_cast<int>(result.tree.size()) - 1;
+  };
   for (const CollisionShape& shape : link.shapes) {
     int root = -1;
     if (shape.type == CollisionShape::Type::kSphere) {
@@ -244,15 +348,10 @@ LinkSpheres coverLink(const Link& link, const SphereModelOptions& options) {
       const double tolerance = std::min(options.tolerance, thinnest / 2);
       root = ShapeCoverer(link, shape, tolerance).cover(result);
     }
-    if (result.root < 0) {
-      result.root = root;
-      continue;
-    }
-    const LinkSphere& a = result.tree[static_cast<std::size_t>(result.root)].sphere;
-    const LinkSphere& b = result.tree[static_cast<std::size_t>(root)].sphere;
-    result.tree.push_back({enclosing(a, b), result.root, root});
-    result.root = static_cast<int>(result.tree.size()) - 1;
+    join(root);
   }
+  if (link.mesh != nullptr && link.mesh->triangles.rows() > 0)
+    join(MeshCoverer(*link.mesh, options.tolerance).cover(result));
   return result;
 }
 

@@ -9,9 +9,11 @@ namespace hfts::robot {
 namespace {
 
 /// The largest distance (m) from a link's frame origin to a point of its
-/// collision shapes; 0 for a link without shapes.
+/// collision shapes and its mesh (a held body's); 0 for a link without
+/// either.
 double linkReach(const Link& link) {
   double reach = 0.0;
+  if (link.mesh != nullptr) reach = link.mesh->vertices.rowwise().norm().maxCoeff();
   for (const CollisionShape& shape : link.shapes) {
     // A sphere's points lie within its radius of its centre; a box's or a
     // cylinder's within the half diagonal of its bounding box.
@@ -37,7 +39,7 @@ MotionBound::MotionBound(const RobotModel& model)
       chains_(model.links().size()) {
   for (std::size_t l = 0; l < model.links().size(); ++l) {
     const Link& link = model.links()[l];
-    if (link.shapes.empty()) continue;
+    if (link.shapes.empty() && link.mesh == nullptr) continue;
     // reach: a bound on the distance from the child frame origin of the
     // current joint (a point on its axis) to any point of the link.
     double reach = linkReach(link);

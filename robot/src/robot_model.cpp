@@ -118,7 +118,7 @@ class RobotModelBuilder {
     addHandActuation();
     addDisabledCollisions();
     markHandLinks();
-    countJointsApart();
+    model_.countJointsApart();
     return std::move(model_);
   }
 
@@ -136,7 +136,8 @@ class RobotModelBuilder {
       Link out{link->name,
                parentJoint,
                {},
-               toInertial(link->inertial, link->collision_array.empty(), where)};
+               toInertial(link->inertial, link->collision_array.empty(), where),
+               nullptr};
       for (const auto& collision : link->collision_array)
         out.shapes.push_back(toShape(*collision, where));
       model_.links_.push_back(std::move(out));
@@ -485,33 +486,6 @@ class RobotModelBuilder {
     }
   }
 
-  /// RobotModel::movingJointsBetween for every pair of links and each link
-  /// and the root: the moving joints on one link's chain to the root and
-  /// not on the other's (those both share lie above the common ancestor).
-  void countJointsApart() {
-    const std::size_t links = model_.links_.size();
-    std::vector<std::vector<int>> chains(links + 1);  // sorted; the root's empty
-    for (std::size_t l = 0; l < links; ++l) {
-      for (int j = model_.links_[l].parent_joint; j >= 0;
-           j = model_
-                   .links_[static_cast<std::size_t>(
-                       model_.joints_[static_cast<std::size_t>(j)].parent_link)]
-                   .parent_joint)
-        if (model_.joints_[static_cast<std::size_t>(j)].type != Joint::Type::kFixed)
-          chains[l].push_back(j);
-      std::sort(chains[l].begin(), chains[l].end());
-    }
-    model_.joints_apart_.assign(links * (links + 1), 0);
-    std::vector<int> apart;
-    for (std::size_t a = 0; a < links; ++a)
-      for (std::size_t b = 0; b <= links; ++b) {
-        apart.clear();
-        std::set_symmetric_difference(chains[a].begin(), chains[a].end(), chains[b].begin(),
-                                      chains[b].end(), std::back_inserter(apart));
-        model_.joints_apart_[a * (links + 1) + b] = static_cast<int>(apart.size());
-      }
-  }
-
   const urdf::ModelInterface& urdf_;
   ConfigReader config_;
   std::string what_;
@@ -568,6 +542,30 @@ int RobotModel::movingJointsBetween(int a, int b) const {
   const std::size_t links = links_.size();
   const std::size_t other = b < 0 ? links : static_cast<std::size_t>(b);
   return joints_apart_[static_cast<std::size_t>(a) * (links + 1) + other];
+}
+
+/// RobotModel::movingJointsBetween for every pair of links and each link
+/// and the root: the moving joints on one link's chain to the root and
+/// not on the other's (those both share lie above the common ancestor).
+void RobotModel::countJointsApart() {
+  const std::size_t links = links_.size();
+  std::vector<std::vector<int>> chains(links + 1);  // sorted; the root's empty
+  for (std::size_t l = 0; l < links; ++l) {
+    for (int j = links_[l].parent_joint; j >= 0;
+         j = links_[static_cast<std::size_t>(joints_[static_cast<std::size_t>(j)].parent_link)]
+                 .parent_joint)
+      if (joints_[static_cast<std::size_t>(j)].type != Joint::Type::kFixed) chains[l].push_back(j);
+    std::sort(chains[l].begin(), chains[l].end());
+  }
+  joints_apart_.assign(links * (links + 1), 0);
+  std::vector<int> apart;
+  for (std::size_t a = 0; a < links; ++a)
+    for (std::size_t b = 0; b <= links; ++b) {
+      apart.clear();
+      std::set_symmetric_difference(chains[a].begin(), chains[a].end(), chains[b].begin(),
+                                    chains[b].end(), std::back_inserter(apart));
+      joints_apart_[a * (links + 1) + b] = static_cast<int>(apart.size());
+    }
 }
 
 bool RobotModel::withinLimits(const Eigen::VectorXd& q, double tolerance, std::string* why) const {

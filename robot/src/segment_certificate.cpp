@@ -127,7 +127,8 @@ std::vector<Proof> proofsOf(const RobotModel& model, const MotionBound& bound, c
   };
   std::vector<int> links;
   for (std::size_t l = 0; l < model.links().size(); ++l)
-    if (!model.links()[l].shapes.empty()) links.push_back(static_cast<int>(l));
+    if (!model.links()[l].shapes.empty() || model.links()[l].mesh != nullptr)
+      links.push_back(static_cast<int>(l));
   std::vector<Proof> proofs;
   for (const int link : links) {
     Proof p;

@@ -74,6 +74,24 @@ void checkStart(const JsonFields& f, const robot::RobotModel& robot,
 }
 
 /// The `physics` object: options of the physics check that `validate` runs.
+/// `lift`: true (the default lift), false (none) or {"height": metres}.
+std::optional<planner::LiftOptions> liftOf(const JsonFields& f) {
+  const nlohmann::json& lift = f.at("lift");
+  if (lift.is_boolean())
+    return lift.get<bool>() ? std::optional(planner::LiftOptions{}) : std::nullopt;
+  if (!lift.is_object()) f.fail("lift", "must be true, false or {\"height\": metres}");
+  const JsonFields l(lift, "lift");
+  l.allowOnly({"height"});
+  planner::LiftOptions o;
+  if (l.has("height")) o.height = l.positive("height");
+  try {
+    planner::checkLiftOptions(o);
+  } catch (const InvalidArgument& e) {
+    l.fail("height", e.problem());
+  }
+  return o;
+}
+
 physics::SimulationOptions simulationOptionsOf(const JsonFields& f) {
   if (!f.at("physics").is_object()) f.fail("physics", "must be an object");
   const JsonFields p(f.at("physics"), "physics");
@@ -183,7 +201,7 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
   const JsonFields f(params, "");
   f.allowOnly({"robot", "scene", "object", "object_pose", "start", "time_limit", "algorithm",
                "iterations", "seed", "parameters", "trajectory_rate", "gltf", "format", "explored",
-               "validate", "physics", "goal", "goals"});
+               "validate", "physics", "goal", "goals", "lift"});
   const CatalogRobot& planned = requestedRobot(params, catalog);
   const bool motion = f.has("goal") || f.has("goals");
   if (!motion && !planned.model().hasHand())
@@ -214,6 +232,7 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
     r.algorithm = planner::PlanAlgorithm::kDecoupled;
   } else if (algorithm == "paper") {  // the coupled planner as the paper has it
     r.preset = planner::PlannerPreset::kPaper;
+    r.lift.reset();  // the paper's plans end with the hand closed
   } else if (algorithm != "coupled") {
     f.fail("algorithm",
            "must be \"coupled\", \"paper\" or \"decoupled\", got \"" + algorithm + "\"");
@@ -229,6 +248,10 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
   if (motion && r.validate)
     f.fail("validate", "a motion plan (goal, goals) has no grasp to validate");
   if (f.has("physics")) r.simulation = simulationOptionsOf(f);
+  if (f.has("lift")) {
+    if (motion) f.fail("lift", "a motion plan (goal, goals) holds no object to lift");
+    r.lift = liftOf(f);
+  }
   if (f.has("trajectory_rate")) {
     r.trajectory_rate = f.finite("trajectory_rate");
     if (!(r.trajectory_rate >= 0.0 && r.trajectory_rate <= planner::kMaxTrajectoryRate))

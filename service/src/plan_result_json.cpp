@@ -53,11 +53,9 @@ json trajectoryJson(const planner::GraspTrajectory& t, const std::vector<std::st
                       {"velocities", vectorJson(p.velocities)},
                       {"accelerations", vectorJson(p.accelerations)},
                       {"time_from_start", p.time}});
-  return {{"joint_names", jointNames},
-          {"points", std::move(points)},
-          {"duration", t.duration},
-          {"closing_start", t.closing_start},
-          {"deviation", t.deviation}};
+  return {{"joint_names", jointNames},  {"points", std::move(points)},
+          {"duration", t.duration},     {"closing_start", t.closing_start},
+          {"lift_start", t.lift_start}, {"deviation", t.deviation}};
 }
 
 json exploredJson(const std::vector<planner::ExploredNode>& nodes) {
@@ -111,6 +109,13 @@ json planResultToJson(const planner::PlanResult& result, const planner::PlanRequ
               {"stats", statsJson(result.stats)}};
   if (!request.goals.empty())
     out["reached_goal"] = result.reached_goal ? json(*result.reached_goal) : json();
+  else if (result.lift) {
+    json lift = json::array();
+    for (const Eigen::VectorXd& q : result.lift->path) lift.push_back(vectorJson(q));
+    out["lift"] = {{"direction", result.lift->direction}, {"path", std::move(lift)}};
+  } else {
+    out["lift"] = json();
+  }
   if (request.explored) out["explored"] = exploredJson(result.explored);
   if (result.validation) {
     out["validation"] = graspCheckToJson(result.validation->check);

@@ -274,6 +274,63 @@ TEST(GraspMotionPlanner, TheSphereTierChangesNoPlan) {
   }
 }
 
+TEST(GraspMotionPlanner, EveryGraspPlanLiftsTheObjectClearOfItsSupport) {
+  PlanRequest r = request("table", "box", 1);
+  r.parameters["physics_check"] = "0";
+  const PlanResult lifted = planGrasp(world(), r);
+  expectValidPlan(r, lifted);  // the lift's checks too
+  ASSERT_TRUE(lifted.lift.has_value());
+  // The trajectory carries the lift after the closing.
+  ASSERT_FALSE(lifted.trajectory.points.empty());
+  EXPECT_GT(lifted.trajectory.lift_start, lifted.trajectory.closing_start);
+  EXPECT_LT(lifted.trajectory.lift_start, lifted.trajectory.duration);
+  EXPECT_TRUE(lifted.trajectory.points.back().positions.isApprox(lifted.lift->path.back(), 1e-9));
+  // Without a lift the plan ends with the hand closed.
+  r.lift.reset();
+  const PlanResult closed = planGrasp(world(), r);
+  ASSERT_TRUE(closed.success) << closed.message;
+  EXPECT_FALSE(closed.lift.has_value());
+  EXPECT_DOUBLE_EQ(closed.trajectory.lift_start, closed.trajectory.duration);
+  EXPECT_TRUE(closed.trajectory.points.back().positions.isApprox(closed.path.back(), 1e-9));
+  r.lift = LiftOptions{0.0};
+  test::expectErrorMentioning<InvalidArgument>([&] { planGrasp(world(), r); }, {"lift.height"});
+}
+
+TEST(GraspMotionPlanner, ABoardJustAboveTheObjectBlocksEveryLift) {
+  // A board 3.5 cm above the box: no lift raises it 5 cm, whatever the
+  // grasp; without a lift it is grasped.
+  PlanRequest r = request("table", "box", 1);
+  r.parameters["physics_check"] = "0";
+  robot::Scene scene = test::plannedScene(world(), r);
+  const db::ObjectDatabase& box = *world().object(scene.target_object);
+  double top = -1e9;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (Eigen::Index v = 0; v < box.geometry.mesh_vertices.rows(); ++v) {
+    const Eigen::Vector3d p = scene.target_pose * box.geometry.mesh_vertices.row(v).transpose();
+    top = std::max(top, p.z());
+    centre += p;
+  }
+  centre /= static_cast<double>(box.geometry.mesh_vertices.rows());
+  robot::Obstacle board;
+  board.name = "board";
+  board.type = robot::Obstacle::Type::kBox;
+  board.size = Eigen::Vector3d(0.3, 0.3, 0.01);
+  board.pose.translation() = Eigen::Vector3d(centre.x(), centre.y(), top + 0.035);
+  r.scene.obstacles.push_back(board);
+  r.time_limit = 5.0;
+  const PlanResult blocked = planGrasp(world(), r);
+  EXPECT_FALSE(blocked.success);
+  // Goals are found and reached, and each is dropped for its lift.
+  EXPECT_EQ(blocked.failure, PlanFailure::kTimeLimit);
+  EXPECT_GT(blocked.stats.rejected.lift_blocked, 0u);
+  EXPECT_EQ(blocked.stats.dropped_goals, blocked.stats.rejected.lift_blocked);
+  EXPECT_NE(blocked.message.find(std::to_string(blocked.stats.dropped_goals) + " no free lift"),
+            std::string::npos)
+      << blocked.message;
+  r.lift.reset();
+  expectValidPlan(r, planGrasp(world(), r));
+}
+
 TEST(GraspMotionPlanner, HonoursTheTimeLimit) {
   // Without goal sampling no plan can succeed: the planner must give up at
   // the limit.

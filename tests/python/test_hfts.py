@@ -81,6 +81,8 @@ class Errors(unittest.TestCase):
         settings = WORLD.default_settings()
         settings.paper.i_min = 500
         self.assertField("parameters.i_min", WORLD.plan, TABLE, settings=settings)
+        self.assertField("lift.height", WORLD.plan, TABLE, lift=0.0)
+        self.assertField("lift", WORLD.plan, TABLE, lift="up")
         self.assertField("parameters.p_max", settings.set, "p_max", 2.0)
 
     def test_other_arguments(self):
@@ -190,12 +192,14 @@ class SameAsCpp(unittest.TestCase):
                 self.assertTrue(theirs["success"], theirs["message"])
                 self.assertEqual(mine.joint_names, theirs["joint_names"])
                 np.testing.assert_array_equal(mine.path, np.array(theirs["path"]))
+                self.assertEqual(mine.lift["direction"], theirs["lift"]["direction"])
+                np.testing.assert_array_equal(mine.lift["path"], np.array(theirs["lift"]["path"]))
                 self.assertEqual(mine.grasp["epsilon"], theirs["grasp"]["epsilon"])
                 self.assertEqual(mine.stats["collision_checks"],
                                  theirs["stats"]["collision_checks"])
                 # The whole result, as the service writes it (timings aside).
                 as_dict = mine.to_dict()
-                for key in ("path", "grasp", "trajectory", "object_pose", "plan_seed"):
+                for key in ("path", "grasp", "trajectory", "object_pose", "plan_seed", "lift"):
                     self.assertEqual(as_dict[key], theirs[key], key)
 
     def test_typed_settings_equal_the_same_parameters_by_name(self):
@@ -355,7 +359,12 @@ class Results(unittest.TestCase):
         self.assertEqual(t.positions.shape, (len(t), 13))
         self.assertEqual(t.times[-1], t.duration)
         np.testing.assert_allclose(t.positions[0], plan.path[0], atol=1e-12)
-        np.testing.assert_allclose(t.positions[-1], plan.path[-1], atol=1e-12)
+        # The trajectory ends with the lift, which starts at the grasp.
+        np.testing.assert_allclose(plan.lift["path"][0], plan.path[-1], atol=1e-12)
+        np.testing.assert_allclose(t.positions[-1], plan.lift["path"][-1], atol=1e-12)
+        closed = t.positions[np.searchsorted(t.times, t.lift_start)]
+        np.testing.assert_allclose(closed, plan.path[-1], atol=1e-12)
+        self.assertLess(t.closing_start, t.lift_start)
         limit = WORLD.robot.max_velocities * (1 + 1e-6)
         self.assertTrue((np.abs(t.velocities) <= limit).all())
 

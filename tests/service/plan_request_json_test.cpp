@@ -86,6 +86,25 @@ TEST(PlanRequestJson, AlgorithmPaperIsTheCoupledPlannerWithThePapersSettings) {
   EXPECT_EQ(parse({{"scene", "table"}}).preset, planner::PlannerPreset::kDefault);
 }
 
+TEST(PlanRequestJson, LiftIsOnByDefaultButForThePapersPlanner) {
+  const planner::PlanRequest plain = parse({{"scene", "table"}});
+  ASSERT_TRUE(plain.lift.has_value());
+  EXPECT_EQ(plain.lift->height, planner::LiftOptions{}.height);
+  EXPECT_FALSE(parse({{"scene", "table"}, {"algorithm", "paper"}}).lift.has_value());
+  EXPECT_FALSE(parse({{"scene", "table"}, {"lift", false}}).lift.has_value());
+  const planner::PlanRequest high =
+      parse({{"scene", "table"}, {"algorithm", "paper"}, {"lift", {{"height", 0.2}}}});
+  ASSERT_TRUE(high.lift.has_value());
+  EXPECT_EQ(high.lift->height, 0.2);
+  EXPECT_TRUE(parse({{"scene", "table"}, {"lift", true}}).lift.has_value());
+  expectRejected({{"scene", "table"}, {"lift", {{"height", 2.0}}}}, "lift.height", "(0, 1]");
+  expectRejected({{"scene", "table"}, {"lift", {{"height", -0.1}}}}, "lift.height", "> 0");
+  expectRejected({{"scene", "table"}, {"lift", {{"high", 0.1}}}}, "lift.high", "");
+  expectRejected({{"scene", "table"}, {"lift", 0.1}}, "lift", "true, false or");
+  expectRejected({{"scene", "table"}, {"goal", {{"joints", start()}}}, {"lift", true}}, "lift",
+                 "no object to lift");
+}
+
 TEST(PlanRequestJson, CapsTheTimeLimit) {
   EXPECT_EQ(parse({{"scene", "bin"}, {"time_limit", 100}}, 10.0).time_limit, 10.0);
   EXPECT_EQ(parse({{"scene", "bin"}}, 10.0).time_limit, 10.0);

@@ -79,6 +79,16 @@ TEST(PlanResultJson, DescribesTheGrasp) {
   EXPECT_EQ(g.at("hand_configuration").size(), 7u);
 }
 
+TEST(PlanResultJson, CarriesTheLift) {
+  planner::PlanResult result = success();
+  EXPECT_TRUE(planResultToJson(result, request()).at("lift").is_null());
+  result.lift = planner::LiftPath{{test::kr5Sdh().home(), test::kr5Sdh().home() * 0.5}, "retreat"};
+  const json lift = planResultToJson(result, request()).at("lift");
+  EXPECT_EQ(lift.at("direction"), "retreat");
+  ASSERT_EQ(lift.at("path").size(), 2u);
+  EXPECT_DOUBLE_EQ(lift.at("path")[1][1].get<double>(), test::kr5Sdh().home()(1) * 0.5);
+}
+
 TEST(PlanResultJson, EchoesTheRequestAndStatistics) {
   planner::PlanRequest r = request();
   r.algorithm = planner::PlanAlgorithm::kDecoupled;
@@ -98,7 +108,7 @@ TEST(PlanResultJson, EchoesTheRequestAndStatistics) {
   EXPECT_EQ(j.at("stats").at("planning_time"), 0.5);
   EXPECT_EQ(j.at("stats").at("iterations"), 42);
   EXPECT_EQ(j.at("stats").at("path_length_smoothed"), 1.5);
-  EXPECT_EQ(j.at("stats").size(), 28u);
+  EXPECT_EQ(j.at("stats").size(), 29u);
   EXPECT_EQ(j.at("stats").at("smoothing_time"), 0.0);
   EXPECT_FALSE(j.contains("reached_goal")) << "a grasp plan has no motion goal";
   EXPECT_EQ(j.at("stats").at("certificate_queries"), 1234);

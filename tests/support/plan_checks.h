@@ -14,6 +14,7 @@
 #include "grasp/grasp_quality.h"
 #include "hfts_db/triangle_bvh.h"
 #include "planner/grasp_motion_planner.h"
+#include "planner/lift.h"
 #include "robot/collision_checker.h"
 #include "robot/kinematics.h"
 #include "robot/link_spheres.h"
@@ -125,6 +126,50 @@ inline double maxPenetration(const planner::PlanningWorld& world,
   return parameterOf(world, request, "max_penetration");
 }
 
+/// The lift of a plan asked for one (PlanRequest::lift): from the grasp,
+/// the hand as closed, the palm on a straight line of the height asked,
+/// every segment free at `resolution` for the robot holding the object
+/// (the object too, against the obstacles and the arm), the object clear
+/// of every obstacle at the end.
+inline void expectValidLift(const planner::PlanningWorld& world,
+                            const planner::PlanRequest& request, const planner::PlanResult& result,
+                            const robot::Scene& scene, const db::ObjectDatabase& object,
+                            double resolution) {
+  using namespace robot;
+  if (!request.lift || !request.goals.empty()) {
+    EXPECT_FALSE(result.lift.has_value());
+    return;
+  }
+  ASSERT_TRUE(result.lift.has_value());
+  const std::vector<Eigen::VectorXd>& lift = result.lift->path;
+  ASSERT_GE(lift.size(), 2u);
+  const RobotModel& robot = world.robot();
+  const Eigen::VectorXd& grasp = result.path.back();
+  EXPECT_TRUE(lift.front().isApprox(grasp, 1e-12));
+  const planner::Hold hold =
+      planner::holdObject(world.collisionModel(), scene.robot_base, object.geometry, object.name,
+                          scene.target_pose, grasp);
+  Scene obstacles = scene;
+  obstacles.target_object.clear();
+  CollisionChecker held(*hold.model, obstacles, nullptr);
+  EXPECT_FALSE(held.inCollision(lift.front()));
+  for (std::size_t i = 1; i < lift.size(); ++i) {
+    EXPECT_TRUE(robot.withinLimits(lift[i]));
+    EXPECT_TRUE(lift[i].tail(robot.numHandDofs()).isApprox(grasp.tail(robot.numHandDofs())));
+    EXPECT_TRUE(held.isMotionValid(lift[i - 1], lift[i], resolution)) << "lift segment " << i;
+  }
+  const auto palmAt = [&](const Eigen::VectorXd& q) {
+    return scene.robot_base *
+           forwardKinematics(robot, q)[static_cast<std::size_t>(robot.palmLink())];
+  };
+  const Eigen::Isometry3d from = palmAt(lift.front()), to = palmAt(lift.back());
+  EXPECT_NEAR((to.translation() - from.translation()).norm(), request.lift->height, 1e-3);
+  EXPECT_TRUE(to.linear().isApprox(from.linear(), 1e-4));
+  if (result.lift->direction != "retreat") {
+    EXPECT_GT(to.translation().z() - from.translation().z(), 0.5 * request.lift->height);
+  }
+}
+
 /// A fresh collision checker at `resolution` (the planner promises its
 /// final resolution; a graze shallower than a sample step can hide between
 /// samples at any resolution, see docs/planning.md), the start, the joint
@@ -190,6 +235,7 @@ inline void expectValidPlan(const planner::PlanningWorld& world,
   EXPECT_NEAR(epsilon, result.grasp.epsilon, 1e-9);
   // The planned fingertips were near the planned contacts (the search's filter).
   EXPECT_LE(result.grasp.fingertip_error, maxFingertipError(world, request) + 1e-9);
+  expectValidLift(world, request, result, scene, object, resolution);
 }
 
 /// Threads of this process (Linux: /proc/self/status), to see that a

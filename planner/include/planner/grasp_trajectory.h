@@ -23,6 +23,9 @@ struct GraspTrajectory {
   /// s: the arm is at the pre-grasp, the hand closes (a motion plan's:
   /// the duration).
   double closing_start = 0.0;
+  /// s: the hand is closed, the palm lifts the object (PlanResult::lift;
+  /// without one: the duration).
+  double lift_start = 0.0;
   /// Largest distance of the approach from the planned path (rad); smaller
   /// than asked when a blend had to be tightened to stay collision-free.
   double deviation = 0.0;
@@ -54,5 +57,11 @@ GraspTrajectory motionTrajectory(const std::vector<Eigen::VectorXd>& path,
                                  robot::CollisionChecker& checker, const MotionCheck& check,
                                  double rate, std::size_t* queries = nullptr,
                                  double maxDeviation = TrajectoryOptions{}.max_deviation);
+
+/// Appends `next`, which starts at rest where `trajectory` ends, to
+/// `trajectory` (its samples after the first, their times shifted); returns
+/// the time `next` starts at. Nothing is appended to an empty trajectory or
+/// from an empty `next`: -1.
+double appendTrajectory(GraspTrajectory& trajectory, const GraspTrajectory& next);
 
 }  // namespace hfts::planner

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "physics/simulate_grasp.h"
+#include "planner/lift.h"
 #include "planner/motion_goal.h"
 #include "planner/plan_settings.h"
 #include "robot/scene.h"
@@ -62,6 +63,11 @@ struct PlanRequest {
   bool validate = false;
   /// The physics check's options (with `validate`).
   physics::SimulationOptions simulation;
+  /// After the grasp, lift the object clear of its support, checked with
+  /// the object in the hand (lift.h, docs/placement.md): a goal whose lift
+  /// is blocked is refused. nullopt: the plan ends with the hand closed
+  /// (motion plans never lift).
+  std::optional<LiftOptions> lift = LiftOptions{};
 };
 
 inline constexpr double kMaxTrajectoryRate = 1000.0;

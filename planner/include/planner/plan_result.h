@@ -12,6 +12,7 @@
 #include "grasp/hfts_space.h"
 #include "planner/grasp_trajectory.h"
 #include "planner/grasp_validation.h"
+#include "planner/lift.h"
 #include "planner/plan_statistics.h"
 
 namespace hfts::planner {
@@ -33,6 +34,9 @@ enum class PlanFailure {
   kNoStableGraspClearOfSupport,
   /// Every motion goal is a joint goal, and every one of them collides.
   kGoalInCollision,
+  /// The grasp found cannot be lifted (a search that does not check its
+  /// goals' lifts: rrtconnect); the message says what blocks it.
+  kLiftBlocked,
 };
 
 /// Snake-case name used in JSON and CSV ("time_limit", ...).
@@ -99,6 +103,9 @@ struct PlanResult {
   Eigen::Isometry3d object_pose = Eigen::Isometry3d::Identity();
   /// A grasp plan's grasp (empty for a motion plan).
   PlannedGrasp grasp;
+  /// With PlanRequest::lift: the lift from the grasp (path.back()), the
+  /// object in the hand.
+  std::optional<LiftPath> lift;
   /// A motion plan's: the index of the request's goal the path ends at.
   std::optional<int> reached_goal;
   /// The path as a time-optimal trajectory (grasp_trajectory.h): empty

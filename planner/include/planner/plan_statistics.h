@@ -45,10 +45,12 @@ struct GraspRejections {
   /// The contacts the closed hand touches have epsilon below min_epsilon.
   std::uint64_t weak_at_contacts = 0;
   std::uint64_t closing_blocked = 0;  ///< the closing motion (pre-grasp -> grasp) collides
+  /// Reached, but no lift of the object is free (PlanRequest::lift).
+  std::uint64_t lift_blocked = 0;
 
   std::uint64_t total() const {
     return unstable + no_arm_ik + out_of_hand_reach + colliding + no_pad_contact +
-           weak_at_contacts + closing_blocked;
+           weak_at_contacts + closing_blocked + lift_blocked;
   }
 };
 
@@ -143,6 +145,7 @@ void forEachStatistic(const PlanStatistics& s, F&& f) {
   f("rejected_no_pad_contact", s.rejected.no_pad_contact);
   f("rejected_weak_at_contacts", s.rejected.weak_at_contacts);
   f("rejected_closing_blocked", s.rejected.closing_blocked);
+  f("rejected_lift_blocked", s.rejected.lift_blocked);
 }
 
 }  // namespace hfts::planner

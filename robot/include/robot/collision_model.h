@@ -8,6 +8,7 @@
 // CollisionChecker is one thread's working state over that scene).
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "robot/link_spheres.h"
@@ -27,6 +28,17 @@ struct CollisionModel {
   SphereModel spheres;
   std::vector<PairMap> pair_maps;
 };
+
+/// The model of `model`'s robot holding a rigid body (a grasped object):
+/// the robot RobotModel::withHeldBody makes, its new link covered with
+/// spheres of `spheres`' tolerance (the surface, as FCL checks a mesh), the
+/// pair maps of `model` (the new link has none: it is always tested).
+/// Throws InvalidArgument as withHeldBody.
+std::shared_ptr<const CollisionModel> withHeldBody(const CollisionModel& model,
+                                                   const std::string& name,
+                                                   const Eigen::Isometry3d& inPalm,
+                                                   std::shared_ptr<const TriangleMesh> mesh,
+                                                   const SphereModelOptions& spheres = {});
 
 /// Covers the robot's links with spheres and builds its pair maps (about
 /// 0.5 s for the KR5 + SDH). Deterministic. Throws std::invalid_argument

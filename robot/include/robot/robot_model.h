@@ -14,6 +14,8 @@
 #include <utility>
 #include <vector>
 
+#include "hfts_db/triangle_mesh.h"
+
 namespace hfts::robot {
 
 /// Thrown for a URDF or robot config that cannot be used. The message names
@@ -53,6 +55,10 @@ struct Link {
   /// From the URDF's <inertial>; empty when the URDF gives none (physics
   /// derives the link's mass from its collision shapes, docs/physics.md).
   std::optional<Inertial> inertial;
+  /// A body the robot holds (RobotModel::withHeldBody): its surface, link
+  /// frame, which collides as a triangle mesh beside the shapes. Null for a
+  /// link of the URDF.
+  std::shared_ptr<const TriangleMesh> mesh;
 };
 
 /// A joint; `dof` is the configuration index that drives it (a mimic joint
@@ -181,6 +187,19 @@ class RobotModel {
   /// the fingertip links among them.
   bool isHandLink(int link) const { return hand_links_[static_cast<std::size_t>(link)]; }
 
+  /// This robot holding a rigid body: one more link, last, named `name`,
+  /// fixed to the palm with its frame at `inPalm` (palm frame), colliding
+  /// as `mesh` (its own frame). Its collisions with the hand's links are
+  /// disabled: the hand holds it (the fingertips touch it) and neither
+  /// moves relative to the other while it is held, so what the grasp was
+  /// checked for stays true. It is not a hand link. Throws InvalidArgument
+  /// ("held_body") for a robot without a hand, a name already in use, a
+  /// non-finite pose or a mesh without triangles.
+  RobotModel withHeldBody(const std::string& name, const Eigen::Isometry3d& inPalm,
+                          std::shared_ptr<const TriangleMesh> mesh) const;
+  /// The link withHeldBody added, or -1.
+  int heldLink() const { return held_link_; }
+
   /// True when q has numDofs() finite entries within the limits (tolerance
   /// in radians). `why` (optional) receives the first violation.
   bool withinLimits(const Eigen::VectorXd& q, double tolerance = 1e-9,
@@ -208,6 +227,10 @@ class RobotModel {
   std::vector<bool> hand_links_;
   /// movingJointsBetween(a, b) at a * (links + 1) + b, b = links for the root.
   std::vector<int> joints_apart_;
+  int held_link_ = -1;
+
+  /// joints_apart_ from the links and joints.
+  void countJointsApart();
 };
 
 }  // namespace hfts::robot

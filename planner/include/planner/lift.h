@@ -1,0 +1,78 @@
+#pragma once
+// After the grasp, the object moves with the hand (docs/placement.md): the
+// robot holding it (robot::withHeldBody, both collision tiers) and the
+// lift that takes it clear of its support, a straight line of the palm
+// checked with the object in the hand.
+
+#include <Eigen/Geometry>
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hfts_db/object_database.h"
+#include "planner/grasp_trajectory.h"
+#include "planner/motion_check.h"
+#include "robot/collision_checker.h"
+#include "robot/collision_model.h"
+#include "robot/scene.h"
+
+namespace hfts::planner {
+
+/// The lift a plan ends with unless the request turns it off.
+struct LiftOptions {
+  double height = 0.10;  ///< how far the palm lifts the object (m, in (0, 1])
+};
+
+/// Checks the options (InvalidArgument "lift.height").
+void checkLiftOptions(const LiftOptions& options);
+
+/// The robot holding an object as the hand closed on it.
+struct Hold {
+  /// The robot with the object as a link fixed to its palm.
+  std::shared_ptr<const robot::CollisionModel> model;
+  Eigen::Isometry3d object_in_palm = Eigen::Isometry3d::Identity();
+};
+
+/// The robot of `model` at `grasp` (a full configuration, base at
+/// `robotBase`) holding `object` (named `name`), which stands at
+/// `objectPose` (world): it moves with the palm from now on.
+Hold holdObject(const robot::CollisionModel& model, const Eigen::Isometry3d& robotBase,
+                const db::ObjectGeometry& object, const std::string& name,
+                const Eigen::Isometry3d& objectPose, const Eigen::VectorXd& grasp);
+
+/// A lift: the palm on a straight line with its orientation kept, the hand
+/// as closed.
+struct LiftPath {
+  /// The grasp first, then one configuration per 5 mm of palm travel.
+  std::vector<Eigen::VectorXd> path;
+  /// "up" (world z), "up_retreat" (45 degrees between up and back along
+  /// the palm's approach axis), "retreat" (back along it), "up_to_base"
+  /// (45 degrees between up and towards the robot's base), "up_x",
+  /// "up_minus_x", "up_y" or "up_minus_y" (45 degrees between up and the
+  /// world's axis): the first of these that is free and within 60 degrees
+  /// of up (a lift raises the object by at least half its height).
+  std::string direction;
+};
+
+/// The first lift of `height` from `grasp` (LiftPath::direction's order)
+/// whose line the palm can follow within the joint limits and that
+/// `check` finds free (robot::CertifyRule::kTransit) for the robot holding
+/// the object in `scene` (its obstacles; its target is ignored: the object
+/// is in the hand). None when every one is blocked; `why` then names what
+/// blocked "up". `queries` gets the proofs' distance queries.
+std::optional<LiftPath> planLift(const Hold& hold, const robot::Scene& scene,
+                                 const Eigen::VectorXd& grasp, double height,
+                                 const MotionCheck& check, std::string* why = nullptr,
+                                 std::size_t* queries = nullptr);
+
+/// The lift as a trajectory (motionTrajectory of its path for the robot
+/// holding the object in `scene`), sampled at `rate`; empty points when its
+/// samples cannot be made free. Throws as motionTrajectory.
+GraspTrajectory liftTrajectory(const Hold& hold, const robot::Scene& scene, const LiftPath& lift,
+                               const MotionCheck& check, double rate,
+                               std::size_t* queries = nullptr);
+
+}  // namespace hfts::planner

@@ -1,0 +1,110 @@
+#include "planner/lift.h"
+
+#include <cmath>
+#include <utility>
+
+#include "core/invalid_argument.h"
+#include "physics/lift_path.h"
+#include "robot/kinematics.h"
+#include "robot/motion_bound.h"
+
+namespace hfts::planner {
+
+void checkLiftOptions(const LiftOptions& options) {
+  if (!(options.height > 0.0 && options.height <= 1.0))
+    throw InvalidArgument("lift.height",
+                          "must be in (0, 1] m, not " + std::to_string(options.height));
+}
+
+namespace {
+
+/// A lift's direction rises at least this much per unit of travel: at
+/// most 60 degrees from up, so that the object leaves its support.
+constexpr double kMinLiftRise = 0.5;
+
+Eigen::Isometry3d palmPose(const robot::RobotModel& robot, const Eigen::Isometry3d& robotBase,
+                           const Eigen::VectorXd& q) {
+  return robotBase * robot::forwardKinematics(robot, q)[static_cast<std::size_t>(robot.palmLink())];
+}
+
+/// A checker of the robot holding the object among the scene's obstacles,
+/// and `check` with the proofs' bound of that robot.
+struct HeldChecker {
+  HeldChecker(const Hold& hold, const robot::Scene& scene, const MotionCheck& check)
+      : checker(*hold.model, withoutTarget(scene), nullptr), bound(hold.model->robot), held(check) {
+    if (held.certifies()) held.bound = &bound;
+  }
+  static robot::Scene withoutTarget(robot::Scene scene) {
+    scene.target_object.clear();
+    return scene;
+  }
+  robot::CollisionChecker checker;
+  const robot::MotionBound bound;
+  MotionCheck held;
+};
+
+}  // namespace
+
+Hold holdObject(const robot::CollisionModel& model, const Eigen::Isometry3d& robotBase,
+                const db::ObjectGeometry& object, const std::string& name,
+                const Eigen::Isometry3d& objectPose, const Eigen::VectorXd& grasp) {
+  Hold hold;
+  hold.object_in_palm = palmPose(model.robot, robotBase, grasp).inverse() * objectPose;
+  auto mesh = std::make_shared<TriangleMesh>();
+  mesh->vertices = object.mesh_vertices;
+  mesh->triangles = object.mesh_triangles;
+  hold.model =
+      robot::withHeldBody(model, "held '" + name + "'", hold.object_in_palm, std::move(mesh));
+  return hold;
+}
+
+std::optional<LiftPath> planLift(const Hold& hold, const robot::Scene& scene,
+                                 const Eigen::VectorXd& grasp, double height,
+                                 const MotionCheck& check, std::string* why, std::size_t* queries) {
+  checkLiftOptions({height});
+  const robot::RobotModel& robot = hold.model->robot;
+  // The proofs bound the held object's motion too.
+  HeldChecker held(hold, scene, check);
+  robot::CollisionChecker& checker = held.checker;
+
+  const Eigen::Isometry3d palm = palmPose(robot, scene.robot_base, grasp);
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d back = -palm.linear().col(2);  // against the approach axis
+  Eigen::Vector3d toBase = scene.robot_base.translation() - palm.translation();
+  toBase.z() = 0.0;
+  std::vector<std::pair<std::string, Eigen::Vector3d>> directions{
+      {"up", up}, {"up_retreat", up + back}, {"retreat", back}};
+  if (toBase.norm() > 1e-6) directions.emplace_back("up_to_base", up + toBase.normalized());
+  directions.insert(directions.end(), {{"up_x", up + Eigen::Vector3d::UnitX()},
+                                       {"up_minus_x", up - Eigen::Vector3d::UnitX()},
+                                       {"up_y", up + Eigen::Vector3d::UnitY()},
+                                       {"up_minus_y", up - Eigen::Vector3d::UnitY()}});
+  for (const auto& [name, direction] : directions) {
+    // A lift raises the object: at most 60 degrees from up.
+    if (direction.norm() < 1e-6 || direction.normalized().z() < kMinLiftRise) continue;
+    const physics::PalmLine line =
+        physics::straightPalmLine(robot, scene.robot_base, grasp, direction, height);
+    std::string blocked = line.problem;
+    if (blocked.empty()) {
+      const MotionVerdict verdict =
+          checkMotion(checker, held.held, line.waypoints, robot::CertifyRule::kTransit);
+      if (queries != nullptr) *queries += verdict.queries;
+      if (verdict.free) return LiftPath{line.waypoints, name};
+      robot::CollisionPair pair;
+      blocked = "the lift collides";
+      if (checker.validSegments(line.waypoints, check.resolution, {}, &pair) + 1 <
+          line.waypoints.size())
+        blocked += ": " + pair.first + " with " + pair.second;
+    }
+    if (why != nullptr && name == "up") *why = "lifting up: " + blocked;
+  }
+  return std::nullopt;
+}
+
+GraspTrajectory liftTrajectory(const Hold& hold, const robot::Scene& scene, const LiftPath& lift,
+                               const MotionCheck& check, double rate, std::size_t* queries) {
+  HeldChecker held(hold, scene, check);
+  return motionTrajectory(lift.path, held.checker, held.held, rate, queries);
+}
+
+}  // namespace hfts::planner
