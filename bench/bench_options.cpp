@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <set>
 #include <sstream>
 
@@ -34,16 +35,25 @@ namespace {
 
 /// The algorithm part of a name (without ":parameter=value" settings).
 Algorithm parseBase(const std::string& text) {
-  if (text == "coupled") return {text, planner::PlanAlgorithm::kCoupled, std::nullopt, {}};
+  const auto algorithm = [&text](planner::PlanAlgorithm a, std::optional<int> iterations = {},
+                                 planner::PlannerPreset preset = planner::PlannerPreset::kDefault) {
+    Algorithm out;
+    out.name = text;
+    out.algorithm = a;
+    out.iterations = iterations;
+    out.preset = preset;
+    return out;
+  };
+  if (text == "coupled") return algorithm(planner::PlanAlgorithm::kCoupled);
   if (text == "paper")
-    return {
-        text, planner::PlanAlgorithm::kCoupled, std::nullopt, {}, planner::PlannerPreset::kPaper};
-  if (text == "rrtconnect") return {text, planner::PlanAlgorithm::kRrtConnect, std::nullopt, {}};
-  for (const auto& [prefix, algorithm] :
+    return algorithm(planner::PlanAlgorithm::kCoupled, std::nullopt,
+                     planner::PlannerPreset::kPaper);
+  if (text == "rrtconnect") return algorithm(planner::PlanAlgorithm::kRrtConnect);
+  for (const auto& [prefix, kind] :
        {std::pair{std::string("decoupled"), planner::PlanAlgorithm::kDecoupled},
         std::pair{std::string("rrtconnect"), planner::PlanAlgorithm::kRrtConnect}}) {
     if (text.rfind(prefix, 0) != 0) continue;
-    if (const auto n = positiveInteger(text.substr(prefix.size()))) return {text, algorithm, n, {}};
+    if (const auto n = positiveInteger(text.substr(prefix.size()))) return algorithm(kind, n);
   }
   throw UsageError("unknown algorithm '" + text +
                    "' (valid: coupled, paper, decoupledN and rrtconnect[N] with N = 1.." +
@@ -71,6 +81,15 @@ Algorithm parseAlgorithm(const std::string& text) {
         throw UsageError("algorithm '" + text + "': the only preset is paper, got '" +
                          setting.substr(equals + 1) + "'");
       a.preset = planner::PlannerPreset::kPaper;
+    } else if (setting.substr(0, equals) == "lift") {
+      const std::string value = setting.substr(equals + 1);
+      char* end = nullptr;
+      const double height = std::strtod(value.c_str(), &end);
+      if (end != value.c_str() + value.size() || !(height >= 0.0 && height <= 1.0))
+        throw UsageError("algorithm '" + text + "': lift must be a height in [0, 1] m (0: none), " +
+                         "got '" + value + "'");
+      if (a.lift) throw UsageError("algorithm '" + text + "' sets 'lift' twice");
+      a.lift = height;
     } else if (!a.parameters.emplace(setting.substr(0, equals), setting.substr(equals + 1)).second)
       throw UsageError("algorithm '" + text + "' sets '" + setting.substr(0, equals) + "' twice");
     colon = next;

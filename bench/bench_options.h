@@ -29,6 +29,9 @@ struct Algorithm {
   /// "paper" (or a ":preset=paper" setting): the paper's settings under
   /// the parameters (planner::PlannerPreset).
   planner::PlannerPreset preset = planner::PlannerPreset::kDefault;
+  /// A ":lift=H" setting: the lift's height (m; 0: no lift). Unset: the
+  /// paper's planner does not lift, the others lift by the default height.
+  std::optional<double> lift;
 };
 
 /// Parses "coupled", "paper" (coupled with the paper's settings),

@@ -350,6 +350,11 @@ RunRecord runOnce(const Experiment& e, const Case& c, const Algorithm& algorithm
   request.preset = algorithm.preset;
   // The paper's planner ends with the hand closed; the others lift.
   if (algorithm.preset == hfts::planner::PlannerPreset::kPaper) request.lift.reset();
+  if (algorithm.lift) {
+    request.lift = *algorithm.lift > 0.0
+                       ? std::optional(hfts::planner::LiftOptions{*algorithm.lift})
+                       : std::nullopt;
+  }
   request.seed = static_cast<std::uint64_t>(seed);
   request.time_limit = e.timeLimit;
   request.validate = e.physics;

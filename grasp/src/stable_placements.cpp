@@ -66,6 +66,10 @@ void checkOptions(const PlacementOptions& options) {
   if (!std::isfinite(options.min_margin) || options.min_margin < 0.0)
     throw InvalidArgument("options.min_margin", "must be a finite distance >= 0 (m), not " +
                                                     std::to_string(options.min_margin));
+  if (!(options.min_tipping_angle >= 0.0 && options.min_tipping_angle < M_PI / 2))
+    throw InvalidArgument(
+        "options.min_tipping_angle",
+        "must be an angle in [0, pi/2) (rad), not " + std::to_string(options.min_tipping_angle));
 }
 
 }  // namespace
@@ -129,6 +133,7 @@ std::vector<RestingFace> stablePlacements(const db::ObjectGeometry& object,
     face.margin = margin;
     face.height = offset - com.dot(n);
     face.tipping_angle = std::atan2(margin, face.height);
+    if (face.tipping_angle < options.min_tipping_angle) continue;
     face.rotation =
         Eigen::Quaterniond::FromTwoVectors(n, -Eigen::Vector3d::UnitZ()).toRotationMatrix();
     kept.push_back(std::move(face));

@@ -57,13 +57,15 @@ void writeContact(XmlElement& geom, int type, int affinity, int condim, double f
 
 class MjcfBuilder {
  public:
-  MjcfBuilder(const robot::RobotModel& robot, const robot::Scene& scene, const ObjectBody& object,
+  /// `robot` may be null: the scene and the object alone.
+  MjcfBuilder(const robot::RobotModel* robot, const robot::Scene& scene, const ObjectBody& object,
               const ModelSettings& settings)
       : robot_(robot), scene_(scene), object_(object), settings_(settings) {
-    if (!robot.handActuation())
+    if (robot == nullptr) return;
+    if (!robot->handActuation())
       throw InvalidArgument("robot.hand_actuation",
-                            "robot '" + robot.name() + "' has no hand_actuation in its config");
-    for (const robot::Fingertip& tip : robot.fingertips()) fingertip_links_.push_back(tip.link);
+                            "robot '" + robot->name() + "' has no hand_actuation in its config");
+    for (const robot::Fingertip& tip : robot->fingertips()) fingertip_links_.push_back(tip.link);
   }
 
   std::string build() {
@@ -74,10 +76,12 @@ class MjcfBuilder {
     XmlElement& assets = root.child("asset");
     XmlElement& world = root.child("worldbody");
     writeObstacles(world, assets);
-    writeLink(world, 0);
+    if (robot_ != nullptr) writeLink(world, 0);
     writeObject(world, assets);
-    writeMimics(root.child("equality"));
-    writeActuators(root.child("actuator"));
+    if (robot_ != nullptr) {
+      writeMimics(root.child("equality"));
+      writeActuators(root.child("actuator"));
+    }
     std::ostringstream out;
     root.write(out, 0);
     return out.str();
@@ -126,14 +130,14 @@ class MjcfBuilder {
   }
 
   void writeLink(XmlElement& parent, int index) const {
-    const robot::Link& link = robot_.links()[static_cast<std::size_t>(index)];
+    const robot::Link& link = robot_->links()[static_cast<std::size_t>(index)];
     XmlElement& body = parent.child("body");
     body.attribute("name", kRobotPrefix + link.name);
     const robot::Joint* joint = nullptr;
     if (link.parent_joint < 0) {
       writePose(body, scene_.robot_base);
     } else {
-      joint = &robot_.joints()[static_cast<std::size_t>(link.parent_joint)];
+      joint = &robot_->joints()[static_cast<std::size_t>(link.parent_joint)];
       writePose(body, joint->origin);
       if (joint->type != robot::Joint::Type::kFixed) writeJoint(body, *joint);
     }
@@ -147,8 +151,8 @@ class MjcfBuilder {
                    soft ? settings_.torsional_friction : 0.0);
       geom.attribute("density", number(settings_.robot_density));
     }
-    for (std::size_t j = 0; j < robot_.joints().size(); ++j)
-      if (robot_.joints()[j].parent_link == index) writeLink(body, robot_.joints()[j].child_link);
+    for (std::size_t j = 0; j < robot_->joints().size(); ++j)
+      if (robot_->joints()[j].parent_link == index) writeLink(body, robot_->joints()[j].child_link);
   }
 
   void writeJoint(XmlElement& body, const robot::Joint& joint) const {
@@ -157,14 +161,14 @@ class MjcfBuilder {
         .attribute("type", joint.type == robot::Joint::Type::kRevolute ? "hinge" : "slide")
         .attribute("axis", numbers(joint.axis));
     const auto dof = static_cast<Eigen::Index>(joint.dof);
-    const double a = joint.offset + joint.multiplier * robot_.lowerLimits()(dof);
-    const double b = joint.offset + joint.multiplier * robot_.upperLimits()(dof);
+    const double a = joint.offset + joint.multiplier * robot_->lowerLimits()(dof);
+    const double b = joint.offset + joint.multiplier * robot_->upperLimits()(dof);
     out.attribute("limited", "true")
         .attribute("range", numbers(Eigen::Vector2d(std::min(a, b), std::max(a, b))));
-    const bool arm = joint.dof < robot_.numArmDofs();
-    const bool driven = robot_.dofNames()[static_cast<std::size_t>(joint.dof)] == joint.name;
-    const double damping = arm ? settings_.arm_damping : robot_.handActuation()->kv;
-    const double kp = arm ? settings_.arm_kp : robot_.handActuation()->kp;
+    const bool arm = joint.dof < robot_->numArmDofs();
+    const bool driven = robot_->dofNames()[static_cast<std::size_t>(joint.dof)] == joint.name;
+    const double damping = arm ? settings_.arm_damping : robot_->handActuation()->kv;
+    const double kp = arm ? settings_.arm_kp : robot_->handActuation()->kp;
     out.attribute("damping", number(driven ? damping : 0.0))
         .attribute("armature", number(servoArmature(kp, settings_.timestep)));
   }
@@ -199,37 +203,37 @@ class MjcfBuilder {
   }
 
   void writeMimics(XmlElement& equality) const {
-    for (const robot::Joint& joint : robot_.joints()) {
-      if (joint.dof < 0 || robot_.dofNames()[static_cast<std::size_t>(joint.dof)] == joint.name)
+    for (const robot::Joint& joint : robot_->joints()) {
+      if (joint.dof < 0 || robot_->dofNames()[static_cast<std::size_t>(joint.dof)] == joint.name)
         continue;
       equality.child("joint")
           .attribute("name", "mimic/" + joint.name)
           .attribute("joint1", kRobotPrefix + joint.name)
           .attribute("joint2",
-                     kRobotPrefix + robot_.dofNames()[static_cast<std::size_t>(joint.dof)])
+                     kRobotPrefix + robot_->dofNames()[static_cast<std::size_t>(joint.dof)])
           .attribute("polycoef",
                      numbers(Eigen::Matrix<double, 5, 1>(joint.offset, joint.multiplier, 0, 0, 0)));
     }
   }
 
   void writeActuators(XmlElement& actuators) const {
-    const robot::HandActuation& hand = *robot_.handActuation();
-    for (int d = 0; d < robot_.numDofs(); ++d) {
-      const std::string& name = robot_.dofNames()[static_cast<std::size_t>(d)];
+    const robot::HandActuation& hand = *robot_->handActuation();
+    for (int d = 0; d < robot_->numDofs(); ++d) {
+      const std::string& name = robot_->dofNames()[static_cast<std::size_t>(d)];
       XmlElement& servo = actuators.child("position");
       servo.attribute("name", "servo/" + name).attribute("joint", kRobotPrefix + name);
-      if (d < robot_.numArmDofs()) {
+      if (d < robot_->numArmDofs()) {
         servo.attribute("kp", number(settings_.arm_kp));
         continue;
       }
-      const double effort = hand.efforts(d - robot_.numArmDofs());
+      const double effort = hand.efforts(d - robot_->numArmDofs());
       servo.attribute("kp", number(hand.kp))
           .attribute("forcelimited", "true")
           .attribute("forcerange", numbers(Eigen::Vector2d(-effort, effort)));
     }
   }
 
-  const robot::RobotModel& robot_;
+  const robot::RobotModel* robot_;
   const robot::Scene& scene_;
   const ObjectBody& object_;
   const ModelSettings& settings_;
@@ -244,7 +248,12 @@ double servoArmature(double kp, double timestep) {
 
 std::string mjcfScene(const robot::RobotModel& robot, const robot::Scene& scene,
                       const ObjectBody& object, const ModelSettings& settings) {
-  return MjcfBuilder(robot, scene, object, settings).build();
+  return MjcfBuilder(&robot, scene, object, settings).build();
+}
+
+std::string mjcfObjectScene(const robot::Scene& scene, const ObjectBody& object,
+                            const ModelSettings& settings) {
+  return MjcfBuilder(nullptr, scene, object, settings).build();
 }
 
 }  // namespace hfts::physics

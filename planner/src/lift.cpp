@@ -33,6 +33,9 @@ struct HeldChecker {
   HeldChecker(const Hold& hold, const robot::Scene& scene, const MotionCheck& check)
       : checker(*hold.model, withoutTarget(scene), nullptr), bound(hold.model->robot), held(check) {
     if (held.certifies()) held.bound = &bound;
+    // The object starts 1 mm above its support: like the closing motion,
+    // the lift is free but keeps no clearance.
+    held.clearance = 0.0;
   }
   static robot::Scene withoutTarget(robot::Scene scene) {
     scene.target_object.clear();

@@ -313,7 +313,7 @@ class World:
         validate: bool = False,
         simulation: Optional[SimulationOptions] = None,
         cancel: Optional[Cancel] = None,
-        lift: Union[bool, float] = True,
+        lift: Union[None, bool, float] = None,
     ) -> Plan:
         """Plans a grasp of `object` and a path to it, or with goals a path to one of them."""
     def validate(self, plan: Plan, simulation: Optional[SimulationOptions] = None) -> _Json:

@@ -191,13 +191,16 @@ Plan plan(std::shared_ptr<PlanningWorld> world, const robot::Scene& scene,
   r.explored = explored;
   r.validate = validate;
   if (simulation) r.simulation = *simulation;
-  // True: the default lift; False: none; a number: its height (m).
-  if (py::isinstance<py::bool_>(lift)) {
+  // None: the default lift, none for the paper's planner; True: the
+  // default lift; False: none; a number: its height (m).
+  if (lift.is_none()) {
+    if (r.preset == planner::PlannerPreset::kPaper) r.lift.reset();
+  } else if (py::isinstance<py::bool_>(lift)) {
     if (!lift.cast<bool>()) r.lift.reset();
   } else if (py::isinstance<py::float_>(lift) || py::isinstance<py::int_>(lift)) {
     r.lift = planner::LiftOptions{lift.cast<double>()};
   } else {
-    throw InvalidArgument("lift", "must be True, False or a height in metres");
+    throw InvalidArgument("lift", "must be None, True, False or a height in metres");
   }
   if (r.lift && !r.goals.empty()) r.lift.reset();  // a motion plan holds no object
   out.result = planInterruptibly(*world, r, cancel);
@@ -434,10 +437,11 @@ void bindPlanner(py::module_& m) {
            py::arg("time_limit") = 60.0, py::arg("parameters") = py::dict(),
            py::arg("trajectory_rate") = 100.0, py::arg("explored") = false,
            py::arg("validate") = false, py::arg("simulation") = py::none(),
-           py::arg("cancel") = py::none(), py::arg("lift") = true,
+           py::arg("cancel") = py::none(), py::arg("lift") = py::none(),
            "Plans a grasp of `object` (default the scene's target) and a path to it (or, with "
            "goals, a path to one of them), then a lift of the object clear of its support "
-           "(`lift`: True, the default height; False, none; a number, the height in m). The GIL "
+           "(`lift`: None, the default height but none with preset 'paper'; True, the default "
+           "height; False, none; a number, the height in m). The GIL "
            "is released while it plans. Raises InvalidArgument naming the field for a malformed "
            "request.")
       .def(

@@ -156,6 +156,10 @@ class BenchCli(unittest.TestCase):
         self.assertIn("sets 'p_max' twice", err)
         err = self.usage_error("--algorithms", "decoupled20:preset=fast")
         self.assertIn("algorithm 'decoupled20:preset=fast': the only preset is paper, got 'fast'", err)
+        err = self.usage_error("--algorithms", "coupled:lift=up")
+        self.assertIn("algorithm 'coupled:lift=up': lift must be a height in [0, 1] m", err)
+        err = self.usage_error("--algorithms", "coupled:lift=0:lift=0.1")
+        self.assertIn("sets 'lift' twice", err)
         csv_path = os.path.join(self.tmp, "variants.csv")
         result = self.run_bench("--no-physics", "--out", csv_path, "--scenes", "table", "--runs", "1",
                                 "--time-limit", "5",

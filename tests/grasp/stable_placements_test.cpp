@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
+#include <string>
 
 #include "bundled_objects.h"
 #include "core/invalid_argument.h"
@@ -54,6 +56,7 @@ TEST(StablePlacements, AFaceTheCentreOfMassDoesNotProjectInsideIsLeftOut) {
   for (const RestingFace& face : faces) EXPECT_NEAR(std::abs(face.normal.x()), 1.0, 1e-12);
   PlacementOptions loose;
   loose.min_margin = 0.0;
+  loose.min_tipping_angle = 0.0;
   EXPECT_EQ(stablePlacements(box, loose).size(), 6u);
 }
 
@@ -101,9 +104,12 @@ TEST(StablePlacements, TheMugAndTheBottleStandUpright) {
     for (const RestingFace& face : faces) upright = upright || face.normal.z() < -0.999;
     EXPECT_TRUE(upright) << name;
   }
-  // Every bundled object rests some way.
+  // Every bundled object rests some way but those that roll: a ball, an
+  // egg and a dowel (1 cm thick: on a facet of its side, or standing on
+  // its end, it tips before it tilts 10 degrees).
+  const std::set<std::string> rolling{"dowel", "egg", "small_ball"};
   for (const auto& [name, object] : test::bundledObjects())
-    EXPECT_FALSE(stablePlacements(object.geometry).empty()) << name;
+    EXPECT_EQ(stablePlacements(object.geometry).empty(), rolling.count(name) > 0) << name;
 }
 
 }  // namespace

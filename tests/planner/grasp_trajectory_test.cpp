@@ -40,21 +40,31 @@ TEST_P(TrajectoriesOfPlans, AreWithinTheLimitsOnThePathAtRestAtTheEndsAndFree) {
   ASSERT_GE(t.points.size(), 3u);
   const robot::RobotModel& robot = world.robot();
 
-  // At rest on the path's ends; the hand closes from the pre-grasp.
+  // At rest on the path's ends; the hand closes from the pre-grasp, then
+  // the palm lifts the object along the lift, at rest at its end.
   const Eigen::VectorXd& pregrasp = result.path[result.path.size() - 2];
+  ASSERT_TRUE(result.lift.has_value());
+  const Path& lift = result.lift->path;
   EXPECT_LT((t.points.front().positions - result.path.front()).norm(), 1e-12);
-  EXPECT_LT((t.points.back().positions - result.path.back()).norm(), 1e-9);
+  EXPECT_LT((t.points.back().positions - lift.back()).norm(), 1e-9);
   EXPECT_EQ(t.points.front().velocities.norm(), 0.0);
   EXPECT_EQ(t.points.back().velocities.norm(), 0.0);
   EXPECT_DOUBLE_EQ(t.points.back().time, t.duration);
   EXPECT_GT(t.closing_start, 0.0);
-  EXPECT_LT(t.closing_start, t.duration);
+  EXPECT_LT(t.closing_start, t.lift_start);
+  EXPECT_LT(t.lift_start, t.duration);
   EXPECT_LE(t.deviation, TrajectoryOptions{}.max_deviation + 1e-12);
 
   const Path approach(result.path.begin(), result.path.end() - 1);
   const Path closing{pregrasp, result.path.back()};
-  robot::CollisionChecker checker(world.collisionModel(), test::plannedScene(world, request),
-                                  &world.object(request.object)->geometry);
+  const robot::Scene scene = test::plannedScene(world, request);
+  const db::ObjectDatabase& object = *world.object(request.object);
+  robot::CollisionChecker checker(world.collisionModel(), scene, &object.geometry);
+  const Hold hold = holdObject(world.collisionModel(), scene.robot_base, object.geometry,
+                               object.name, scene.target_pose, result.path.back());
+  robot::Scene obstacles = scene;
+  obstacles.target_object.clear();
+  robot::CollisionChecker held(*hold.model, obstacles, nullptr);
   for (std::size_t i = 0; i < t.points.size(); ++i) {
     const TrajectoryPoint& p = t.points[i];
     SCOPED_TRACE("sample at " + std::to_string(p.time) + " s");
@@ -65,11 +75,20 @@ TEST_P(TrajectoriesOfPlans, AreWithinTheLimitsOnThePathAtRestAtTheEndsAndFree) {
     ASSERT_LE((p.velocities.cwiseAbs() - robot.maxVelocities()).maxCoeff(), 1e-6);
     ASSERT_LE((p.accelerations.cwiseAbs() - robot.maxAccelerations()).maxCoeff(), 1e-6);
     EXPECT_TRUE(robot.withinLimits(p.positions, 1e-9));
-    const bool closingPhase = p.time > t.closing_start;
-    ASSERT_LE(distanceToPolyline(closingPhase ? closing : approach, p.positions),
+    const bool liftPhase = p.time > t.lift_start;
+    const bool closingPhase = !liftPhase && p.time > t.closing_start;
+    ASSERT_LE(distanceToPolyline(liftPhase      ? lift
+                                 : closingPhase ? closing
+                                                : approach,
+                                 p.positions),
               t.deviation + 1e-9);
-    ASSERT_FALSE(closingPhase ? checker.inCollision(p.positions, robot::CollisionRequest::grasp())
-                              : checker.inCollision(p.positions));
+    if (liftPhase) {  // the object in the hand, the hand closed
+      ASSERT_FALSE(held.inCollision(p.positions));
+      EXPECT_LT((p.positions - lift.front()).tail(robot.numHandDofs()).norm(), 1e-9);
+    } else {
+      ASSERT_FALSE(closingPhase ? checker.inCollision(p.positions, robot::CollisionRequest::grasp())
+                                : checker.inCollision(p.positions));
+    }
     if (closingPhase) {  // the arm stands still while the hand closes
       EXPECT_LT((p.positions - pregrasp).head(robot.numArmDofs()).norm(), 1e-9);
     }

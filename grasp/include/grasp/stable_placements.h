@@ -42,13 +42,19 @@ struct RestingFace {
 
 struct PlacementOptions {
   /// Hull vertices this close (m) to a face's plane touch the support.
-  double contact_tolerance = 0.001;
+  double contact_tolerance = 0.0002;
   /// A face is kept when the centre of mass projects at least this far (m)
-  /// inside its polygon.
+  /// inside its polygon ...
   double min_margin = 0.002;
+  /// ... and the object must be tilted at least this far (rad; 10
+  /// degrees) before it tips: twice the 5 degrees the rest check allows
+  /// (docs/placement.md). A faceted round object has many faces it stands
+  /// on only in theory.
+  double min_tipping_angle = 0.174533;
 };
 
-/// The faces `object` rests on stably (margin >= options.min_margin), the
+/// The faces `object` rests on stably (margin >= options.min_margin and
+/// tipping angle >= options.min_tipping_angle), the
 /// largest tipping angle first; a face of the hull made of several hull
 /// triangles comes once. Empty when the database has no hull or nothing
 /// is stable. Deterministic. Throws InvalidArgument ("options.<field>")

@@ -77,4 +77,9 @@ inline constexpr const char* kObjectBodyName = "object";
 std::string mjcfScene(const robot::RobotModel& robot, const robot::Scene& scene,
                       const ObjectBody& object, const ModelSettings& settings = {});
 
+/// The MJCF of the scene's obstacles and the object alone (no robot), as
+/// mjcfScene writes them.
+std::string mjcfObjectScene(const robot::Scene& scene, const ObjectBody& object,
+                            const ModelSettings& settings = {});
+
 }  // namespace hfts::physics
