@@ -130,9 +130,12 @@ std::vector<PlannerParameterInfo> plannerParameters(const PlanningWorld& world) 
 PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
                      const std::atomic<bool>* cancel) {
   const auto began = std::chrono::steady_clock::now();
-  if (request.goals.empty() && !world.robot().hasHand())
-    throw InvalidArgument("goals", "robot '" + world.robot().name() +
-                                       "' has no hand: it plans motions to goals only");
+  if (request.goals.empty() && !world.canGrasp())
+    throw InvalidArgument(
+        "goals", "robot '" + world.robot().name() +
+                     (world.robot().hasHand() ? "' has no hand map here (it holds an object)"
+                                              : "' has no hand") +
+                     ": it plans motions to goals only");
   if (request.validate && !request.goals.empty())
     throw InvalidArgument("validate", "a motion plan (goals) has no grasp to validate");
   if (request.validate) physics::validateOptions(request.simulation);

@@ -61,9 +61,18 @@ Hold holdObject(const robot::CollisionModel& model, const Eigen::Isometry3d& rob
   return hold;
 }
 
+std::shared_ptr<const PlanningWorld> carryWorld(const PlanningWorld& world, const Hold& hold,
+                                                const Eigen::VectorXd& grasp) {
+  const robot::RobotModel& robot = hold.model->robot;
+  auto model = std::make_shared<robot::CollisionModel>(*hold.model);
+  model->robot = robot.withHandFixed(grasp.tail(robot.numHandDofs()));
+  return std::make_shared<const PlanningWorld>(std::move(model), world.objects());
+}
+
 std::optional<LiftPath> planLift(const Hold& hold, const robot::Scene& scene,
                                  const Eigen::VectorXd& grasp, double height,
-                                 const MotionCheck& check, std::string* why, std::size_t* queries) {
+                                 const MotionCheck& check, std::string* why, std::size_t* queries,
+                                 const std::function<bool()>& stop) {
   checkLiftOptions({height});
   const robot::RobotModel& robot = hold.model->robot;
   // The proofs bound the held object's motion too.
@@ -83,6 +92,7 @@ std::optional<LiftPath> planLift(const Hold& hold, const robot::Scene& scene,
                                        {"up_y", up + Eigen::Vector3d::UnitY()},
                                        {"up_minus_y", up - Eigen::Vector3d::UnitY()}});
   for (const auto& [name, direction] : directions) {
+    if (stop && stop()) return std::nullopt;
     // A lift raises the object: at most 60 degrees from up.
     if (direction.norm() < 1e-6 || direction.normalized().z() < kMinLiftRise) continue;
     const physics::PalmLine line =
@@ -90,14 +100,15 @@ std::optional<LiftPath> planLift(const Hold& hold, const robot::Scene& scene,
     std::string blocked = line.problem;
     if (blocked.empty()) {
       const MotionVerdict verdict =
-          checkMotion(checker, held.held, line.waypoints, robot::CertifyRule::kTransit);
+          checkMotion(checker, held.held, line.waypoints, robot::CertifyRule::kTransit, stop);
       if (queries != nullptr) *queries += verdict.queries;
       if (verdict.free) return LiftPath{line.waypoints, name};
+      // What the samples see (a proof may fail where they see nothing).
       robot::CollisionPair pair;
-      blocked = "the lift collides";
-      if (checker.validSegments(line.waypoints, check.resolution, {}, &pair) + 1 <
-          line.waypoints.size())
-        blocked += ": " + pair.first + " with " + pair.second;
+      blocked = checker.validSegments(line.waypoints, check.resolution, {}, &pair) + 1 <
+                        line.waypoints.size()
+                    ? pair.first + " collides with " + pair.second
+                    : "not proven free";
     }
     if (why != nullptr && name == "up") *why = "lifting up: " + blocked;
   }

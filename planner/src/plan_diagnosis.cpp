@@ -63,10 +63,10 @@ std::pair<PlanFailure, std::string> failureOf(const SearchOutcome& found,
   if (const std::uint64_t reached = found.stats.dropped_goals; reached > 0) {
     const std::uint64_t physics = found.stats.physics_checks;
     const std::uint64_t lift = found.stats.rejected.lift_blocked;
-    const std::uint64_t closing = reached - std::min(reached, physics + lift);
+    const std::uint64_t other = reached - std::min(reached, physics + lift);
     std::string why;
     for (const auto& [count, what] :
-         {std::pair{closing, "closing not proven free"},
+         {std::pair{other, "closing not proven free or checks cut short by the time limit"},
           std::pair{physics, "grasp did not hold in physics"}, std::pair{lift, "no free lift"}})
       if (count > 0) why += (why.empty() ? "" : ", ") + std::to_string(count) + " " + what;
     dropped = " (the trees reached " + std::to_string(reached) + " of them: " + why + ")";

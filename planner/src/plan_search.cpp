@@ -44,18 +44,20 @@ MultiTreeCBiRRT::GoalCheck physicsGoalCheck(const Problem& p, SearchOutcome& out
   };
 }
 
-/// What a reached goal must pass before it ends the search: with
-/// certify_path its closing motion proven free (the closing rule; a goal
-/// refused counts as closing_blocked), then with physics_check its grasp
-/// holding in physics, then with a lift its lift free (lift_blocked). None
-/// when nothing is asked for.
+/// What a reached goal must pass before it ends the search, cheapest
+/// first: with certify_path its closing motion proven free (the closing
+/// rule; a goal refused counts as closing_blocked), with a lift a free
+/// lift (lift_blocked), then with physics_check its grasp holding in
+/// physics. None when nothing is asked for. Each stops with the search's
+/// time limit: a goal whose checks the limit cut short is refused, and
+/// not counted as blocked.
 MultiTreeCBiRRT::GoalCheck goalCheck(Problem& p, SearchOutcome& out,
                                      const ob::PlannerTerminationCondition& ptc) {
   MultiTreeCBiRRT::GoalCheck physics =
       p.settings.goal.physics_check ? physicsGoalCheck(p, out, ptc) : MultiTreeCBiRRT::GoalCheck{};
   const MotionCheck& check = p.planner->smoothing().final_check;
   if (!check.certifies() && !p.lift) return physics;
-  return [&p, &out, &check, physics = std::move(physics)](const GoalSample& goal) {
+  return [&p, &out, &check, &ptc, physics = std::move(physics)](const GoalSample& goal) {
     if (check.certifies()) {
       const MotionVerdict closing = checkMotion(p.checker, check, {goal.configuration, goal.grasp},
                                                 robot::CertifyRule::kClosing);
@@ -65,11 +67,14 @@ MultiTreeCBiRRT::GoalCheck goalCheck(Problem& p, SearchOutcome& out,
         return false;
       }
     }
-    if (physics && !physics(goal)) return false;
-    if (!p.lift) return true;
-    out.lift = liftOf(p, goal, out.stats);
-    if (!out.lift) ++out.stats.rejected.lift_blocked;
-    return out.lift.has_value();
+    if (p.lift) {
+      out.lift = liftOf(p, goal, out.stats, nullptr, [&ptc] { return ptc(); });
+      if (!out.lift) {
+        if (!ptc()) ++out.stats.rejected.lift_blocked;
+        return false;
+      }
+    }
+    return !physics || physics(goal);
   };
 }
 
@@ -93,12 +98,12 @@ std::vector<ExploredNode> exploredNodes(const GoalHierarchyCache& cache, Samplin
 }  // namespace
 
 std::optional<LiftPath> liftOf(const Problem& p, const GoalSample& goal, PlanStatistics& stats,
-                               std::string* why) {
+                               std::string* why, const std::function<bool()>& stop) {
   const Hold hold = holdObject(p.world.collisionModel(), p.scene.robot_base, p.object.geometry,
                                p.object.name, p.scene.target_pose, goal.grasp);
   std::size_t queries = 0;
   std::optional<LiftPath> lift = planLift(hold, p.scene, goal.grasp, p.lift->height,
-                                          p.planner->smoothing().final_check, why, &queries);
+                                          p.planner->smoothing().final_check, why, &queries, stop);
   stats.certificate_queries += queries;
   return lift;
 }

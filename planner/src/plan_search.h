@@ -34,9 +34,10 @@ struct SearchOutcome {
 };
 
 /// The lift of a reached goal (p.lift's height; none when blocked, with
-/// what blocked it in `why`), its proofs' queries counted in `stats`.
+/// what blocked it in `why`, or when `stop` returns true), its proofs'
+/// queries counted in `stats`.
 std::optional<LiftPath> liftOf(const Problem& p, const GoalSample& goal, PlanStatistics& stats,
-                               std::string* why = nullptr);
+                               std::string* why = nullptr, const std::function<bool()>& stop = {});
 
 /// The multi-tree CBiRRT (Algorithm 1) with the coupled goal sampler
 /// (Algorithm 2) or the decoupled one.

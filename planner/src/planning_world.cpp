@@ -106,6 +106,17 @@ PlanningWorld::PlanningWorld(robot::RobotModel robot, std::shared_ptr<const Obje
   if (objects_ == nullptr) throw std::invalid_argument("PlanningWorld: no object library");
 }
 
+PlanningWorld::PlanningWorld(std::shared_ptr<const robot::CollisionModel> model,
+                             std::shared_ptr<const ObjectLibrary> objects)
+    : robot_(model != nullptr ? model->robot
+                              : throw std::invalid_argument("PlanningWorld: no collision model")),
+      collision_(std::move(model)),
+      bound_(robot_),
+      ik_(robot_),
+      objects_(std::move(objects)) {
+  if (objects_ == nullptr) throw std::invalid_argument("PlanningWorld: no object library");
+}
+
 PlanningWorld::~PlanningWorld() = default;
 
 const grasp::HandReachability& PlanningWorld::handMap() const {

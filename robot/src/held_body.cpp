@@ -1,6 +1,7 @@
 // A body the robot holds (RobotModel::withHeldBody): one more link, fixed
 // to the palm, that collides as a mesh.
 #include <algorithm>
+#include <string>
 #include <utility>
 
 #include "core/invalid_argument.h"
@@ -37,6 +38,24 @@ RobotModel RobotModel::withHeldBody(const std::string& name, const Eigen::Isomet
   held.held_link_ = link;
   held.countJointsApart();
   return held;
+}
+
+RobotModel RobotModel::withHandFixed(const Eigen::VectorXd& hand) const {
+  const int arm = num_arm_dofs_;
+  if (hand.size() != numHandDofs() || !hand.allFinite())
+    throw InvalidArgument("hand", std::to_string(numHandDofs()) + " finite values expected, got " +
+                                      std::to_string(hand.size()));
+  for (int i = 0; i < numHandDofs(); ++i)
+    if (hand(i) < lower_(arm + i) - 1e-9 || hand(i) > upper_(arm + i) + 1e-9)
+      throw InvalidArgument("hand", "joint '" + dof_names_[static_cast<std::size_t>(arm + i)] +
+                                        "' at " + std::to_string(hand(i)) +
+                                        " lies outside its limits");
+  RobotModel fixed = *this;
+  fixed.lower_.tail(numHandDofs()) = hand;
+  fixed.upper_.tail(numHandDofs()) = hand;
+  fixed.home_.tail(numHandDofs()) = hand;
+  fixed.hand_open_ = hand;
+  return fixed;
 }
 
 }  // namespace hfts::robot

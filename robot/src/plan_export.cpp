@@ -49,6 +49,10 @@ void check(const RobotModel& model, const PlanAnimation& plan) {
     throw InvalidArgument("simulated_object", "one pose per simulated time expected");
   for (const Eigen::Isometry3d& pose : plan.simulated_object)
     if (!pose.matrix().allFinite()) throw InvalidArgument("simulated_object", "must be finite");
+  if (!plan.object_motion.empty() && plan.object_motion.size() != plan.times.size())
+    throw InvalidArgument("object_motion", "one pose per time expected (or none)");
+  for (const Eigen::Isometry3d& pose : plan.object_motion)
+    if (!pose.matrix().allFinite()) throw InvalidArgument("object_motion", "must be finite");
 }
 
 /// A link's collision primitives in its own frame.
@@ -178,24 +182,31 @@ std::string planGlb(const RobotModel& model, const Scene& scene, const db::Objec
   }
   if (plan.path.size() >= 2) builder.addLines("path", palmTrace(model, scene, plan.path), kPath);
   aiScene& ai = builder.scene();
-  if (plan.simulated_times.empty() || target == nullptr) {
-    ai.mNumAnimations = 1;
-    ai.mAnimations = new aiAnimation* [1] {
-      animation("plan", model, scene, plan.times, plan.configurations, moving, nullptr)
-    };
-    return builder.glb("the plan");
-  }
-  // The object's mesh stands at the plan's pose: the simulation moves it
-  // from there, the plan holds it still.
+  // The object's mesh stands at the plan's pose: the plan holds it still
+  // or carries it (object_motion), the simulation moves it from there.
   const Eigen::Isometry3d back = plan.object_pose.inverse();
   const ObjectTrack still{scene.target_object, [](unsigned) {
                             return Eigen::Isometry3d(Eigen::Isometry3d::Identity());
                           }};
+  const ObjectTrack carried{scene.target_object,
+                            [&](unsigned k) { return plan.object_motion[k] * back; }};
+  const bool withSimulation = !plan.simulated_times.empty() && target != nullptr;
+  const ObjectTrack* planned = target == nullptr             ? nullptr
+                               : !plan.object_motion.empty() ? &carried
+                               : withSimulation              ? &still
+                                                             : nullptr;
+  if (!withSimulation) {
+    ai.mNumAnimations = 1;
+    ai.mAnimations = new aiAnimation* [1] {
+      animation("plan", model, scene, plan.times, plan.configurations, moving, planned)
+    };
+    return builder.glb("the plan");
+  }
   const ObjectTrack simulated{scene.target_object,
                               [&](unsigned k) { return plan.simulated_object[k] * back; }};
   ai.mNumAnimations = 2;
   ai.mAnimations = new aiAnimation* [2] {
-    animation("plan", model, scene, plan.times, plan.configurations, moving, &still),
+    animation("plan", model, scene, plan.times, plan.configurations, moving, planned),
         animation("simulated", model, scene, plan.simulated_times, plan.simulated_configurations,
                   moving, &simulated)
   };

@@ -95,6 +95,25 @@ TEST(HeldBody, BadBodiesAreRefusedByName) {
                                                {"held_body", "finite"});
 }
 
+TEST(HeldBody, AFixedHandKeepsItsPostureAndTheArmItsLimits) {
+  const RobotModel& robot = test::kr5Sdh();
+  const int hand = robot.numHandDofs(), arm = robot.numArmDofs();
+  const Eigen::VectorXd posture = robot.handOpen();
+  const RobotModel fixed = robot.withHandFixed(posture);
+  EXPECT_EQ(fixed.lowerLimits().tail(hand), posture);
+  EXPECT_EQ(fixed.upperLimits().tail(hand), posture);
+  EXPECT_EQ(fixed.lowerLimits().head(arm), robot.lowerLimits().head(arm));
+  EXPECT_EQ(fixed.upperLimits().head(arm), robot.upperLimits().head(arm));
+  EXPECT_EQ(fixed.home().tail(hand), posture);
+  EXPECT_TRUE(fixed.withinLimits(fixed.home()));
+  test::expectErrorMentioning<InvalidArgument>(
+      [&] { robot.withHandFixed(Eigen::VectorXd::Zero(2)); }, {"hand", "finite values expected"});
+  Eigen::VectorXd beyond = posture;
+  beyond(0) = 100.0;
+  test::expectErrorMentioning<InvalidArgument>([&] { robot.withHandFixed(beyond); },
+                                               {"hand", "outside its limits"});
+}
+
 TEST(HeldBody, ItsSpheresHoldItsSurface) {
   const auto held = holdingCube(0.25, 0.1);
   const LinkSpheres& spheres = held->spheres.links.back();

@@ -111,6 +111,32 @@ TEST(PlanExport, ASimulatedMotionIsASecondAnimationThatMovesTheObjectToo) {
   EXPECT_NE(channelOf(simulated, "palm"), nullptr);
 }
 
+TEST(PlanExport, AnObjectThePlanCarriesMovesInThePlansAnimation) {
+  const RobotModel& robot = test::kr5Sdh();
+  const db::ObjectGeometry object = test::meshObject(test::cube(0.04));
+  Scene scene;
+  scene.target_object = "cube";
+  PlanAnimation carried = moveA1(robot);
+  carried.object_pose = Eigen::Translation3d(0.5, 0.0, 0.0) * Eigen::Isometry3d::Identity();
+  for (std::size_t k = 0; k < carried.times.size(); ++k)
+    carried.object_motion.push_back(Eigen::Translation3d(0.5, 0.0, 0.02 * k) *
+                                    Eigen::Isometry3d::Identity());
+  for (const bool simulated : {false, true}) {
+    const PlanAnimation plan = simulated ? withSimulatedLift(carried, robot) : carried;
+    const std::string glb = planGlb(robot, scene, &object, plan);
+    Assimp::Importer importer;
+    const aiScene* read = importer.ReadFileFromMemory(glb.data(), glb.size(), 0, "glb");
+    ASSERT_NE(read, nullptr) << importer.GetErrorString();
+    ASSERT_EQ(read->mNumAnimations, simulated ? 2u : 1u);
+    const aiNodeAnim* cube = channelOf(*read->mAnimations[0], "cube");
+    ASSERT_NE(cube, nullptr);
+    ASSERT_EQ(cube->mNumPositionKeys, 5u);
+    // Moved from where its mesh stands: 8 cm up at the end.
+    EXPECT_NEAR(cube->mPositionKeys[4].mValue.z, 0.08, 1e-6);
+    EXPECT_NEAR(cube->mPositionKeys[0].mValue.Length(), 0.0, 1e-6);
+  }
+}
+
 TEST(PlanExport, BadAnimationsAreRefusedByField) {
   const RobotModel& robot = test::kr5Sdh();
   const auto field = [&](const PlanAnimation& plan) {
@@ -138,6 +164,12 @@ TEST(PlanExport, BadAnimationsAreRefusedByField) {
   p = withSimulatedLift(moveA1(robot), robot);
   p.simulated_object.pop_back();
   EXPECT_EQ(field(p), "simulated_object");
+  p = moveA1(robot);
+  p.object_motion.assign(p.times.size() - 1, Eigen::Isometry3d::Identity());
+  EXPECT_EQ(field(p), "object_motion");
+  p.object_motion.assign(p.times.size(), Eigen::Isometry3d::Identity());
+  p.object_motion[1].translation().x() = std::nan("");
+  EXPECT_EQ(field(p), "object_motion");
   p = withSimulatedLift(moveA1(robot), robot);
   p.simulated_times[4] = p.simulated_times[3];
   EXPECT_EQ(field(p), "simulated_times");

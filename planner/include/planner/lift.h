@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -15,6 +16,7 @@
 #include "hfts_db/object_database.h"
 #include "planner/grasp_trajectory.h"
 #include "planner/motion_check.h"
+#include "planner/planning_world.h"
 #include "robot/collision_checker.h"
 #include "robot/collision_model.h"
 #include "robot/scene.h"
@@ -43,6 +45,13 @@ Hold holdObject(const robot::CollisionModel& model, const Eigen::Isometry3d& rob
                 const db::ObjectGeometry& object, const std::string& name,
                 const Eigen::Isometry3d& objectPose, const Eigen::VectorXd& grasp);
 
+/// The world of the robot holding the object, its hand fixed as it closed
+/// at `grasp` (RobotModel::withHandFixed): motion plans in it carry the
+/// object, moving the arm only (PlanningWorld's motion-only world, the
+/// objects of `world`).
+std::shared_ptr<const PlanningWorld> carryWorld(const PlanningWorld& world, const Hold& hold,
+                                                const Eigen::VectorXd& grasp);
+
 /// A lift: the palm on a straight line with its orientation kept, the hand
 /// as closed.
 struct LiftPath {
@@ -61,12 +70,14 @@ struct LiftPath {
 /// whose line the palm can follow within the joint limits and that
 /// `check` finds free (robot::CertifyRule::kTransit) for the robot holding
 /// the object in `scene` (its obstacles; its target is ignored: the object
-/// is in the hand). None when every one is blocked; `why` then names what
-/// blocked "up". `queries` gets the proofs' distance queries.
+/// is in the hand). None when every one is blocked (`why` then names what
+/// blocked "up"), or when `stop` returns true (polled between directions
+/// and within proofs). `queries` gets the proofs' distance queries.
 std::optional<LiftPath> planLift(const Hold& hold, const robot::Scene& scene,
                                  const Eigen::VectorXd& grasp, double height,
                                  const MotionCheck& check, std::string* why = nullptr,
-                                 std::size_t* queries = nullptr);
+                                 std::size_t* queries = nullptr,
+                                 const std::function<bool()>& stop = {});
 
 /// The lift as a trajectory (motionTrajectory of its path for the robot
 /// holding the object in `scene`), sampled at `rate`; empty points when its

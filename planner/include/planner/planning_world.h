@@ -70,6 +70,11 @@ class PlanningWorld {
   /// The world of an arm without a hand (motion-only, RobotModel::hasHand
   /// false): no hand map. Throws ModelError for a robot with a hand.
   PlanningWorld(robot::RobotModel robot, std::shared_ptr<const ObjectLibrary> objects);
+  /// A motion-only world over a collision model already built (the robot
+  /// holding an object, robot::withHeldBody): no hand map, so it plans
+  /// motions to goals, never grasps (canGrasp() is false).
+  PlanningWorld(std::shared_ptr<const robot::CollisionModel> model,
+                std::shared_ptr<const ObjectLibrary> objects);
   ~PlanningWorld();
   PlanningWorld(const PlanningWorld&) = delete;
   PlanningWorld& operator=(const PlanningWorld&) = delete;
@@ -88,6 +93,8 @@ class PlanningWorld {
                                                    std::shared_ptr<const ObjectLibrary> objects);
 
   const robot::RobotModel& robot() const { return robot_; }
+  /// Whether it plans grasps: a robot with a hand and its hand map.
+  bool canGrasp() const { return fast_.has_value(); }
   /// The robot's collision model (spheres, pair maps), built with the world.
   const robot::CollisionModel& collisionModel() const { return *collision_; }
   /// How far the robot's links can move per joint step: what certified

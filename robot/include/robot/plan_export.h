@@ -23,6 +23,10 @@ struct PlanAnimation {
   Eigen::Isometry3d object_pose = Eigen::Isometry3d::Identity();  ///< the target, world frame
   Eigen::Matrix3Xd contacts, inward_normals;  ///< world frame, one column per contact
   std::vector<Eigen::VectorXd> path;          ///< the planned path (drawn through the palm)
+  /// The object's pose (world frame) at each of `times` when the plan
+  /// moves it (the hand carries it after the grasp); empty: it stands at
+  /// object_pose throughout.
+  std::vector<Eigen::Isometry3d, Eigen::aligned_allocator<Eigen::Isometry3d>> object_motion;
   /// A simulated motion of the grasp (the physics check's nominal trial:
   /// close, lift, hold, disturbances), shown as a second animation: robot
   /// configurations and the object's pose (world frame) at
@@ -34,14 +38,17 @@ struct PlanAnimation {
 
 /// The .glb bytes (assimp's glTF 2 exporter; world frame turned to glTF's
 /// y up, metres). One animation, "plan", with a translation and a
-/// rotation channel per link node, keyed at `times`; with a simulated
+/// rotation channel per link node, keyed at `times`, and one for the
+/// object's node when the plan moves it (object_motion); with a simulated
 /// motion a second one, "simulated", whose channels move the links and
-/// the object's node too (and "plan" then keeps the object still with a
-/// channel of its own, so that either can be played after the other).
+/// the object's node too (and "plan" then keeps the object still, or moves
+/// it as object_motion says, with a channel of its own, so that either can
+/// be played after the other).
 /// Throws InvalidArgument naming the field: times and configurations of
 /// different lengths, empty, not increasing or not finite, a configuration
-/// of the wrong size, contacts and normals of different shapes, likewise
-/// for the simulated times, configurations and object poses.
+/// of the wrong size, contacts and normals of different shapes, object
+/// poses ("object_motion") not one per time or not finite, likewise for
+/// the simulated times, configurations and object poses.
 std::string planGlb(const RobotModel& model, const Scene& scene, const db::ObjectGeometry* target,
                     const PlanAnimation& plan);
 

@@ -199,6 +199,12 @@ class RobotModel {
                           std::shared_ptr<const TriangleMesh> mesh) const;
   /// The link withHeldBody added, or -1.
   int heldLink() const { return held_link_; }
+  /// This robot with its hand's joints held at `hand` (numHandDofs()
+  /// values): their limits (and the hand's home and open postures) become
+  /// that posture, so that a planner moves the arm only, as while the hand
+  /// holds an object. Throws InvalidArgument ("hand") for a posture of the
+  /// wrong size, not finite or outside the limits.
+  RobotModel withHandFixed(const Eigen::VectorXd& hand) const;
 
   /// True when q has numDofs() finite entries within the limits (tolerance
   /// in radians). `why` (optional) receives the first violation.
