@@ -49,9 +49,11 @@ PlanResult search(std::chrono::steady_clock::time_point began, const SharedProbl
     std::string why;
     result.lift =
         found.lift ? std::move(found.lift) : liftOf(problem, found.goal, result.stats, &why);
-    if (!result.lift)
+    if (!result.lift) {
+      result.success = false;
       return failed(std::move(result), {PlanFailure::kLiftBlocked,
                                         "no lift of the grasp found is free (" + why + ")"});
+    }
   }
   if (found.verdict) {
     // The search simulated this grasp already: the same verdict.
