@@ -13,6 +13,21 @@ constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
 // Ratings are products of exponentials and coverages: keep them strictly
 // positive so that every child keeps a chance (paper: T_c(n) > 0 always).
 constexpr double kSmallestRating = 1e-12;
+
+/// The HFTS as a goal hierarchy.
+class HftsHierarchy final : public GoalHierarchy {
+ public:
+  explicit HftsHierarchy(const grasp::HftsSpace& space) : space_(space) {}
+  grasp::HftsNode root() const override { return space_.root(); }
+  bool isLeaf(const grasp::HftsNode& node) const override { return space_.isLeaf(node); }
+  std::uint64_t numChildren(const grasp::HftsNode& node) const override {
+    return space_.numChildren(node);
+  }
+  double numLeaves(const grasp::HftsNode& node) const override { return space_.numLeaves(node); }
+
+ private:
+  const grasp::HftsSpace& space_;
+};
 }  // namespace
 
 std::size_t sampleWeighted(const std::vector<double>& weights, std::mt19937_64& rng) {
@@ -33,13 +48,24 @@ FreeSpaceDistance FreeSpaceDistances::distances(const Eigen::VectorXd& q,
 }
 
 GoalHierarchyCache::GoalHierarchyCache(const grasp::HftsSpace& space, RatingWeights weights)
-    : space_(space), weights_(weights) {
-  if (!(weights.w_f > 0.0) || !(weights.w_c > 0.0))
-    throw InvalidArgument(weights.w_f > 0.0 ? "parameters.w_c" : "parameters.w_f", "must be > 0");
-  if (weights.max_active < 1) throw InvalidArgument("parameters.n_a", "must be >= 1");
+    : ownShape_(std::make_unique<HftsHierarchy>(space)),
+      shape_(ownShape_.get()),
+      weights_(weights) {
+  addRoot();
+}
+
+GoalHierarchyCache::GoalHierarchyCache(const GoalHierarchy& shape, RatingWeights weights)
+    : shape_(&shape), weights_(weights) {
+  addRoot();
+}
+
+void GoalHierarchyCache::addRoot() {
+  if (!(weights_.w_f > 0.0) || !(weights_.w_c > 0.0))
+    throw InvalidArgument(weights_.w_f > 0.0 ? "parameters.w_c" : "parameters.w_f", "must be > 0");
+  if (weights_.max_active < 1) throw InvalidArgument("parameters.n_a", "must be >= 1");
   CacheNode root;
-  root.hfts = space.root();
-  root.possible_leaves = space.numLeaves(root.hfts);
+  root.hfts = shape_->root();
+  root.possible_leaves = shape_->numLeaves(root.hfts);
   nodes_.push_back(std::move(root));
   t_.push_back(kUnknown);
   T_.push_back(kUnknown);
@@ -53,7 +79,7 @@ int GoalHierarchyCache::addChild(int parent, const grasp::HftsNode& hfts,
   child.hfts = hfts;
   child.parent = parent;
   child.configurations = std::move(configurations);
-  child.possible_leaves = space_.numLeaves(hfts);
+  child.possible_leaves = shape_->numLeaves(hfts);
   child.quality = quality;
   const int index = static_cast<int>(nodes_.size());
   nodes_.push_back(std::move(child));
@@ -61,13 +87,13 @@ int GoalHierarchyCache::addChild(int parent, const grasp::HftsNode& hfts,
   T_.push_back(kUnknown);
   node(parent).children.push_back(index);
   node(parent).active.push_back(index);
-  if (space_.isLeaf(hfts))
+  if (shape_->isLeaf(hfts))
     for (int n = index; n != kNone; n = node(n).parent) node(n).cached_leaves += 1.0;
   return index;
 }
 
 double GoalHierarchyCache::coverage(int n) const {
-  const double possible = static_cast<double>(space_.numChildren(node(n).hfts));
+  const double possible = static_cast<double>(shape_->numChildren(node(n).hfts));
   if (possible == 0.0) return 1.0;
   return static_cast<double>(node(n).children.size()) / possible;
 }

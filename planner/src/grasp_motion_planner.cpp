@@ -2,6 +2,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
+#include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -9,6 +12,7 @@
 #include "physics/simulate_grasp.h"
 #include "plan_diagnosis.h"
 #include "plan_motion.h"
+#include "plan_place.h"
 #include "plan_problem.h"
 #include "plan_search.h"
 #include "racing.h"
@@ -27,8 +31,8 @@ ValidationRequest validationRequest(const PlanningWorld& world, const PlanReques
 /// planning time counts the teardown of everything this builds (trees,
 /// caches, the sampling thread).
 PlanResult search(std::chrono::steady_clock::time_point began, const SharedProblem& shared,
-                  const PlanRequest& request, Problem& problem, const std::atomic<bool>* cancel,
-                  PlanResult result) {
+                  const PlanRequest& request, const std::optional<PlaceTarget>& place,
+                  Problem& problem, const std::atomic<bool>* cancel, PlanResult result) {
   result.seed = problem.seed;
   const ob::PlannerTerminationCondition ptc =
       terminationCondition(request.time_limit, began, cancel);
@@ -55,6 +59,30 @@ PlanResult search(std::chrono::steady_clock::time_point began, const SharedProbl
                                         "no lift of the grasp found is free (" + why + ")"});
     }
   }
+  std::optional<Hold> hold;
+  if (result.lift)
+    hold =
+        holdObject(shared.world.collisionModel(), shared.scene.robot_base, problem.object.geometry,
+                   problem.object.name, shared.scene.target_pose, result.path.back());
+  std::optional<PlaceOutcome> placed;
+  if (place) {
+    placed =
+        planPlace(problem, *place, request.place_search, *hold, result.path[result.path.size() - 2],
+                  result.path.back(), *result.lift, request.trajectory_rate, ptc);
+    result.place_rejected = placed->rejected;
+    result.stats.iterations += placed->iterations;
+    result.stats.goal_sampling_calls += placed->goal_sampling_calls;
+    result.stats.collision_checks += placed->collision_checks;
+    result.stats.certificate_queries += placed->certificate_queries;
+    if (!placed->placement) {
+      result.success = false;
+      return failed(std::move(result),
+                    {cancel != nullptr && cancel->load() ? PlanFailure::kCancelled
+                                                         : PlanFailure::kPlaceNotReached,
+                     placed->why});
+    }
+    result.place = std::move(placed->placement);
+  }
   if (found.verdict) {
     // The search simulated this grasp already: the same verdict.
     ValidationRequest v = validationRequest(shared.world, request, result);
@@ -68,14 +96,21 @@ PlanResult search(std::chrono::steady_clock::time_point began, const SharedProbl
     result.trajectory =
         graspTrajectory(result.path, problem.checker, check, request.trajectory_rate, &queries);
     if (result.lift) {
-      const Hold hold = holdObject(shared.world.collisionModel(), shared.scene.robot_base,
-                                   problem.object.geometry, problem.object.name,
-                                   shared.scene.target_pose, result.path.back());
-      const GraspTrajectory lift = liftTrajectory(hold, shared.scene, *result.lift, check,
+      const GraspTrajectory lift = liftTrajectory(*hold, shared.scene, *result.lift, check,
                                                   request.trajectory_rate, &queries);
-      // A lift whose samples cannot be made free leaves no trajectory at all.
-      result.trajectory.lift_start = appendTrajectory(result.trajectory, lift);
-      if (result.trajectory.lift_start < 0.0) result.trajectory = {};
+      GraspTrajectory& t = result.trajectory;
+      t.lift_start = appendTrajectory(t, lift);
+      t.carry_start = t.place_start = t.release_start = t.retreat_start = t.duration;
+      if (placed) {
+        const double carry = appendTrajectory(t, placed->trajectory);
+        t.carry_start = carry;
+        t.place_start = carry + placed->descent_start;
+        t.release_start = carry + placed->release_start;
+        t.retreat_start = carry + placed->retreat_start;
+        if (carry < 0.0) t.lift_start = -1.0;
+      }
+      // A part whose samples cannot be made free leaves no trajectory at all.
+      if (t.lift_start < 0.0) result.trajectory = {};
     }
     result.stats.certificate_queries += queries;
   }
@@ -101,6 +136,13 @@ PlanResult plan(std::chrono::steady_clock::time_point began, const PlanningWorld
 
   const SharedProblem shared(world, *object, request);
   result.object_pose = shared.scene.target_pose;
+  // Where the object is to go, decided before any search.
+  std::optional<PlaceTarget> place;
+  if (request.place) {
+    std::string why;
+    std::tie(place, why) = placeTarget(shared.scene, *object, *request.place);
+    if (!place) return failed(std::move(result), {PlanFailure::kNoStablePlacement, why});
+  }
   // Why planning cannot start is asked once, on the first search's
   // problem (every copy would answer alike).
   Problem first(shared, request.seed, start);
@@ -114,12 +156,12 @@ PlanResult plan(std::chrono::steady_clock::time_point began, const PlanningWorld
   if (shared.settings.goal.physics_check && request.algorithm != PlanAlgorithm::kRrtConnect)
     physics::prepareSimulation(world.robot(), shared.scene, *object, shared.simulation);
   const int copies = shared.settings.execution.threads;
-  if (copies == 1) return search(began, shared, request, first, cancel, result);
+  if (copies == 1) return search(began, shared, request, place, first, cancel, result);
   return race(request.seed, cancel, copies,
               [&](int copy, std::uint64_t seed, const std::atomic<bool>* stop) {
-                if (copy == 0) return search(began, shared, request, first, stop, result);
+                if (copy == 0) return search(began, shared, request, place, first, stop, result);
                 Problem problem(shared, seed, start);
-                return search(began, shared, request, problem, stop, result);
+                return search(began, shared, request, place, problem, stop, result);
               });
 }
 
@@ -142,6 +184,10 @@ PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
     throw InvalidArgument("validate", "a motion plan (goals) has no grasp to validate");
   if (request.validate) physics::validateOptions(request.simulation);
   if (request.lift) checkLiftOptions(*request.lift);
+  if (request.place && !request.goals.empty())
+    throw InvalidArgument("place", "a motion plan (goals) holds no object to place");
+  if (request.place && !request.lift)
+    throw InvalidArgument("place", "a pick and place lifts the object first: turn the lift on");
   PlanResult result = request.goals.empty() ? plan(began, world, request, cancel)
                                             : planMotion(began, world, request, cancel);
   result.stats.planning_time =

@@ -65,7 +65,8 @@ GraspTrajectory checkedTrajectory(const std::vector<Eigen::VectorXd>& path,
     if (!collisionFree(out.points, checker, check, rule, queries)) continue;
     out.closing_start = moving.duration();
     out.duration = moving.duration() + closingDuration;
-    out.lift_start = out.duration;
+    out.lift_start = out.carry_start = out.place_start = out.release_start = out.retreat_start =
+        out.duration;
     out.deviation = moving.deviation();
     appendAfter(std::move(closing), out.closing_start, out.points);
     return out;

@@ -46,6 +46,32 @@ struct HeldChecker {
   MotionCheck held;
 };
 
+/// The straight palm line from `from`, checked for the robot holding the
+/// object (heldPalmLine).
+std::optional<std::vector<Eigen::VectorXd>> heldPalmLine(
+    HeldChecker& held, const robot::Scene& scene, const Eigen::VectorXd& from,
+    const Eigen::Vector3d& direction, double distance, std::string* why, std::size_t* queries,
+    const std::function<bool()>& stop) {
+  const robot::RobotModel& robot = held.checker.model();
+  const physics::PalmLine line =
+      physics::straightPalmLine(robot, scene.robot_base, from, direction, distance);
+  std::string blocked = line.problem;
+  if (blocked.empty()) {
+    const MotionVerdict verdict =
+        checkMotion(held.checker, held.held, line.waypoints, robot::CertifyRule::kTransit, stop);
+    if (queries != nullptr) *queries += verdict.queries;
+    if (verdict.free) return line.waypoints;
+    // What the samples see (a proof may fail where they see nothing).
+    robot::CollisionPair pair;
+    blocked = held.checker.validSegments(line.waypoints, held.held.resolution, {}, &pair) + 1 <
+                      line.waypoints.size()
+                  ? pair.first + " collides with " + pair.second
+                  : "not proven free";
+  }
+  if (why != nullptr) *why = blocked;
+  return std::nullopt;
+}
+
 }  // namespace
 
 Hold holdObject(const robot::CollisionModel& model, const Eigen::Isometry3d& robotBase,
@@ -77,7 +103,6 @@ std::optional<LiftPath> planLift(const Hold& hold, const robot::Scene& scene,
   const robot::RobotModel& robot = hold.model->robot;
   // The proofs bound the held object's motion too.
   HeldChecker held(hold, scene, check);
-  robot::CollisionChecker& checker = held.checker;
 
   const Eigen::Isometry3d palm = palmPose(robot, scene.robot_base, grasp);
   const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
@@ -95,24 +120,20 @@ std::optional<LiftPath> planLift(const Hold& hold, const robot::Scene& scene,
     if (stop && stop()) return std::nullopt;
     // A lift raises the object: at most 60 degrees from up.
     if (direction.norm() < 1e-6 || direction.normalized().z() < kMinLiftRise) continue;
-    const physics::PalmLine line =
-        physics::straightPalmLine(robot, scene.robot_base, grasp, direction, height);
-    std::string blocked = line.problem;
-    if (blocked.empty()) {
-      const MotionVerdict verdict =
-          checkMotion(checker, held.held, line.waypoints, robot::CertifyRule::kTransit, stop);
-      if (queries != nullptr) *queries += verdict.queries;
-      if (verdict.free) return LiftPath{line.waypoints, name};
-      // What the samples see (a proof may fail where they see nothing).
-      robot::CollisionPair pair;
-      blocked = checker.validSegments(line.waypoints, check.resolution, {}, &pair) + 1 <
-                        line.waypoints.size()
-                    ? pair.first + " collides with " + pair.second
-                    : "not proven free";
-    }
+    std::string blocked;
+    if (auto line = heldPalmLine(held, scene, grasp, direction, height, &blocked, queries, stop))
+      return LiftPath{std::move(*line), name};
     if (why != nullptr && name == "up") *why = "lifting up: " + blocked;
   }
   return std::nullopt;
+}
+
+std::optional<std::vector<Eigen::VectorXd>> heldPalmLine(
+    const Hold& hold, const robot::Scene& scene, const Eigen::VectorXd& from,
+    const Eigen::Vector3d& direction, double distance, const MotionCheck& check, std::string* why,
+    std::size_t* queries, const std::function<bool()>& stop) {
+  HeldChecker held(hold, scene, check);
+  return heldPalmLine(held, scene, from, direction, distance, why, queries, stop);
 }
 
 GraspTrajectory liftTrajectory(const Hold& hold, const robot::Scene& scene, const LiftPath& lift,

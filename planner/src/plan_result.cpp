@@ -26,6 +26,10 @@ const char* toString(PlanFailure failure) {
       return "goal_in_collision";
     case PlanFailure::kLiftBlocked:
       return "lift_blocked";
+    case PlanFailure::kNoStablePlacement:
+      return "no_stable_placement";
+    case PlanFailure::kPlaceNotReached:
+      return "place_not_reached";
   }
   return "unknown";
 }

@@ -90,6 +90,21 @@ struct CacheNode {
   bool other_hands_sampled = false;  ///< C_n holds the other hand postures' configurations too
 };
 
+/// The shape of a hierarchy the cache grows: its root, how many children
+/// and leaves a node has. Nodes are grasp::HftsNode values (a level and up
+/// to kMaxFingers indices): the HFTS's own, or another hierarchy's encoded
+/// in them (the placements', place_goal_sampler.h).
+class GoalHierarchy {
+ public:
+  virtual ~GoalHierarchy() = default;
+  virtual grasp::HftsNode root() const = 0;
+  virtual bool isLeaf(const grasp::HftsNode& node) const = 0;
+  /// 0 for a leaf.
+  virtual std::uint64_t numChildren(const grasp::HftsNode& node) const = 0;
+  /// Leaves of the branch rooted at `node` (1 for a leaf).
+  virtual double numLeaves(const grasp::HftsNode& node) const = 0;
+};
+
 /// The cache and its ratings. Node 0 is the root. Ratings depend on the
 /// free-space knowledge, which changes as the planner runs: they are
 /// memoised until invalidateRatings().
@@ -98,13 +113,15 @@ class GoalHierarchyCache {
   /// The space must outlive the cache. Throws std::invalid_argument for
   /// non-positive weights or N_a < 1.
   GoalHierarchyCache(const grasp::HftsSpace& space, RatingWeights weights);
+  /// The same over another hierarchy (which must outlive the cache).
+  GoalHierarchyCache(const GoalHierarchy& shape, RatingWeights weights);
 
   static constexpr int kNone = -1;  ///< the paper's "bottom": no node
   int root() const { return 0; }
   const CacheNode& node(int n) const { return nodes_[static_cast<std::size_t>(n)]; }
   CacheNode& node(int n) { return nodes_[static_cast<std::size_t>(n)]; }
   std::size_t size() const { return nodes_.size(); }
-  bool isLeaf(int n) const { return space_.isLeaf(node(n).hfts); }
+  bool isLeaf(int n) const { return shape_->isLeaf(node(n).hfts); }
   const RatingWeights& weights() const { return weights_; }
 
   /// Adds eta = `hfts` (a child of the parent's HFTS node not cached
@@ -137,10 +154,12 @@ class GoalHierarchyCache {
                      std::mt19937_64& rng);
 
  private:
+  void addRoot();
   double configurationRating(CachedConfiguration& config,
                              const FreeSpaceDistances& knowledge) const;
 
-  const grasp::HftsSpace& space_;
+  std::unique_ptr<GoalHierarchy> ownShape_;  // the HFTS's, when built from one
+  const GoalHierarchy* shape_;
   RatingWeights weights_;
   std::vector<CacheNode> nodes_;
   std::vector<double> t_, T_;  // memoised ratings, NaN = not computed

@@ -26,6 +26,15 @@ struct GraspTrajectory {
   /// s: the hand is closed, the palm lifts the object (PlanResult::lift;
   /// without one: the duration).
   double lift_start = 0.0;
+  /// s, with PlanResult::place (else the duration): the carry has brought
+  /// the object above its place and the palm descends (place_start); the
+  /// object rests there and the hand opens (release_start); the open hand
+  /// retreats (retreat_start). The carry runs from the lift's end to
+  /// place_start.
+  double carry_start = 0.0;
+  double place_start = 0.0;
+  double release_start = 0.0;
+  double retreat_start = 0.0;
   /// Largest distance of the approach from the planned path (rad); smaller
   /// than asked when a blend had to be tightened to stay collision-free.
   double deviation = 0.0;

@@ -79,6 +79,17 @@ std::optional<LiftPath> planLift(const Hold& hold, const robot::Scene& scene,
                                  std::size_t* queries = nullptr,
                                  const std::function<bool()>& stop = {});
 
+/// A straight line of the palm (orientation kept) of the robot holding the
+/// object, from `from` by `distance` along `direction` (world): the lift's
+/// check (planLift) for any direction, e.g. the descent onto a support.
+/// None when the palm cannot follow it within the joint limits or it is
+/// not free (`why` then says what stops it) or `stop` returned true.
+std::optional<std::vector<Eigen::VectorXd>> heldPalmLine(
+    const Hold& hold, const robot::Scene& scene, const Eigen::VectorXd& from,
+    const Eigen::Vector3d& direction, double distance, const MotionCheck& check,
+    std::string* why = nullptr, std::size_t* queries = nullptr,
+    const std::function<bool()>& stop = {});
+
 /// The lift as a trajectory (motionTrajectory of its path for the robot
 /// holding the object in `scene`), sampled at `rate`; empty points when its
 /// samples cannot be made free. Throws as motionTrajectory.

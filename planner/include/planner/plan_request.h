@@ -14,6 +14,7 @@
 #include "physics/simulate_grasp.h"
 #include "planner/lift.h"
 #include "planner/motion_goal.h"
+#include "planner/place_goal.h"
 #include "planner/plan_settings.h"
 #include "robot/scene.h"
 
@@ -25,6 +26,14 @@ enum class PlanAlgorithm {
   /// Outside baseline: OMPL's RRTConnect towards goals that the decoupled
   /// optimiser samples lazily in a second thread (lazy_goal_baseline.h).
   kRrtConnect,
+};
+
+enum class PlaceSearch {
+  /// The placements as a hierarchy (resting face, region cells, yaw)
+  /// searched by the paper's goal sampler, C_free proximity guiding it.
+  kCoupled,
+  /// A stable placement drawn at random first, then planned to.
+  kDecoupled,
 };
 
 struct PlanRequest {
@@ -68,6 +77,13 @@ struct PlanRequest {
   /// is blocked is refused. nullopt: the plan ends with the hand closed
   /// (motion plans never lift).
   std::optional<LiftOptions> lift = LiftOptions{};
+  /// Pick and place (docs/placement.md): after the lift, carry the object
+  /// to a stable placement on the goal's region, put it down, open the
+  /// hand and retreat, all in one plan (PlanResult::place). Needs a lift;
+  /// the descent and the retreat are as long as it.
+  std::optional<PlaceGoal> place;
+  /// How the placement is searched.
+  PlaceSearch place_search = PlaceSearch::kCoupled;
 };
 
 inline constexpr double kMaxTrajectoryRate = 1000.0;

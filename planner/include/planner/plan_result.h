@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "grasp/hfts_space.h"
+#include "physics/simulate_rest.h"
 #include "planner/grasp_trajectory.h"
 #include "planner/grasp_validation.h"
 #include "planner/lift.h"
@@ -37,6 +38,12 @@ enum class PlanFailure {
   /// The grasp found cannot be lifted (a search that does not check its
   /// goals' lifts: rrtconnect); the message says what blocks it.
   kLiftBlocked,
+  /// The place goal's region allows the object no stable placement
+  /// (placeFaces): decided before any search, the message says why.
+  kNoStablePlacement,
+  /// The object was grasped and lifted, but no placement on the region was
+  /// reached (carried to, put down, released) within the time limit.
+  kPlaceNotReached,
 };
 
 /// Snake-case name used in JSON and CSV ("time_limit", ...).
@@ -78,6 +85,47 @@ struct PlannedGrasp {
   Eigen::VectorXd hand_configuration;  ///< the closed hand
 };
 
+/// Placements the place search tried that gave no goal, by reason.
+struct PlaceRejections {
+  std::uint64_t unsupported = 0;      ///< it would overhang the top or leave the area
+  std::uint64_t no_arm_ik = 0;        ///< no arm IK for the pre-place palm pose
+  std::uint64_t colliding = 0;        ///< every pre-place configuration collides
+  std::uint64_t descent_blocked = 0;  ///< the straight descent onto the support
+  std::uint64_t release_blocked = 0;  ///< the hand cannot open
+  std::uint64_t retreat_blocked = 0;  ///< no straight retreat of the open hand is free
+  std::uint64_t unstable = 0;         ///< released there, the object moves (rest check)
+
+  std::uint64_t total() const {
+    return unsupported + no_arm_ik + colliding + descent_blocked + release_blocked +
+           retreat_blocked + unstable;
+  }
+};
+
+/// Where a pick and place put the object and how (PlanRequest::place).
+struct Placement {
+  /// The object resting on the support (world; kRestingClearance above it).
+  Eigen::Isometry3d object_pose = Eigen::Isometry3d::Identity();
+  /// The face it rests on: its outward normal (object frame) and how far
+  /// it must tilt before it tips (rad).
+  Eigen::Vector3d face_normal = -Eigen::Vector3d::UnitZ();
+  double tipping_angle = 0.0;
+  /// The lift's end, ..., the pre-place: the palm `height` above where it
+  /// puts the object down, the hand closed (each segment proven free or
+  /// sampled with the object in the hand, as the path).
+  std::vector<Eigen::VectorXd> carry;
+  /// The pre-place, ..., the place: the palm straight down.
+  std::vector<Eigen::VectorXd> descent;
+  /// The place with the hand opened to the grasp's pre-grasp opening.
+  Eigen::VectorXd open;
+  /// The open hand, ..., the palm `height` away from the object on a
+  /// straight line.
+  std::vector<Eigen::VectorXd> retreat;
+  /// "back" (against the approach axis), "up" or "up_back".
+  std::string retreat_direction;
+  /// The object released at object_pose (physics::simulateRest).
+  physics::RestVerdict rest;
+};
+
 struct PlanResult {
   bool success = false;
   PlanFailure failure = PlanFailure::kNone;
@@ -106,6 +154,10 @@ struct PlanResult {
   /// With PlanRequest::lift: the lift from the grasp (path.back()), the
   /// object in the hand.
   std::optional<LiftPath> lift;
+  /// With PlanRequest::place and success: where the object went and how.
+  std::optional<Placement> place;
+  /// With PlanRequest::place: the placements tried that gave no goal.
+  PlaceRejections place_rejected;
   /// A motion plan's: the index of the request's goal the path ends at.
   std::optional<int> reached_goal;
   /// The path as a time-optimal trajectory (grasp_trajectory.h): empty
