@@ -47,7 +47,109 @@ class Trial {
     return result_;
   }
 
+  /// Settle, close, the plan's lift, carry and descent tracked in the
+  /// palm, the opening and the retreat as planned, then still.
+  PlaceVerdict runPlace() {
+    PlaceVerdict verdict;
+    mjData& d = *data_;
+    setRobotConfiguration(d, plan_.index, plan_.pregrasp);
+    setObjectPose(d, plan_.index, plan_.object_pose);
+    mj_forward(&m_, &d);
+    try {
+      verdict.held = settleAndClose() && lift() && carry();
+      verdict.placed = verdict.held && release() && rest();
+    } catch (const Stopped&) {
+      result_.failure = "stopped";
+    }
+    verdict.failure = result_.failure;
+    verdict.max_displacement = result_.max_displacement;
+    verdict.max_rotation = result_.max_rotation;
+    verdict.rest_displacement = rest_displacement_;
+    verdict.rest_rotation = rest_rotation_;
+    verdict.place_displacement = place_displacement_;
+    verdict.place_rotation = place_rotation_;
+    verdict.simulated_time = elapsed_;
+    return verdict;
+  }
+
  private:
+  /// The plan's trajectory at time t (s from its start), linear between
+  /// its samples.
+  Eigen::VectorXd planned(double t) const {
+    const PlaceMotion& m = *plan_.place;
+    const auto after = std::upper_bound(m.times.begin(), m.times.end(), t);
+    if (after == m.times.begin()) return m.positions.front();
+    if (after == m.times.end()) return m.positions.back();
+    const auto k = static_cast<std::size_t>(after - m.times.begin());
+    const double f = (t - m.times[k - 1]) / (m.times[k] - m.times[k - 1]);
+    return (1 - f) * m.positions[k - 1] + f * m.positions[k];
+  }
+
+  /// The carry and the descent: the trajectory up to the release, the hand
+  /// servos held as they closed, the object tracked in the palm.
+  bool carry() {
+    const PlaceMotion& m = *plan_.place;
+    const int n = stepsOf(m.release_start - m.times.front(), options().timestep);
+    Eigen::VectorXd target = m.positions.front();
+    for (int s = 1; s <= n; ++s) {
+      target = planned(m.times.front() + s * options().timestep);
+      target.tail(plan_.robot->numHandDofs()) = hand_target_;
+      if (!stepAndTrack(target, "carry")) return false;
+    }
+    // The servos lag behind a fast trajectory: the arm comes to rest at
+    // the place before the hand opens, as a controller waits for it.
+    for (int s = 0; s < stepsOf(options().settle_time, options().timestep); ++s)
+      if (!stepAndTrack(target, "carry")) return false;
+    released_ = bodyPose(*data_, plan_.index.object_body);
+    return true;
+  }
+
+  /// The hand opens and the arm retreats as planned, the object tracked
+  /// from where the hand let go of it.
+  bool release() {
+    const PlaceMotion& m = *plan_.place;
+    const int n = stepsOf(m.times.back() - m.release_start, options().timestep);
+    for (int s = 1; s <= n; ++s)
+      if (!stepAndWatch(planned(m.release_start + s * options().timestep), "release")) return false;
+    return true;
+  }
+
+  /// Still for the rest check's duration, the object tracked; then how far
+  /// it is from where the plan put it.
+  bool rest() {
+    const Eigen::VectorXd target = plan_.place->positions.back();
+    for (int s = 0; s < stepsOf(plan_.rest.duration, options().timestep); ++s)
+      if (!stepAndWatch(target, "rest")) return false;
+    const Eigen::Isometry3d now = bodyPose(*data_, plan_.index.object_body);
+    const Eigen::Isometry3d& planned = plan_.place->place_pose;
+    place_displacement_ = (now * centreOfMass() - planned * centreOfMass()).norm();
+    place_rotation_ = Eigen::AngleAxisd(planned.linear().transpose() * now.linear()).angle();
+    return true;
+  }
+
+  /// One step towards `target` with the object watched from where it was
+  /// released: the rest check's limits (RestOptions).
+  bool stepAndWatch(const Eigen::VectorXd& target, const std::string& phase) {
+    step(target, phase.c_str());
+    if (unstable(phase)) return false;
+    const Eigen::Isometry3d now = bodyPose(*data_, plan_.index.object_body);
+    const double moved = (now * centreOfMass() - released_ * centreOfMass()).norm();
+    const double turned = Eigen::AngleAxisd(released_.linear().transpose() * now.linear()).angle();
+    rest_displacement_ = std::max(rest_displacement_, moved);
+    rest_rotation_ = std::max(rest_rotation_, turned);
+    if (moved > plan_.rest.max_displacement)
+      return fail(phase + ": object moved " + millimetres(moved) + " from where it was released");
+    if (turned > plan_.rest.max_rotation)
+      return fail(phase + ": object turned " + degrees(turned) + " from where it was released");
+    return true;
+  }
+
+  /// The object's centre of mass in its body frame.
+  Eigen::Vector3d centreOfMass() const {
+    const int body = plan_.index.object_body;
+    return {m_.body_ipos[3 * body], m_.body_ipos[3 * body + 1], m_.body_ipos[3 * body + 2]};
+  }
+
   /// Thrown by step() when SimulationOptions::stop says so.
   struct Stopped {};
 
@@ -263,6 +365,11 @@ class Trial {
   long steps_ = 0;  ///< time steps taken, for polling the stop
   double next_sample_ = 0.0;
   bool held_through_hold_ = false;
+  Eigen::Isometry3d released_ = Eigen::Isometry3d::Identity();  ///< the object as the hand opens
+  double rest_displacement_ = 0.0;
+  double rest_rotation_ = 0.0;
+  double place_displacement_ = 0.0;
+  double place_rotation_ = 0.0;
 };
 
 }  // namespace
@@ -308,6 +415,11 @@ ModelPtr perturbedModel(const mjModel& nominal, const WorldIndex& index, int num
 TrialResult runTrial(const mjModel& model, const TrialPlan& plan, const std::string& name,
                      std::vector<MotionSample>* motion) {
   return Trial(model, plan, motion).run(name);
+}
+
+PlaceVerdict runPlaceTrial(const mjModel& model, const TrialPlan& plan,
+                           std::vector<MotionSample>* motion) {
+  return Trial(model, plan, motion).runPlace();
 }
 
 }  // namespace hfts::physics

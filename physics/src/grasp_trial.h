@@ -10,6 +10,7 @@
 #include "mujoco_world.h"
 #include "physics/perturbations.h"
 #include "physics/simulate_grasp.h"
+#include "physics/simulate_rest.h"
 
 namespace hfts::physics {
 
@@ -28,6 +29,10 @@ struct TrialPlan {
   std::vector<Eigen::VectorXd> lift;  ///< full configurations, PalmLine::waypoints
   Eigen::Isometry3d object_pose = Eigen::Isometry3d::Identity();
   SimulationOptions options;
+  /// A pick and place: after the lift, follow this instead of holding and
+  /// disturbing (simulatePickAndPlace).
+  const PlaceMotion* place = nullptr;
+  RestOptions rest;
 };
 
 /// The closing targets' end points (TrialPlan::close_limit).
@@ -53,5 +58,11 @@ ModelPtr perturbedModel(const mjModel& nominal, const WorldIndex& index, int num
 /// receives samples at plan.options.record_rate.
 TrialResult runTrial(const mjModel& model, const TrialPlan& plan, const std::string& name,
                      std::vector<MotionSample>* motion = nullptr);
+
+/// Runs a pick and place on `model` (plan.place set): settle, close, the
+/// plan's lift, its carry and descent tracked as the lift is, then the
+/// hand opening and retreating as planned, then plan.rest.duration still.
+PlaceVerdict runPlaceTrial(const mjModel& model, const TrialPlan& plan,
+                           std::vector<MotionSample>* motion = nullptr);
 
 }  // namespace hfts::physics

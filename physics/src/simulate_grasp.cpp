@@ -2,6 +2,7 @@
 // perturbation's trial run on its own copy of it, the verdict.
 #include "physics/simulate_grasp.h"
 
+#include <algorithm>
 #include <cmath>
 #include <list>
 #include <memory>
@@ -149,7 +150,9 @@ GraspVerdict simulateGrasp(const robot::CollisionModel& collision, const robot::
                  closeLeads(robot),
                  lift.line.waypoints,
                  scene.target_pose,
-                 options};
+                 options,
+                 nullptr,
+                 {}};
   const std::vector<Perturbation> trials = perturbations(options.perturb);
   const auto total = static_cast<double>(trials.size());
   int held = 0, dropped = 0;
@@ -168,6 +171,54 @@ GraspVerdict simulateGrasp(const robot::CollisionModel& collision, const robot::
   }
   verdict.held_fraction = static_cast<double>(held) / total;
   verdict.held = !verdict.stopped && verdict.held_fraction >= options.min_held_fraction - 1e-12;
+  return verdict;
+}
+
+}  // namespace hfts::physics
+
+namespace hfts::physics {
+
+PlaceVerdict simulatePickAndPlace(const robot::CollisionModel& collision, const robot::Scene& scene,
+                                  const db::ObjectDatabase& object, const Eigen::VectorXd& pregrasp,
+                                  const Eigen::VectorXd& grasp, const PlaceMotion& motion,
+                                  const SimulationOptions& options, const RestOptions& rest) {
+  const robot::RobotModel& robot = collision.robot;
+  checkConfiguration(robot, pregrasp, "pregrasp");
+  checkConfiguration(robot, grasp, "grasp");
+  validateOptions(options);
+  validateRestOptions(rest);
+  if (!robot.handActuation())
+    throw InvalidArgument("robot.hand_actuation",
+                          "robot '" + robot.name() + "' has no hand_actuation in its config");
+  const auto sized = [&](const Eigen::VectorXd& q) { return q.size() == robot.numDofs(); };
+  if (motion.lift.empty() || motion.times.size() < 2 ||
+      motion.times.size() != motion.positions.size() ||
+      !std::all_of(motion.lift.begin(), motion.lift.end(), sized) ||
+      !std::all_of(motion.positions.begin(), motion.positions.end(), sized))
+    throw InvalidArgument("motion", "needs a lift and a trajectory of full configurations (" +
+                                        std::to_string(robot.numDofs()) + " values), one per time");
+  for (std::size_t i = 1; i < motion.times.size(); ++i)
+    if (!(motion.times[i] > motion.times[i - 1]))
+      throw InvalidArgument("motion", "its times must increase");
+  if (!(motion.release_start >= motion.times.front() &&
+        motion.release_start <= motion.times.back()))
+    throw InvalidArgument("motion", "release_start must lie within its times");
+
+  const ObjectBody body = objectBody(object, scene, objectDensity(object, options.density));
+  const std::shared_ptr<const mjModel> model =
+      compiledScene(mjcfScene(robot, scene, body, modelSettings(robot, options)));
+  TrialPlan plan{&robot,
+                 indexWorld(*model, robot),
+                 pregrasp,
+                 grasp,
+                 closeLimits(robot, pregrasp, grasp),
+                 closeLeads(robot),
+                 motion.lift,
+                 scene.target_pose,
+                 options,
+                 &motion,
+                 rest};
+  PlaceVerdict verdict = runPlaceTrial(*model, plan, &verdict.motion);
   return verdict;
 }
 

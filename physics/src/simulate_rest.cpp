@@ -11,9 +11,9 @@
 #include "physics/object_body.h"
 
 namespace hfts::physics {
-namespace {
+namespace {}  // namespace
 
-void checkOptions(const RestOptions& o) {
+void validateRestOptions(const RestOptions& o) {
   const auto positive = [](double value, const char* field) {
     if (!(std::isfinite(value) && value > 0.0))
       throw InvalidArgument(std::string("options.") + field, "must be a finite number > 0");
@@ -28,6 +28,8 @@ void checkOptions(const RestOptions& o) {
     throw InvalidArgument("options.timestep", "must be in (0, 0.005] s");
 }
 
+namespace {
+
 std::string beyond(const char* what, double amount, const char* unit, double time) {
   char text[96];
   std::snprintf(text, sizeof text, "%s %.1f %s by %.2f s", what, amount, unit, time);
@@ -38,7 +40,7 @@ std::string beyond(const char* what, double amount, const char* unit, double tim
 
 RestVerdict simulateRest(const robot::Scene& scene, const db::ObjectDatabase& object,
                          const Eigen::Isometry3d& pose, const RestOptions& options) {
-  checkOptions(options);
+  validateRestOptions(options);
   if (!pose.matrix().allFinite()) throw InvalidArgument("pose", "must be finite");
   ObjectBody body{collisionPieces(object),
                   objectMassProperties(object, objectDensity(object, options.density)), pose};

@@ -26,6 +26,11 @@ namespace {
 ValidationRequest validationRequest(const PlanningWorld& world, const PlanRequest& request,
                                     const PlanResult& plan);
 
+/// The pick and place of a plan simulated whole, with the request's
+/// simulation options (defined with validatePlan).
+physics::PlaceVerdict simulatePlace(const PlanningWorld& world, const PlanRequest& request,
+                                    const PlanResult& plan);
+
 /// One search of the request over its shared problem (`problem`, with its
 /// seed): from `result` (the request's fields filled) to the plan. The
 /// planning time counts the teardown of everything this builds (trees,
@@ -194,6 +199,8 @@ PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
   if (request.validate && result.success && !result.validation)
     result.validation = validatePlan(world, request, result);
+  else if (request.validate && result.success && result.place && !result.trajectory.points.empty())
+    result.validation->place = simulatePlace(world, request, result);
   return result;
 }
 
@@ -203,7 +210,26 @@ Validation validatePlan(const PlanningWorld& world, const PlanRequest& request,
     throw InvalidArgument("plan", "only a successful plan has a grasp to validate");
   if (!request.goals.empty() || !world.robot().hasHand())
     throw InvalidArgument("plan", "a motion plan has no grasp to validate");
-  return validateGrasp(world, validationRequest(world, request, plan));
+  Validation validation = validateGrasp(world, validationRequest(world, request, plan));
+  if (plan.place && !plan.trajectory.points.empty())
+    validation.place = simulatePlace(world, request, plan);
+  return validation;
+}
+
+physics::PlaceMotion placeMotion(const PlanResult& plan) {
+  if (!plan.place || !plan.lift || plan.trajectory.points.empty())
+    throw InvalidArgument("plan", "only a pick and place with a trajectory has a place motion");
+  physics::PlaceMotion motion;
+  motion.lift = plan.lift->path;
+  const GraspTrajectory& t = plan.trajectory;
+  for (const TrajectoryPoint& p : t.points) {
+    if (p.time + 1e-9 < t.carry_start) continue;
+    motion.times.push_back(p.time);
+    motion.positions.push_back(p.positions);
+  }
+  motion.release_start = t.release_start;
+  motion.place_pose = plan.place->object_pose;
+  return motion;
 }
 
 namespace {
@@ -225,6 +251,17 @@ ValidationRequest validationRequest(const PlanningWorld& world, const PlanReques
   v.check.resolution = settings.execution.final_resolution;
   v.check.friction = settings.paper.friction;
   return v;
+}
+
+physics::PlaceVerdict simulatePlace(const PlanningWorld& world, const PlanRequest& request,
+                                    const PlanResult& plan) {
+  robot::Scene scene = request.scene;
+  scene.target_object = objectNameOf(request);
+  scene.target_pose = plan.object_pose;
+  scene.target_rest_on.clear();
+  return physics::simulatePickAndPlace(
+      world.collisionModel(), scene, *world.object(scene.target_object),
+      plan.path[plan.path.size() - 2], plan.path.back(), placeMotion(plan), request.simulation);
 }
 
 }  // namespace

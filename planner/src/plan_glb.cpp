@@ -6,6 +6,32 @@
 
 namespace hfts::planner {
 
+std::vector<Eigen::Isometry3d> objectAlongTrajectory(const PlanningWorld& world,
+                                                     const PlanRequest& request,
+                                                     const PlanResult& result) {
+  const GraspTrajectory& t = result.trajectory;
+  if (!result.lift || result.path.empty() || t.points.empty())
+    throw InvalidArgument("plan", "only a plan with a lift and a trajectory carries its object");
+  const robot::RobotModel& robot = world.robot();
+  const auto palm = [&](const Eigen::VectorXd& q) {
+    return request.scene.robot_base *
+           robot::forwardKinematics(robot, q)[static_cast<std::size_t>(robot.palmLink())];
+  };
+  // Held as the hand held it at the grasp (the path's last configuration).
+  const Eigen::Isometry3d inPalm = palm(result.path.back()).inverse() * result.object_pose;
+  std::vector<Eigen::Isometry3d> poses;
+  poses.reserve(t.points.size());
+  for (const TrajectoryPoint& p : t.points) {
+    if (p.time <= t.lift_start)
+      poses.push_back(result.object_pose);
+    else if (result.place && p.time >= t.release_start)
+      poses.push_back(result.place->object_pose);
+    else
+      poses.emplace_back(palm(p.positions) * inPalm);
+  }
+  return poses;
+}
+
 std::string planGlb(const PlanningWorld& world, const PlanRequest& request,
                     const PlanResult& result) {
   if (result.trajectory.points.empty())
@@ -19,23 +45,17 @@ std::string planGlb(const PlanningWorld& world, const PlanRequest& request,
   animation.contacts = result.grasp.contacts_world;
   animation.inward_normals = result.grasp.inward_normals_world;
   animation.path = result.path;
-  // After the lift begins the object moves with the palm, as the hand
-  // held it at the grasp (the path's last configuration).
-  if (result.lift && !result.path.empty()) {
-    const robot::RobotModel& robot = world.robot();
-    const auto palm = [&](const Eigen::VectorXd& q) {
-      return request.scene.robot_base *
-             robot::forwardKinematics(robot, q)[static_cast<std::size_t>(robot.palmLink())];
-    };
-    const Eigen::Isometry3d inPalm = palm(result.path.back()).inverse() * result.object_pose;
-    for (const TrajectoryPoint& p : result.trajectory.points)
-      animation.object_motion.push_back(p.time > result.trajectory.lift_start
-                                            ? Eigen::Isometry3d(palm(p.positions) * inPalm)
-                                            : result.object_pose);
-  }
-  // The physics check's nominal trial, when the plan carries one.
+  if (result.lift)
+    for (const Eigen::Isometry3d& pose : objectAlongTrajectory(world, request, result))
+      animation.object_motion.push_back(pose);
+  // The physics check's nominal trial, when the plan carries one: the
+  // whole pick and place's when it has one.
+  const std::vector<physics::MotionSample>* simulated = nullptr;
   if (result.validation && result.validation->physics)
-    for (const physics::MotionSample& m : result.validation->physics->nominal_motion) {
+    simulated = &result.validation->physics->nominal_motion;
+  if (result.validation && result.validation->place) simulated = &result.validation->place->motion;
+  if (simulated != nullptr)
+    for (const physics::MotionSample& m : *simulated) {
       if (!animation.simulated_times.empty() && !(m.time > animation.simulated_times.back()))
         continue;
       animation.simulated_times.push_back(m.time);

@@ -36,6 +36,9 @@ struct RestVerdict {
   std::string failure;
 };
 
+/// Checks rest options (InvalidArgument "options.<field>").
+void validateRestOptions(const RestOptions& options);
+
 /// Releases `object` (a free body of its density, colliding as
 /// collisionPieces()) at rest at `pose` among `scene`'s obstacles (its
 /// robot and target are not simulated) and simulates `options.duration`

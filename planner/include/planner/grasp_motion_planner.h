@@ -56,10 +56,27 @@ PlanResult planGrasp(const PlanningWorld& world, const PlanRequest& request,
 /// A successful plan's grasp checked again and simulated
 /// (grasp_validation.h) with the request's planner parameters
 /// (min_epsilon, max_penetration, final_resolution, friction) and
-/// simulation options: what PlanRequest::validate adds to a result.
+/// simulation options: what PlanRequest::validate adds to a result. A
+/// pick and place with a trajectory is simulated whole too
+/// (Validation::place: the grasp closed, lifted, carried, put down,
+/// released, the object at rest; the rest check's limits judge the place).
 /// Throws InvalidArgument ("plan") for a plan without a grasp: a failed
 /// plan, or a motion plan (request.goals, or a robot without a hand).
 Validation validatePlan(const PlanningWorld& world, const PlanRequest& request,
                         const PlanResult& plan);
+
+/// Where the object is at each of the trajectory's points of a plan with a
+/// lift: where it stood until the lift starts, then the palm's pose times
+/// the grasp's transform (the object in the palm at the grasp), and with
+/// a placement from the release on where it was put. Throws
+/// InvalidArgument ("plan") for a plan without a lift or trajectory.
+std::vector<Eigen::Isometry3d> objectAlongTrajectory(const PlanningWorld& world,
+                                                     const PlanRequest& request,
+                                                     const PlanResult& result);
+
+/// A pick and place's motion after the closing, as the physics check
+/// follows it: its lift and its trajectory from the lift's end. Throws
+/// InvalidArgument ("plan") for a plan without a placement or trajectory.
+physics::PlaceMotion placeMotion(const PlanResult& plan);
 
 }  // namespace hfts::planner

@@ -71,6 +71,9 @@ struct ValidationRequest {
 struct Validation {
   GraspCheck check;
   std::optional<physics::GraspVerdict> physics;  ///< with ValidationRequest::physics
+  /// A pick and place's: the plan simulated from the closing to the
+  /// object at rest where it was put (physics::simulatePickAndPlace).
+  std::optional<physics::PlaceVerdict> place;
   /// The checks are met and, where it ran, the physics check held.
   bool holds() const { return check.valid() && (!physics || physics->held); }
 };
