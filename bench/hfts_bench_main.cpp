@@ -22,6 +22,7 @@
 #include "holdability.h"
 #include "mbm_benchmark.h"
 #include "ompl_benchmark_log.h"
+#include "place_benchmark.h"
 #include "planner/grasp_motion_planner.h"
 #include "plot_script.h"
 #include "robot/scene.h"
@@ -37,10 +38,12 @@ using hfts::planner::PlanningWorld;
 using hfts::robot::Scene;
 
 struct Options {
-  std::string db, robot, sceneDir, out, experiment, outDir, holdability, holdableFrom, mbm,
+  std::string db, robot, sceneDir, out, experiment, outDir, holdability, holdableFrom, mbm, place,
       python = "/usr/bin/python3";
-  std::vector<std::string> scenarios;  ///< --mbm: scenario folders
-  int problems = 0;                    ///< --mbm: the first N of each scenario
+  std::vector<std::string> tasks;                             ///< --place: these tasks only
+  std::vector<std::string> searches{"coupled", "decoupled"};  ///< --place: placement searches
+  std::vector<std::string> scenarios;                         ///< --mbm: scenario folders
+  int problems = 0;  ///< --mbm: the first N of each scenario
   std::vector<std::string> scenes, objects, placements{"target"},
       algorithms{"coupled", "decoupled20", "decoupled60", "decoupled100"};
   int runs = 10;
@@ -156,6 +159,20 @@ Given addOptions(CLI::App& app, Options& o) {
       ->needs(mbm);
   app.add_option("--problems", o.problems, "With --mbm: the first N problems of each scenario")
       ->needs(mbm);
+  auto* place = app.add_option("--place", o.place,
+                               "Pick and place mode: plan every task of the task FILE "
+                               "(objects/pick_and_place/tasks.json) with each placement search "
+                               "and simulate it (docs/placement.md); --time-limit defaults to 30")
+                    ->type_name("FILE")
+                    ->excludes(experiment)
+                    ->excludes(mbm);
+  app.add_option("--tasks", o.tasks, "With --place: these tasks only")
+      ->delimiter(',')
+      ->needs(place);
+  app.add_option("--searches", o.searches, "With --place: coupled, decoupled")
+      ->delimiter(',')
+      ->needs(place)
+      ->capture_default_str();
   return g;
 }
 
@@ -171,6 +188,22 @@ int benchmarkMbm(const Options& o, const Given& given) {
   m.seed = static_cast<std::uint64_t>(o.firstSeed);
   m.csv = o.out;
   return hfts::bench::runMbm(m, std::cout);
+}
+
+/// --place: the pick and place mode, with its own defaults.
+int benchmarkPlace(const Options& o, const Given& given) {
+  hfts::bench::PlaceOptions p;
+  p.tasks = o.place;
+  p.robot = hfts::bench::resolveDefault(o.robot, "robots/kr5_sdh/kr5_sdh.json");
+  p.db = hfts::bench::resolveDefault(o.db, "build/databases");
+  p.names = o.tasks;
+  p.searches = o.searches;
+  p.runs = o.runs;
+  p.first_seed = static_cast<std::uint64_t>(o.firstSeed);
+  if (given.timeLimit->count() > 0) p.time_limit = o.timeLimit;
+  p.physics = !o.noPhysics;
+  p.csv = o.out;
+  return hfts::bench::runPlaceBenchmark(p, std::cout);
 }
 
 /// --experiment fills what the user did not give.
@@ -458,7 +491,8 @@ int main(int argc, char** argv) {
       "  hfts-bench --scenes table,shelf --algorithms coupled,decoupled20 --runs 10 "
       "--out results.csv\n"
       "  hfts-bench --experiment paper --out-dir results   # CSV, OMPL logs, plots\n"
-      "  hfts-bench --mbm problems --out mbm.csv           # MotionBenchMaker",
+      "  hfts-bench --mbm problems --out mbm.csv           # MotionBenchMaker\n"
+      "  hfts-bench --place objects/pick_and_place/tasks.json --out place.csv  # pick and place",
       "hfts-bench"};
   Options options;
   const Given given = addOptions(app, options);
@@ -470,6 +504,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (!options.mbm.empty()) return benchmarkMbm(options, given);
+    if (!options.place.empty()) return benchmarkPlace(options, given);
     applyDesign(options, given);
     return benchmark(options);
   } catch (const UsageError& e) {

@@ -57,7 +57,11 @@ class Trial {
     mj_forward(&m_, &d);
     try {
       verdict.held = settleAndClose() && lift() && carry();
-      verdict.placed = verdict.held && release() && rest();
+      const bool ran = verdict.held && release() && rest();
+      verdict.placed = ran && rest_displacement_ <= plan_.rest.max_displacement &&
+                       rest_rotation_ <= plan_.rest.max_rotation;
+      verdict.stood = ran && stand_displacement_ <= plan_.rest.max_displacement &&
+                      stand_rotation_ <= plan_.rest.max_rotation;
     } catch (const Stopped&) {
       result_.failure = "stopped";
     }
@@ -65,6 +69,8 @@ class Trial {
     verdict.max_displacement = result_.max_displacement;
     verdict.max_rotation = result_.max_rotation;
     verdict.rest_displacement = rest_displacement_;
+    verdict.stand_displacement = stand_displacement_;
+    verdict.stand_rotation = stand_rotation_;
     verdict.rest_rotation = rest_rotation_;
     verdict.place_displacement = place_displacement_;
     verdict.place_rotation = place_rotation_;
@@ -104,7 +110,7 @@ class Trial {
     return true;
   }
 
-  /// The hand opens and the arm retreats as planned, the object tracked
+  /// The hand opens and the arm retreats as planned, the object watched
   /// from where the hand let go of it.
   bool release() {
     const PlaceMotion& m = *plan_.place;
@@ -114,12 +120,20 @@ class Trial {
     return true;
   }
 
-  /// Still for the rest check's duration, the object tracked; then how far
-  /// it is from where the plan put it.
+  /// Still for the rest check's duration, the object watched from where it
+  /// was released and from where it was when the retreat ended; then how
+  /// far it is from where the plan put it.
   bool rest() {
     const Eigen::VectorXd target = plan_.place->positions.back();
-    for (int s = 0; s < stepsOf(plan_.rest.duration, options().timestep); ++s)
+    const Eigen::Isometry3d start = bodyPose(*data_, plan_.index.object_body);
+    for (int s = 0; s < stepsOf(plan_.rest.duration, options().timestep); ++s) {
       if (!stepAndWatch(target, "rest")) return false;
+      const Eigen::Isometry3d now = bodyPose(*data_, plan_.index.object_body);
+      stand_displacement_ =
+          std::max(stand_displacement_, (now * centreOfMass() - start * centreOfMass()).norm());
+      stand_rotation_ = std::max(
+          stand_rotation_, Eigen::AngleAxisd(start.linear().transpose() * now.linear()).angle());
+    }
     const Eigen::Isometry3d now = bodyPose(*data_, plan_.index.object_body);
     const Eigen::Isometry3d& planned = plan_.place->place_pose;
     place_displacement_ = (now * centreOfMass() - planned * centreOfMass()).norm();
@@ -128,7 +142,9 @@ class Trial {
   }
 
   /// One step towards `target` with the object watched from where it was
-  /// released: the rest check's limits (RestOptions).
+  /// released: the first time it goes beyond the rest check's limits
+  /// (RestOptions) is the failure; the simulation goes on to see whether it
+  /// stands after the retreat. False only when the simulation diverged.
   bool stepAndWatch(const Eigen::VectorXd& target, const std::string& phase) {
     step(target, phase.c_str());
     if (unstable(phase)) return false;
@@ -138,9 +154,9 @@ class Trial {
     rest_displacement_ = std::max(rest_displacement_, moved);
     rest_rotation_ = std::max(rest_rotation_, turned);
     if (moved > plan_.rest.max_displacement)
-      return fail(phase + ": object moved " + millimetres(moved) + " from where it was released");
+      fail(phase + ": object moved " + millimetres(moved) + " from where it was released");
     if (turned > plan_.rest.max_rotation)
-      return fail(phase + ": object turned " + degrees(turned) + " from where it was released");
+      fail(phase + ": object turned " + degrees(turned) + " from where it was released");
     return true;
   }
 
@@ -368,6 +384,8 @@ class Trial {
   Eigen::Isometry3d released_ = Eigen::Isometry3d::Identity();  ///< the object as the hand opens
   double rest_displacement_ = 0.0;
   double rest_rotation_ = 0.0;
+  double stand_displacement_ = 0.0;  ///< in the rest after the retreat
+  double stand_rotation_ = 0.0;
   double place_displacement_ = 0.0;
   double place_rotation_ = 0.0;
 };

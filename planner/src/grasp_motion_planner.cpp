@@ -26,11 +26,6 @@ namespace {
 ValidationRequest validationRequest(const PlanningWorld& world, const PlanRequest& request,
                                     const PlanResult& plan);
 
-/// The pick and place of a plan simulated whole, with the request's
-/// simulation options (defined with validatePlan).
-physics::PlaceVerdict simulatePlace(const PlanningWorld& world, const PlanRequest& request,
-                                    const PlanResult& plan);
-
 /// One search of the request over its shared problem (`problem`, with its
 /// seed): from `result` (the request's fields filled) to the plan. The
 /// planning time counts the teardown of everything this builds (trees,
@@ -71,9 +66,12 @@ PlanResult search(std::chrono::steady_clock::time_point began, const SharedProbl
                    problem.object.name, shared.scene.target_pose, result.path.back());
   std::optional<PlaceOutcome> placed;
   if (place) {
+    const auto placing = std::chrono::steady_clock::now();
     placed =
         planPlace(problem, *place, request.place_search, *hold, result.path[result.path.size() - 2],
                   result.path.back(), *result.lift, request.trajectory_rate, ptc);
+    result.stats.place_time =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - placing).count();
     result.place_rejected = placed->rejected;
     result.stats.iterations += placed->iterations;
     result.stats.goal_sampling_calls += placed->goal_sampling_calls;
@@ -216,6 +214,17 @@ Validation validatePlan(const PlanningWorld& world, const PlanRequest& request,
   return validation;
 }
 
+physics::PlaceVerdict simulatePlace(const PlanningWorld& world, const PlanRequest& request,
+                                    const PlanResult& plan) {
+  robot::Scene scene = request.scene;
+  scene.target_object = objectNameOf(request);
+  scene.target_pose = plan.object_pose;
+  scene.target_rest_on.clear();
+  return physics::simulatePickAndPlace(
+      world.collisionModel(), scene, *world.object(scene.target_object),
+      plan.path[plan.path.size() - 2], plan.path.back(), placeMotion(plan), request.simulation);
+}
+
 physics::PlaceMotion placeMotion(const PlanResult& plan) {
   if (!plan.place || !plan.lift || plan.trajectory.points.empty())
     throw InvalidArgument("plan", "only a pick and place with a trajectory has a place motion");
@@ -251,17 +260,6 @@ ValidationRequest validationRequest(const PlanningWorld& world, const PlanReques
   v.check.resolution = settings.execution.final_resolution;
   v.check.friction = settings.paper.friction;
   return v;
-}
-
-physics::PlaceVerdict simulatePlace(const PlanningWorld& world, const PlanRequest& request,
-                                    const PlanResult& plan) {
-  robot::Scene scene = request.scene;
-  scene.target_object = objectNameOf(request);
-  scene.target_pose = plan.object_pose;
-  scene.target_rest_on.clear();
-  return physics::simulatePickAndPlace(
-      world.collisionModel(), scene, *world.object(scene.target_object),
-      plan.path[plan.path.size() - 2], plan.path.back(), placeMotion(plan), request.simulation);
 }
 
 }  // namespace

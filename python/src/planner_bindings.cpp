@@ -160,6 +160,36 @@ planner::PlanResult planInterruptibly(const PlanningWorld& world,
   return done.get();
 }
 
+/// `place`: {"on": obstacle, "area": ((x0, y0), (x1, y1)), "upright":
+/// bool, "search": "coupled" | "decoupled"}, as the service's.
+void placeOf(const py::dict& place, planner::PlanRequest& r) {
+  planner::PlaceGoal goal;
+  for (const auto& [key, value] : place) {
+    const std::string name = py::str(key).cast<std::string>();
+    if (name == "on") {
+      goal.on = value.cast<std::string>();
+    } else if (name == "area") {
+      const auto corners = value.cast<std::vector<std::vector<double>>>();
+      if (corners.size() != 2 || corners[0].size() != 2 || corners[1].size() != 2)
+        throw InvalidArgument("place.area", "must be ((x_min, y_min), (x_max, y_max))");
+      goal.area = Eigen::AlignedBox2d(Eigen::Vector2d(corners[0][0], corners[0][1]),
+                                      Eigen::Vector2d(corners[1][0], corners[1][1]));
+    } else if (name == "upright") {
+      goal.upright = value.cast<bool>();
+    } else if (name == "search") {
+      const std::string search = value.cast<std::string>();
+      if (search != "coupled" && search != "decoupled")
+        throw InvalidArgument("place.search", "must be \"coupled\" or \"decoupled\"");
+      r.place_search =
+          search == "coupled" ? planner::PlaceSearch::kCoupled : planner::PlaceSearch::kDecoupled;
+    } else {
+      throw InvalidArgument("place." + name, "unknown key (known: on, area, upright, search)");
+    }
+  }
+  if (goal.on.empty()) throw InvalidArgument("place.on", "names the obstacle to place on");
+  r.place = goal;
+}
+
 Plan plan(std::shared_ptr<PlanningWorld> world, const robot::Scene& scene,
           const std::string& object, const std::optional<DoubleArray>& objectPose,
           const std::optional<Eigen::VectorXd>& start,
@@ -168,7 +198,7 @@ Plan plan(std::shared_ptr<PlanningWorld> world, const robot::Scene& scene,
           const std::optional<int>& iterations, const py::object& seed, double timeLimit,
           const py::dict& parameters, double trajectoryRate, bool explored, bool validate,
           const std::optional<physics::SimulationOptions>& simulation, Cancel* cancel,
-          const py::object& lift) {
+          const py::object& lift, const std::optional<py::dict>& place) {
   Plan out;
   out.world = world;
   planner::PlanRequest& r = out.request;
@@ -203,6 +233,7 @@ Plan plan(std::shared_ptr<PlanningWorld> world, const robot::Scene& scene,
     throw InvalidArgument("lift", "must be None, True, False or a height in metres");
   }
   if (r.lift && !r.goals.empty()) r.lift.reset();  // a motion plan holds no object
+  if (place) placeOf(*place, r);
   out.result = planInterruptibly(*world, r, cancel);
   return out;
 }
@@ -217,6 +248,7 @@ py::object validate(const Plan& p, const std::optional<physics::SimulationOption
   }
   nlohmann::json out = {{"holds", v.holds()}, {"check", service::graspCheckToJson(v.check)}};
   if (v.physics) out["physics"] = service::physicsToJson(*v.physics, /*motion=*/true);
+  if (v.place) out["place_physics"] = service::placePhysicsToJson(*v.place);
   return toPython(out);
 }
 
@@ -245,7 +277,8 @@ Trajectory timeParameterize(const robot::RobotModel& robot, const DoubleArray& p
   out.trajectory.points = t.sample(rate);
   out.trajectory.duration = t.duration();
   out.trajectory.closing_start = t.duration();
-  out.trajectory.lift_start = t.duration();
+  out.trajectory.lift_start = out.trajectory.carry_start = out.trajectory.place_start =
+      out.trajectory.release_start = out.trajectory.retreat_start = t.duration();
   out.trajectory.deviation = t.deviation();
   return out;
 }
@@ -289,6 +322,18 @@ void bindPlanner(py::module_& m) {
       .def_property_readonly(
           "lift_start", [](const Trajectory& t) { return t.trajectory.lift_start; },
           "When the palm starts lifting the object (the duration without a lift).")
+      .def_property_readonly(
+          "carry_start", [](const Trajectory& t) { return t.trajectory.carry_start; },
+          "A pick and place's: when the carry starts (the lift's end; the duration without).")
+      .def_property_readonly(
+          "place_start", [](const Trajectory& t) { return t.trajectory.place_start; },
+          "When the palm descends to put the object down (the duration without a place).")
+      .def_property_readonly(
+          "release_start", [](const Trajectory& t) { return t.trajectory.release_start; },
+          "When the hand opens (the duration without a place).")
+      .def_property_readonly(
+          "retreat_start", [](const Trajectory& t) { return t.trajectory.retreat_start; },
+          "When the open hand retreats (the duration without a place).")
       .def_property_readonly("deviation",
                              [](const Trajectory& t) { return t.trajectory.deviation; })
       .def(
@@ -342,6 +387,21 @@ void bindPlanner(py::module_& m) {
           },
           "The lift from the grasp (dict: direction, path one configuration per row, the grasp "
           "first), the object in the hand; None without one.")
+      .def_property_readonly(
+          "place",
+          [](const Plan& p) -> py::object {
+            if (!p.request.place) return py::none();
+            return toPython(p.json()["place"]);
+          },
+          "A pick and place's placement (dict: object_pose, face_normal, tipping_angle, carry, "
+          "descent, open, retreat, retreat_direction, rest); None without one or when it failed.")
+      .def_property_readonly(
+          "place_rejected",
+          [](const Plan& p) -> py::object {
+            if (!p.request.place) return py::none();
+            return toPython(p.json()["place_rejected"]);
+          },
+          "A pick and place's placements tried without a goal, by reason (dict).")
       .def_property_readonly(
           "grasp", [](const Plan& p) { return toPython(p.json()["grasp"]); },
           "The grasp as executed (dict; None for a failed or motion plan): contacts with inward "
@@ -438,10 +498,13 @@ void bindPlanner(py::module_& m) {
            py::arg("trajectory_rate") = 100.0, py::arg("explored") = false,
            py::arg("validate") = false, py::arg("simulation") = py::none(),
            py::arg("cancel") = py::none(), py::arg("lift") = py::none(),
+           py::arg("place") = py::none(),
            "Plans a grasp of `object` (default the scene's target) and a path to it (or, with "
            "goals, a path to one of them), then a lift of the object clear of its support "
            "(`lift`: None, the default height but none with preset 'paper'; True, the default "
-           "height; False, none; a number, the height in m). The GIL "
+           "height; False, none; a number, the height in m), and with `place` (dict: on, "
+           "area, upright, search) the carry to a stable placement, the release and the "
+           "retreat (docs/placement.md). The GIL "
            "is released while it plans. Raises InvalidArgument naming the field for a malformed "
            "request.")
       .def(

@@ -92,6 +92,36 @@ std::optional<planner::LiftOptions> liftOf(const JsonFields& f) {
   return o;
 }
 
+/// `place`: {"on": obstacle, "area": {"min": [x, y], "max": [x, y]},
+/// "upright": bool, "search": "coupled" | "decoupled"}, the region checked
+/// against the scene.
+void placeOf(const JsonFields& f, planner::PlanRequest& r) {
+  if (!f.at("place").is_object()) f.fail("place", "must be an object {\"on\": obstacle, ...}");
+  const JsonFields p(f.at("place"), "place");
+  p.allowOnly({"on", "area", "upright", "search"});
+  planner::PlaceGoal goal;
+  goal.on = p.string("on");
+  if (p.has("area")) {
+    if (!p.at("area").is_object()) p.fail("area", "must be {\"min\": [x, y], \"max\": [x, y]}");
+    const JsonFields a(p.at("area"), "place.area");
+    a.allowOnly({"min", "max"});
+    const Eigen::VectorXd low = a.numbers("min", 2), high = a.numbers("max", 2);
+    goal.area = Eigen::AlignedBox2d(low.head<2>(), high.head<2>());
+  }
+  if (p.has("upright")) goal.upright = p.boolean("upright");
+  const std::string search = p.has("search") ? p.string("search") : "coupled";
+  if (search == "decoupled")
+    r.place_search = planner::PlaceSearch::kDecoupled;
+  else if (search != "coupled")
+    p.fail("search", "must be \"coupled\" (the default) or \"decoupled\", got \"" + search + "\"");
+  try {
+    planner::placeRegion(r.scene, goal);
+  } catch (const InvalidArgument& e) {
+    throwInvalidParam(e.field(), e.problem());
+  }
+  r.place = goal;
+}
+
 physics::SimulationOptions simulationOptionsOf(const JsonFields& f) {
   if (!f.at("physics").is_object()) f.fail("physics", "must be an object");
   const JsonFields p(f.at("physics"), "physics");
@@ -199,9 +229,10 @@ PlanExtras planExtras(const json& params) {
 planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatalog& catalog,
                                          const PlanLimits& limits) {
   const JsonFields f(params, "");
-  f.allowOnly({"robot", "scene", "object", "object_pose", "start", "time_limit", "algorithm",
-               "iterations", "seed", "parameters", "trajectory_rate", "gltf", "format", "explored",
-               "validate", "physics", "goal", "goals", "lift"});
+  f.allowOnly({"robot",           "scene",     "object",     "object_pose", "start",
+               "time_limit",      "algorithm", "iterations", "seed",        "parameters",
+               "trajectory_rate", "gltf",      "format",     "explored",    "validate",
+               "physics",         "goal",      "goals",      "lift",        "place"});
   const CatalogRobot& planned = requestedRobot(params, catalog);
   const bool motion = f.has("goal") || f.has("goals");
   if (!motion && !planned.model().hasHand())
@@ -251,6 +282,11 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
   if (f.has("lift")) {
     if (motion) f.fail("lift", "a motion plan (goal, goals) holds no object to lift");
     r.lift = liftOf(f);
+  }
+  if (f.has("place")) {
+    if (motion) f.fail("place", "a motion plan (goal, goals) holds no object to place");
+    if (!r.lift) f.fail("place", "a pick and place lifts the object first: the lift must be on");
+    placeOf(f, r);
   }
   if (f.has("trajectory_rate")) {
     r.trajectory_rate = f.finite("trajectory_rate");

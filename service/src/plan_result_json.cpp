@@ -53,9 +53,42 @@ json trajectoryJson(const planner::GraspTrajectory& t, const std::vector<std::st
                       {"velocities", vectorJson(p.velocities)},
                       {"accelerations", vectorJson(p.accelerations)},
                       {"time_from_start", p.time}});
-  return {{"joint_names", jointNames},  {"points", std::move(points)},
-          {"duration", t.duration},     {"closing_start", t.closing_start},
-          {"lift_start", t.lift_start}, {"deviation", t.deviation}};
+  return {{"joint_names", jointNames},        {"points", std::move(points)},
+          {"duration", t.duration},           {"closing_start", t.closing_start},
+          {"lift_start", t.lift_start},       {"carry_start", t.carry_start},
+          {"place_start", t.place_start},     {"release_start", t.release_start},
+          {"retreat_start", t.retreat_start}, {"deviation", t.deviation}};
+}
+
+json pathJson(const std::vector<Eigen::VectorXd>& path) {
+  json out = json::array();
+  for (const Eigen::VectorXd& q : path) out.push_back(vectorJson(q));
+  return out;
+}
+
+json placementJson(const planner::Placement& p) {
+  return {{"object_pose", poseJson(p.object_pose)},
+          {"face_normal", vectorJson(p.face_normal)},
+          {"tipping_angle", p.tipping_angle},
+          {"carry", pathJson(p.carry)},
+          {"descent", pathJson(p.descent)},
+          {"open", vectorJson(p.open)},
+          {"retreat", pathJson(p.retreat)},
+          {"retreat_direction", p.retreat_direction},
+          {"rest",
+           {{"stable", p.rest.stable},
+            {"displacement", p.rest.displacement},
+            {"rotation", p.rest.rotation}}}};
+}
+
+json placeRejectedJson(const planner::PlaceRejections& r) {
+  return {{"unsupported", r.unsupported},
+          {"no_arm_ik", r.no_arm_ik},
+          {"colliding", r.colliding},
+          {"descent_blocked", r.descent_blocked},
+          {"release_blocked", r.release_blocked},
+          {"retreat_blocked", r.retreat_blocked},
+          {"unstable", r.unstable}};
 }
 
 json exploredJson(const std::vector<planner::ExploredNode>& nodes) {
@@ -109,18 +142,21 @@ json planResultToJson(const planner::PlanResult& result, const planner::PlanRequ
               {"stats", statsJson(result.stats)}};
   if (!request.goals.empty())
     out["reached_goal"] = result.reached_goal ? json(*result.reached_goal) : json();
-  else if (result.lift) {
-    json lift = json::array();
-    for (const Eigen::VectorXd& q : result.lift->path) lift.push_back(vectorJson(q));
-    out["lift"] = {{"direction", result.lift->direction}, {"path", std::move(lift)}};
-  } else {
+  else if (result.lift)
+    out["lift"] = {{"direction", result.lift->direction}, {"path", pathJson(result.lift->path)}};
+  else
     out["lift"] = json();
+  if (request.place) {
+    out["place"] = result.place ? placementJson(*result.place) : json();
+    out["place_rejected"] = placeRejectedJson(result.place_rejected);
   }
   if (request.explored) out["explored"] = exploredJson(result.explored);
   if (result.validation) {
     out["validation"] = graspCheckToJson(result.validation->check);
     if (result.validation->physics)
       out["physics"] = physicsToJson(*result.validation->physics, /*motion=*/true);
+    if (result.validation->place)
+      out["place_physics"] = placePhysicsToJson(*result.validation->place);
   }
   return out;
 }

@@ -46,6 +46,26 @@ json physicsToJson(const physics::GraspVerdict& verdict, bool motion) {
   return out;
 }
 
+json placePhysicsToJson(const physics::PlaceVerdict& v) {
+  json motion = json::array();
+  for (const physics::MotionSample& s : v.motion)
+    motion.push_back({{"time", s.time}, {"phase", s.phase}, {"pose", poseJson(s.object)}});
+  return {{"held", v.held},
+          {"placed", v.placed},
+          {"stood", v.stood},
+          {"failure", v.failure},
+          {"max_displacement", v.max_displacement},
+          {"max_rotation", v.max_rotation},
+          {"rest_displacement", v.rest_displacement},
+          {"rest_rotation", v.rest_rotation},
+          {"stand_displacement", v.stand_displacement},
+          {"stand_rotation", v.stand_rotation},
+          {"place_displacement", v.place_displacement},
+          {"place_rotation", v.place_rotation},
+          {"simulated_time", v.simulated_time},
+          {"motion", std::move(motion)}};
+}
+
 planner::ValidationRequest validationRequestFromPlan(const json& plan, robot::Scene scene,
                                                      const robot::RobotModel& robot) {
   const JsonFields f(plan, "");

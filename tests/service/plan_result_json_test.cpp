@@ -108,7 +108,7 @@ TEST(PlanResultJson, EchoesTheRequestAndStatistics) {
   EXPECT_EQ(j.at("stats").at("planning_time"), 0.5);
   EXPECT_EQ(j.at("stats").at("iterations"), 42);
   EXPECT_EQ(j.at("stats").at("path_length_smoothed"), 1.5);
-  EXPECT_EQ(j.at("stats").size(), 29u);
+  EXPECT_EQ(j.at("stats").size(), 30u);
   EXPECT_EQ(j.at("stats").at("smoothing_time"), 0.0);
   EXPECT_FALSE(j.contains("reached_goal")) << "a grasp plan has no motion goal";
   EXPECT_EQ(j.at("stats").at("certificate_queries"), 1234);

@@ -177,6 +177,11 @@ struct PlaceVerdict {
   /// after it the object stays within their distance and turn of where it
   /// was released (issue 48's "stays within 1 cm and 5 degrees").
   bool placed = false;
+  /// Held, and in the rest after the retreat the object stays within the
+  /// rest options' limits of where it was when the retreat ended: it
+  /// stands, maybe after settling from a tilt the hand held it at (a
+  /// looser reading of "stable at the place" than `placed`).
+  bool stood = false;
   /// The first failure, "<phase>: <what happened>" ("carry: object
   /// slipped 23 mm in the palm", "release: object moved 14 mm from where
   /// it was released"); empty when placed.
@@ -186,6 +191,10 @@ struct PlaceVerdict {
   /// Largest distance and turn from where it was released (m, rad).
   double rest_displacement = 0.0;
   double rest_rotation = 0.0;
+  /// Largest distance and turn in the rest after the retreat from where
+  /// it was when the rest began (m, rad).
+  double stand_displacement = 0.0;
+  double stand_rotation = 0.0;
   /// Of the object's centre of mass and orientation at the end from the
   /// planned place pose (m, rad): how far from the plan it ended (the
   /// in-hand slip, the servos' lag), reported, not judged.

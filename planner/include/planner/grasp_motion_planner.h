@@ -79,4 +79,10 @@ std::vector<Eigen::Isometry3d> objectAlongTrajectory(const PlanningWorld& world,
 /// InvalidArgument ("plan") for a plan without a placement or trajectory.
 physics::PlaceMotion placeMotion(const PlanResult& plan);
 
+/// A pick and place simulated whole (physics::simulatePickAndPlace of its
+/// placeMotion) with the request's simulation options: what
+/// Validation::place holds. Throws InvalidArgument ("plan") as placeMotion.
+physics::PlaceVerdict simulatePlace(const PlanningWorld& world, const PlanRequest& request,
+                                    const PlanResult& plan);
+
 }  // namespace hfts::planner

@@ -105,6 +105,9 @@ struct PlanStatistics {
   /// checks (final_check_time is part of it); the rest of planning_time is
   /// set-up, search and the result (trajectory, physics).
   double smoothing_time = 0.0;
+  /// s: a pick and place's place stage (the placement search and the
+  /// carry's, its checks, its trajectory), part of planning_time.
+  double place_time = 0.0;
   GraspRejections rejected;  ///< leaf grasps that gave no goal, by reason
 };
 
@@ -138,6 +141,7 @@ void forEachStatistic(const PlanStatistics& s, F&& f) {
   f("final_check_time", s.final_check_time);
   f("certificate_queries", s.certificate_queries);
   f("smoothing_time", s.smoothing_time);
+  f("place_time", s.place_time);
   f("rejected_unstable", s.rejected.unstable);
   f("rejected_no_arm_ik", s.rejected.no_arm_ik);
   f("rejected_out_of_hand_reach", s.rejected.out_of_hand_reach);

@@ -21,6 +21,10 @@ nlohmann::json graspCheckToJson(const planner::GraspCheck& check);
 /// [{"time", "phase", "pose"}] (for a viewer).
 nlohmann::json physicsToJson(const physics::GraspVerdict& verdict, bool motion);
 
+/// A pick and place simulated whole (physics::PlaceVerdict), with its
+/// object's motion: a plan's "place_physics".
+nlohmann::json placePhysicsToJson(const physics::PlaceVerdict& verdict);
+
 /// What to validate of a plan result (the `plan` method's JSON, as
 /// hfts-client --out saves it): its last two configurations of "path"
 /// (numDofs() numbers each) and "object_pose", placed in `scene` (the
