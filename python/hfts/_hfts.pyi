@@ -314,6 +314,7 @@ class World:
         simulation: Optional[SimulationOptions] = None,
         cancel: Optional[Cancel] = None,
         lift: Union[None, bool, float] = None,
+        place: Optional[Dict[str, Any]] = None,
     ) -> Plan:
         """Plans a grasp of `object` and a path to it, or with goals a path to one of them."""
     def validate(self, plan: Plan, simulation: Optional[SimulationOptions] = None) -> _Json:
@@ -473,6 +474,18 @@ class Trajectory:
     def lift_start(self) -> float:
         """When the palm starts lifting the object (the duration without a lift)."""
     @property
+    def carry_start(self) -> float:
+        """A pick and place's: when the carry starts (the duration without)."""
+    @property
+    def place_start(self) -> float:
+        """When the palm descends to put the object down (the duration without a place)."""
+    @property
+    def release_start(self) -> float:
+        """When the hand opens (the duration without a place)."""
+    @property
+    def retreat_start(self) -> float:
+        """When the open hand retreats (the duration without a place)."""
+    @property
     def deviation(self) -> float:
         """Largest distance (rad) of the approach from the planned path."""
     def to_ros(self) -> _Json:
@@ -509,6 +522,12 @@ class Plan:
     @property
     def lift(self) -> Optional[_Json]:
         """The lift from the grasp: {direction, path}; None without one."""
+    @property
+    def place(self) -> Optional[_Json]:
+        """A pick and place's placement: object_pose, carry, descent, open, retreat, rest, ..."""
+    @property
+    def place_rejected(self) -> Optional[_Json]:
+        """A pick and place's placements tried without a goal, by reason."""
     @property
     def grasp(self) -> Optional[_Json]:
         """The grasp as executed (None for a failed or motion plan)."""

@@ -83,6 +83,8 @@ class Errors(unittest.TestCase):
         self.assertField("parameters.i_min", WORLD.plan, TABLE, settings=settings)
         self.assertField("lift.height", WORLD.plan, TABLE, lift=0.0)
         self.assertField("lift", WORLD.plan, TABLE, lift="up")
+        self.assertField("place.on", WORLD.plan, TABLE, place={"on": "floor"})
+        self.assertField("place.colour", WORLD.plan, TABLE, place={"on": "table", "colour": 1})
         self.assertField("parameters.p_max", settings.set, "p_max", 2.0)
 
     def test_other_arguments(self):
@@ -367,6 +369,30 @@ class Results(unittest.TestCase):
         self.assertLess(t.closing_start, t.lift_start)
         limit = WORLD.robot.max_velocities * (1 + 1e-6)
         self.assertTrue((np.abs(t.velocities) <= limit).all())
+
+    def test_pick_and_place(self):
+        area = ((0.30, -0.42), (0.42, -0.30))
+        plan = WORLD.plan(TABLE, seed=1, time_limit=30, parameters=NO_PHYSICS,
+                          place={"on": "table", "area": area})
+        self.assertTrue(plan.success, plan.message)
+        place = plan.place
+        # The mug's origin is within 8 cm of its centre of mass, which is in the area.
+        x, y = place["object_pose"]["position"][:2]
+        self.assertTrue(area[0][0] - 0.08 <= x <= area[1][0] + 0.08, x)
+        self.assertTrue(area[0][1] - 0.08 <= y <= area[1][1] + 0.08, y)
+        np.testing.assert_allclose(place["carry"][0], plan.lift["path"][-1], atol=1e-12)
+        np.testing.assert_allclose(place["carry"][-1], place["descent"][0], atol=1e-12)
+        self.assertTrue(place["rest"]["stable"])
+        t = plan.trajectory
+        self.assertLess(t.lift_start, t.carry_start)
+        self.assertLess(t.carry_start, t.place_start)
+        self.assertLess(t.place_start, t.release_start)
+        self.assertLess(t.release_start, t.retreat_start)
+        np.testing.assert_allclose(t.positions[-1], place["retreat"][-1], atol=1e-9)
+        self.assertEqual(set(plan.place_rejected), {"unsupported", "no_arm_ik", "colliding",
+                                                    "descent_blocked", "release_blocked",
+                                                    "retreat_blocked", "unstable"})
+        self.assertIsNone(self.plan.place)
 
     def test_time_parameterize(self):
         robot = WORLD.robot

@@ -105,6 +105,42 @@ TEST(PlanRequestJson, LiftIsOnByDefaultButForThePapersPlanner) {
                  "no object to lift");
 }
 
+TEST(PlanRequestJson, APlaceGoalIsARegionOfTheScenesSupports) {
+  const planner::PlanRequest plain = parse({{"scene", "table"}});
+  EXPECT_FALSE(plain.place.has_value());
+  const planner::PlanRequest place = parse(
+      {{"scene", "table"},
+       {"place",
+        {{"on", "table"},
+         {"area", {{"min", {0.3, -0.4}}, {"max", {0.4, -0.3}}}},
+         {"upright", true},
+         {"search", "decoupled"}}}});
+  ASSERT_TRUE(place.place.has_value());
+  EXPECT_EQ(place.place->on, "table");
+  ASSERT_TRUE(place.place->area.has_value());
+  EXPECT_EQ(place.place->area->min(), Eigen::Vector2d(0.3, -0.4));
+  EXPECT_EQ(place.place->area->max(), Eigen::Vector2d(0.4, -0.3));
+  EXPECT_TRUE(place.place->upright);
+  EXPECT_EQ(place.place_search, planner::PlaceSearch::kDecoupled);
+  EXPECT_EQ(parse({{"scene", "table"}, {"place", {{"on", "table"}}}}).place_search,
+            planner::PlaceSearch::kCoupled);
+  expectRejected({{"scene", "table"}, {"place", {{"on", "shelf_board"}}}}, "place.on",
+                 "no obstacle 'shelf_board'");
+  expectRejected({{"scene", "table"}, {"place", {{"on", "can_left"}}}}, "place.on", "not a box");
+  expectRejected({{"scene", "table"},
+                  {"place", {{"on", "table"}, {"area", {{"min", {3, 3}}, {"max", {4, 4}}}}}}},
+                 "place.area", "off the top");
+  expectRejected({{"scene", "table"}, {"place", {{"on", "table"}, {"search", "random"}}}},
+                 "place.search", "coupled");
+  expectRejected({{"scene", "table"}, {"place", {{"on", "table"}, {"height", 1}}}},
+                 "place.height", "");
+  expectRejected({{"scene", "table"}, {"place", "table"}}, "place", "must be an object");
+  expectRejected({{"scene", "table"}, {"lift", false}, {"place", {{"on", "table"}}}}, "place",
+                 "lift");
+  expectRejected({{"scene", "table"}, {"goal", {{"joints", start()}}}, {"place", {{"on", "table"}}}},
+                 "place", "no object to place");
+}
+
 TEST(PlanRequestJson, CapsTheTimeLimit) {
   EXPECT_EQ(parse({{"scene", "bin"}, {"time_limit", 100}}, 10.0).time_limit, 10.0);
   EXPECT_EQ(parse({{"scene", "bin"}}, 10.0).time_limit, 10.0);

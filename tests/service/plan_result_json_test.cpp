@@ -89,6 +89,42 @@ TEST(PlanResultJson, CarriesTheLift) {
   EXPECT_DOUBLE_EQ(lift.at("path")[1][1].get<double>(), test::kr5Sdh().home()(1) * 0.5);
 }
 
+TEST(PlanResultJson, CarriesThePlacementOfAPickAndPlace) {
+  planner::PlanResult result = success();
+  EXPECT_FALSE(planResultToJson(result, request()).contains("place"));
+  planner::PlanRequest r = request();
+  r.place = planner::PlaceGoal{"table", std::nullopt, false};
+  EXPECT_TRUE(planResultToJson(result, r).at("place").is_null());
+  result.place_rejected.descent_blocked = 3;
+  planner::Placement p;
+  p.object_pose = Eigen::Isometry3d(Eigen::Translation3d(0.4, -0.3, 0.001));
+  p.tipping_angle = 0.5;
+  const Eigen::VectorXd home = test::kr5Sdh().home();
+  p.carry = {home, home * 0.5};
+  p.descent = {home * 0.5, home * 0.25};
+  p.open = home * 0.25;
+  p.retreat = {home * 0.25, home * 0.125};
+  p.retreat_direction = "back";
+  p.rest.stable = true;
+  p.rest.displacement = 0.0005;
+  result.place = p;
+  result.trajectory.points.push_back({0.0, home, home, home});
+  result.trajectory.release_start = 2.5;
+  const json j = planResultToJson(result, r);
+  const json& place = j.at("place");
+  EXPECT_EQ(place.at("object_pose").at("position"), json({0.4, -0.3, 0.001}));
+  EXPECT_EQ(place.at("tipping_angle"), 0.5);
+  EXPECT_EQ(place.at("carry").size(), 2u);
+  EXPECT_DOUBLE_EQ(place.at("descent")[1][1].get<double>(), home(1) * 0.25);
+  EXPECT_EQ(place.at("open").size(), 13u);
+  EXPECT_EQ(place.at("retreat_direction"), "back");
+  EXPECT_EQ(place.at("rest").at("stable"), true);
+  EXPECT_EQ(place.at("rest").at("displacement"), 0.0005);
+  EXPECT_EQ(j.at("place_rejected").at("descent_blocked"), 3);
+  EXPECT_EQ(j.at("place_rejected").size(), 7u);
+  EXPECT_EQ(j.at("trajectory").at("release_start"), 2.5);
+}
+
 TEST(PlanResultJson, EchoesTheRequestAndStatistics) {
   planner::PlanRequest r = request();
   r.algorithm = planner::PlanAlgorithm::kDecoupled;
