@@ -89,6 +89,7 @@ double median(std::vector<double> values) {
 std::string csvOf(const std::vector<PlaceRun>& runs, const std::string& robot, bool physics) {
   std::ostringstream csv;
   csv << "task,robot,search,seed,success,planned,reason,held,placed,stood,physics_failure,time,"
+         "place_time,"
          "duration,rest_displacement,rest_rotation,place_displacement,placements_rejected\n";
   for (const PlaceRun& r : runs) {
     std::string failure = r.physics_failure;

@@ -155,14 +155,30 @@ void printPlan(const json& plan, std::ostream& out) {
     if (const json& c = plan.value("clearance", json()); c.is_number())
       out << "path proven free (certify_path); the nearest distance its proofs measured: "
           << c.get<double>() * 1000 << " mm\n";
+    if (const json& place = plan.value("place", json()); place.is_object())
+      out << "place: on " << numbers(place.at("object_pose").at("position"), 3) << " after a "
+          << place.at("carry").size() << "-waypoint carry, retreat "
+          << place.at("retreat_direction").get<std::string>() << "; released alone there it "
+          << (place.at("rest").at("stable").get<bool>() ? "stays" : "does NOT stay") << "\n";
     if (const json& t = plan.value("trajectory", json()); t.is_object()) {
       out << "trajectory: " << t.at("duration").get<double>() << " s, " << t.at("points").size()
           << " points";
       if (!goal.is_number())
         out << ", the hand closes from " << t.at("closing_start").get<double>() << " s";
+      if (plan.value("place", json()).is_object())
+        out << ", carries from " << t.at("carry_start").get<double>() << " s, opens from "
+            << t.at("release_start").get<double>() << " s";
       out << "\n";
     }
     if (plan.contains("physics")) printPhysics(plan.at("validation"), plan.at("physics"), out);
+    if (const json& p = plan.value("place_physics", json()); p.is_object())
+      out << "pick and place in physics: "
+          << (p.at("held").get<bool>() ? "held through the carry" : "NOT held through the carry")
+          << ", " << (p.at("placed").get<bool>() ? "stayed where released" : "did NOT stay")
+          << (p.at("failure").get<std::string>().empty()
+                  ? std::string()
+                  : " (" + p.at("failure").get<std::string>() + ")")
+          << "\n";
   } else {
     out << "plan: no plan, " << plan.at("reason").get<std::string>() << ": "
         << plan.at("message").get<std::string>() << " (" << what << ") after "

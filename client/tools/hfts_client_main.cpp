@@ -51,6 +51,10 @@ struct PlanOptions {
   bool explored = false;
   bool validate = false;
   std::uint64_t seed = 1;
+  /// Pick and place: the support to place on, its area, upright, the search.
+  std::string place, place_search;
+  std::vector<double> place_area;
+  bool place_upright = false;
 };
 
 struct QualityOptions {
@@ -166,6 +170,15 @@ json planParams(const PlanOptions& p, const CLI::App& cmd) {
   if (!p.ros.empty()) params["format"] = "ros";
   if (p.explored) params["explored"] = true;
   if (p.validate) params["validate"] = true;
+  if (!p.place.empty()) {
+    json place = {{"on", p.place}};
+    if (!p.place_area.empty())
+      place["area"] = {{"min", {p.place_area[0], p.place_area[1]}},
+                       {"max", {p.place_area[2], p.place_area[3]}}};
+    if (p.place_upright) place["upright"] = true;
+    if (!p.place_search.empty()) place["search"] = p.place_search;
+    params["place"] = std::move(place);
+  }
   if (!p.parameters.empty()) {
     params["parameters"] = json::object();
     for (const std::string& a : p.parameters) addParameter(params["parameters"], a);
@@ -215,6 +228,17 @@ void addPlanOptions(CLI::App& cmd, PlanOptions& p) {
                "Include the HFTS nodes the goal sampler visited (coupled; the viewer draws them)");
   cmd.add_flag("--validate", p.validate,
                "Check the grasp as executed again and simulate it: does it hold? (seconds)");
+  auto* place = cmd.add_option("--place", p.place,
+                                "Pick and place: put the object down on this obstacle's top "
+                                "(docs/placement.md)");
+  cmd.add_option("--place-area", p.place_area, "With --place: x_min,y_min,x_max,y_max (world)")
+      ->delimiter(',')
+      ->expected(4)
+      ->needs(place);
+  cmd.add_flag("--place-upright", p.place_upright, "With --place: stand the object upright")
+      ->needs(place);
+  cmd.add_option("--place-search", p.place_search, "With --place: coupled (default) or decoupled")
+      ->needs(place);
   cmd.add_option("--gltf", p.gltf, "Write the plan as an animated binary glTF to FILE (.glb)")
       ->type_name("FILE");
   cmd.add_option("--ros", p.ros,

@@ -142,6 +142,12 @@ std::vector<Eigen::VectorXd> PlacementSampler::prePlaces(const Eigen::Isometry3d
   return free;
 }
 
+bool PlacementSampler::handFits(const Eigen::Isometry3d& pose) const {
+  const robot::RobotModel& robot = context_.checker->model();
+  return !context_.checker->handInCollision(pose * context_.object_in_palm.inverse(),
+                                            context_.start.tail(robot.numHandDofs()), {});
+}
+
 std::vector<CachedConfiguration> PlacementSampler::configurationsOf(int face,
                                                                     const Eigen::Isometry3d& pose,
                                                                     bool leaf) {
@@ -149,6 +155,12 @@ std::vector<CachedConfiguration> PlacementSampler::configurationsOf(int face,
   const bool stands = supported(*context_.region, resting, context_.center_of_mass, pose);
   if (leaf && !stands) {
     ++rejected_.unsupported;
+    return {};
+  }
+  // The hand where it puts the object down: a finger under the object, or
+  // the palm in the support, and no descent can end there.
+  if (leaf && !handFits(pose)) {
+    ++rejected_.descent_blocked;
     return {};
   }
   std::vector<CachedConfiguration> out;
@@ -198,7 +210,8 @@ Eigen::Isometry3d HierarchicalPlaceSampler::placementOf(const grasp::HftsNode& n
 double HierarchicalPlaceSampler::objective(const grasp::HftsNode& node) const {
   const grasp::RestingFace& face = (*context_.faces)[node.parts[0]];
   const Eigen::Isometry3d pose = placementOf(node);
-  if (!supported(*context_.region, face, context_.center_of_mass, pose)) return 0.0;
+  if (!supported(*context_.region, face, context_.center_of_mass, pose) || !handFits(pose))
+    return 0.0;
   const Eigen::Matrix3Xd corners = cornersOnTop(*context_.region, face, pose);
   const Eigen::Vector2d& half = context_.region->half_extents;
   double room = kFullRoom;

@@ -96,6 +96,10 @@ class PlacementSampler : public GoalSampler {
 
   /// The object resting on face `face` at (x, y), turned by `yaw`.
   Eigen::Isometry3d placement(int face, const Eigen::Vector2d& xy, double yaw) const;
+  /// Whether the hand alone, as it holds the object, is free of everything
+  /// with the object at `pose` (robot::CollisionChecker::handInCollision):
+  /// no finger between the object and its support, no palm in it.
+  bool handFits(const Eigen::Isometry3d& pose) const;
   /// The free pre-place configurations of the object at `pose`: the arm's
   /// IK solutions for the palm `height` above where it holds it there.
   std::vector<Eigen::VectorXd> prePlaces(const Eigen::Isometry3d& pose, bool count);
@@ -126,7 +130,8 @@ class HierarchicalPlaceSampler final : public PlacementSampler {
   int sampleNewChild(int parent);
   /// The placement objective of a node: its face's tipping angle (of the
   /// stablest face's) times the room its contact polygon leaves to the
-  /// region's edges (up to 5 cm); 0 when its placement is not supported.
+  /// region's edges (up to 5 cm); 0 when its placement is not supported
+  /// or the hand holding the object there meets something (handFits).
   double objective(const grasp::HftsNode& node) const;
   Eigen::Isometry3d placementOf(const grasp::HftsNode& node) const;
 

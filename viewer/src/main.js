@@ -103,6 +103,15 @@ function statsTable(plan) {
     if (failed) rows.push(['first failure', `${failed.name}: ${failed.failure}`]);
     rows.push(['lift', p.lift_direction]);
   }
+  const place = plan.place;
+  if (place) {
+    const at = place.object_pose.position.map((v) => v.toFixed(3)).join(', ');
+    rows.push(['place', `at (${at}), retreat ${place.retreat_direction}`]);
+    rows.push(['phases', `carry ${t.carry_start.toFixed(2)} s, down ${t.place_start.toFixed(2)} s, ` +
+                         `open ${t.release_start.toFixed(2)} s, retreat ${t.retreat_start.toFixed(2)} s`]);
+  }
+  const pp = plan.place_physics;
+  if (pp) rows.push(['pick and place in physics', `${pp.held ? 'held' : 'NOT held'}, ${pp.placed ? 'stayed' : 'did NOT stay'}`]);
   return rows.map(([k, v]) => `<tr><th>${k}</th><td>${v}</td></tr>`).join('');
 }
 
@@ -146,12 +155,17 @@ function show(plan, glb) {
     const box = new THREE.Box3().setFromObject(gltf.scene);
     // Look at the object from the robot's side, turned 50 degrees and from
     // above: the approach and the hand on the object are in view.
-    const target = toView(plan.object_pose.position);
+    // A pick and place: between where the object was and where it goes,
+    // from farther away.
+    const from = toView(plan.object_pose.position);
+    const to = plan.place ? toView(plan.place.object_pose.position) : from;
+    const target = from.clone().add(to).multiplyScalar(0.5);
+    const distance = 1.3 + 1.5 * from.distanceTo(to);
     const towardsRobot = new THREE.Vector3(-target.x, 0, -target.z);
     if (towardsRobot.lengthSq() < 1e-6) towardsRobot.set(1, 0, 0);
     towardsRobot.normalize().applyAxisAngle(new THREE.Vector3(0, 1, 0), THREE.MathUtils.degToRad(50));
     controls.target.copy(target);
-    camera.position.copy(target).addScaledVector(towardsRobot, 1.3).add(new THREE.Vector3(0, 0.8, 0));
+    camera.position.copy(target).addScaledVector(towardsRobot, distance).add(new THREE.Vector3(0, 0.8 * distance / 1.3, 0));
     camera.lookAt(target);
     controls.update();
     grid.position.y = box.min.y;

@@ -87,10 +87,12 @@ struct PlannedGrasp {
 
 /// Placements the place search tried that gave no goal, by reason.
 struct PlaceRejections {
-  std::uint64_t unsupported = 0;      ///< it would overhang the top or leave the area
-  std::uint64_t no_arm_ik = 0;        ///< no arm IK for the pre-place palm pose
-  std::uint64_t colliding = 0;        ///< every pre-place configuration collides
-  std::uint64_t descent_blocked = 0;  ///< the straight descent onto the support
+  std::uint64_t unsupported = 0;  ///< it would overhang the top or leave the area
+  std::uint64_t no_arm_ik = 0;    ///< no arm IK for the pre-place palm pose
+  std::uint64_t colliding = 0;    ///< every pre-place configuration collides
+  /// The straight descent onto the support, or the hand where it would
+  /// put the object down (a finger under it), is not free.
+  std::uint64_t descent_blocked = 0;
   std::uint64_t release_blocked = 0;  ///< the hand cannot open
   std::uint64_t retreat_blocked = 0;  ///< no straight retreat of the open hand is free
   std::uint64_t unstable = 0;         ///< released there, the object moves (rest check)
