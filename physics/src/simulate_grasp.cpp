@@ -52,6 +52,24 @@ double shapeFidelity(const db::ObjectDatabase& object, const std::vector<ConvexP
   return object.geometry.closed ? std::min(1.0, volume / collision) : 1.0;
 }
 
+/// What every trial of a grasp on `model` shares.
+TrialPlan trialPlan(const robot::RobotModel& robot, const mjModel& model,
+                    const Eigen::VectorXd& pregrasp, const Eigen::VectorXd& grasp,
+                    std::vector<Eigen::VectorXd> lift, const robot::Scene& scene,
+                    const SimulationOptions& options) {
+  TrialPlan plan;
+  plan.robot = &robot;
+  plan.index = indexWorld(model, robot);
+  plan.pregrasp = pregrasp;
+  plan.grasp = grasp;
+  plan.close_limit = closeLimits(robot, pregrasp, grasp);
+  plan.close_lead = closeLeads(robot);
+  plan.lift = std::move(lift);
+  plan.object_pose = scene.target_pose;
+  plan.options = options;
+  return plan;
+}
+
 ModelSettings modelSettings(const robot::RobotModel& robot, const SimulationOptions& options) {
   ModelSettings settings;
   settings.timestep = options.timestep;
@@ -142,17 +160,8 @@ GraspVerdict simulateGrasp(const robot::CollisionModel& collision, const robot::
 
   const std::shared_ptr<const mjModel> nominal =
       compiledScene(mjcfScene(robot, scene, body, modelSettings(robot, options)));
-  TrialPlan plan{&robot,
-                 indexWorld(*nominal, robot),
-                 pregrasp,
-                 grasp,
-                 closeLimits(robot, pregrasp, grasp),
-                 closeLeads(robot),
-                 lift.line.waypoints,
-                 scene.target_pose,
-                 options,
-                 nullptr,
-                 {}};
+  const TrialPlan plan =
+      trialPlan(robot, *nominal, pregrasp, grasp, lift.line.waypoints, scene, options);
   const std::vector<Perturbation> trials = perturbations(options.perturb);
   const auto total = static_cast<double>(trials.size());
   int held = 0, dropped = 0;
@@ -207,18 +216,12 @@ PlaceVerdict simulatePickAndPlace(const robot::CollisionModel& collision, const 
   const ObjectBody body = objectBody(object, scene, objectDensity(object, options.density));
   const std::shared_ptr<const mjModel> model =
       compiledScene(mjcfScene(robot, scene, body, modelSettings(robot, options)));
-  TrialPlan plan{&robot,
-                 indexWorld(*model, robot),
-                 pregrasp,
-                 grasp,
-                 closeLimits(robot, pregrasp, grasp),
-                 closeLeads(robot),
-                 motion.lift,
-                 scene.target_pose,
-                 options,
-                 &motion,
-                 rest};
-  PlaceVerdict verdict = runPlaceTrial(*model, plan, &verdict.motion);
+  TrialPlan plan = trialPlan(robot, *model, pregrasp, grasp, motion.lift, scene, options);
+  plan.place = &motion;
+  plan.rest = rest;
+  std::vector<MotionSample> samples;
+  PlaceVerdict verdict = runPlaceTrial(*model, plan, &samples);
+  verdict.motion = std::move(samples);
   return verdict;
 }
 

@@ -187,4 +187,35 @@ bool GoalHierarchyCache::shouldDescend(int parent, int child, const FreeSpaceDis
   return !(p <= stay / (stay + descend));  // lines 5-8
 }
 
+HandedOut descendForGoal(GoalHierarchyCache& cache, const FreeSpaceDistances& knowledge,
+                         std::mt19937_64& rng, int samples, const std::function<bool()>& stop,
+                         const Algorithm2Steps& steps) {
+  int parent = cache.root();
+  for (int k = samples; k > 0 && !stop();) {  // line 3
+    int child = cache.pickChild(parent, knowledge, rng);
+    if (cache.shouldDescend(parent, child, knowledge, rng)) {
+      parent = child;
+    } else if (cache.coverage(parent) >= 1.0) {  // lines 7-13
+      if (child != GoalHierarchyCache::kNone)
+        if (const CachedConfiguration* goal = steps.null_space(child)) return {child, goal};
+      --k;
+    } else {  // lines 14-27
+      child = steps.new_child(parent);
+      --k;
+      if (child == GoalHierarchyCache::kNone) continue;
+      CacheNode& created = cache.node(child);
+      for (CachedConfiguration& c : created.configurations) {
+        if (!c.goal) continue;
+        c.returned = true;
+        return {child, &c};
+      }
+      if (!created.configurations.empty() && created.configurations.front().collision_free) {
+        steps.approximate(child);
+        cache.invalidateRatings();  // A is part of the non-connected free space
+      }
+    }
+  }
+  return {};
+}
+
 }  // namespace hfts::planner

@@ -205,32 +205,18 @@ GoalSample HftsGoalSampler::sample(const FreeSpaceDistances& planner,
   const WithApproximateGoals knowledge(planner, approximate_, context_.checker->metric());
   cache_.invalidateRatings();  // the trees have grown since the last call
   std::mt19937_64& rng = *context_.rng;
-  int parent = cache_.root();
-  for (int k = options_.samples; k > 0 && !stop();) {  // Alg. 2 line 3
-    int child = cache_.pickChild(parent, knowledge, rng);
-    if (cache_.shouldDescend(parent, child, knowledge, rng)) {
-      parent = child;
-    } else if (cache_.coverage(parent) >= 1.0) {  // lines 7-13
-      if (const CachedConfiguration* goal = sampleNullSpace(child))
-        return describe(cache_.node(child).hfts, *goal, GoalKind::kGoal);
-      --k;
-    } else {  // lines 14-27
-      child = sampleNewChild(parent, iterationsFor(parent, knowledge));
-      --k;
-      if (child == GoalHierarchyCache::kNone) continue;
-      CacheNode& created = cache_.node(child);
-      for (CachedConfiguration& c : created.configurations) {
-        if (!c.goal) continue;
-        c.returned = true;
-        return describe(created.hfts, c, GoalKind::kGoal);
-      }
-      if (!created.configurations.empty() && created.configurations.front().collision_free) {
-        approximate_.push_back(created.configurations.front().pregrasp);
-        approximateNodes_.push_back(created.hfts);
-        cache_.invalidateRatings();  // A is part of the non-connected free space
-      }
-    }
-  }
+  Algorithm2Steps steps;
+  steps.null_space = [this](int node) { return sampleNullSpace(node); };
+  steps.new_child = [&](int parent) {
+    return sampleNewChild(parent, iterationsFor(parent, knowledge));
+  };
+  steps.approximate = [this](int node) {
+    approximate_.push_back(cache_.node(node).configurations.front().pregrasp);
+    approximateNodes_.push_back(cache_.node(node).hfts);
+  };
+  const HandedOut found = descendForGoal(cache_, knowledge, rng, options_.samples, stop, steps);
+  if (found.goal != nullptr)
+    return describe(cache_.node(found.node).hfts, *found.goal, GoalKind::kGoal);
   if (approximate_.empty()) return {};  // lines 28-32
   const std::size_t pick =
       std::uniform_int_distribution<std::size_t>(0, approximate_.size() - 1)(rng);

@@ -180,8 +180,7 @@ std::vector<CachedConfiguration> PlacementSampler::configurationsOf(int face,
   return out;
 }
 
-GoalSample PlacementSampler::handOut(CachedConfiguration& goal) {
-  goal.returned = true;
+GoalSample PlacementSampler::handOut(const CachedConfiguration& goal) {
   ++stats_.valid_goals;
   GoalSample out;
   out.kind = GoalKind::kGoal;
@@ -250,30 +249,22 @@ GoalSample HierarchicalPlaceSampler::sample(const FreeSpaceDistances& planner,
   const WithApproximateGoals knowledge(planner, approximate_, context_.checker->metric());
   cache_.invalidateRatings();  // the trees have grown since the last call
   std::mt19937_64& rng = *context_.rng;
-  int parent = cache_.root();
-  for (int k = options_.samples; k > 0 && !stop();) {  // Alg. 2 line 3
-    const int child = cache_.pickChild(parent, knowledge, rng);
-    if (cache_.shouldDescend(parent, child, knowledge, rng)) {
-      parent = child;
-      continue;
-    }
-    --k;
-    if (cache_.coverage(parent) >= 1.0) {  // lines 7-13: another IK branch
-      if (child == GoalHierarchyCache::kNone) continue;
-      for (CachedConfiguration& c : cache_.node(child).configurations)
-        if (c.goal && !c.returned) return handOut(c);
-      continue;
-    }
-    const int created = sampleNewChild(parent);  // lines 14-27
-    if (created == GoalHierarchyCache::kNone) continue;
-    for (CachedConfiguration& c : cache_.node(created).configurations)
-      if (c.goal) return handOut(c);
-    const auto& configurations = cache_.node(created).configurations;
-    if (!configurations.empty()) {
-      approximate_.push_back(configurations.front().pregrasp);
-      cache_.invalidateRatings();  // A is part of the non-connected free space
-    }
-  }
+  Algorithm2Steps steps;
+  // Another goal of a cached leaf: its other IK branches.
+  steps.null_space = [this](int node) -> const CachedConfiguration* {
+    for (CachedConfiguration& c : cache_.node(node).configurations)
+      if (c.goal && !c.returned) {
+        c.returned = true;
+        return &c;
+      }
+    return nullptr;
+  };
+  steps.new_child = [this](int parent) { return sampleNewChild(parent); };
+  steps.approximate = [this](int node) {
+    approximate_.push_back(cache_.node(node).configurations.front().pregrasp);
+  };
+  const HandedOut found = descendForGoal(cache_, knowledge, rng, options_.samples, stop, steps);
+  if (found.goal != nullptr) return handOut(*found.goal);
   if (approximate_.empty()) return {};  // lines 28-32
   const std::size_t pick =
       std::uniform_int_distribution<std::size_t>(0, approximate_.size() - 1)(rng);

@@ -107,7 +107,8 @@ class PlacementSampler : public GoalSampler {
   /// whose placement is supported and finishes marked as goals.
   std::vector<CachedConfiguration> configurationsOf(int face, const Eigen::Isometry3d& pose,
                                                     bool leaf);
-  GoalSample handOut(CachedConfiguration& goal);
+  /// A goal configuration as the planner takes it.
+  GoalSample handOut(const CachedConfiguration& goal);
 
   PlaceSamplingContext context_;
   PlaceRejections rejected_;

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <random>
@@ -164,6 +165,34 @@ class GoalHierarchyCache {
   std::vector<CacheNode> nodes_;
   std::vector<double> t_, T_;  // memoised ratings, NaN = not computed
 };
+
+/// A goal configuration Algorithm 2 hands out, and its node.
+struct HandedOut {
+  int node = GoalHierarchyCache::kNone;
+  const CachedConfiguration* goal = nullptr;  ///< marked returned
+};
+
+/// What Algorithm 2 asks of the hierarchy it searches.
+struct Algorithm2Steps {
+  /// SAMPLENULLSPACE(n) (lines 9-10): a further goal configuration of node
+  /// n not handed out yet (the callee marks it returned), or null.
+  std::function<const CachedConfiguration*(int node)> null_space;
+  /// SAMPLENEWCHILD(n_p, i) (lines 15-19): the child cached, or kNone.
+  std::function<int(int parent)> new_child;
+  /// A new node without a goal whose first configuration is free: its
+  /// configuration joins the approximate goals A (lines 23-25); the
+  /// ratings are invalidated after.
+  std::function<void(int node)> approximate;
+};
+
+/// Lines 1-27 of Algorithm 2 (the paper's SAMPLEGOAL) over `cache`: from
+/// the root, descend by the ratings (Algorithm 3, children picked by
+/// Algorithm 4) until `samples` (kappa) null-space or new-child samples
+/// were taken or `stop` returns true; the first goal found is handed out
+/// (node kNone: none; the caller then draws from A, lines 28-32).
+HandedOut descendForGoal(GoalHierarchyCache& cache, const FreeSpaceDistances& knowledge,
+                         std::mt19937_64& rng, int samples, const std::function<bool()>& stop,
+                         const Algorithm2Steps& steps);
 
 /// Draws an index with probability proportional to weights[i] (all > 0).
 std::size_t sampleWeighted(const std::vector<double>& weights, std::mt19937_64& rng);
