@@ -229,8 +229,8 @@ void addPlanOptions(CLI::App& cmd, PlanOptions& p) {
   cmd.add_flag("--validate", p.validate,
                "Check the grasp as executed again and simulate it: does it hold? (seconds)");
   auto* place = cmd.add_option("--place", p.place,
-                                "Pick and place: put the object down on this obstacle's top "
-                                "(docs/placement.md)");
+                               "Pick and place: put the object down on this obstacle's top "
+                               "(docs/placement.md)");
   cmd.add_option("--place-area", p.place_area, "With --place: x_min,y_min,x_max,y_max (world)")
       ->delimiter(',')
       ->expected(4)

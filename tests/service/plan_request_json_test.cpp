@@ -108,13 +108,13 @@ TEST(PlanRequestJson, LiftIsOnByDefaultButForThePapersPlanner) {
 TEST(PlanRequestJson, APlaceGoalIsARegionOfTheScenesSupports) {
   const planner::PlanRequest plain = parse({{"scene", "table"}});
   EXPECT_FALSE(plain.place.has_value());
-  const planner::PlanRequest place = parse(
-      {{"scene", "table"},
-       {"place",
-        {{"on", "table"},
-         {"area", {{"min", {0.3, -0.4}}, {"max", {0.4, -0.3}}}},
-         {"upright", true},
-         {"search", "decoupled"}}}});
+  const planner::PlanRequest place =
+      parse({{"scene", "table"},
+             {"place",
+              {{"on", "table"},
+               {"area", {{"min", {0.3, -0.4}}, {"max", {0.4, -0.3}}}},
+               {"upright", true},
+               {"search", "decoupled"}}}});
   ASSERT_TRUE(place.place.has_value());
   EXPECT_EQ(place.place->on, "table");
   ASSERT_TRUE(place.place->area.has_value());
@@ -132,13 +132,14 @@ TEST(PlanRequestJson, APlaceGoalIsARegionOfTheScenesSupports) {
                  "place.area", "off the top");
   expectRejected({{"scene", "table"}, {"place", {{"on", "table"}, {"search", "random"}}}},
                  "place.search", "coupled");
-  expectRejected({{"scene", "table"}, {"place", {{"on", "table"}, {"height", 1}}}},
-                 "place.height", "");
+  expectRejected({{"scene", "table"}, {"place", {{"on", "table"}, {"height", 1}}}}, "place.height",
+                 "");
   expectRejected({{"scene", "table"}, {"place", "table"}}, "place", "must be an object");
   expectRejected({{"scene", "table"}, {"lift", false}, {"place", {{"on", "table"}}}}, "place",
                  "lift");
-  expectRejected({{"scene", "table"}, {"goal", {{"joints", start()}}}, {"place", {{"on", "table"}}}},
-                 "place", "no object to place");
+  expectRejected(
+      {{"scene", "table"}, {"goal", {{"joints", start()}}}, {"place", {{"on", "table"}}}}, "place",
+      "no object to place");
 }
 
 TEST(PlanRequestJson, CapsTheTimeLimit) {
