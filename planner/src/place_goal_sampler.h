@@ -70,7 +70,6 @@ class PlaceHierarchy final : public GoalHierarchy {
   double numLeaves(const grasp::HftsNode& node) const override;
   /// Child number `index` (0 <= index < numChildren).
   grasp::HftsNode child(const grasp::HftsNode& parent, std::uint64_t index) const;
-  int levels() const { return levels_; }
 
   /// The node's representative: the centre of its cell (world x, y) and
   /// of its yaw sector (rad).
