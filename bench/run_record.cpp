@@ -119,7 +119,8 @@ RunRecord makeRunRecord(const CaseName& c, const std::string& algorithm, std::ui
     const physics::GraspVerdict& v = *result.validation->physics;
     r.held = v.held && result.validation->check.valid();
     r.held_fraction = v.held_fraction;
-    r.lift = v.lift_direction;
+    // The plan's lift when it has one (the simulation followed it).
+    r.lift = result.lift ? result.lift->direction : v.lift_direction;
     r.physics_failure = result.validation->check.problem;
     for (const physics::TrialResult& t : v.trials)
       if (r.physics_failure.empty() && !t.held) r.physics_failure = t.name + ": " + t.failure;

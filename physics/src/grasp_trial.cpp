@@ -210,7 +210,7 @@ class Trial {
   }
 
   bool lift() {
-    const int n = stepsOf(options().lift_time, options().timestep);
+    const int n = stepsOf(plan_.lift_time, options().timestep);
     const auto& waypoints = plan_.lift;
     const double last = static_cast<double>(waypoints.size() - 1);
     for (int s = 1; s <= n; ++s) {

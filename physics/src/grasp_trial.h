@@ -27,6 +27,9 @@ struct TrialPlan {
   /// while closing (closeLeads()).
   Eigen::VectorXd close_lead;
   std::vector<Eigen::VectorXd> lift;  ///< full configurations, PalmLine::waypoints
+  /// How long the lift takes (s): options.lift_time for options.lift_height
+  /// of palm travel, longer in proportion for a longer lift (liftTime).
+  double lift_time = 0.0;
   Eigen::Isometry3d object_pose = Eigen::Isometry3d::Identity();
   SimulationOptions options;
   /// A pick and place: after the lift, follow this instead of holding and

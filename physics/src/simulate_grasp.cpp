@@ -15,6 +15,7 @@
 #include "physics/lift_path.h"
 #include "physics/mjcf_scene.h"
 #include "physics/object_body.h"
+#include "robot/kinematics.h"
 
 namespace hfts::physics {
 namespace {
@@ -37,6 +38,22 @@ void checkConfiguration(const robot::RobotModel& robot, const Eigen::VectorXd& q
   if (!robot.withinLimits(q, 1e-6, &why)) throw InvalidArgument(field, why);
 }
 
+/// A lift: full configurations within the limits, the arm starting at the
+/// grasp's.
+void checkLift(const robot::RobotModel& robot, const Eigen::VectorXd& grasp,
+               const std::vector<Eigen::VectorXd>& lift) {
+  if (lift.empty()) throw InvalidArgument("lift", "has no waypoints");
+  for (const Eigen::VectorXd& q : lift) {
+    if (q.size() != robot.numDofs())
+      throw InvalidArgument(
+          "lift", "needs full configurations (" + std::to_string(robot.numDofs()) + " values)");
+    checkConfiguration(robot, q, "lift");
+  }
+  const Eigen::Index arm = robot.numArmDofs();
+  if ((lift.front().head(arm) - grasp.head(arm)).cwiseAbs().maxCoeff() > 1e-6)
+    throw InvalidArgument("lift", "must start at the grasp's arm configuration");
+}
+
 /// The object's body: its collision pieces and its solid's mass at the
 /// chosen density, where the scene puts it.
 ObjectBody objectBody(const db::ObjectDatabase& object, const robot::Scene& scene, double density) {
@@ -52,6 +69,20 @@ double shapeFidelity(const db::ObjectDatabase& object, const std::vector<ConvexP
   return object.geometry.closed ? std::min(1.0, volume / collision) : 1.0;
 }
 
+/// The lift's duration: options.lift_time per options.lift_height of the
+/// palm's travel along it, no shorter than options.lift_time.
+double liftTime(const robot::RobotModel& robot, const std::vector<Eigen::VectorXd>& lift,
+                const SimulationOptions& options) {
+  const auto palm = [&](const Eigen::VectorXd& q) -> Eigen::Vector3d {
+    return robot::forwardKinematics(robot, q)[static_cast<std::size_t>(robot.palmLink())]
+        .translation();
+  };
+  double travel = 0.0;
+  for (std::size_t i = 1; i < lift.size(); ++i)
+    travel += (palm(lift[i]) - palm(lift[i - 1])).norm();
+  return options.lift_time * std::max(1.0, travel / options.lift_height);
+}
+
 /// What every trial of a grasp on `model` shares.
 TrialPlan trialPlan(const robot::RobotModel& robot, const mjModel& model,
                     const Eigen::VectorXd& pregrasp, const Eigen::VectorXd& grasp,
@@ -65,6 +96,7 @@ TrialPlan trialPlan(const robot::RobotModel& robot, const mjModel& model,
   plan.close_limit = closeLimits(robot, pregrasp, grasp);
   plan.close_lead = closeLeads(robot);
   plan.lift = std::move(lift);
+  plan.lift_time = liftTime(robot, plan.lift, options);
   plan.object_pose = scene.target_pose;
   plan.options = options;
   return plan;
@@ -135,11 +167,13 @@ void prepareSimulation(const robot::RobotModel& robot, const robot::Scene& scene
 
 GraspVerdict simulateGrasp(const robot::CollisionModel& collision, const robot::Scene& scene,
                            const db::ObjectDatabase& object, const Eigen::VectorXd& pregrasp,
-                           const Eigen::VectorXd& grasp, const SimulationOptions& options) {
+                           const Eigen::VectorXd& grasp, const SimulationOptions& options,
+                           const std::vector<Eigen::VectorXd>* lift) {
   const robot::RobotModel& robot = collision.robot;
   checkConfiguration(robot, pregrasp, "pregrasp");
   checkConfiguration(robot, grasp, "grasp");
   validateOptions(options);
+  if (lift != nullptr) checkLift(robot, grasp, *lift);
   if (!robot.handActuation())
     throw InvalidArgument("robot.hand_actuation",
                           "robot '" + robot.name() + "' has no hand_actuation in its config");
@@ -154,14 +188,21 @@ GraspVerdict simulateGrasp(const robot::CollisionModel& collision, const robot::
   // Polled between the set-up's costly steps too (tens of milliseconds each).
   const auto stopped = [&] { return verdict.stopped = options.stop && options.stop(); };
   if (stopped()) return verdict;
-  const LiftPlan lift = planLift(collision, scene, grasp, options.lift_height, &object.geometry);
-  verdict.lift_direction = lift.direction;
+  std::vector<Eigen::VectorXd> waypoints;
+  if (lift != nullptr) {
+    waypoints = *lift;
+    verdict.lift_direction = "plan";
+  } else {
+    LiftPlan planned = planLift(collision, scene, grasp, options.lift_height, &object.geometry);
+    waypoints = std::move(planned.line.waypoints);
+    verdict.lift_direction = planned.direction;
+  }
   if (stopped()) return verdict;
 
   const std::shared_ptr<const mjModel> nominal =
       compiledScene(mjcfScene(robot, scene, body, modelSettings(robot, options)));
   const TrialPlan plan =
-      trialPlan(robot, *nominal, pregrasp, grasp, lift.line.waypoints, scene, options);
+      trialPlan(robot, *nominal, pregrasp, grasp, std::move(waypoints), scene, options);
   const std::vector<Perturbation> trials = perturbations(options.perturb);
   const auto total = static_cast<double>(trials.size());
   int held = 0, dropped = 0;

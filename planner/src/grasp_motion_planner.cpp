@@ -51,8 +51,9 @@ PlanResult search(std::chrono::steady_clock::time_point began, const SharedProbl
   if (problem.lift) {
     // The baseline's goals were not checked for a lift: its first chance.
     std::string why;
-    result.lift =
-        found.lift ? std::move(found.lift) : liftOf(problem, found.goal, result.stats, &why);
+    result.lift = found.lift ? std::move(found.lift)
+                             : liftOf(problem, found.goal, result.stats,
+                                      ob::plannerNonTerminatingCondition(), &why);
     if (!result.lift) {
       result.success = false;
       return failed(std::move(result), {PlanFailure::kLiftBlocked,
@@ -253,6 +254,7 @@ ValidationRequest validationRequest(const PlanningWorld& world, const PlanReques
   v.pregrasp = plan.path[plan.path.size() - 2];
   v.grasp = plan.path.back();
   v.simulation = request.simulation;
+  if (plan.lift) v.lift = plan.lift->path;
   // The request's criteria, as the planner read them.
   const PlanSettings settings = resolveSettings(world.robot(), request);
   v.check.min_epsilon = settings.goal.min_epsilon;

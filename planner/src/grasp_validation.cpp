@@ -150,7 +150,8 @@ Validation validateGrasp(const PlanningWorld& world, const ValidationRequest& re
     c.problem = "the arm moves between the pre-grasp and the grasp";
   if (request.physics)
     out.physics = physics::simulateGrasp(world.collisionModel(), request.scene, *object,
-                                         request.pregrasp, c.executed, request.simulation);
+                                         request.pregrasp, c.executed, request.simulation,
+                                         request.lift.empty() ? nullptr : &request.lift);
   return out;
 }
 

@@ -22,6 +22,10 @@ namespace {
 /// most 60 degrees from up, so that the object leaves its support.
 constexpr double kMinLiftRise = 0.5;
 
+/// How far a lift that slides the object out from under something first
+/// raises it (m; at most half the lift's height).
+constexpr double kSlideRise = 0.01;
+
 Eigen::Isometry3d palmPose(const robot::RobotModel& robot, const Eigen::Isometry3d& robotBase,
                            const Eigen::VectorXd& q) {
   return robotBase * robot::forwardKinematics(robot, q)[static_cast<std::size_t>(robot.palmLink())];
@@ -69,6 +73,39 @@ std::optional<std::vector<Eigen::VectorXd>> heldPalmLine(
                   : "not proven free";
   }
   if (why != nullptr) *why = blocked;
+  return std::nullopt;
+}
+
+/// Under something that blocks every lift: the object raised kSlideRise
+/// off its support, slid out along one of `asides` (horizontal, named) by
+/// 0.1, 0.2 or 0.3 m, then lifted the rest of the height; the first free
+/// one.
+std::optional<LiftPath> slideOut(HeldChecker& held, const robot::Scene& scene,
+                                 const Eigen::VectorXd& grasp, double height,
+                                 const std::vector<std::pair<std::string, Eigen::Vector3d>>& asides,
+                                 const std::function<bool()>& stop) {
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const double rise = std::min(kSlideRise, height / 2.0);
+  const std::optional<std::vector<Eigen::VectorXd>> raised =
+      heldPalmLine(held, scene, grasp, up, rise, nullptr, nullptr, stop);
+  if (!raised) return std::nullopt;
+  for (const auto& [name, aside] : asides) {
+    if (aside.norm() < 1e-6) continue;
+    for (const double distance : {0.1, 0.2, 0.3}) {
+      if (stop && stop()) return std::nullopt;
+      std::optional<std::vector<Eigen::VectorXd>> slide =
+          heldPalmLine(held, scene, raised->back(), aside, distance, nullptr, nullptr, stop);
+      // A longer slide along the same line is blocked where this one is.
+      if (!slide) break;
+      std::optional<std::vector<Eigen::VectorXd>> lift =
+          heldPalmLine(held, scene, slide->back(), up, height - rise, nullptr, nullptr, stop);
+      if (!lift) continue;
+      std::vector<Eigen::VectorXd> path = *raised;
+      path.insert(path.end(), slide->begin() + 1, slide->end());
+      path.insert(path.end(), lift->begin() + 1, lift->end());
+      return LiftPath{std::move(path), name};
+    }
+  }
   return std::nullopt;
 }
 
@@ -125,7 +162,16 @@ std::optional<LiftPath> planLift(const Hold& hold, const robot::Scene& scene,
       return LiftPath{std::move(*line), name};
     if (why != nullptr && name == "up") *why = "lifting up: " + blocked;
   }
-  return std::nullopt;
+  Eigen::Vector3d level = back;
+  level.z() = 0.0;
+  const std::vector<std::pair<std::string, Eigen::Vector3d>> asides{
+      {"out_to_base", toBase},
+      {"out_back", level},
+      {"out_x", Eigen::Vector3d::UnitX()},
+      {"out_minus_x", -Eigen::Vector3d::UnitX()},
+      {"out_y", Eigen::Vector3d::UnitY()},
+      {"out_minus_y", -Eigen::Vector3d::UnitY()}};
+  return slideOut(held, scene, grasp, height, asides, stop);
 }
 
 std::optional<std::vector<Eigen::VectorXd>> heldPalmLine(

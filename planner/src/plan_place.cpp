@@ -1,11 +1,10 @@
 #include "plan_place.h"
 
-#include <ompl/base/ProblemDefinition.h>
-
 #include <algorithm>
 #include <memory>
 #include <utility>
 
+#include "carry_planning.h"
 #include "physics/lift_path.h"
 #include "physics/simulate_rest.h"
 #include "place_goal_sampler.h"
@@ -25,12 +24,6 @@ std::pair<std::optional<PlaceTarget>, std::string> placeTarget(const robot::Scen
 }
 
 namespace {
-
-robot::Scene obstaclesOf(robot::Scene scene) {
-  scene.target_object.clear();
-  scene.target_rest_on.clear();
-  return scene;
-}
 
 /// A checker of the robot (not holding anything) with the object standing
 /// at `pose` as the target, the grasp rule's depth the plan's.
@@ -191,16 +184,8 @@ PlaceOutcome planPlace(Problem& p, const PlaceTarget& target, PlaceSearch search
   PlaceOutcome out;
   const double height = p.lift ? p.lift->height : LiftOptions{}.height;
   // The carry: the robot holding the object, its hand fixed as it closed.
-  const std::shared_ptr<const PlanningWorld> carry = carryWorld(p.world, hold, grasp);
-  const robot::Scene obstacles = obstaclesOf(p.scene);
-  robot::CollisionChecker checker(std::make_shared<const robot::CollisionScene>(
-      carry->collisionModel(), obstacles, nullptr, nullptr, nullptr, p.settings.path.clearance));
-  checker.setSphereTier(p.settings.execution.sphere_tier);
-  const ob::SpaceInformationPtr si = makeSpaceInformation(carry->robot(), checker, kTreeResolution);
-  const std::shared_ptr<MultiTreeCBiRRT> planner = Problem::plannerFor(si, p.settings);
-  planner->setCertification(p.settings.path.certify ? &carry->motionBound() : nullptr);
-  planner->setLastSegmentRule(robot::CertifyRule::kTransit);
-  planner->setSeed(p.seed);
+  CarryPlanning carry(p, hold, grasp, p.settings.path.clearance);
+  robot::CollisionChecker& checker = carry.checker();
   const Eigen::VectorXd& start = lift.path.back();
   robot::CollisionPair pair;
   if (checker.inCollision(start, &pair)) {
@@ -215,9 +200,9 @@ PlaceOutcome planPlace(Problem& p, const PlaceTarget& target, PlaceSearch search
   context.center_of_mass = p.object.geometry.center_of_mass;
   context.object_in_palm = hold.object_in_palm;
   context.height = height;
-  context.ik = &carry->ik();
+  context.ik = &carry.world().ik();
   context.checker = &checker;
-  context.rng = &planner->rng();
+  context.rng = &carry.planner().rng();
   context.robot_base = p.scene.robot_base;
   context.start = start;
   context.finish = std::ref(finish);
@@ -227,19 +212,12 @@ PlaceOutcome planPlace(Problem& p, const PlaceTarget& target, PlaceSearch search
   else
     sampler = std::make_unique<DecoupledPlaceSampler>(context);
 
-  auto pdef = std::make_shared<ob::ProblemDefinition>(si);
-  ob::ScopedState<> startState(si);
-  weightedSpace(si).fromVector(start, startState.get());
-  pdef->addStartState(startState);
-  pdef->setGoal(std::make_shared<GraspGoal>(si, *sampler));
-  planner->setProblemDefinition(pdef);
-  planner->setup();
-  const bool solved = planner->solve(ptc) == ob::PlannerStatus::EXACT_SOLUTION;
+  const std::optional<std::vector<Eigen::VectorXd>> path = carry.solve(start, *sampler, ptc);
   out.rejected = sampler->rejections();
-  out.iterations = planner->statistics().iterations;
+  out.iterations = carry.planner().statistics().iterations;
   out.goal_sampling_calls = sampler->statistics().calls;
   out.collision_checks = checker.checkCount();
-  const Placement* placed = solved ? sampler->placementOf(planner->solutionPath().back()) : nullptr;
+  const Placement* placed = path ? sampler->placementOf(path->back()) : nullptr;
   if (placed == nullptr) {
     const std::uint64_t goals = sampler->statistics().valid_goals;
     out.why = goals == 0
@@ -251,10 +229,10 @@ PlaceOutcome planPlace(Problem& p, const PlaceTarget& target, PlaceSearch search
     return out;
   }
   out.placement = *placed;
-  out.placement->carry = planner->solutionPath();
+  out.placement->carry = *path;
   if (rate > 0.0 && p.world.robot().maxAccelerations().size() > 0)
     out.trajectory = placeTrajectory(p, hold, *out.placement, checker,
-                                     planner->smoothing().final_check, rate, out);
+                                     carry.planner().smoothing().final_check, rate, out);
   return out;
 }
 

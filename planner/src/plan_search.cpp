@@ -7,6 +7,7 @@
 #include <memory>
 #include <set>
 
+#include "carry_planning.h"
 #include "planner/backward_projection.h"
 #include "planner/lazy_goal_baseline.h"
 #include "planner/sampling_tools.h"
@@ -30,8 +31,10 @@ MultiTreeCBiRRT::GoalCheck physicsGoalCheck(const Problem& p, SearchOutcome& out
     options.stop_when_lost = true;
     options.stop = [&ptc] { return ptc(); };
     const auto begin = std::chrono::steady_clock::now();
-    physics::GraspVerdict verdict = physics::simulateGrasp(
-        p.world.collisionModel(), p.scene, p.object, goal.configuration, goal.grasp, options);
+    // The goal's lift (goalCheck plans it first) is the one simulated.
+    physics::GraspVerdict verdict =
+        physics::simulateGrasp(p.world.collisionModel(), p.scene, p.object, goal.configuration,
+                               goal.grasp, options, out.lift ? &out.lift->path : nullptr);
     ++out.stats.physics_checks;
     out.stats.physics_time +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
@@ -68,7 +71,7 @@ MultiTreeCBiRRT::GoalCheck goalCheck(Problem& p, SearchOutcome& out,
       }
     }
     if (p.lift) {
-      out.lift = liftOf(p, goal, out.stats, nullptr, [&ptc] { return ptc(); });
+      out.lift = liftOf(p, goal, out.stats, ptc);
       if (!out.lift) {
         if (!ptc()) ++out.stats.rejected.lift_blocked;
         return false;
@@ -98,13 +101,15 @@ std::vector<ExploredNode> exploredNodes(const GoalHierarchyCache& cache, Samplin
 }  // namespace
 
 std::optional<LiftPath> liftOf(const Problem& p, const GoalSample& goal, PlanStatistics& stats,
-                               std::string* why, const std::function<bool()>& stop) {
+                               const ob::PlannerTerminationCondition& ptc, std::string* why) {
   const Hold hold = holdObject(p.world.collisionModel(), p.scene.robot_base, p.object.geometry,
                                p.object.name, p.scene.target_pose, goal.grasp);
   std::size_t queries = 0;
-  std::optional<LiftPath> lift = planLift(hold, p.scene, goal.grasp, p.lift->height,
-                                          p.planner->smoothing().final_check, why, &queries, stop);
+  std::optional<LiftPath> lift =
+      planLift(hold, p.scene, goal.grasp, p.lift->height, p.planner->smoothing().final_check, why,
+               &queries, [&ptc] { return ptc(); });
   stats.certificate_queries += queries;
+  if (!lift && !ptc()) lift = plannedLift(p, hold, goal.grasp, p.lift->height, ptc);
   return lift;
 }
 

@@ -33,11 +33,13 @@ struct SearchOutcome {
   std::optional<LiftPath> lift;
 };
 
-/// The lift of a reached goal (p.lift's height; none when blocked, with
-/// what blocked it in `why`, or when `stop` returns true), its proofs'
-/// queries counted in `stats`.
+/// The lift of a reached goal (p.lift's height): the first straight one
+/// free (planLift), else a planned one (plannedLift); none when both are
+/// blocked, with what blocked going up in `why`, or when `ptc` ends it.
+/// Its proofs' queries are counted in `stats`.
 std::optional<LiftPath> liftOf(const Problem& p, const GoalSample& goal, PlanStatistics& stats,
-                               std::string* why = nullptr, const std::function<bool()>& stop = {});
+                               const ob::PlannerTerminationCondition& ptc,
+                               std::string* why = nullptr);
 
 /// The multi-tree CBiRRT (Algorithm 1) with the coupled goal sampler
 /// (Algorithm 2) or the decoupled one.

@@ -7,6 +7,7 @@
 
 #include "core/invalid_argument.h"
 #include "panda_cube.h"
+#include "physics/lift_path.h"
 #include "test_meshes.h"
 
 namespace hfts::physics {
@@ -117,6 +118,50 @@ TEST(SimulateGrasp, TheNominalMotionFollowsTheLift) {
   };
   EXPECT_NEAR(rising("hold") - first.object.translation().z(), 0.10, 0.005);
   EXPECT_EQ(last.phase, "disturbance -z");
+}
+
+TEST(SimulateGrasp, TheTrialsFollowTheLiftTheyAreGivenAtTheProtocolsSpeed) {
+  // A plan's lift (e.g. out from under a board): 10 cm up, then 20 cm
+  // along y. Followed instead of the protocol's own, over 1 s per 10 cm of
+  // palm travel: 3 s.
+  const test::PandaCube world;
+  const robot::RobotModel& panda = test::panda();
+  const PalmLine up =
+      straightPalmLine(panda, world.scene.robot_base, world.grasp, Eigen::Vector3d::UnitZ(), 0.1);
+  const PalmLine aside = straightPalmLine(panda, world.scene.robot_base, up.waypoints.back(),
+                                          Eigen::Vector3d::UnitY(), 0.2);
+  ASSERT_TRUE(up.problem.empty() && aside.problem.empty()) << up.problem << aside.problem;
+  std::vector<Eigen::VectorXd> lift = up.waypoints;
+  lift.insert(lift.end(), aside.waypoints.begin() + 1, aside.waypoints.end());
+  SimulationOptions options;
+  options.perturb = false;
+  const GraspVerdict v = simulateGrasp(test::collisionOf(panda), world.scene, test::smallCube(),
+                                       world.pregrasp, world.grasp, options, &lift);
+  EXPECT_TRUE(v.held) << describe(v);
+  EXPECT_EQ(v.lift_direction, "plan");
+  ASSERT_EQ(v.trials.size(), 1u);
+  EXPECT_NEAR(v.trials[0].simulated_time, 10.3 + 2.0, 1e-6);
+  const MotionSample& first = v.nominal_motion.front();
+  for (const MotionSample& s : v.nominal_motion)
+    if (s.phase == "hold") {
+      const Eigen::Vector3d moved = s.object.translation() - first.object.translation();
+      EXPECT_NEAR(moved.z(), 0.1, 0.005);
+      EXPECT_NEAR(moved.y(), 0.2, 0.005);
+      break;
+    }
+
+  // A lift that does not start at the grasp, or of partial configurations.
+  std::vector<Eigen::VectorXd> elsewhere(lift.begin() + 5, lift.end());
+  std::vector<Eigen::VectorXd> partial{world.grasp.head(7)};
+  for (const auto* bad : {&elsewhere, &partial}) {
+    try {
+      simulateGrasp(test::collisionOf(panda), world.scene, test::smallCube(), world.pregrasp,
+                    world.grasp, options, bad);
+      ADD_FAILURE() << "no error";
+    } catch (const InvalidArgument& e) {
+      EXPECT_EQ(e.field(), "lift") << e.what();
+    }
+  }
 }
 
 TEST(SimulateGrasp, TheCubeStaysOnTheTableWhenTheHandStaysOpen) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
@@ -127,7 +128,8 @@ inline double maxPenetration(const planner::PlanningWorld& world,
 }
 
 /// The lift of a plan asked for one (PlanRequest::lift): from the grasp,
-/// the hand as closed, the palm on a straight line of the height asked,
+/// the hand as closed, the palm on a straight line of the height asked, out
+/// from under something (up, aside, up) or planned (LiftPath::direction),
 /// every segment free at `resolution` for the robot holding the object
 /// (the object too, against the obstacles and the arm), the object clear
 /// of every obstacle at the end.
@@ -163,10 +165,29 @@ inline void expectValidLift(const planner::PlanningWorld& world,
            forwardKinematics(robot, q)[static_cast<std::size_t>(robot.palmLink())];
   };
   const Eigen::Isometry3d from = palmAt(lift.front()), to = palmAt(lift.back());
-  EXPECT_NEAR((to.translation() - from.translation()).norm(), request.lift->height, 1e-3);
+  const Eigen::Vector3d moved = to.translation() - from.translation();
+  const double height = request.lift->height;
+  const std::string& direction = result.lift->direction;
+  if (direction == "planned") {
+    // Rises by the height at least, turned 20 degrees at most.
+    EXPECT_GT(moved.z(), height - 1e-3);
+    EXPECT_LT(Eigen::AngleAxisd(from.linear().transpose() * to.linear()).angle(),
+              20.0 * M_PI / 180.0 + 1e-3);
+    return;
+  }
   EXPECT_TRUE(to.linear().isApprox(from.linear(), 1e-4));
-  if (result.lift->direction != "retreat") {
-    EXPECT_GT(to.translation().z() - from.translation().z(), 0.5 * request.lift->height);
+  if (direction.rfind("out_", 0) == 0) {
+    // 1 cm up, 0.1, 0.2 or 0.3 m aside, up the rest of the height.
+    EXPECT_NEAR(moved.z(), height, 1e-3);
+    const double aside = moved.head<2>().norm();
+    EXPECT_NEAR(aside, 0.1 * std::round(aside / 0.1), 1e-3);
+    EXPECT_GE(std::round(aside / 0.1), 1.0);
+    EXPECT_LE(std::round(aside / 0.1), 3.0);
+    return;
+  }
+  EXPECT_NEAR(moved.norm(), height, 1e-3);
+  if (direction != "retreat") {
+    EXPECT_GT(moved.z(), 0.5 * height);
   }
 }
 

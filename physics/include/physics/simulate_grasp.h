@@ -120,9 +120,9 @@ struct GraspVerdict {
   /// object; below 1 the hull fills cavities the real object has (a mug's
   /// inside), and contacts there are not real.
   double shape_fidelity = 0.0;
-  /// "up" (world z), "retreat" (against the palm's approach axis) or
-  /// "up_blocked" (neither is collision-free for the robot without the
-  /// object; lifted up all the same): lift_path.h.
+  /// "plan" (the caller's lift), or one of LiftPlan::direction
+  /// (lift_path.h): "up_blocked" when every direction is blocked (lifted
+  /// up all the same).
   std::string lift_direction;
   std::vector<MotionSample> nominal_motion;  ///< at options.record_rate
 };
@@ -147,9 +147,15 @@ void prepareSimulation(const robot::RobotModel& robot, const robot::Scene& scene
 /// "options.<field>", "robot.hand_actuation" for a robot config without
 /// one) for bad input, and std::runtime_error when MuJoCo rejects the
 /// generated model.
+/// With `lift` (full configurations from the grasp on, e.g. a plan's
+/// lift), the trials follow it instead of the lift the protocol plans
+/// (lift_direction "plan"), over options.lift_time per options.lift_height
+/// of palm travel (InvalidArgument "lift" when it does not start at the
+/// grasp's arm configuration or leaves the limits).
 GraspVerdict simulateGrasp(const robot::CollisionModel& collision, const robot::Scene& scene,
                            const db::ObjectDatabase& object, const Eigen::VectorXd& pregrasp,
-                           const Eigen::VectorXd& grasp, const SimulationOptions& options = {});
+                           const Eigen::VectorXd& grasp, const SimulationOptions& options = {},
+                           const std::vector<Eigen::VectorXd>* lift = nullptr);
 
 /// A planned pick and place to simulate (simulatePickAndPlace): what the
 /// robot does after the hand closed.

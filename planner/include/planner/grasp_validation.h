@@ -8,6 +8,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "physics/simulate_grasp.h"
 #include "planner/goal_sampler.h"
@@ -65,6 +66,9 @@ struct ValidationRequest {
   GraspCheckOptions check;
   /// Also simulate the executed grasp (physics::simulateGrasp).
   bool physics = true;
+  /// The lift the simulation follows (a plan's, from the grasp on); empty:
+  /// the one the physics protocol plans.
+  std::vector<Eigen::VectorXd> lift;
   physics::SimulationOptions simulation;
 };
 

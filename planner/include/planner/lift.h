@@ -52,27 +52,38 @@ Hold holdObject(const robot::CollisionModel& model, const Eigen::Isometry3d& rob
 std::shared_ptr<const PlanningWorld> carryWorld(const PlanningWorld& world, const Hold& hold,
                                                 const Eigen::VectorXd& grasp);
 
-/// A lift: the palm on a straight line with its orientation kept, the hand
-/// as closed.
+/// A lift: the palm on straight lines with its orientation kept, the hand
+/// as closed; or a planned motion when no such lines are free.
 struct LiftPath {
-  /// The grasp first, then one configuration per 5 mm of palm travel.
+  /// The grasp first; along straight lines one configuration per 5 mm of
+  /// palm travel, along a planned motion no joint moving more than 0.01
+  /// rad between two.
   std::vector<Eigen::VectorXd> path;
-  /// "up" (world z), "up_retreat" (45 degrees between up and back along
-  /// the palm's approach axis), "retreat" (back along it), "up_to_base"
-  /// (45 degrees between up and towards the robot's base), "up_x",
-  /// "up_minus_x", "up_y" or "up_minus_y" (45 degrees between up and the
-  /// world's axis): the first of these that is free and within 60 degrees
-  /// of up (a lift raises the object by at least half its height).
+  /// One straight line: "up" (world z), "up_retreat" (45 degrees between
+  /// up and back along the palm's approach axis), "retreat" (back along
+  /// it), "up_to_base" (45 degrees between up and towards the robot's
+  /// base), "up_x", "up_minus_x", "up_y" or "up_minus_y" (45 degrees
+  /// between up and the world's axis): the first of these that is free and
+  /// within 60 degrees of up (a lift raises the object by at least half its
+  /// height).
+  /// Out from under something: 1 cm up, then 0.1, 0.2 or 0.3 m
+  /// horizontally, then up the rest of the height: "out_to_base",
+  /// "out_back" (the approach axis's horizontal part, backwards), "out_x",
+  /// "out_minus_x", "out_y", "out_minus_y".
+  /// "planned": a motion planned for the robot holding the object
+  /// (docs/placement.md "The lift").
   std::string direction;
 };
 
-/// The first lift of `height` from `grasp` (LiftPath::direction's order)
-/// whose line the palm can follow within the joint limits and that
-/// `check` finds free (robot::CertifyRule::kTransit) for the robot holding
-/// the object in `scene` (its obstacles; its target is ignored: the object
-/// is in the hand). None when every one is blocked (`why` then names what
-/// blocked "up"), or when `stop` returns true (polled between directions
-/// and within proofs). `queries` gets the proofs' distance queries.
+/// The first lift of `height` from `grasp` (LiftPath::direction's order:
+/// the straight ones, then out from under something) whose lines the palm
+/// can follow within the joint limits and that `check` finds free
+/// (robot::CertifyRule::kTransit) for the robot holding the object in
+/// `scene` (its obstacles; its target is ignored: the object is in the
+/// hand). None when every one is blocked (`why` then names what blocked
+/// "up"), or when `stop` returns true (polled between lines and within
+/// proofs); the planner then plans one. `queries` gets the proofs'
+/// distance queries.
 std::optional<LiftPath> planLift(const Hold& hold, const robot::Scene& scene,
                                  const Eigen::VectorXd& grasp, double height,
                                  const MotionCheck& check, std::string* why = nullptr,
