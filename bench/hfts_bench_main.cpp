@@ -169,7 +169,8 @@ Given addOptions(CLI::App& app, Options& o) {
   app.add_option("--tasks", o.tasks, "With --place: these tasks only")
       ->delimiter(',')
       ->needs(place);
-  app.add_option("--searches", o.searches, "With --place: coupled, decoupled")
+  app.add_option("--searches", o.searches,
+                 "With --place: coupled, decoupled, each optionally with :held_speed=F")
       ->delimiter(',')
       ->needs(place)
       ->capture_default_str();

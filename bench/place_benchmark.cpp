@@ -105,15 +105,52 @@ std::string csvOf(const std::vector<PlaceRun>& runs, const std::string& robot, b
   return csv.str();
 }
 
+/// A --searches entry: "coupled" or "decoupled", optionally
+/// ":held_speed=F" (the lift's held speed, planner/lift.h).
+struct SearchSpec {
+  planner::PlaceSearch search = planner::PlaceSearch::kCoupled;
+  planner::LiftOptions lift;
+};
+
+SearchSpec searchSpecOf(const std::string& text) {
+  SearchSpec spec;
+  const std::string name = text.substr(0, text.find(':'));
+  if (name != "coupled" && name != "decoupled")
+    throw UsageError("--searches: unknown '" + name + "' in '" + text +
+                     "' (valid: coupled, decoupled, each with :held_speed=F)");
+  spec.search =
+      name == "coupled" ? planner::PlaceSearch::kCoupled : planner::PlaceSearch::kDecoupled;
+  for (std::size_t at = text.find(':'); at != std::string::npos;) {
+    const std::size_t next = text.find(':', at + 1);
+    const std::string setting =
+        text.substr(at + 1, next == std::string::npos ? next : next - at - 1);
+    const std::string prefix = "held_speed=";
+    if (setting.rfind(prefix, 0) != 0)
+      throw UsageError("--searches: unknown setting '" + setting + "' in '" + text +
+                       "' (valid: held_speed=F)");
+    try {
+      std::size_t used = 0;
+      spec.lift.held_speed = std::stod(setting.substr(prefix.size()), &used);
+      if (used != setting.size() - prefix.size()) throw std::invalid_argument("trailing text");
+      planner::checkLiftOptions(spec.lift);
+    } catch (const std::exception& e) {
+      throw UsageError("--searches: '" + text + "': held_speed must be a number in (0, 1]");
+    }
+    at = next;
+  }
+  return spec;
+}
+
 PlaceRun runOnce(const planner::PlanningWorld& world, const PlaceTask& task,
                  const robot::Scene& scene, const std::string& search, std::uint64_t seed,
                  const PlaceOptions& o) {
+  const SearchSpec spec = searchSpecOf(search);
   planner::PlanRequest request;
   request.scene = scene;
   request.object = task.object;
   request.place = task.place;
-  request.place_search =
-      search == "coupled" ? planner::PlaceSearch::kCoupled : planner::PlaceSearch::kDecoupled;
+  request.place_search = spec.search;
+  request.lift = spec.lift;
   request.seed = seed;
   request.time_limit = o.time_limit;
   const planner::PlanResult result = planner::planGrasp(world, request);
@@ -230,9 +267,7 @@ std::vector<PlaceTask> readPlaceTasks(const fs::path& file) {
 
 int runPlaceBenchmark(const PlaceOptions& o, std::ostream& out) {
   checkRunsAndTimeLimit(o.runs, o.time_limit);
-  for (const std::string& s : o.searches)
-    if (s != "coupled" && s != "decoupled")
-      throw UsageError("--searches: unknown '" + s + "' (valid: coupled, decoupled)");
+  for (const std::string& s : o.searches) searchSpecOf(s);
   std::vector<PlaceTask> tasks = readPlaceTasks(o.tasks);
   std::vector<std::string> names;
   for (const PlaceTask& t : tasks) names.push_back(t.name);

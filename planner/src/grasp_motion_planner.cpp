@@ -100,8 +100,9 @@ PlanResult search(std::chrono::steady_clock::time_point began, const SharedProbl
     result.trajectory =
         graspTrajectory(result.path, problem.checker, check, request.trajectory_rate, &queries);
     if (result.lift) {
-      const GraspTrajectory lift = liftTrajectory(*hold, shared.scene, *result.lift, check,
-                                                  request.trajectory_rate, &queries);
+      const GraspTrajectory lift =
+          liftTrajectory(*hold, shared.scene, *result.lift, check, request.trajectory_rate,
+                         &queries, request.lift->held_speed);
       GraspTrajectory& t = result.trajectory;
       t.lift_start = appendTrajectory(t, lift);
       t.carry_start = t.place_start = t.release_start = t.retreat_start = t.duration;

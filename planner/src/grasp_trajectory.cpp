@@ -49,16 +49,17 @@ GraspTrajectory checkedTrajectory(const std::vector<Eigen::VectorXd>& path,
                                   std::vector<TrajectoryPoint> closing, double closingDuration,
                                   robot::CollisionChecker& checker, const MotionCheck& check,
                                   robot::CertifyRule rule, double rate, std::size_t& queries,
-                                  double maxDeviation) {
+                                  double maxDeviation, double speed = 1.0) {
   const robot::RobotModel& model = checker.model();
+  const Eigen::VectorXd velocities = speed * model.maxVelocities();
+  const Eigen::VectorXd accelerations = speed * speed * model.maxAccelerations();
   TrajectoryOptions options;
   for (int attempt = 0; attempt <= kTightenings + 1; ++attempt) {
     const double deviation =
         attempt > kTightenings ? 0.0 : maxDeviation / std::pow(kTighten, attempt);
     if (attempt > 0 && deviation == options.max_deviation) continue;  // tried already
     options.max_deviation = deviation;
-    const TimeOptimalTrajectory moving(path, model.maxVelocities(), model.maxAccelerations(),
-                                       options);
+    const TimeOptimalTrajectory moving(path, velocities, accelerations, options);
     if (tooLong(moving.sampleCount(rate) + static_cast<double>(closing.size()))) return {};
     GraspTrajectory out;
     out.points = moving.sample(rate);
@@ -115,11 +116,14 @@ GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
 
 GraspTrajectory motionTrajectory(const std::vector<Eigen::VectorXd>& path,
                                  robot::CollisionChecker& checker, const MotionCheck& check,
-                                 double rate, std::size_t* queries, double maxDeviation) {
+                                 double rate, std::size_t* queries, double maxDeviation,
+                                 double speed) {
   std::size_t ownQueries = 0;
   checkInputs(path, checker.model(), rate, "needs a start and a goal");
+  if (!(speed > 0.0 && speed <= 1.0))
+    throw InvalidArgument("speed", "must be in (0, 1], not " + std::to_string(speed));
   return checkedTrajectory(path, {}, 0.0, checker, check, robot::CertifyRule::kTransit, rate,
-                           queries != nullptr ? *queries : ownQueries, maxDeviation);
+                           queries != nullptr ? *queries : ownQueries, maxDeviation, speed);
 }
 
 double appendTrajectory(GraspTrajectory& trajectory, const GraspTrajectory& next) {

@@ -14,6 +14,9 @@ void checkLiftOptions(const LiftOptions& options) {
   if (!(options.height > 0.0 && options.height <= 1.0))
     throw InvalidArgument("lift.height",
                           "must be in (0, 1] m, not " + std::to_string(options.height));
+  if (!(options.held_speed > 0.0 && options.held_speed <= 1.0))
+    throw InvalidArgument("lift.held_speed",
+                          "must be in (0, 1], not " + std::to_string(options.held_speed));
 }
 
 namespace {
@@ -136,7 +139,7 @@ std::optional<LiftPath> planLift(const Hold& hold, const robot::Scene& scene,
                                  const Eigen::VectorXd& grasp, double height,
                                  const MotionCheck& check, std::string* why, std::size_t* queries,
                                  const std::function<bool()>& stop) {
-  checkLiftOptions({height});
+  checkLiftOptions({height, 1.0});
   const robot::RobotModel& robot = hold.model->robot;
   // The proofs bound the held object's motion too.
   HeldChecker held(hold, scene, check);
@@ -183,9 +186,11 @@ std::optional<std::vector<Eigen::VectorXd>> heldPalmLine(
 }
 
 GraspTrajectory liftTrajectory(const Hold& hold, const robot::Scene& scene, const LiftPath& lift,
-                               const MotionCheck& check, double rate, std::size_t* queries) {
+                               const MotionCheck& check, double rate, std::size_t* queries,
+                               double speed) {
   HeldChecker held(hold, scene, check);
-  return motionTrajectory(lift.path, held.checker, held.held, rate, queries);
+  return motionTrajectory(lift.path, held.checker, held.held, rate, queries,
+                          TrajectoryOptions{}.max_deviation, speed);
 }
 
 }  // namespace hfts::planner

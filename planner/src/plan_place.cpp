@@ -156,10 +156,13 @@ GraspTrajectory placeTrajectory(const Problem& p, const Hold& hold, const Placem
                                 const MotionCheck& carryCheck, double rate, PlaceOutcome& out) {
   const MotionCheck& check = p.planner->smoothing().final_check;
   const robot::Scene obstacles = obstaclesOf(p.scene);
+  // Carried at the held speed, as the lift.
+  const double speed = p.lift ? p.lift->held_speed : 1.0;
   GraspTrajectory trajectory =
-      motionTrajectory(placement.carry, carryChecker, carryCheck, rate, &out.certificate_queries);
+      motionTrajectory(placement.carry, carryChecker, carryCheck, rate, &out.certificate_queries,
+                       TrajectoryOptions{}.max_deviation, speed);
   const GraspTrajectory descent = liftTrajectory(hold, obstacles, LiftPath{placement.descent, ""},
-                                                 check, rate, &out.certificate_queries);
+                                                 check, rate, &out.certificate_queries, speed);
   // The opening and the retreat: a grasp's approach and closing, backwards.
   std::vector<Eigen::VectorXd> approach(placement.retreat.rbegin(), placement.retreat.rend());
   approach.push_back(placement.descent.back());

@@ -313,7 +313,7 @@ class World:
         validate: bool = False,
         simulation: Optional[SimulationOptions] = None,
         cancel: Optional[Cancel] = None,
-        lift: Union[None, bool, float] = None,
+        lift: Union[None, bool, float, Dict[str, float]] = None,
         place: Optional[Dict[str, Any]] = None,
     ) -> Plan:
         """Plans a grasp of `object` and a path to it, or with goals a path to one of them."""

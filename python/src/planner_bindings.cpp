@@ -162,6 +162,22 @@ planner::PlanResult planInterruptibly(const PlanningWorld& world,
 
 /// `place`: {"on": obstacle, "area": ((x0, y0), (x1, y1)), "upright":
 /// bool, "search": "coupled" | "decoupled"}, as the service's.
+/// A lift given as a dict: {"height": m, "held_speed": fraction}, either
+/// key optional.
+planner::LiftOptions liftOf(const py::dict& lift) {
+  planner::LiftOptions out;
+  for (const auto& [key, value] : lift) {
+    const std::string name = py::str(key).cast<std::string>();
+    if (name == "height")
+      out.height = value.cast<double>();
+    else if (name == "held_speed")
+      out.held_speed = value.cast<double>();
+    else
+      throw InvalidArgument("lift." + name, "unknown key (known: height, held_speed)");
+  }
+  return out;
+}
+
 void placeOf(const py::dict& place, planner::PlanRequest& r) {
   planner::PlaceGoal goal;
   for (const auto& [key, value] : place) {
@@ -222,15 +238,20 @@ Plan plan(std::shared_ptr<PlanningWorld> world, const robot::Scene& scene,
   r.validate = validate;
   if (simulation) r.simulation = *simulation;
   // None: the default lift, none for the paper's planner; True: the
-  // default lift; False: none; a number: its height (m).
+  // default lift; False: none; a number: its height (m); a dict: height
+  // and held speed.
   if (lift.is_none()) {
     if (r.preset == planner::PlannerPreset::kPaper) r.lift.reset();
   } else if (py::isinstance<py::bool_>(lift)) {
     if (!lift.cast<bool>()) r.lift.reset();
   } else if (py::isinstance<py::float_>(lift) || py::isinstance<py::int_>(lift)) {
     r.lift = planner::LiftOptions{lift.cast<double>()};
+  } else if (py::isinstance<py::dict>(lift)) {
+    r.lift = liftOf(lift.cast<py::dict>());
   } else {
-    throw InvalidArgument("lift", "must be None, True, False or a height in metres");
+    throw InvalidArgument("lift",
+                          "must be None, True, False, a height in metres or a dict "
+                          "{height, held_speed}");
   }
   if (r.lift && !r.goals.empty()) r.lift.reset();  // a motion plan holds no object
   if (place) placeOf(*place, r);

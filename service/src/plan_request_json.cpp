@@ -74,20 +74,23 @@ void checkStart(const JsonFields& f, const robot::RobotModel& robot,
 }
 
 /// The `physics` object: options of the physics check that `validate` runs.
-/// `lift`: true (the default lift), false (none) or {"height": metres}.
+/// `lift`: true (the default lift), false (none) or {"height": metres,
+/// "held_speed": fraction}.
 std::optional<planner::LiftOptions> liftOf(const JsonFields& f) {
   const nlohmann::json& lift = f.at("lift");
   if (lift.is_boolean())
     return lift.get<bool>() ? std::optional(planner::LiftOptions{}) : std::nullopt;
-  if (!lift.is_object()) f.fail("lift", "must be true, false or {\"height\": metres}");
+  if (!lift.is_object())
+    f.fail("lift", "must be true, false or {\"height\": metres, \"held_speed\": fraction}");
   const JsonFields l(lift, "lift");
-  l.allowOnly({"height"});
+  l.allowOnly({"height", "held_speed"});
   planner::LiftOptions o;
   if (l.has("height")) o.height = l.positive("height");
+  if (l.has("held_speed")) o.held_speed = l.positive("held_speed");
   try {
     planner::checkLiftOptions(o);
   } catch (const InvalidArgument& e) {
-    l.fail("height", e.problem());
+    l.fail(e.field().substr(e.field().find('.') + 1), e.problem());
   }
   return o;
 }

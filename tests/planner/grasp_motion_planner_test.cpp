@@ -295,6 +295,8 @@ TEST(GraspMotionPlanner, EveryGraspPlanLiftsTheObjectClearOfItsSupport) {
   EXPECT_TRUE(closed.trajectory.points.back().positions.isApprox(closed.path.back(), 1e-9));
   r.lift = LiftOptions{0.0};
   test::expectErrorMentioning<InvalidArgument>([&] { planGrasp(world(), r); }, {"lift.height"});
+  r.lift = LiftOptions{0.1, 1.5};
+  test::expectErrorMentioning<InvalidArgument>([&] { planGrasp(world(), r); }, {"lift.held_speed"});
 }
 
 /// Adds to `r` a square board `size` wide, centred over the target object,

@@ -123,6 +123,37 @@ TEST(GraspTrajectory, RateZeroGivesNoTrajectoryAndBadRatesAreRefused) {
                InvalidArgument);
 }
 
+TEST(GraspTrajectory, AMotionAtAFractionOfTheSpeedIsTheSameMotionSlowerBy1OverIt) {
+  // Half the velocity limits and a quarter of the acceleration limits: the
+  // same time law stretched twice, within half the velocity limits.
+  const robot::RobotModel& robot = test::kr5Sdh();
+  Eigen::VectorXd a = robot.home(), b = a, c = a;
+  b[0] += 0.8;
+  c[0] += 0.8;
+  c[2] -= 0.4;
+  robot::CollisionChecker free(test::collisionOf(robot), robot::Scene{}, nullptr);
+  const GraspTrajectory full = motionTrajectory({a, b, c}, free, MotionCheck{0.0025}, 100);
+  const GraspTrajectory half = motionTrajectory({a, b, c}, free, MotionCheck{0.0025}, 100, nullptr,
+                                                TrajectoryOptions{}.max_deviation, 0.5);
+  ASSERT_FALSE(full.points.empty() || half.points.empty());
+  EXPECT_NEAR(half.duration / full.duration, 2.0, 1e-6);
+  for (const TrajectoryPoint& p : half.points) {
+    EXPECT_TRUE(
+        (p.velocities.cwiseAbs().array() <= 0.5 * robot.maxVelocities().array() * (1 + 1e-6)).all())
+        << "at " << p.time;
+    // Where the slow one is at t, the fast one was at t / 2.
+    double nearest = INFINITY;
+    for (const TrajectoryPoint& q : full.points)
+      if (std::abs(q.time - p.time / 2.0) < 0.006)
+        nearest = std::min(nearest, (q.positions - p.positions).norm());
+    EXPECT_LT(nearest, 0.05) << "at " << p.time;
+  }
+  for (double bad : {0.0, -0.5, 1.5, std::nan("")})
+    EXPECT_THROW(motionTrajectory({a, b, c}, free, MotionCheck{0.0025}, 100, nullptr,
+                                  TrajectoryOptions{}.max_deviation, bad),
+                 InvalidArgument);
+}
+
 TEST(GraspTrajectory, ABlendThatWouldCollideIsTightened) {
   // A corner around a box placed where the blend cuts it: the blend's chord
   // enters the box, so the trajectory keeps to the planned path instead.

@@ -83,6 +83,8 @@ class Errors(unittest.TestCase):
         self.assertField("parameters.i_min", WORLD.plan, TABLE, settings=settings)
         self.assertField("lift.height", WORLD.plan, TABLE, lift=0.0)
         self.assertField("lift", WORLD.plan, TABLE, lift="up")
+        self.assertField("lift.held_speed", WORLD.plan, TABLE, lift={"held_speed": 0.0})
+        self.assertField("lift.speed", WORLD.plan, TABLE, lift={"speed": 0.5})
         self.assertField("place.on", WORLD.plan, TABLE, place={"on": "floor"})
         self.assertField("place.colour", WORLD.plan, TABLE, place={"on": "table", "colour": 1})
         self.assertField("parameters.p_max", settings.set, "p_max", 2.0)
@@ -369,6 +371,22 @@ class Results(unittest.TestCase):
         self.assertLess(t.closing_start, t.lift_start)
         limit = WORLD.robot.max_velocities * (1 + 1e-6)
         self.assertTrue((np.abs(t.velocities) <= limit).all())
+
+    def test_held_speed(self):
+        # The same plan with the arm at half speed while it holds the mug:
+        # the lift takes twice as long, within half the velocity limits.
+        plans = [WORLD.plan(TABLE, seed=1, time_limit=30, parameters=NO_PHYSICS,
+                            lift={"height": 0.1, "held_speed": speed}) for speed in (1.0, 0.5)]
+        for plan in plans:
+            self.assertTrue(plan.success, plan.message)
+        np.testing.assert_array_equal(plans[0].path, plans[1].path)
+        fast, t = plans[0].trajectory, plans[1].trajectory
+        self.assertAlmostEqual(t.lift_start, fast.lift_start, places=9)
+        self.assertAlmostEqual((t.duration - t.lift_start) / (fast.duration - fast.lift_start), 2.0,
+                               places=3)
+        lifting = t.times > t.lift_start
+        limit = 0.5 * WORLD.robot.max_velocities * (1 + 1e-6)
+        self.assertTrue((np.abs(t.velocities[lifting]) <= limit).all())
 
     def test_pick_and_place(self):
         area = ((0.30, -0.42), (0.42, -0.30))

@@ -100,6 +100,14 @@ TEST(PlanRequestJson, LiftIsOnByDefaultButForThePapersPlanner) {
   expectRejected({{"scene", "table"}, {"lift", {{"height", 2.0}}}}, "lift.height", "(0, 1]");
   expectRejected({{"scene", "table"}, {"lift", {{"height", -0.1}}}}, "lift.height", "> 0");
   expectRejected({{"scene", "table"}, {"lift", {{"high", 0.1}}}}, "lift.high", "");
+  const planner::PlanRequest slow = parse({{"scene", "table"}, {"lift", {{"held_speed", 0.25}}}});
+  ASSERT_TRUE(slow.lift.has_value());
+  EXPECT_EQ(slow.lift->held_speed, 0.25);
+  EXPECT_EQ(slow.lift->height, planner::LiftOptions{}.height);
+  EXPECT_EQ(plain.lift->held_speed, planner::LiftOptions{}.held_speed);
+  expectRejected({{"scene", "table"}, {"lift", {{"held_speed", 1.5}}}}, "lift.held_speed",
+                 "(0, 1]");
+  expectRejected({{"scene", "table"}, {"lift", {{"held_speed", 0.0}}}}, "lift.held_speed", "> 0");
   expectRejected({{"scene", "table"}, {"lift", 0.1}}, "lift", "true, false or");
   expectRejected({{"scene", "table"}, {"goal", {{"joints", start()}}}, {"lift", true}}, "lift",
                  "no object to lift");

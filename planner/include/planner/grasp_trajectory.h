@@ -60,12 +60,15 @@ GraspTrajectory graspTrajectory(const std::vector<Eigen::VectorXd>& path,
 
 /// The trajectory of a motion plan's path (start, ..., goal: motion_goal.h)
 /// as graspTrajectory's approach, without a closing (closing_start =
-/// duration); its samples' polyline checked as transit. Same errors
-/// ("path": fewer than two configurations).
+/// duration); its samples' polyline checked as transit. `speed` (in (0,
+/// 1]) scales the velocity limits, its square the acceleration limits: the
+/// same trajectory 1 / speed times slower. Same errors ("path": fewer than
+/// two configurations; "speed").
 GraspTrajectory motionTrajectory(const std::vector<Eigen::VectorXd>& path,
                                  robot::CollisionChecker& checker, const MotionCheck& check,
                                  double rate, std::size_t* queries = nullptr,
-                                 double maxDeviation = TrajectoryOptions{}.max_deviation);
+                                 double maxDeviation = TrajectoryOptions{}.max_deviation,
+                                 double speed = 1.0);
 
 /// Appends `next`, which starts at rest where `trajectory` ends, to
 /// `trajectory` (its samples after the first, their times shifted); returns

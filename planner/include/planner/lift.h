@@ -26,9 +26,14 @@ namespace hfts::planner {
 /// The lift a plan ends with unless the request turns it off.
 struct LiftOptions {
   double height = 0.10;  ///< how far the palm lifts the object (m, in (0, 1])
+  /// How fast the arm moves while the hand holds the object (the lift, the
+  /// carry, the descent of a pick and place): the fraction of the robot's
+  /// velocity limits, its square of the acceleration limits (the same
+  /// motion, 1 / held_speed times slower), in (0, 1].
+  double held_speed = 1.0;
 };
 
-/// Checks the options (InvalidArgument "lift.height").
+/// Checks the options (InvalidArgument "lift.height", "lift.held_speed").
 void checkLiftOptions(const LiftOptions& options);
 
 /// The robot holding an object as the hand closed on it.
@@ -102,10 +107,10 @@ std::optional<std::vector<Eigen::VectorXd>> heldPalmLine(
     const std::function<bool()>& stop = {});
 
 /// The lift as a trajectory (motionTrajectory of its path for the robot
-/// holding the object in `scene`), sampled at `rate`; empty points when its
-/// samples cannot be made free. Throws as motionTrajectory.
+/// holding the object in `scene`, at `speed`), sampled at `rate`; empty
+/// points when its samples cannot be made free. Throws as motionTrajectory.
 GraspTrajectory liftTrajectory(const Hold& hold, const robot::Scene& scene, const LiftPath& lift,
                                const MotionCheck& check, double rate,
-                               std::size_t* queries = nullptr);
+                               std::size_t* queries = nullptr, double speed = 1.0);
 
 }  // namespace hfts::planner
