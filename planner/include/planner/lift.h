@@ -29,8 +29,10 @@ struct LiftOptions {
   /// How fast the arm moves while the hand holds the object (the lift, the
   /// carry, the descent of a pick and place): the fraction of the robot's
   /// velocity limits, its square of the acceleration limits (the same
-  /// motion, 1 / held_speed times slower), in (0, 1].
-  double held_speed = 1.0;
+  /// motion, 1 / held_speed times slower), in (0, 1]. 0.5 lost the
+  /// object from the hand less often in the pick and place benchmark
+  /// (docs/experiments/2026-12-07-held-speed.md).
+  double held_speed = 0.5;
 };
 
 /// Checks the options (InvalidArgument "lift.height", "lift.held_speed").
