@@ -28,8 +28,10 @@ struct TrialPlan {
   Eigen::VectorXd close_lead;
   std::vector<Eigen::VectorXd> lift;  ///< full configurations, PalmLine::waypoints
   /// How long the lift takes (s): options.lift_time for options.lift_height
-  /// of palm travel, longer in proportion for a longer lift (liftTime).
-  double lift_time = 0.0;
+  /// of palm travel, longer in proportion for a longer lift (trialPlan
+  /// sets it; the default is the default options' lift of the default
+  /// height).
+  double lift_time = SimulationOptions{}.lift_time;
   Eigen::Isometry3d object_pose = Eigen::Isometry3d::Identity();
   SimulationOptions options;
   /// A pick and place: after the lift, follow this instead of holding and
