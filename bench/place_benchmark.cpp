@@ -133,7 +133,7 @@ SearchSpec searchSpecOf(const std::string& text) {
       spec.lift.held_speed = std::stod(setting.substr(prefix.size()), &used);
       if (used != setting.size() - prefix.size()) throw std::invalid_argument("trailing text");
       planner::checkLiftOptions(spec.lift);
-    } catch (const std::exception& e) {
+    } catch (const std::exception&) {
       throw UsageError("--searches: '" + text + "': held_speed must be a number in (0, 1]");
     }
     at = next;

@@ -78,8 +78,12 @@ double liftTime(const robot::RobotModel& robot, const std::vector<Eigen::VectorX
         .translation();
   };
   double travel = 0.0;
-  for (std::size_t i = 1; i < lift.size(); ++i)
-    travel += (palm(lift[i]) - palm(lift[i - 1])).norm();
+  Eigen::Vector3d previous = lift.empty() ? Eigen::Vector3d::Zero() : palm(lift.front());
+  for (std::size_t i = 1; i < lift.size(); ++i) {
+    const Eigen::Vector3d next = palm(lift[i]);
+    travel += (next - previous).norm();
+    previous = next;
+  }
   return options.lift_time * std::max(1.0, travel / options.lift_height);
 }
 

@@ -139,7 +139,7 @@ std::optional<LiftPath> planLift(const Hold& hold, const robot::Scene& scene,
                                  const Eigen::VectorXd& grasp, double height,
                                  const MotionCheck& check, std::string* why, std::size_t* queries,
                                  const std::function<bool()>& stop) {
-  checkLiftOptions({height, 1.0});
+  checkLiftOptions({height});
   const robot::RobotModel& robot = hold.model->robot;
   // The proofs bound the held object's motion too.
   HeldChecker held(hold, scene, check);

@@ -160,10 +160,8 @@ planner::PlanResult planInterruptibly(const PlanningWorld& world,
   return done.get();
 }
 
-/// `place`: {"on": obstacle, "area": ((x0, y0), (x1, y1)), "upright":
-/// bool, "search": "coupled" | "decoupled"}, as the service's.
 /// A lift given as a dict: {"height": m, "held_speed": fraction}, either
-/// key optional.
+/// key optional, as the service's.
 planner::LiftOptions liftOf(const py::dict& lift) {
   planner::LiftOptions out;
   for (const auto& [key, value] : lift) {
@@ -178,6 +176,8 @@ planner::LiftOptions liftOf(const py::dict& lift) {
   return out;
 }
 
+/// `place`: {"on": obstacle, "area": ((x0, y0), (x1, y1)), "upright":
+/// bool, "search": "coupled" | "decoupled"}, as the service's.
 void placeOf(const py::dict& place, planner::PlanRequest& r) {
   planner::PlaceGoal goal;
   for (const auto& [key, value] : place) {

@@ -57,6 +57,14 @@ class BenchCli(unittest.TestCase):
         self.assertFalse(os.path.exists(os.path.join(self.tmp, "bad.csv")))
         return result.stderr
 
+    def test_place_searches_are_checked_before_any_run(self):
+        tasks = os.path.join(SOURCE_DIR, "objects", "pick_and_place", "tasks.json")
+        for bad, says in [("sideways", "unknown 'sideways'"),
+                          ("coupled:fast=1", "unknown setting 'fast=1'"),
+                          ("decoupled:held_speed=2", "held_speed must be a number in (0, 1]"),
+                          ("coupled:held_speed=0.5x", "held_speed must be a number in (0, 1]")]:
+            self.assertIn(says, self.usage_error("--place", tasks, "--searches", bad))
+
     def test_benchmark_exits_cleanly_and_leaves_no_temporary_file(self):
         self.assertEqual(self.bench.returncode, 0, self.bench.stderr)
         self.assertFalse(os.path.exists(self.csv + ".tmp"))
