@@ -20,6 +20,7 @@ find_package(CLI11 2.1 REQUIRED)
 find_package(OpenSSL 3 REQUIRED COMPONENTS Crypto SSL)
 find_package(tinyxml2 9 REQUIRED)  # SRDF files (robot configs' `srdf`)
 find_package(yaml-cpp 0.7 REQUIRED)  # MoveIt planning scenes (MotionBenchMaker)
+find_package(PNG 1.6 REQUIRED)  # depth images (robot/point_cloud.h)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(URDFDOM REQUIRED IMPORTED_TARGET urdfdom>=3.0)
 find_path(ASIO_INCLUDE_DIR asio.hpp REQUIRED)
@@ -29,6 +30,15 @@ add_library(hfts_dep_pcl INTERFACE)
 target_include_directories(hfts_dep_pcl SYSTEM INTERFACE ${PCL_INCLUDE_DIRS})
 target_link_libraries(hfts_dep_pcl INTERFACE ${PCL_LIBRARIES})
 add_library(hfts::dep_pcl ALIAS hfts_dep_pcl)
+
+# PCL's PCD and PLY readers (robot/point_cloud.h), linked as the libraries
+# themselves: the pcl_io target's interface brings OpenNI, VTK's rendering
+# and Qt, none of which the readers need at link time.
+find_library(HFTS_PCL_IO pcl_io HINTS ${PCL_LIBRARY_DIRS} REQUIRED)
+find_library(HFTS_PCL_IO_PLY pcl_io_ply HINTS ${PCL_LIBRARY_DIRS} REQUIRED)
+add_library(hfts_dep_pcl_io INTERFACE)
+target_link_libraries(hfts_dep_pcl_io INTERFACE ${HFTS_PCL_IO} ${HFTS_PCL_IO_PLY} hfts_dep_pcl)
+add_library(hfts::dep_pcl_io ALIAS hfts_dep_pcl_io)
 
 add_library(hfts_dep_hdf5 INTERFACE)
 target_include_directories(hfts_dep_hdf5 SYSTEM INTERFACE ${HDF5_INCLUDE_DIRS})

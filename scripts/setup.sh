@@ -16,6 +16,7 @@ PACKAGES=(
   libassimp-dev libhdf5-dev hdf5-tools libqhull-dev nlohmann-json3-dev
   libasio-dev libcli11-dev libssl-dev libnanoflann-dev libhwy-dev
   libmujoco-dev libtinyxml2-dev libyaml-cpp-dev
+  liboctomap-dev libpng-dev  # point-cloud obstacles (octrees in FCL) and depth images
   # tests and benchmarks; clang + libFuzzer and the sanitizer runtimes
   # (scripts/fuzz.sh, scripts/sanitize.sh); HAProxy (scripts/scale_out.sh)
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -128,6 +128,26 @@ bool TriangleBvh::escapes(const Eigen::Vector3d& origin, const Eigen::Vector3d& 
   return ray.tfar >= 0.0f;  // Embree sets tfar to -inf on a hit
 }
 
+std::optional<RayHit> TriangleBvh::firstHit(const Eigen::Vector3d& origin,
+                                            const Eigen::Vector3d& direction) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit query{};
+  query.ray.org_x = static_cast<float>(origin.x());
+  query.ray.org_y = static_cast<float>(origin.y());
+  query.ray.org_z = static_cast<float>(origin.z());
+  query.ray.dir_x = static_cast<float>(direction.x());
+  query.ray.dir_y = static_cast<float>(direction.y());
+  query.ray.dir_z = static_cast<float>(direction.z());
+  query.ray.tnear = 0.0f;
+  query.ray.tfar = std::numeric_limits<float>::infinity();
+  query.ray.mask = 0xffffffffu;
+  query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &context, &query);
+  if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  return RayHit{static_cast<double>(query.ray.tfar), query.hit.primID};
+}
+
 bool TriangleBvh::isWithin(const Eigen::Vector3d& point, double radius) const {
   RTCPointQuery query{};
   query.x = static_cast<float>(point.x());

@@ -112,6 +112,10 @@ class MjcfBuilder {
   void writeObstacles(XmlElement& world, XmlElement& assets) const {
     for (std::size_t i = 0; i < scene_.obstacles.size(); ++i) {
       const robot::Obstacle& obstacle = scene_.obstacles[i];
+      if (obstacle.type == robot::Obstacle::Type::kPoints) {
+        writeCloud(world, obstacle);
+        continue;
+      }
       XmlElement& geom = world.child("geom");
       geom.attribute("name", "obstacle/" + obstacle.name);
       if (obstacle.type == robot::Obstacle::Type::kMesh) {
@@ -125,6 +129,18 @@ class MjcfBuilder {
       } else {
         writePrimitive(geom, static_cast<int>(obstacle.type), obstacle.size, obstacle.pose);
       }
+      writeContact(geom, kStaticType, kStaticAffinity, 3, settings_.friction, 0.0);
+    }
+  }
+
+  /// A cloud as its occupied voxels, merged into boxes along x.
+  void writeCloud(XmlElement& world, const robot::Obstacle& obstacle) const {
+    const auto boxes = obstacle.cloud->boxes();
+    for (std::size_t b = 0; b < boxes.size(); ++b) {
+      XmlElement& geom = world.child("geom");
+      geom.attribute("name", "obstacle/" + obstacle.name + "/" + std::to_string(b));
+      writePrimitive(geom, static_cast<int>(robot::Obstacle::Type::kBox), boxes[b].second,
+                     obstacle.pose * Eigen::Translation3d(boxes[b].first));
       writeContact(geom, kStaticType, kStaticAffinity, 3, settings_.friction, 0.0);
     }
   }

@@ -83,7 +83,8 @@ struct SharedProblem {
                         ? *request.object_pose
                         : robot::targetPose(request.scene, object.geometry.mesh_vertices);
     s.target_rest_on.clear();  // placed
-    return s;
+    // What a sensor saw of the object, or of its support under it, is the object's.
+    return robot::withTargetCarved(s, object.geometry.distance_grid, object.geometry.mesh_vertices);
   }
 
   const PlanningWorld& world;

@@ -317,8 +317,11 @@ class World:
         place: Optional[Dict[str, Any]] = None,
     ) -> Plan:
         """Plans a grasp of `object` and a path to it, or with goals a path to one of them."""
-    def validate(self, plan: Plan, simulation: Optional[SimulationOptions] = None) -> _Json:
-        """A successful plan's grasp checked again and simulated: {holds, check, physics}."""
+    def validate(
+        self, plan: Plan, simulation: Optional[SimulationOptions] = None, scene: Optional[Scene] = None
+    ) -> _Json:
+        """A successful plan's grasp checked again and simulated: {holds, check, physics}; in
+        `scene` when given (the object where the plan had it)."""
 
 # Planner settings.
 

@@ -259,9 +259,15 @@ Plan plan(std::shared_ptr<PlanningWorld> world, const robot::Scene& scene,
   return out;
 }
 
-py::object validate(const Plan& p, const std::optional<physics::SimulationOptions>& simulation) {
+py::object validate(const Plan& p, const std::optional<physics::SimulationOptions>& simulation,
+                    const std::optional<robot::Scene>& scene) {
   planner::PlanRequest request = p.request;
   if (simulation) request.simulation = *simulation;
+  if (scene) {  // the plan in another scene (the true one of a sensed scene), the object where it
+                // was
+    request.scene = *scene;
+    request.object_pose = p.result.object_pose;
+  }
   planner::Validation v;
   {
     py::gil_scoped_release release;
@@ -531,12 +537,12 @@ void bindPlanner(py::module_& m) {
       .def(
           "validate",
           [](const PlanningWorld&, const Plan& p,
-             const std::optional<physics::SimulationOptions>& simulation) {
-            return validate(p, simulation);
-          },
-          py::arg("plan"), py::arg("simulation") = py::none(),
+             const std::optional<physics::SimulationOptions>& simulation,
+             const std::optional<robot::Scene>& scene) { return validate(p, simulation, scene); },
+          py::arg("plan"), py::arg("simulation") = py::none(), py::arg("scene") = py::none(),
           "A successful plan's grasp checked again and simulated in MuJoCo: {holds, check, "
-          "physics}.");
+          "physics}; with `scene`, in that scene instead of the plan's (the object where the "
+          "plan had it), e.g. the true scene of a plan made from a depth image.");
 
   m.def("time_parameterize", &timeParameterize, py::arg("robot"), py::arg("path"),
         py::arg("rate") = 100.0,

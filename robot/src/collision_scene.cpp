@@ -12,6 +12,8 @@
 
 namespace hfts::robot {
 
+using fcl_query::cloudCorners;
+using fcl_query::cloudGeometry;
 using fcl_query::meshGeometry;
 using fcl_query::obstacleCallback;
 using fcl_query::primitive;
@@ -100,16 +102,17 @@ CollisionScene::CollisionScene(const CollisionModel& model, const Scene& scene,
   impl_->target = target;
   impl_->sharedSurface = target != nullptr ? targetSurface : nullptr;
   for (const Obstacle& o : scene.obstacles) {
-    const bool mesh = o.type == Obstacle::Type::kMesh;
-    const Geometry geometry =
-        mesh ? meshGeometry(o.mesh) : primitive(static_cast<int>(o.type), o.size);
     Tag tag{-1, false, false, "obstacle '" + o.name + "'"};
-    if (!mesh) {
+    if (o.type == Obstacle::Type::kMesh) {
+      impl_->addEnvironment(meshGeometry(o.mesh), o.pose, std::move(tag), nullptr, o.mesh.vertices);
+    } else if (o.type == Obstacle::Type::kPoints) {
+      impl_->addEnvironment(cloudGeometry(*o.cloud), o.pose, std::move(tag), nullptr,
+                            cloudCorners(*o.cloud));
+    } else {
       tag.primitive_type = static_cast<int>(o.type);
       tag.primitive_size = o.size;
+      impl_->addEnvironment(primitive(static_cast<int>(o.type), o.size), o.pose, std::move(tag));
     }
-    impl_->addEnvironment(geometry, o.pose, std::move(tag), nullptr,
-                          mesh ? o.mesh.vertices : Vertices{});
   }
   if (target != nullptr) {
     Tag tag{-1, true, false, "target '" + scene.target_object + "'"};

@@ -1,5 +1,6 @@
 #include "fcl_query.h"
 
+#include <fcl/geometry/octree/octree.h>
 #include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/cylinder.h>
 #include <fcl/geometry/shape/sphere.h>
@@ -20,6 +21,31 @@ Geometry primitive(int type, const Eigen::Vector3d& size) {
     default:
       return std::make_shared<fcl::Sphered>(size.x());
   }
+}
+
+Vertices cloudCorners(const VoxelCloud& cloud) {
+  Vertices corners(2, 3);
+  corners.row(0) = cloud.low().transpose();
+  corners.row(1) = cloud.high().transpose();
+  return corners;
+}
+
+Geometry cloudGeometry(const VoxelCloud& cloud) {
+  // Voxel i of the cloud spans [i v, (i + 1) v): octomap's key i + 2^15 at
+  // depth 16, whose box FCL computes the same way.
+  auto tree = std::make_shared<octomap::OcTree>(cloud.options.voxel);
+  const int offset = tree->coordToKey(0.0);  // octomap's tree_max_val
+  for (int z = 0; z < cloud.dims[2]; ++z)
+    for (int y = 0; y < cloud.dims[1]; ++y)
+      for (int x = 0; x < cloud.dims[0]; ++x) {
+        const int i = cloud.first[0] + x, j = cloud.first[1] + y, k = cloud.first[2] + z;
+        if (!cloud.isOccupied(i, j, k)) continue;
+        const octomap::OcTreeKey key(static_cast<octomap::key_type>(i + offset),
+                                     static_cast<octomap::key_type>(j + offset),
+                                     static_cast<octomap::key_type>(k + offset));
+        tree->updateNode(key, tree->getClampingThresMaxLog());
+      }
+  return std::make_shared<fcl::OcTreed>(std::move(tree));
 }
 
 Geometry meshGeometry(const TriangleMesh& mesh) {
@@ -183,6 +209,8 @@ std::vector<SphereTier::Item> sphereTierItems(const Scene& scene,
   for (const Obstacle& o : scene.obstacles) {
     if (o.type == Obstacle::Type::kMesh)
       addMesh(o.mesh.vertices, o.distance_grid.get(), o.pose, false);
+    else if (o.type == Obstacle::Type::kPoints)
+      addMesh(cloudCorners(*o.cloud), &o.cloud->distances, o.pose, false);
     else
       add(static_cast<int>(o.type), o.size, o.pose, false);
   }

@@ -54,6 +54,12 @@ struct Tag {
 /// scene.h) other than kMesh.
 Geometry primitive(int type, const Eigen::Vector3d& size);
 
+/// A cloud's occupied voxels as FCL's octree (octomap): a leaf's box is
+/// the voxel's.
+Geometry cloudGeometry(const VoxelCloud& cloud);
+/// Two opposite corners of the box around a cloud's occupied voxels.
+Vertices cloudCorners(const VoxelCloud& cloud);
+
 /// A mesh as FCL's bounding-volume hierarchy (OBBRSS).
 Geometry meshGeometry(const TriangleMesh& mesh);
 

@@ -66,8 +66,10 @@ std::vector<Part> environmentParts(const Scene& scene, const db::ObjectGeometry*
                                    const Eigen::Isometry3d& targetPose) {
   std::vector<Part> parts;
   for (const Obstacle& o : scene.obstacles) {
-    TriangleMesh mesh =
-        o.type == Obstacle::Type::kMesh ? o.mesh : primitiveMesh(static_cast<int>(o.type), o.size);
+    // A cloud's mesh is its occupied voxels' boxes.
+    TriangleMesh mesh = o.type == Obstacle::Type::kMesh || o.type == Obstacle::Type::kPoints
+                            ? o.mesh
+                            : primitiveMesh(static_cast<int>(o.type), o.size);
     parts.push_back({transformed(std::move(mesh), o.pose), kObstacle, o.name});
   }
   if (target != nullptr)

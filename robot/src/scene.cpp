@@ -10,7 +10,9 @@
 #include <set>
 #include <sstream>
 
+#include "core/invalid_argument.h"
 #include "json_numbers.h"
+#include "robot/sensor_files.h"
 
 namespace hfts::robot {
 namespace {
@@ -46,6 +48,20 @@ class Fields {
     if (!at(key).is_string()) failAt(key, "must be a string");
     return at(key).get<std::string>();
   }
+  /// Member `key` if present, else `fallback`; a present one must be a
+  /// finite number >= 0.
+  double nonNegative(const char* key, double fallback) const {
+    if (!has(key)) return fallback;
+    const json& v = at(key);
+    if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < 0)
+      failAt(key, "must be a number >= 0");
+    return v.get<double>();
+  }
+  double number(const char* key) const {
+    const json& v = at(key);
+    if (!v.is_number() || !std::isfinite(v.get<double>())) failAt(key, "must be a number");
+    return v.get<double>();
+  }
   double positive(const char* key) const {
     const json& v = at(key);
     if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() <= 0)
@@ -73,6 +89,65 @@ class Fields {
   std::string where_;
   const std::string& source_;
 };
+
+/// The cloud options of a points or depth_image obstacle (defaults:
+/// CloudOptions).
+CloudOptions cloudOptions(const Fields& f, const std::string& where, const std::string& source,
+                          const json& item) {
+  CloudOptions options;
+  options.voxel = f.has("voxel") ? f.positive("voxel") : options.voxel;
+  options.radius = f.nonNegative("radius", options.radius);
+  if (f.has("outliers")) {
+    const Fields o(item.at("outliers"), pathOf(where, "outliers"), source);
+    options.remove_outliers = true;
+    const double neighbours = o.positive("neighbours");
+    if (neighbours > 1000 || neighbours != std::floor(neighbours))
+      o.failAt("neighbours", "must be a whole number from 1 to 1000");
+    options.outlier_neighbours = static_cast<int>(neighbours);
+    options.outlier_stddev = o.positive("stddev");
+  }
+  return options;
+}
+
+/// `points`: [[x, y, z], ...] in the obstacle's frame.
+Vertices inlinePoints(const Fields& f, const json& points) {
+  if (!points.is_array() || points.empty()) f.failAt("points", "must be a non-empty array");
+  Vertices out(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::string problem;
+    const std::optional<Eigen::VectorXd> p = finiteNumbers(points[i], 3, problem);
+    if (!p) f.failAt("points[" + std::to_string(i) + "]", problem);
+    out.row(static_cast<Eigen::Index>(i)) = p->transpose();
+  }
+  return out;
+}
+
+/// A points or depth_image obstacle's points, in its frame.
+Vertices sensedPoints(const Fields& f, const std::string& type, const json& item,
+                      const std::filesystem::path& baseDir, const std::string& where,
+                      const std::string& source) {
+  if (type == "points") {
+    if (f.has("points") == f.has("file")) f.fail("needs either points or file");
+    return f.has("points") ? inlinePoints(f, item.at("points"))
+                           : readPointCloud(baseDir / f.string("file"));
+  }
+  const std::string units = f.string("units");
+  if (units != "m" && units != "mm") f.failAt("units", "must be m or mm, got '" + units + "'");
+  DepthCamera camera;
+  const Fields k(f.at("intrinsics"), pathOf(where, "intrinsics"), source);
+  camera.fx = k.positive("fx");
+  camera.fy = k.positive("fy");
+  camera.cx = k.number("cx");
+  camera.cy = k.number("cy");
+  camera.min_depth = f.nonNegative("min_depth", camera.min_depth);
+  camera.max_depth = f.has("max_depth") ? f.positive("max_depth") : camera.max_depth;
+  const DepthImage image = readDepthImage(baseDir / f.string("file"), units == "mm" ? 0.001 : 1.0);
+  std::vector<std::uint8_t> mask;
+  if (f.has("mask")) mask = readMask(baseDir / f.string("mask"));
+  Vertices points = depthToPoints(image, camera, f.has("mask") ? &mask : nullptr);
+  if (points.rows() == 0) f.failAt("file", "has no depth within [min_depth, max_depth]");
+  return points;
+}
 
 Obstacle parseObstacle(const json& item, std::size_t index, const std::filesystem::path& baseDir,
                        const std::string& source) {
@@ -106,8 +181,23 @@ Obstacle parseObstacle(const json& item, std::size_t index, const std::filesyste
     } catch (const MeshError& e) {
       f.failAt("mesh", e.what());
     }
+  } else if (type == "points" || type == "depth_image") {
+    o.type = Obstacle::Type::kPoints;
+    const std::string where = "obstacles[" + std::to_string(index) + "]";
+    try {
+      auto cloud =
+          std::make_shared<VoxelCloud>(voxelize(sensedPoints(f, type, item, baseDir, where, source),
+                                                cloudOptions(f, where, source, item)));
+      o.mesh = cloud->mesh;
+      o.distance_grid =
+          std::shared_ptr<const db::DistanceGrid>(cloud, &cloud->distances);  // shares the cloud
+      o.cloud = std::move(cloud);
+    } catch (const InvalidArgument& e) {
+      f.failAt(e.field(), e.problem());
+    }
   } else {
-    f.failAt("type", "must be box, cylinder, sphere or mesh, got '" + type + "'");
+    f.failAt("type",
+             "must be box, cylinder, sphere, mesh, points or depth_image, got '" + type + "'");
   }
   return o;
 }
@@ -168,6 +258,7 @@ double topOf(const Obstacle& o) {
     case Obstacle::Type::kSphere:
       return z + o.size(0);
     case Obstacle::Type::kMesh:
+    case Obstacle::Type::kPoints:  // its voxels' boxes
       break;
   }
   double top = -std::numeric_limits<double>::infinity();
@@ -183,6 +274,38 @@ Eigen::Isometry3d restingPose(const Eigen::Isometry3d& pose, const Vertices& ver
   const double lowest = (vertices * pose.linear().row(2).transpose()).minCoeff();
   Eigen::Isometry3d out = pose;
   out.translation().z() = topOf(support) + kRestingClearance - lowest;
+  return out;
+}
+
+Scene withTargetCarved(const Scene& scene, const db::DistanceGrid& grid, const Vertices& vertices) {
+  if (vertices.rows() == 0 || grid.empty()) return scene;
+  Scene out = scene;
+  const Eigen::Vector3d low = vertices.colwise().minCoeff(), high = vertices.colwise().maxCoeff();
+  for (Obstacle& o : out.obstacles) {
+    if (o.type != Obstacle::Type::kPoints) continue;
+    const double v = o.cloud->options.voxel, halfDiagonal = 0.5 * std::sqrt(3.0) * v;
+    const Eigen::Isometry3d toObject = scene.target_pose.inverse() * o.pose;
+    auto touches = [&](int i, int j, int k) {
+      const Eigen::Vector3d centre = toObject * (Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5) * v);
+      // Outside the object's box by more than the half diagonal: clear.
+      if ((centre.array() < low.array() - halfDiagonal).any() ||
+          (centre.array() > high.array() + halfDiagonal).any())
+        return false;
+      return grid.lowerBound(centre) <= halfDiagonal;
+    };
+    VoxelCloud carved = withoutVoxels(*o.cloud, touches);
+    if (carved.occupied_count == o.cloud->occupied_count) continue;
+    auto cloud = std::make_shared<const VoxelCloud>(std::move(carved));
+    o.mesh = cloud->mesh;
+    o.distance_grid = std::shared_ptr<const db::DistanceGrid>(cloud, &cloud->distances);
+    o.cloud = std::move(cloud);
+  }
+  out.obstacles.erase(std::remove_if(out.obstacles.begin(), out.obstacles.end(),
+                                     [](const Obstacle& o) {
+                                       return o.type == Obstacle::Type::kPoints &&
+                                              o.cloud->occupied_count == 0;
+                                     }),
+                      out.obstacles.end());
   return out;
 }
 

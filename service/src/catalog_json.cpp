@@ -22,6 +22,8 @@ const char* typeName(robot::Obstacle::Type type) {
       return "sphere";
     case robot::Obstacle::Type::kMesh:
       return "mesh";
+    case robot::Obstacle::Type::kPoints:
+      return "points";
   }
   return "unknown";
 }

@@ -117,7 +117,8 @@ TEST(Scene, MalformedScenesGiveClearErrors) {
   expectSceneError(
       withObstacle(
           R"({"name": "b", "type": "cone", "pose": {"position": [0,0,0], "orientation": [0,0,0,1]}})"),
-      "obstacles[0].type", "must be box, cylinder, sphere or mesh, got 'cone'");
+      "obstacles[0].type",
+      "must be box, cylinder, sphere, mesh, points or depth_image, got 'cone'");
   expectSceneError(
       withObstacle(
           R"({"name": "b", "type": "box", "size": [1,-2,3], "pose": {"position": [0,0,0], "orientation": [0,0,0,1]}})"),

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 #include "hfts_db/triangle_mesh.h"
 
@@ -16,6 +17,12 @@ struct ClosestPoint {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   double distance = 0.0;       ///< |query - point|, computed in double
   std::uint32_t triangle = 0;  ///< a triangle that contains `point`
+};
+
+/// Where a ray first meets a mesh.
+struct RayHit {
+  double distance = 0.0;  ///< along the ray, in units of its direction's length
+  std::uint32_t triangle = 0;
 };
 
 class TriangleBvh {
@@ -29,6 +36,11 @@ class TriangleBvh {
 
   /// True when a ray from `origin` along `direction` hits no triangle.
   bool escapes(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
+
+  /// The first triangle a ray from `origin` along `direction` meets
+  /// (Embree's single-precision intersection), or nullopt.
+  std::optional<RayHit> firstHit(const Eigen::Vector3d& origin,
+                                 const Eigen::Vector3d& direction) const;
 
   /// True when some triangle comes within `radius` of `point`.
   bool isWithin(const Eigen::Vector3d& point, double radius) const;

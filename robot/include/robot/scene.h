@@ -14,6 +14,7 @@
 
 #include "hfts_db/distance_grid.h"
 #include "hfts_db/triangle_mesh.h"
+#include "robot/point_cloud.h"
 #include "robot/robot_model.h"
 
 namespace hfts::robot {
@@ -37,17 +38,24 @@ class SceneError : public std::runtime_error {
 struct Obstacle {
   /// The first three match CollisionShape::Type value for value, so code
   /// that handles primitives can treat robot links and obstacles alike.
-  enum class Type { kBox, kCylinder, kSphere, kMesh };
+  /// kPoints: what a sensor saw (a point cloud or a depth image), as
+  /// occupied voxels (point_cloud.h).
+  enum class Type { kBox, kCylinder, kSphere, kMesh, kPoints };
   std::string name;
   Type type = Type::kBox;
   /// Box: edge lengths. Cylinder: radius, length (along local z), 0.
   /// Sphere: radius, 0, 0. Mesh: unused.
   Eigen::Vector3d size = Eigen::Vector3d::Zero();
-  TriangleMesh mesh;  ///< kMesh only: loaded and scaled to metres
+  /// kMesh: loaded and scaled to metres. kPoints: the occupied voxels'
+  /// boxes (VoxelCloud::mesh), for drawing and the highest point.
+  TriangleMesh mesh;
   /// kMesh only: distances from `mesh` (mesh frame; signed when the mesh is
   /// closed), built with the default DistanceGridOptions when the scene is
   /// parsed. Shared, so copies of a scene do not copy it.
   std::shared_ptr<const db::DistanceGrid> distance_grid;
+  /// kPoints only: the cloud's voxels, built when the scene is parsed.
+  /// Shared, as the grid.
+  std::shared_ptr<const VoxelCloud> cloud;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< in the world frame
 };
 
@@ -115,6 +123,15 @@ Eigen::Isometry3d restingPose(const Eigen::Isometry3d& pose, const Vertices& ver
 /// Where the target with these vertices stands in `scene`: target_pose,
 /// resting on target_rest_on when that is set.
 Eigen::Isometry3d targetPose(const Scene& scene, const Vertices& vertices);
+
+/// The scene with the voxels of its point-cloud obstacles that the target
+/// (`vertices` and `grid` in its frame, at scene.target_pose) may touch
+/// removed: what a sensor saw of the object to pick, or of its support
+/// where the object stands on it, belongs to the object, whose model
+/// the planner has. A voxel goes when the grid cannot prove its centre
+/// more than half its diagonal outside the object; a cloud left without
+/// voxels goes. Obstacles it does not touch are shared, not copied.
+Scene withTargetCarved(const Scene& scene, const db::DistanceGrid& grid, const Vertices& vertices);
 
 /// Reads a scene file; mesh obstacles are loaded relative to its folder,
 /// and each gets its distance grid (about 0.1 to 1 s per mesh on one

@@ -1,0 +1,307 @@
+#include "robot/sensor_files.h"
+
+#include <pcl/console/print.h>
+#include <pcl/io/pcd_io.h>
+#include <pcl/io/ply_io.h>
+#include <pcl/point_types.h>
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <csetjmp>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "core/invalid_argument.h"
+
+namespace hfts::robot {
+namespace {
+
+[[noreturn]] void refuse(const std::string& field, const std::string& problem) {
+  throw InvalidArgument(field, problem);
+}
+
+/// The words of a header line.
+std::vector<std::string> words(const std::string& line) {
+  std::istringstream in(line);
+  std::vector<std::string> out;
+  for (std::string w; in >> w;) out.push_back(w);
+  return out;
+}
+
+/// What PCL's readers assume of a header and do not check (a PCD without
+/// FIELDS crashes PCDReader::read): the header of a PCD or PLY file with
+/// x, y and z and at least one point, or the problem.
+std::string headerProblem(const std::filesystem::path& path, bool pcd) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  bool x = false, y = false, z = false, data = false;
+  long long points = -1;
+  if (!pcd && (!std::getline(in, line) || line.rfind("ply", 0) != 0)) return "not a PLY file";
+  bool inVertex = false;
+  auto mark = [&](const std::string& field) {
+    x = x || field == "x";
+    y = y || field == "y";
+    z = z || field == "z";
+  };
+  for (int n = 0; n < 1000 && std::getline(in, line); ++n) {
+    const std::vector<std::string> w = words(line);
+    if (w.empty() || w[0][0] == '#' || w[0] == "comment") continue;
+    if (pcd && w[0] == "FIELDS") {
+      for (const std::string& f : w) mark(f);
+    } else if (pcd && w[0] == "POINTS" && w.size() == 2) {
+      points = std::atoll(w[1].c_str());
+    } else if (pcd && w[0] == "DATA") {
+      data = w.size() == 2 && (w[1] == "ascii" || w[1] == "binary" || w[1] == "binary_compressed");
+      break;
+    } else if (!pcd && w[0] == "element") {
+      inVertex = w.size() == 3 && w[1] == "vertex";
+      if (inVertex) points = std::atoll(w[2].c_str());
+    } else if (!pcd && w[0] == "property" && inVertex && w.size() >= 3) {
+      mark(w.back());
+    } else if (!pcd && w[0] == "end_header") {
+      data = true;
+      break;
+    }
+  }
+  if (!(x && y && z)) return pcd ? "has no FIELDS x y z" : "has no vertex properties x y z";
+  if (points <= 0) return "holds no point";
+  if (!data)
+    return pcd ? "has no DATA ascii, binary or binary_compressed line" : "has no end_header";
+  return {};
+}
+
+/// A single-channel PNG's values, row-major.
+struct GreyImage {
+  int width = 0, height = 0;
+  std::vector<std::uint16_t> values;
+};
+
+void pngError(png_structp png, png_const_charp message) {
+  *static_cast<std::string*>(png_get_error_ptr(png)) = message;
+  png_longjmp(png, 1);
+}
+
+void pngWarning(png_structp, png_const_charp) {}
+
+/// Reads a grey PNG of `bits` (8 or 16) bits per pixel; throws
+/// InvalidArgument(field) naming the file and the problem.
+GreyImage readGreyPng(const std::filesystem::path& path, int bits, const std::string& field) {
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
+                                                       &std::fclose);
+  if (!file) refuse(field, "cannot read '" + path.string() + "'");
+  std::string problem;  // libpng's errors come back here (pngError), not printed
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &problem, &pngError, &pngWarning);
+  png_infop info = png != nullptr ? png_create_info_struct(png) : nullptr;
+  if (info == nullptr) {
+    png_destroy_read_struct(&png, nullptr, nullptr);
+    refuse(field, "cannot start reading '" + path.string() + "'");
+  }
+  GreyImage image;
+  std::vector<png_byte> row;
+  // libpng reports errors by longjmp: nothing with a destructor may be
+  // made between here and the end of the reading below.
+  if (setjmp(png_jmpbuf(png))) {
+    problem = "not a readable PNG (" + problem + ")";
+  } else {
+    png_init_io(png, file.get());
+    png_read_info(png, info);
+    const png_uint_32 width = png_get_image_width(png, info),
+                      height = png_get_image_height(png, info);
+    if (png_get_bit_depth(png, info) != bits ||
+        png_get_color_type(png, info) != PNG_COLOR_TYPE_GRAY) {
+      problem = "must be a " + std::to_string(bits) + "-bit single-channel (grey) PNG";
+    } else if (width == 0 || height == 0 || width > 16384 || height > 16384) {
+      problem = "must be 1 to 16384 pixels wide and high";
+    } else {
+      image.width = static_cast<int>(width);
+      image.height = static_cast<int>(height);
+      image.values.resize(std::size_t{width} * height);
+      row.resize(png_get_rowbytes(png, info));
+      for (png_uint_32 y = 0; y < height; ++y) {
+        png_read_row(png, row.data(), nullptr);
+        for (png_uint_32 x = 0; x < width; ++x)
+          image.values[std::size_t{y} * width + x] = static_cast<std::uint16_t>(
+              bits == 8 ? row[x] : (unsigned{row[2 * x]} << 8) | row[2 * x + 1]);  // big-endian
+      }
+    }
+  }
+  png_destroy_read_struct(&png, &info, nullptr);
+  if (!problem.empty()) refuse(field, "'" + path.string() + "': " + problem);
+  return image;
+}
+
+void appendBytes(png_structp png, png_bytep data, png_size_t length) {
+  static_cast<std::string*>(png_get_io_ptr(png))
+      ->append(reinterpret_cast<const char*>(data), length);
+}
+
+/// A grey PNG of `bits` (8 or 16) bits per pixel, as bytes.
+std::string encodeGreyPng(const GreyImage& image, int bits) {
+  std::string bytes, problem;
+  png_structp png =
+      png_create_write_struct(PNG_LIBPNG_VER_STRING, &problem, &pngError, &pngWarning);
+  png_infop info = png != nullptr ? png_create_info_struct(png) : nullptr;
+  std::vector<png_byte> row(std::size_t(image.width) * (bits / 8));
+  if (info == nullptr || setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw std::runtime_error("PNG encoding failed: " + problem);
+  }
+  png_set_write_fn(png, &bytes, &appendBytes, nullptr);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(image.width),
+               static_cast<png_uint_32>(image.height), bits, PNG_COLOR_TYPE_GRAY,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const std::uint16_t v =
+          image.values[std::size_t(y) * std::size_t(image.width) + std::size_t(x)];
+      if (bits == 8) {
+        row[std::size_t(x)] = static_cast<png_byte>(v);
+      } else {
+        row[std::size_t(2 * x)] = static_cast<png_byte>(v >> 8);
+        row[std::size_t(2 * x + 1)] = static_cast<png_byte>(v & 0xff);
+      }
+    }
+    png_write_row(png, row.data());
+  }
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return bytes;
+}
+
+DepthImage readPng(const std::filesystem::path& path, double scale) {
+  const GreyImage grey = readGreyPng(path, 16, "file");
+  DepthImage image{grey.width, grey.height, std::vector<float>(grey.values.size())};
+  for (std::size_t i = 0; i < grey.values.size(); ++i)
+    image.depths[i] = static_cast<float>(grey.values[i] * scale);
+  return image;
+}
+
+/// The value of `key` in a .npy header's dictionary text, up to the next
+/// ',' at depth 0 or the closing '}'.
+std::string npyField(const std::string& header, const std::string& key) {
+  const std::size_t at = header.find("'" + key + "'");
+  if (at == std::string::npos) return {};
+  std::size_t start = header.find(':', at);
+  if (start == std::string::npos) return {};
+  int depth = 0;
+  std::size_t end = ++start;
+  for (; end < header.size(); ++end) {
+    const char c = header[end];
+    if (c == '(') ++depth;
+    if (c == ')') --depth;
+    if (depth == 0 && (c == ',' || c == '}')) break;
+  }
+  std::string value = header.substr(start, end - start);
+  value.erase(std::remove(value.begin(), value.end(), ' '), value.end());
+  return value;
+}
+
+DepthImage readNpy(const std::filesystem::path& path, double scale) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) refuse("file", "cannot read '" + path.string() + "'");
+  const std::string what = "'" + path.string() + "': ";
+  char magic[8] = {};
+  if (!in.read(magic, 8) || std::memcmp(magic, "\x93NUMPY", 6) != 0)
+    refuse("file", what + "not a NumPy .npy file");
+  std::uint32_t length = 0;
+  unsigned char bytes[4] = {};
+  const int lengthBytes = magic[6] == 1 ? 2 : 4;
+  if (!in.read(reinterpret_cast<char*>(bytes), lengthBytes))
+    refuse("file", what + "truncated header");
+  for (int i = lengthBytes - 1; i >= 0; --i) length = (length << 8) | bytes[i];
+  if (length > 65536) refuse("file", what + "header too long");
+  std::string header(length, '\0');
+  if (!in.read(header.data(), length)) refuse("file", what + "truncated header");
+  if (npyField(header, "descr") != "'<f4'")
+    refuse("file", what + "must hold float32 ('<f4'), not " + npyField(header, "descr"));
+  if (npyField(header, "fortran_order") != "False") refuse("file", what + "must be in C order");
+  const std::string shape = npyField(header, "shape");
+  int height = 0, width = 0;
+  if (std::sscanf(shape.c_str(), "(%d,%d)", &height, &width) != 2 || height <= 0 || width <= 0 ||
+      height > 16384 || width > 16384)
+    refuse("file", what + "must be a 2-D array of 1 to 16384 rows and columns, shape " + shape);
+  DepthImage image{width, height, std::vector<float>(std::size_t(width) * height)};
+  if (!in.read(reinterpret_cast<char*>(image.depths.data()),
+               static_cast<std::streamsize>(image.depths.size() * sizeof(float))))
+    refuse("file", what + "holds fewer values than its shape " + shape);
+  for (float& d : image.depths) d = static_cast<float>(static_cast<double>(d) * scale);
+  return image;
+}
+
+}  // namespace
+
+Vertices readPointCloud(const std::filesystem::path& path) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error))
+    refuse("file", "cannot read '" + path.string() + "'");
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension != ".pcd" && extension != ".ply")
+    refuse("file", "'" + path.string() + "': must be a .pcd or .ply point cloud");
+  const std::string problem = headerProblem(path, extension == ".pcd");
+  if (!problem.empty()) refuse("file", "'" + path.string() + "': " + problem);
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);  // errors come back as ours
+  pcl::PointCloud<pcl::PointXYZ> cloud;
+  int status = -1;
+  if (extension == ".pcd") {
+    pcl::PCDReader reader;
+    status = reader.read(path.string(), cloud);
+  } else if (extension == ".ply") {
+    pcl::PLYReader reader;
+    status = reader.read(path.string(), cloud);
+  }
+  if (status < 0) refuse("file", "'" + path.string() + "': not a readable point cloud");
+  Vertices points(static_cast<Eigen::Index>(cloud.size()), 3);
+  Eigen::Index n = 0;
+  for (const pcl::PointXYZ& p : cloud)
+    if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
+      points.row(n++) << p.x, p.y, p.z;
+  points.conservativeResize(n, 3);
+  if (points.rows() == 0) refuse("file", "'" + path.string() + "': holds no finite point");
+  return points;
+}
+
+DepthImage readDepthImage(const std::filesystem::path& path, double scale) {
+  if (!std::isfinite(scale) || scale <= 0.0)
+    refuse("scale", "must be a positive factor to metres, not " + std::to_string(scale));
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension == ".png") return readPng(path, scale);
+  if (extension == ".npy") return readNpy(path, scale);
+  refuse("file", "'" + path.string() + "': must be a 16-bit .png or a float32 .npy depth image");
+}
+
+std::vector<std::uint8_t> readMask(const std::filesystem::path& path) {
+  const GreyImage grey = readGreyPng(path, 8, "mask");
+  std::vector<std::uint8_t> mask(grey.values.size());
+  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = grey.values[i] != 0 ? 1 : 0;
+  return mask;
+}
+
+std::string encodeDepthPng(const DepthImage& image) {
+  GreyImage grey{image.width, image.height, std::vector<std::uint16_t>(image.depths.size())};
+  for (std::size_t i = 0; i < grey.values.size(); ++i) {
+    const double mm = std::round(static_cast<double>(image.depths[i]) * 1000.0);
+    grey.values[i] =
+        std::isfinite(mm) && mm > 0 && mm <= 65535 ? static_cast<std::uint16_t>(mm) : 0;
+  }
+  return encodeGreyPng(grey, 16);
+}
+
+std::string encodeMaskPng(const std::vector<std::uint8_t>& mask, int width, int height) {
+  GreyImage grey{width, height, std::vector<std::uint16_t>(mask.size())};
+  for (std::size_t i = 0; i < mask.size(); ++i) grey.values[i] = mask[i] != 0 ? 255 : 0;
+  return encodeGreyPng(grey, 8);
+}
+
+}  // namespace hfts::robot

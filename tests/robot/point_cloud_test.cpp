@@ -1,0 +1,416 @@
+// Point clouds and depth images as obstacles: the voxels they occupy, the
+// sphere tier's distances to them, the files they come from, and the two
+// tiers of the checker agreeing on a scene made of them.
+#include "robot/point_cloud.h"
+#include "robot/sensor_files.h"
+
+#include <gtest/gtest.h>
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include "core/invalid_argument.h"
+#include "hfts_db/object_database.h"
+#include "robot/collision_checker.h"
+#include "robot/scene.h"
+#include "robot_fixture.h"
+
+namespace hfts::robot {
+namespace {
+
+namespace fs = std::filesystem;
+
+Vertices rows(std::initializer_list<Eigen::Vector3d> points) {
+  Vertices out(static_cast<Eigen::Index>(points.size()), 3);
+  Eigen::Index i = 0;
+  for (const Eigen::Vector3d& p : points) out.row(i++) = p.transpose();
+  return out;
+}
+
+/// Exact distance from p to the union of the occupied voxels' boxes.
+double exactDistance(const VoxelCloud& cloud, const Eigen::Vector3d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  const double v = cloud.options.voxel;
+  for (int k = cloud.first[2]; k < cloud.first[2] + cloud.dims[2]; ++k)
+    for (int j = cloud.first[1]; j < cloud.first[1] + cloud.dims[1]; ++j)
+      for (int i = cloud.first[0]; i < cloud.first[0] + cloud.dims[0]; ++i) {
+        if (!cloud.isOccupied(i, j, k)) continue;
+        const Eigen::Vector3d low = Eigen::Vector3d(i, j, k) * v, high = low.array() + v;
+        best = std::min(best, (p - p.cwiseMax(low).cwiseMin(high)).norm());
+      }
+  return best;
+}
+
+/// Points on the surface of a box (centre c, edges e), `n` of them, with
+/// Gaussian noise of `sigma` along every axis.
+Vertices noisyBox(const Eigen::Vector3d& c, const Eigen::Vector3d& e, int n, double sigma,
+                  std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-0.5, 0.5);
+  std::normal_distribution<double> noise(0.0, sigma);
+  Vertices out(n, 3);
+  for (int i = 0; i < n; ++i) {
+    Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    p(i % 3) = p(i % 3) < 0 ? -0.5 : 0.5;
+    out.row(i) =
+        (c + p.cwiseProduct(e) + Eigen::Vector3d(noise(rng), noise(rng), noise(rng))).transpose();
+  }
+  return out;
+}
+
+TEST(PointCloud, APointOccupiesItsVoxelAndThoseWithinTheRadius) {
+  CloudOptions options;
+  options.voxel = 0.01;
+  options.radius = 0.0;
+  const VoxelCloud alone = voxelize(rows({{0.011, 0.005, 0.005}}), options);
+  EXPECT_EQ(alone.occupied_count, 1u);
+  EXPECT_TRUE(alone.isOccupied(1, 0, 0));
+  options.radius = 0.002;  // reaches voxel (0, 0, 0), 1 mm away, not (1, -1, 0), 5 mm away
+  const VoxelCloud grown = voxelize(rows({{0.011, 0.005, 0.005}}), options);
+  EXPECT_EQ(grown.occupied_count, 2u);
+  EXPECT_TRUE(grown.isOccupied(0, 0, 0));
+  EXPECT_TRUE(grown.isOccupied(1, 0, 0));
+  EXPECT_FALSE(grown.isOccupied(1, -1, 0));
+  // Negative coordinates: voxel -1 spans [-0.01, 0).
+  options.radius = 0.0;
+  EXPECT_TRUE(voxelize(rows({{-0.001, -0.019, 0.0}}), options).isOccupied(-1, -2, 0));
+}
+
+TEST(PointCloud, TheDistanceGridBoundsTheDistanceToTheVoxelsFromBelow) {
+  std::mt19937_64 rng(3);
+  const VoxelCloud cloud =
+      voxelize(noisyBox({0.1, -0.05, 0.2}, {0.12, 0.08, 0.03}, 3000, 0.002, rng), CloudOptions{});
+  ASSERT_GT(cloud.occupied_count, 100u);
+  std::uniform_real_distribution<double> u(-0.15, 0.15);
+  int tight = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const Eigen::Vector3d p =
+        Eigen::Vector3d(0.1, -0.05, 0.2) + Eigen::Vector3d(u(rng), u(rng), u(rng));
+    const double exact = exactDistance(cloud, p), bound = cloud.distances.lowerBound(p);
+    ASSERT_LE(bound, exact + 1e-9) << p.transpose();
+    // Within the passes' reach the bound is the node's exact value less the
+    // way to the node: at most sqrt(3) voxels short.
+    if (exact < 0.05) {
+      EXPECT_GE(bound, exact - std::sqrt(3.0) * cloud.options.voxel - 1e-6);
+      ++tight;
+    }
+  }
+  EXPECT_GT(tight, 500);
+}
+
+TEST(PointCloud, TheOccupiedVoxelsAreItsBoxes) {
+  std::mt19937_64 rng(5);
+  const VoxelCloud cloud =
+      voxelize(noisyBox({0.0, 0.0, 0.0}, {0.1, 0.06, 0.04}, 2000, 0.001, rng), CloudOptions{});
+  double volume = 0;
+  for (const auto& box : cloud.boxes()) volume += box.second.prod();
+  EXPECT_NEAR(volume, cloud.occupied_count * std::pow(cloud.options.voxel, 3), 1e-12);
+  EXPECT_EQ(cloud.mesh.triangles.rows(), static_cast<Eigen::Index>(12 * cloud.boxes().size()));
+}
+
+TEST(PointCloud, BadOptionsAndEmptyCloudsAreRefusedByName) {
+  const Vertices one = rows({{0, 0, 0}});
+  auto fieldOf = [](const Vertices& points, const CloudOptions& options) {
+    try {
+      voxelize(points, options);
+    } catch (const InvalidArgument& e) {
+      return e.field();
+    }
+    return std::string("none");
+  };
+  CloudOptions o;
+  o.voxel = 0.0;
+  EXPECT_EQ(fieldOf(one, o), "voxel");
+  o = {};
+  o.radius = -1e-3;
+  EXPECT_EQ(fieldOf(one, o), "radius");
+  o = {};
+  Vertices nan(1, 3);
+  nan << std::nan(""), 0, 0;
+  EXPECT_EQ(fieldOf(nan, o), "points");
+  o.voxel = 0.001;  // 10 m at 1 mm: far over the voxel budget
+  EXPECT_EQ(fieldOf(rows({{0, 0, 0}, {10, 10, 10}}), o), "points");
+}
+
+TEST(PointCloud, ADepthImageBecomesPointsThroughThePinhole) {
+  DepthImage image{3, 2, {1.0f, 0.0f, 2.0f, std::nanf(""), 9.0f, 0.5f}};
+  DepthCamera camera;
+  camera.fx = 100;
+  camera.fy = 200;
+  camera.cx = 1;
+  camera.cy = 0;
+  camera.max_depth = 3.0;
+  const Vertices points = depthToPoints(image, camera);
+  ASSERT_EQ(points.rows(), 3);  // 0, NaN and 9 m (beyond max_depth) are not seen
+  EXPECT_TRUE(points.row(0).isApprox(Eigen::RowVector3d(-0.01, 0.0, 1.0)));
+  EXPECT_TRUE(points.row(1).isApprox(Eigen::RowVector3d(0.02, 0.0, 2.0)));
+  EXPECT_TRUE(points.row(2).isApprox(Eigen::RowVector3d(0.005, 0.0025, 0.5)));
+  camera.fx = 0;
+  EXPECT_THROW(depthToPoints(image, camera), InvalidArgument);
+  camera.fx = 100;
+  image.depths.pop_back();
+  EXPECT_THROW(depthToPoints(image, camera), InvalidArgument);
+}
+
+class Files : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ =
+        fs::temp_directory_path() /
+        ("hfts-point-cloud-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+         "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path write(const std::string& name, const std::string& bytes) {
+    std::ofstream(dir_ / name, std::ios::binary) << bytes;
+    return dir_ / name;
+  }
+  /// A 16-bit grey PNG of `values` (row-major).
+  fs::path png(const std::string& name, int width, int height,
+               const std::vector<std::uint16_t>& values) {
+    const fs::path path = dir_ / name;
+    std::FILE* file = std::fopen(path.c_str(), "wb");
+    png_structp p = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    png_infop info = png_create_info_struct(p);
+    png_init_io(p, file);
+    png_set_IHDR(p, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 16,
+                 PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(p, info);
+    std::vector<png_byte> row(static_cast<std::size_t>(2 * width));
+    for (int y = 0; y < height; ++y) {
+      for (int x = 0; x < width; ++x) {
+        const std::uint16_t value = values[static_cast<std::size_t>(y * width + x)];
+        row[static_cast<std::size_t>(2 * x)] = static_cast<png_byte>(value >> 8);
+        row[static_cast<std::size_t>(2 * x + 1)] = static_cast<png_byte>(value & 0xff);
+      }
+      png_write_row(p, row.data());
+    }
+    png_write_end(p, nullptr);
+    png_destroy_write_struct(&p, &info);
+    std::fclose(file);
+    return path;
+  }
+  fs::path dir_;
+};
+
+TEST_F(Files, PcdAndPlyCloudsAreRead) {
+  const Vertices pcd =
+      readPointCloud(write("a.pcd",
+                           "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n"
+                           "COUNT 1 1 1\nWIDTH 3\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\n"
+                           "POINTS 3\nDATA ascii\n0.1 0.2 0.3\nnan nan nan\n1 2 3\n"));
+  ASSERT_EQ(pcd.rows(), 2);  // the NaN point is dropped
+  EXPECT_TRUE(pcd.row(1).isApprox(Eigen::RowVector3d(1, 2, 3)));
+  const Vertices ply = readPointCloud(
+      write("b.ply",
+            "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+            "property float z\nend_header\n0.5 0.25 -1\n-2 0 4\n"));
+  ASSERT_EQ(ply.rows(), 2);
+  EXPECT_TRUE(ply.row(0).isApprox(Eigen::RowVector3d(0.5, 0.25, -1)));
+  EXPECT_THROW(readPointCloud(write("c.pcd", "not a cloud")), InvalidArgument);
+  EXPECT_THROW(readPointCloud(write("d.xyz", "0 0 0\n")), InvalidArgument);
+  EXPECT_THROW(readPointCloud(dir_ / "missing.pcd"), InvalidArgument);
+}
+
+TEST_F(Files, DepthImagesAreReadFromPngInTheirUnitsAndFromNpy) {
+  const DepthImage mm = readDepthImage(png("d.png", 2, 2, {0, 1000, 65535, 1}), 0.001);
+  ASSERT_EQ(mm.width, 2);
+  ASSERT_EQ(mm.height, 2);
+  EXPECT_EQ(mm.depths[0], 0.0f);
+  EXPECT_FLOAT_EQ(mm.depths[1], 1.0f);
+  EXPECT_FLOAT_EQ(mm.depths[2], 65.535f);
+  EXPECT_FLOAT_EQ(mm.depths[3], 0.001f);
+  std::string npy("\x93NUMPY\x01\x00", 8);
+  std::string header = "{'descr': '<f4', 'fortran_order': False, 'shape': (1, 3), }";
+  header.resize(118, ' ');
+  header += '\n';
+  npy += static_cast<char>(header.size() & 0xff);
+  npy += static_cast<char>(header.size() >> 8);
+  npy += header;
+  const float values[3] = {0.5f, 1.5f, 0.0f};
+  npy.append(reinterpret_cast<const char*>(values), sizeof values);
+  const DepthImage m = readDepthImage(write("d.npy", npy), 1.0);
+  ASSERT_EQ(m.width, 3);
+  ASSERT_EQ(m.height, 1);
+  EXPECT_EQ(m.depths[1], 1.5f);
+  EXPECT_THROW(readDepthImage(write("e.png", "garbage"), 0.001), InvalidArgument);
+  EXPECT_THROW(readDepthImage(write("f.npy", npy.substr(0, npy.size() - 4)), 1.0), InvalidArgument);
+  EXPECT_THROW(readDepthImage(write("g.tiff", "x"), 1.0), InvalidArgument);
+}
+
+TEST_F(Files, ASceneTakesCloudsAndDepthImagesAsObstacles) {
+  png("view.png", 4, 4, std::vector<std::uint16_t>(16, 800));  // a wall 0.8 m ahead
+  write("cloud.pcd",
+        "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\n"
+        "POINTS 2\nDATA ascii\n0 0 0\n0.05 0 0\n");
+  const std::string pose = R"("pose": {"position": [0.5, 0, 0.3], "orientation": [0, 0, 0, 1]})";
+  auto scene = [&](const std::string& obstacle) {
+    return parseScene(
+        R"({"name": "s", "robot_base": {"position": [0, 0, 0], "orientation": [0, 0, 0, 1]},
+      "obstacles": [)" +
+            obstacle + R"(], "target": {"object": "mug", )" + pose + "}}",
+        dir_, "test");
+  };
+  const Scene inline_ =
+      scene(R"({"name": "seen", "type": "points", )" + pose +
+            R"(, "points": [[0, 0, 0], [0.1, 0, 0]], "voxel": 0.02, "radius": 0})");
+  ASSERT_EQ(inline_.obstacles[0].type, Obstacle::Type::kPoints);
+  EXPECT_EQ(inline_.obstacles[0].cloud->occupied_count, 2u);
+  EXPECT_NEAR(topOf(inline_.obstacles[0]), 0.32, 1e-12);  // voxel [0, 0.02) above z = 0.3
+  const Scene file =
+      scene(R"({"name": "seen", "type": "points", )" + pose + R"(, "file": "cloud.pcd"})");
+  EXPECT_GE(file.obstacles[0].cloud->occupied_count, 2u);
+  const Scene depth = scene(R"({"name": "view", "type": "depth_image", )" + pose +
+                            R"(, "file": "view.png", "units": "mm",
+      "intrinsics": {"fx": 4, "fy": 4, "cx": 1.5, "cy": 1.5}})");
+  const VoxelCloud& wall = *depth.obstacles[0].cloud;
+  EXPECT_NEAR(wall.points.col(2).mean(), 0.8, 0.006);
+  EXPECT_GT(wall.occupied_count, 4u);
+  auto fieldOf = [&](const std::string& obstacle) {
+    try {
+      scene(obstacle);
+    } catch (const SceneError& e) {
+      return e.field();
+    }
+    return std::string("none");
+  };
+  EXPECT_EQ(fieldOf(R"({"name": "a", "type": "points", )" + pose + "}"), "obstacles[0]");
+  EXPECT_EQ(fieldOf(R"({"name": "a", "type": "points", )" + pose + R"(, "points": [[0, 0]]})"),
+            "obstacles[0].points[0]");
+  EXPECT_EQ(fieldOf(R"({"name": "a", "type": "points", )" + pose +
+                    R"(, "points": [[0, 0, 0]], "voxel": 0})"),
+            "obstacles[0].voxel");
+  EXPECT_EQ(fieldOf(R"({"name": "a", "type": "points", )" + pose + R"(, "file": "none.pcd"})"),
+            "obstacles[0].file");
+  EXPECT_EQ(
+      fieldOf(
+          R"({"name": "a", "type": "depth_image", )" + pose +
+          R"(, "file": "view.png", "units": "cm", "intrinsics": {"fx": 4, "fy": 4, "cx": 1, "cy": 1}})"),
+      "obstacles[0].units");
+  EXPECT_EQ(
+      fieldOf(
+          R"({"name": "a", "type": "depth_image", )" + pose +
+          R"(, "file": "view.png", "units": "mm", "intrinsics": {"fx": 0, "fy": 4, "cx": 1, "cy": 1}})"),
+      "obstacles[0].intrinsics.fx");
+  EXPECT_EQ(
+      fieldOf(
+          R"({"name": "a", "type": "depth_image", )" + pose +
+          R"(, "file": "view.png", "units": "mm", "max_depth": 0.5, "intrinsics": {"fx": 4, "fy": 4, "cx": 1, "cy": 1}})"),
+      "obstacles[0].file");  // every depth beyond max_depth
+}
+
+/// A table and a wall seen as noisy clouds, in front of the KR5.
+Scene cloudScene() {
+  std::mt19937_64 rng(17);
+  Scene scene;
+  scene.name = "clouds";
+  Obstacle table;
+  table.name = "table";
+  table.type = Obstacle::Type::kPoints;
+  table.pose.translation() = Eigen::Vector3d(0.6, 0.0, 0.25);
+  auto cloud = std::make_shared<VoxelCloud>(
+      voxelize(noisyBox({0, 0, 0}, {0.5, 0.8, 0.04}, 30000, 0.003, rng), CloudOptions{}));
+  table.cloud = cloud;
+  table.mesh = cloud->mesh;
+  table.distance_grid = std::shared_ptr<const db::DistanceGrid>(cloud, &cloud->distances);
+  scene.obstacles.push_back(table);
+  Obstacle wall = table;
+  wall.name = "wall";
+  wall.pose = Eigen::Isometry3d(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()));
+  wall.pose.translation() = Eigen::Vector3d(0.2, 0.55, 0.5);
+  cloud = std::make_shared<VoxelCloud>(
+      voxelize(noisyBox({0, 0, 0}, {0.6, 0.03, 0.8}, 30000, 0.003, rng), CloudOptions{}));
+  wall.cloud = cloud;
+  wall.mesh = cloud->mesh;
+  wall.distance_grid = std::shared_ptr<const db::DistanceGrid>(cloud, &cloud->distances);
+  scene.obstacles.push_back(wall);
+  return scene;
+}
+
+TEST(PointCloudScene, TheTwoTiersAgreeWithFclAloneOnRandomConfigurations) {
+  const RobotModel& model = test::kr5Sdh();
+  const Scene scene = cloudScene();
+  CollisionChecker tiers(test::collisionOf(model), scene, nullptr);
+  CollisionChecker fcl(test::collisionOf(model), scene, nullptr);
+  fcl.setSphereTier(false);
+  std::mt19937_64 rng(23);
+  int colliding = 0, disagreements = 0;
+  const int n = 10000;
+  for (int i = 0; i < n; ++i) {
+    Eigen::VectorXd q(model.numDofs());
+    for (int d = 0; d < model.numDofs(); ++d) {
+      std::uniform_real_distribution<double> u(model.lowerLimits()(d), model.upperLimits()(d));
+      q(d) = u(rng);
+    }
+    const CollisionRequest onlyObstacles = CollisionRequest::obstaclesOnly();
+    const bool a = tiers.inCollision(q, onlyObstacles), b = fcl.inCollision(q, onlyObstacles);
+    colliding += b ? 1 : 0;
+    disagreements += a != b ? 1 : 0;
+  }
+  EXPECT_EQ(disagreements, 0);
+  EXPECT_GT(colliding, n / 20);  // the clouds are in the way of many
+  EXPECT_LT(colliding, n * 19 / 20);
+  EXPECT_GT(tiers.sphereSettledCount(), static_cast<std::uint64_t>(n / 10));
+}
+
+TEST(PointCloudScene, ASphereTouchesTheCloudWhereItsVoxelsAre) {
+  const RobotModel& model = test::kr5Sdh();
+  const Scene scene = cloudScene();
+  const CollisionScene collision(test::collisionOf(model), scene, nullptr);
+  for (const Obstacle& o : scene.obstacles) {
+    // Above the middle of the highest run of voxels (the cloud's frame's z).
+    const auto boxes = o.cloud->boxes();
+    const auto highest = std::max_element(
+        boxes.begin(), boxes.end(), [](auto& a, auto& b) { return a.first.z() < b.first.z(); });
+    const Eigen::Vector3d up = o.pose.linear().col(2);
+    const Eigen::Vector3d top =
+        o.pose * (highest->first + Eigen::Vector3d(0, 0, 0.5 * highest->second.z()));
+    EXPECT_TRUE(collision.sphereTouchesObstacles(top + 0.004 * up, 0.005)) << o.name;
+    EXPECT_FALSE(collision.sphereTouchesObstacles(top + 0.006 * up, 0.005)) << o.name;
+  }
+}
+
+TEST(PointCloudScene, TheTargetIsCarvedOutOfTheCloudItStandsIn) {
+  // A 6 cm cube standing on a table seen as a noisy cloud: the cloud's
+  // voxels reach into the cube's bottom (noise, radius, voxels).
+  Scene scene = cloudScene();
+  const Obstacle& table = scene.obstacles[0];
+  db::ObjectGeometry cube;
+  const TriangleMesh mesh = [] {
+    TriangleMesh m;
+    m.vertices.resize(8, 3);
+    for (int c = 0; c < 8; ++c)
+      m.vertices.row(c) << ((c & 1) ? 0.03 : -0.03), ((c & 2) ? 0.03 : -0.03),
+          ((c & 4) ? 0.06 : 0.0);
+    m.triangles.resize(12, 3);
+    m.triangles << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2,
+        2, 4, 6, 1, 3, 5, 3, 7, 5;
+    return m;
+  }();
+  cube.mesh_vertices = mesh.vertices;
+  cube.mesh_triangles = mesh.triangles;
+  cube.distance_grid = db::buildDistanceGrid(mesh, true);
+  scene.target_object = "cube";
+  scene.target_pose = Eigen::Isometry3d::Identity();
+  scene.target_pose.translation() = Eigen::Vector3d(0.6, 0.0, 0.25 + 0.02);  // on the table's top
+  const RobotModel& model = test::kr5Sdh();
+  ASSERT_TRUE(CollisionScene(test::collisionOf(model), scene, &cube).targetTouchesObstacles());
+  const Scene carved = withTargetCarved(scene, cube.distance_grid, cube.mesh_vertices);
+  EXPECT_FALSE(CollisionScene(test::collisionOf(model), carved, &cube).targetTouchesObstacles());
+  // Only voxels near the cube went; the wall, far from it, is shared as it was.
+  const std::size_t removed =
+      table.cloud->occupied_count - carved.obstacles[0].cloud->occupied_count;
+  EXPECT_GT(removed, 0u);
+  EXPECT_LT(removed, 400u);  // the cube's footprint and a ring (8 x 8 cm), three layers at most
+  EXPECT_EQ(carved.obstacles[1].cloud, scene.obstacles[1].cloud);
+}
+
+}  // namespace
+}  // namespace hfts::robot
