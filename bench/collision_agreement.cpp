@@ -20,6 +20,7 @@
 #include "robot/robot_model.h"
 #include "robot/scene.h"
 #include "robot/segment_certificate.h"
+#include "robot/sensed_scene.h"
 
 namespace {
 
@@ -235,6 +236,12 @@ int main(int argc, char** argv) {
       const db::ObjectDatabase target =
           db::loadObjectDatabase(fs::path(dbDir) / (scene.target_object + ".h5"));
       scene.target_pose = robot::targetPose(scene, target.geometry.mesh_vertices);
+      // A sensed scene as the planner sees it: without what the camera saw
+      // of the target and of the robot at its start (docs/point_clouds.md).
+      scene = robot::withTargetCarved(scene, target.geometry.distance_grid,
+                                      target.geometry.mesh_vertices);
+      scene =
+          robot::withRobotCarved(scene, model, scene.startFor(model.name()).value_or(model.home()));
       const Eigen::Vector3d centre =
           scene.target_pose * (0.5 * (target.geometry.bbox_min + target.geometry.bbox_max));
       Comparison c(*collision, scene, target.geometry);

@@ -2,6 +2,7 @@
 #include "physics/mjcf_scene.h"
 
 #include <algorithm>
+#include <limits>
 #include <sstream>
 
 #include "core/invalid_argument.h"
@@ -76,6 +77,7 @@ class MjcfBuilder {
     XmlElement& assets = root.child("asset");
     XmlElement& world = root.child("worldbody");
     writeObstacles(world, assets);
+    writeSensedSupport(world);
     if (robot_ != nullptr) writeLink(world, 0);
     writeObject(world, assets);
     if (robot_ != nullptr) {
@@ -112,10 +114,7 @@ class MjcfBuilder {
   void writeObstacles(XmlElement& world, XmlElement& assets) const {
     for (std::size_t i = 0; i < scene_.obstacles.size(); ++i) {
       const robot::Obstacle& obstacle = scene_.obstacles[i];
-      if (obstacle.type == robot::Obstacle::Type::kPoints) {
-        writeCloud(world, obstacle);
-        continue;
-      }
+      if (obstacle.type == robot::Obstacle::Type::kPoints) continue;  // writeSensedSupport
       XmlElement& geom = world.child("geom");
       geom.attribute("name", "obstacle/" + obstacle.name);
       if (obstacle.type == robot::Obstacle::Type::kMesh) {
@@ -133,16 +132,33 @@ class MjcfBuilder {
     }
   }
 
-  /// A cloud as its occupied voxels, merged into boxes along x.
-  void writeCloud(XmlElement& world, const robot::Obstacle& obstacle) const {
-    const auto boxes = obstacle.cloud->boxes();
-    for (std::size_t b = 0; b < boxes.size(); ++b) {
-      XmlElement& geom = world.child("geom");
-      geom.attribute("name", "obstacle/" + obstacle.name + "/" + std::to_string(b));
-      writePrimitive(geom, static_cast<int>(robot::Obstacle::Type::kBox), boxes[b].second,
-                     obstacle.pose * Eigen::Translation3d(boxes[b].first));
-      writeContact(geom, kStaticType, kStaticAffinity, 3, settings_.friction, 0.0);
-    }
+  /// A scene a sensor saw (docs/point_clouds.md): its clouds stay out of
+  /// the simulation (thousands of voxel boxes; the planner's collision
+  /// checks keep the robot off them), and a plate 2 cm thick whose top is
+  /// 1 mm (kRestingClearance) below the object's lowest point stands under the object for the
+  /// support the camera saw, whose voxels reach into the object and were carved away.
+  void writeSensedSupport(XmlElement& world) const {
+    const bool sensed = std::any_of(
+        scene_.obstacles.begin(), scene_.obstacles.end(),
+        [](const robot::Obstacle& o) { return o.type == robot::Obstacle::Type::kPoints; });
+    if (!sensed) return;
+    Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()),
+                    high = -low;
+    for (const ConvexPiece& piece : object_.pieces)
+      for (Eigen::Index v = 0; v < piece.vertices.rows(); ++v) {
+        const Eigen::Vector3d p = object_.pose * Eigen::Vector3d(piece.vertices.row(v));
+        low = low.cwiseMin(p);
+        high = high.cwiseMax(p);
+      }
+    if (!low.allFinite()) return;
+    const Eigen::Vector3d size(high.x() - low.x() + 0.1, high.y() - low.y() + 0.1, 0.02);
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation() << 0.5 * (low.x() + high.x()), 0.5 * (low.y() + high.y()),
+        low.z() - robot::kRestingClearance - 0.01;
+    XmlElement& geom = world.child("geom");
+    geom.attribute("name", "obstacle/sensed_support");
+    writePrimitive(geom, static_cast<int>(robot::Obstacle::Type::kBox), size, pose);
+    writeContact(geom, kStaticType, kStaticAffinity, 3, settings_.friction, 0.0);
   }
 
   void writeLink(XmlElement& parent, int index) const {

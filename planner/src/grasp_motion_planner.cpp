@@ -25,6 +25,8 @@ namespace {
 /// (defined with validatePlan).
 ValidationRequest validationRequest(const PlanningWorld& world, const PlanRequest& request,
                                     const PlanResult& plan);
+robot::Scene sceneOfPlan(const PlanningWorld& world, const PlanRequest& request,
+                         const PlanResult& plan);
 
 /// One search of the request over its shared problem (`problem`, with its
 /// seed): from `result` (the request's fields filled) to the plan. The
@@ -218,10 +220,7 @@ Validation validatePlan(const PlanningWorld& world, const PlanRequest& request,
 
 physics::PlaceVerdict simulatePlace(const PlanningWorld& world, const PlanRequest& request,
                                     const PlanResult& plan) {
-  robot::Scene scene = request.scene;
-  scene.target_object = objectNameOf(request);
-  scene.target_pose = plan.object_pose;
-  scene.target_rest_on.clear();
+  const robot::Scene scene = sceneOfPlan(world, request, plan);
   return physics::simulatePickAndPlace(
       world.collisionModel(), scene, *world.object(scene.target_object),
       plan.path[plan.path.size() - 2], plan.path.back(), placeMotion(plan), request.simulation);
@@ -245,13 +244,22 @@ physics::PlaceMotion placeMotion(const PlanResult& plan) {
 
 namespace {
 
+/// The scene the plan was made in: its object where the plan had it, and
+/// sensed obstacles as the planner saw them (SharedProblem::sceneOf).
+robot::Scene sceneOfPlan(const PlanningWorld& world, const PlanRequest& request,
+                         const PlanResult& plan) {
+  PlanRequest made = request;
+  made.object_pose = plan.object_pose;
+  made.start = plan.path.front();
+  const db::ObjectDatabase* object = world.object(objectNameOf(request));
+  if (object == nullptr) throw InvalidArgument("plan", "its object is not in the world");
+  return SharedProblem::sceneOf(made, *object, world.robot());
+}
+
 ValidationRequest validationRequest(const PlanningWorld& world, const PlanRequest& request,
                                     const PlanResult& plan) {
   ValidationRequest v;
-  v.scene = request.scene;
-  v.scene.target_object = objectNameOf(request);
-  v.scene.target_pose = plan.object_pose;
-  v.scene.target_rest_on.clear();
+  v.scene = sceneOfPlan(world, request, plan);
   v.pregrasp = plan.path[plan.path.size() - 2];
   v.grasp = plan.path.back();
   v.simulation = request.simulation;

@@ -12,6 +12,7 @@
 #include "plan_diagnosis.h"
 #include "plan_problem.h"
 #include "racing.h"
+#include "robot/sensed_scene.h"
 
 namespace hfts::planner {
 
@@ -153,16 +154,19 @@ PlanResult planMotion(std::chrono::steady_clock::time_point began, const Plannin
   result.joint_names = world.robot().dofNames();
   const Eigen::VectorXd start = startOf(world.robot(), request);
   std::vector<MotionGoal> goals = checkGoals(world.robot(), request.goals, start);
-  // The object, when the request names one, is an obstacle where it stands.
-  robot::Scene scene = request.scene;
+  // The object, when the request names one, is an obstacle where it stands;
+  // sensed obstacles lose what the sensor saw of the robot (and the object).
+  robot::Scene scene;
   const std::string name = objectNameOf(request);
   const db::ObjectDatabase* object = name.empty() ? nullptr : world.object(name);
   if (!name.empty() && object == nullptr)
     return failed(std::move(result),
                   {PlanFailure::kUnknownObject, "unknown object '" + name + "'"});
   if (object != nullptr) {
-    scene = SharedProblem::sceneOf(request, *object);
+    scene = SharedProblem::sceneOf(request, *object, world.robot());
     result.object_pose = scene.target_pose;
+  } else {
+    scene = robot::withRobotCarved(request.scene, world.robot(), start);
   }
   const bool holdHand = goalsKeepTheHand(world.robot(), goals, start);
   PlanSettings settings = resolveSettings(world.robot(), request);

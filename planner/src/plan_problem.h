@@ -27,6 +27,7 @@
 #include "planner/planning_world.h"
 #include "planner_parameters.h"
 #include "robot/collision_checker.h"
+#include "robot/sensed_scene.h"
 
 namespace hfts::planner {
 
@@ -59,7 +60,7 @@ struct SharedProblem {
         object(o),
         settings(resolveSettings(w.robot(), request)),
         goals(goalSamplingSettings(settings, w.robot())),
-        scene(sceneOf(request, o)),
+        scene(sceneOf(request, o, w.robot())),
         explored(request.explored),
         simulation(request.simulation),
         lift(request.goals.empty() ? request.lift : std::nullopt),
@@ -75,16 +76,19 @@ struct SharedProblem {
               usable.empty() ? nullptr : &usable) {}
 
   /// The request's object where the request puts it: at object_pose, or
-  /// at the scene's target pose (resting on its support when it has one).
-  static robot::Scene sceneOf(const PlanRequest& request, const db::ObjectDatabase& object) {
+  /// at the scene's target pose (resting on its support when it has one);
+  /// sensed obstacles without what the sensor saw of the object and of
+  /// the robot at its start (docs/point_clouds.md).
+  static robot::Scene sceneOf(const PlanRequest& request, const db::ObjectDatabase& object,
+                              const robot::RobotModel& robot) {
     robot::Scene s = request.scene;
     s.target_object = object.name;
     s.target_pose = request.object_pose
                         ? *request.object_pose
                         : robot::targetPose(request.scene, object.geometry.mesh_vertices);
     s.target_rest_on.clear();  // placed
-    // What a sensor saw of the object, or of its support under it, is the object's.
-    return robot::withTargetCarved(s, object.geometry.distance_grid, object.geometry.mesh_vertices);
+    s = robot::withTargetCarved(s, object.geometry.distance_grid, object.geometry.mesh_vertices);
+    return robot::withRobotCarved(s, robot, startOf(robot, request));
   }
 
   const PlanningWorld& world;

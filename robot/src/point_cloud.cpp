@@ -42,7 +42,8 @@ Cloud toCloud(const Vertices& points) {
 Vertices toVertices(const Cloud& cloud) {
   Vertices out(static_cast<Eigen::Index>(cloud.size()), 3);
   for (std::size_t i = 0; i < cloud.size(); ++i)
-    out.row(static_cast<Eigen::Index>(i)) << cloud[i].x, cloud[i].y, cloud[i].z;
+    out.row(static_cast<Eigen::Index>(i)) << static_cast<double>(cloud[i].x),
+        static_cast<double>(cloud[i].y), static_cast<double>(cloud[i].z);
   return out;
 }
 
@@ -218,7 +219,7 @@ Vertices depthToPoints(const DepthImage& image, const DepthCamera& camera,
     for (int u = 0; u < image.width; ++u) {
       const std::size_t pixel = std::size_t(v) * std::size_t(image.width) + std::size_t(u);
       if (mask != nullptr && (*mask)[pixel] != 0) continue;
-      const double z = image.depths[pixel];
+      const auto z = static_cast<double>(image.depths[pixel]);
       if (!std::isfinite(z) || z <= 0.0 || z < camera.min_depth || z > camera.max_depth) continue;
       points.row(n++) << (u - camera.cx) * z / camera.fx, (v - camera.cy) * z / camera.fy, z;
     }

@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/base64.h"
 #include "core/invalid_argument.h"
 #include "json_numbers.h"
 #include "robot/sensor_files.h"
@@ -141,11 +142,23 @@ Vertices sensedPoints(const Fields& f, const std::string& type, const json& item
   camera.cy = k.number("cy");
   camera.min_depth = f.nonNegative("min_depth", camera.min_depth);
   camera.max_depth = f.has("max_depth") ? f.positive("max_depth") : camera.max_depth;
-  const DepthImage image = readDepthImage(baseDir / f.string("file"), units == "mm" ? 0.001 : 1.0);
+  // The image and its mask from files beside the scene, or inline as a
+  // PNG's bytes in base64 (a plan request's inline scene).
+  const double scale = units == "mm" ? 0.001 : 1.0;
+  if (f.has("file") == f.has("png_base64")) f.fail("needs either file or png_base64");
+  const DepthImage image =
+      f.has("file") ? readDepthImage(baseDir / f.string("file"), scale)
+                    : decodeDepthPng(core::base64Decode(f.string("png_base64"), "png_base64"),
+                                     scale, "png_base64");
+  if (f.has("mask") && f.has("mask_base64")) f.fail("needs at most one of mask and mask_base64");
   std::vector<std::uint8_t> mask;
   if (f.has("mask")) mask = readMask(baseDir / f.string("mask"));
-  Vertices points = depthToPoints(image, camera, f.has("mask") ? &mask : nullptr);
-  if (points.rows() == 0) f.failAt("file", "has no depth within [min_depth, max_depth]");
+  if (f.has("mask_base64"))
+    mask = decodeMaskPng(core::base64Decode(f.string("mask_base64"), "mask_base64"), "mask_base64");
+  const bool masked = f.has("mask") || f.has("mask_base64");
+  Vertices points = depthToPoints(image, camera, masked ? &mask : nullptr);
+  if (points.rows() == 0)
+    f.failAt(f.has("file") ? "file" : "png_base64", "has no depth within [min_depth, max_depth]");
   return points;
 }
 
@@ -274,38 +287,6 @@ Eigen::Isometry3d restingPose(const Eigen::Isometry3d& pose, const Vertices& ver
   const double lowest = (vertices * pose.linear().row(2).transpose()).minCoeff();
   Eigen::Isometry3d out = pose;
   out.translation().z() = topOf(support) + kRestingClearance - lowest;
-  return out;
-}
-
-Scene withTargetCarved(const Scene& scene, const db::DistanceGrid& grid, const Vertices& vertices) {
-  if (vertices.rows() == 0 || grid.empty()) return scene;
-  Scene out = scene;
-  const Eigen::Vector3d low = vertices.colwise().minCoeff(), high = vertices.colwise().maxCoeff();
-  for (Obstacle& o : out.obstacles) {
-    if (o.type != Obstacle::Type::kPoints) continue;
-    const double v = o.cloud->options.voxel, halfDiagonal = 0.5 * std::sqrt(3.0) * v;
-    const Eigen::Isometry3d toObject = scene.target_pose.inverse() * o.pose;
-    auto touches = [&](int i, int j, int k) {
-      const Eigen::Vector3d centre = toObject * (Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5) * v);
-      // Outside the object's box by more than the half diagonal: clear.
-      if ((centre.array() < low.array() - halfDiagonal).any() ||
-          (centre.array() > high.array() + halfDiagonal).any())
-        return false;
-      return grid.lowerBound(centre) <= halfDiagonal;
-    };
-    VoxelCloud carved = withoutVoxels(*o.cloud, touches);
-    if (carved.occupied_count == o.cloud->occupied_count) continue;
-    auto cloud = std::make_shared<const VoxelCloud>(std::move(carved));
-    o.mesh = cloud->mesh;
-    o.distance_grid = std::shared_ptr<const db::DistanceGrid>(cloud, &cloud->distances);
-    o.cloud = std::move(cloud);
-  }
-  out.obstacles.erase(std::remove_if(out.obstacles.begin(), out.obstacles.end(),
-                                     [](const Obstacle& o) {
-                                       return o.type == Obstacle::Type::kPoints &&
-                                              o.cloud->occupied_count == 0;
-                                     }),
-                      out.obstacles.end());
   return out;
 }
 

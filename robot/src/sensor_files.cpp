@@ -17,6 +17,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "core/invalid_argument.h"
 
@@ -92,16 +93,30 @@ void pngWarning(png_structp, png_const_charp) {}
 
 /// Reads a grey PNG of `bits` (8 or 16) bits per pixel; throws
 /// InvalidArgument(field) naming the file and the problem.
-GreyImage readGreyPng(const std::filesystem::path& path, int bits, const std::string& field) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
-                                                       &std::fclose);
-  if (!file) refuse(field, "cannot read '" + path.string() + "'");
+/// libpng's reader over bytes in memory.
+struct ByteSource {
+  std::string_view bytes;
+  std::size_t offset = 0;
+};
+
+void readBytes(png_structp png, png_bytep data, png_size_t length) {
+  auto* source = static_cast<ByteSource*>(png_get_io_ptr(png));
+  if (length > source->bytes.size() - source->offset) png_error(png, "truncated");
+  std::memcpy(data, source->bytes.data() + source->offset, length);
+  source->offset += length;
+}
+
+/// Decodes a grey PNG of `bits` (8 or 16) bits per pixel from `bytes`;
+/// throws InvalidArgument(field) naming `what` and the problem.
+GreyImage decodeGreyPng(std::string_view bytes, int bits, const std::string& field,
+                        const std::string& what) {
+  ByteSource source{bytes};
   std::string problem;  // libpng's errors come back here (pngError), not printed
   png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &problem, &pngError, &pngWarning);
   png_infop info = png != nullptr ? png_create_info_struct(png) : nullptr;
   if (info == nullptr) {
     png_destroy_read_struct(&png, nullptr, nullptr);
-    refuse(field, "cannot start reading '" + path.string() + "'");
+    refuse(field, "cannot start reading " + what);
   }
   GreyImage image;
   std::vector<png_byte> row;
@@ -110,7 +125,7 @@ GreyImage readGreyPng(const std::filesystem::path& path, int bits, const std::st
   if (setjmp(png_jmpbuf(png))) {
     problem = "not a readable PNG (" + problem + ")";
   } else {
-    png_init_io(png, file.get());
+    png_set_read_fn(png, &source, &readBytes);
     png_read_info(png, info);
     const png_uint_32 width = png_get_image_width(png, info),
                       height = png_get_image_height(png, info);
@@ -133,7 +148,7 @@ GreyImage readGreyPng(const std::filesystem::path& path, int bits, const std::st
     }
   }
   png_destroy_read_struct(&png, &info, nullptr);
-  if (!problem.empty()) refuse(field, "'" + path.string() + "': " + problem);
+  if (!problem.empty()) refuse(field, what + ": " + problem);
   return image;
 }
 
@@ -176,12 +191,36 @@ std::string encodeGreyPng(const GreyImage& image, int bits) {
   return bytes;
 }
 
-DepthImage readPng(const std::filesystem::path& path, double scale) {
-  const GreyImage grey = readGreyPng(path, 16, "file");
+/// The whole file, or InvalidArgument(field).
+std::string fileBytes(const std::filesystem::path& path, const std::string& field) {
+  std::ifstream in(path, std::ios::binary);
+  std::error_code error;
+  if (!in || !std::filesystem::is_regular_file(path, error))
+    refuse(field, "cannot read '" + path.string() + "'");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+GreyImage readGreyPng(const std::filesystem::path& path, int bits, const std::string& field) {
+  return decodeGreyPng(fileBytes(path, field), bits, field, "'" + path.string() + "'");
+}
+
+DepthImage depthOf(const GreyImage& grey, double scale) {
   DepthImage image{grey.width, grey.height, std::vector<float>(grey.values.size())};
   for (std::size_t i = 0; i < grey.values.size(); ++i)
     image.depths[i] = static_cast<float>(grey.values[i] * scale);
   return image;
+}
+
+std::vector<std::uint8_t> maskOf(const GreyImage& grey) {
+  std::vector<std::uint8_t> mask(grey.values.size());
+  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = grey.values[i] != 0 ? 1 : 0;
+  return mask;
+}
+
+DepthImage readPng(const std::filesystem::path& path, double scale) {
+  return depthOf(readGreyPng(path, 16, "file"), scale);
 }
 
 /// The value of `key` in a .npy header's dictionary text, up to the next
@@ -264,7 +303,8 @@ Vertices readPointCloud(const std::filesystem::path& path) {
   Eigen::Index n = 0;
   for (const pcl::PointXYZ& p : cloud)
     if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
-      points.row(n++) << p.x, p.y, p.z;
+      points.row(n++) << static_cast<double>(p.x), static_cast<double>(p.y),
+          static_cast<double>(p.z);
   points.conservativeResize(n, 3);
   if (points.rows() == 0) refuse("file", "'" + path.string() + "': holds no finite point");
   return points;
@@ -282,10 +322,17 @@ DepthImage readDepthImage(const std::filesystem::path& path, double scale) {
 }
 
 std::vector<std::uint8_t> readMask(const std::filesystem::path& path) {
-  const GreyImage grey = readGreyPng(path, 8, "mask");
-  std::vector<std::uint8_t> mask(grey.values.size());
-  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = grey.values[i] != 0 ? 1 : 0;
-  return mask;
+  return maskOf(readGreyPng(path, 8, "mask"));
+}
+
+DepthImage decodeDepthPng(std::string_view bytes, double scale, const std::string& field) {
+  if (!std::isfinite(scale) || scale <= 0.0)
+    refuse("scale", "must be a positive factor to metres, not " + std::to_string(scale));
+  return depthOf(decodeGreyPng(bytes, 16, field, "the image"), scale);
+}
+
+std::vector<std::uint8_t> decodeMaskPng(std::string_view bytes, const std::string& field) {
+  return maskOf(decodeGreyPng(bytes, 8, field, "the mask"));
 }
 
 std::string encodeDepthPng(const DepthImage& image) {

@@ -27,11 +27,19 @@ robot::Scene inlineScene(const JsonFields& f, const PlanningCatalog& catalog) {
   const json& scene = f.at("scene");
   const auto obstacles = scene.find("obstacles");
   if (obstacles != scene.end() && obstacles->is_array())
-    for (std::size_t i = 0; i < obstacles->size(); ++i)
-      if ((*obstacles)[i].is_object() && (*obstacles)[i].contains("type") &&
-          (*obstacles)[i]["type"] == "mesh")
+    for (std::size_t i = 0; i < obstacles->size(); ++i) {
+      const json& o = (*obstacles)[i];
+      if (!o.is_object()) continue;
+      if (o.contains("type") && o["type"] == "mesh")
         f.fail("scene.obstacles[" + std::to_string(i) + "]",
                "inline scenes may not load mesh files (use box, cylinder or sphere)");
+      // A client never makes the server read its files.
+      for (const char* key : {"file", "mask"})
+        if (o.contains(key))
+          f.fail("scene.obstacles[" + std::to_string(i) + "]." + key,
+                 "inline scenes may not load files (give points inline, or a depth image as "
+                 "png_base64 and mask_base64)");
+    }
   try {
     return robot::parseScene(scene.dump(), catalog.sceneDir(), "inline scene");
   } catch (const robot::SceneError& e) {

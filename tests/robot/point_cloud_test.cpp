@@ -12,13 +12,17 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <random>
 #include <string>
 
+#include "core/base64.h"
 #include "core/invalid_argument.h"
 #include "hfts_db/object_database.h"
 #include "robot/collision_checker.h"
+#include "robot/kinematics.h"
 #include "robot/scene.h"
+#include "robot/sensed_scene.h"
 #include "robot_fixture.h"
 
 namespace hfts::robot {
@@ -271,6 +275,14 @@ TEST_F(Files, ASceneTakesCloudsAndDepthImagesAsObstacles) {
                             R"(, "file": "view.png", "units": "mm",
       "intrinsics": {"fx": 4, "fy": 4, "cx": 1.5, "cy": 1.5}})");
   const VoxelCloud& wall = *depth.obstacles[0].cloud;
+  // The same image inline, as a request's inline scene gives it.
+  std::ostringstream bytes;
+  bytes << std::ifstream(dir_ / "view.png", std::ios::binary).rdbuf();
+  const Scene inlined =
+      scene(R"({"name": "view", "type": "depth_image", )" + pose + R"(, "png_base64": ")" +
+            core::base64Encode(bytes.str()) + R"(", "units": "mm",
+      "intrinsics": {"fx": 4, "fy": 4, "cx": 1.5, "cy": 1.5}})");
+  EXPECT_EQ(inlined.obstacles[0].cloud->occupied, wall.occupied);
   EXPECT_NEAR(wall.points.col(2).mean(), 0.8, 0.006);
   EXPECT_GT(wall.occupied_count, 4u);
   auto fieldOf = [&](const std::string& obstacle) {
@@ -304,6 +316,16 @@ TEST_F(Files, ASceneTakesCloudsAndDepthImagesAsObstacles) {
           R"({"name": "a", "type": "depth_image", )" + pose +
           R"(, "file": "view.png", "units": "mm", "max_depth": 0.5, "intrinsics": {"fx": 4, "fy": 4, "cx": 1, "cy": 1}})"),
       "obstacles[0].file");  // every depth beyond max_depth
+  EXPECT_EQ(
+      fieldOf(
+          R"({"name": "a", "type": "depth_image", )" + pose +
+          R"(, "png_base64": "%%%", "units": "mm", "intrinsics": {"fx": 4, "fy": 4, "cx": 1, "cy": 1}})"),
+      "obstacles[0].png_base64");
+  EXPECT_EQ(
+      fieldOf(
+          R"({"name": "a", "type": "depth_image", )" + pose +
+          R"(, "png_base64": "AAAA", "units": "mm", "intrinsics": {"fx": 4, "fy": 4, "cx": 1, "cy": 1}})"),
+      "obstacles[0].png_base64");  // not a PNG
 }
 
 /// A table and a wall seen as noisy clouds, in front of the KR5.
@@ -410,6 +432,49 @@ TEST(PointCloudScene, TheTargetIsCarvedOutOfTheCloudItStandsIn) {
   EXPECT_GT(removed, 0u);
   EXPECT_LT(removed, 400u);  // the cube's footprint and a ring (8 x 8 cm), three layers at most
   EXPECT_EQ(carved.obstacles[1].cloud, scene.obstacles[1].cloud);
+}
+
+TEST(PointCloudScene, TheRobotAtItsStartIsCarvedOutOfTheCloud) {
+  // A camera sees the robot as well: points on its links at home join the
+  // table's, as they would in a depth image of the cell.
+  const RobotModel& model = test::kr5Sdh();
+  Scene scene = cloudScene();
+  const LinkPoses poses = forwardKinematics(model, model.home());
+  std::mt19937_64 rng(31);
+  std::vector<Eigen::Vector3d> seen;
+  for (std::size_t l = 0; l < model.links().size(); ++l)
+    for (const CollisionShape& shape : model.links()[l].shapes)
+      if (shape.type == CollisionShape::Type::kBox || shape.type == CollisionShape::Type::kCylinder)
+        for (int i = 0; i < 200; ++i) {  // points inside the shape's box: on or in the link
+          const Eigen::Vector3d half =
+              shape.type == CollisionShape::Type::kBox
+                  ? Eigen::Vector3d(shape.size / 2)
+                  : Eigen::Vector3d(shape.size.x() / 2, shape.size.x() / 2, shape.size.y() / 2);
+          std::uniform_real_distribution<double> u(-1.0, 1.0);
+          seen.push_back(poses[l] * shape.origin *
+                         Eigen::Vector3d(u(rng) * half.x(), u(rng) * half.y(), u(rng) * half.z()));
+        }
+  Vertices points(static_cast<Eigen::Index>(seen.size()), 3);
+  for (std::size_t i = 0; i < seen.size(); ++i)
+    points.row(static_cast<Eigen::Index>(i)) = seen[i].transpose();
+  Obstacle robotSeen = scene.obstacles[0];
+  robotSeen.name = "robot_seen";
+  robotSeen.pose = Eigen::Isometry3d::Identity();
+  auto cloud = std::make_shared<VoxelCloud>(voxelize(points, CloudOptions{}));
+  robotSeen.cloud = cloud;
+  robotSeen.mesh = cloud->mesh;
+  robotSeen.distance_grid = std::shared_ptr<const db::DistanceGrid>(cloud, &cloud->distances);
+  scene.obstacles.push_back(robotSeen);
+  CollisionChecker before(test::collisionOf(model), scene, nullptr);
+  CollisionPair pair;
+  ASSERT_TRUE(before.inCollision(model.home(), CollisionRequest::obstaclesOnly(), &pair));
+  const Scene carved = withRobotCarved(scene, model, model.home());
+  CollisionChecker after(test::collisionOf(model), carved, nullptr);
+  EXPECT_FALSE(after.inCollision(model.home(), CollisionRequest::obstaclesOnly(), &pair))
+      << pair.first << " touches " << pair.second;
+  // The robot's own voxels went (the cloud with them); the table stays.
+  ASSERT_EQ(carved.obstacles.size(), 2u);
+  EXPECT_EQ(carved.obstacles[0].cloud->occupied_count, scene.obstacles[0].cloud->occupied_count);
 }
 
 }  // namespace

@@ -177,6 +177,21 @@ TEST(PlanRequestJson, AcceptsAnInlineSceneOfPrimitives) {
                                    {"mesh", "../meshes/mug.ply"},
                                    {"pose", scene["robot_base"]}});
   expectRejected({{"scene", withMesh}}, "scene.obstacles[1]", "may not load mesh files");
+  json withCloudFile = scene;
+  withCloudFile["obstacles"].push_back({{"name", "c"},
+                                        {"type", "points"},
+                                        {"file", "/etc/hostname.pcd"},
+                                        {"pose", scene["robot_base"]}});
+  expectRejected({{"scene", withCloudFile}}, "scene.obstacles[1].file", "may not load files");
+  json withPoints = scene;
+  withPoints["obstacles"].push_back({{"name", "c"},
+                                     {"type", "points"},
+                                     {"points", {{0.3, 0.3, 0.5}, {0.31, 0.3, 0.5}}},
+                                     {"pose", scene["robot_base"]}});
+  const planner::PlanRequest clouded = parse({{"scene", withPoints}});
+  ASSERT_EQ(clouded.scene.obstacles.size(), 2u);
+  EXPECT_EQ(clouded.scene.obstacles[1].type, robot::Obstacle::Type::kPoints);
+  EXPECT_GE(clouded.scene.obstacles[1].cloud->occupied_count, 2u);
   json broken = scene;
   broken["obstacles"][0]["size"] = {2, 2, -1};
   expectRejected({{"scene", broken}}, "scene.obstacles[0].size", "must be positive");

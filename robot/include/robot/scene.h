@@ -124,15 +124,6 @@ Eigen::Isometry3d restingPose(const Eigen::Isometry3d& pose, const Vertices& ver
 /// resting on target_rest_on when that is set.
 Eigen::Isometry3d targetPose(const Scene& scene, const Vertices& vertices);
 
-/// The scene with the voxels of its point-cloud obstacles that the target
-/// (`vertices` and `grid` in its frame, at scene.target_pose) may touch
-/// removed: what a sensor saw of the object to pick, or of its support
-/// where the object stands on it, belongs to the object, whose model
-/// the planner has. A voxel goes when the grid cannot prove its centre
-/// more than half its diagonal outside the object; a cloud left without
-/// voxels goes. Obstacles it does not touch are shared, not copied.
-Scene withTargetCarved(const Scene& scene, const db::DistanceGrid& grid, const Vertices& vertices);
-
 /// Reads a scene file; mesh obstacles are loaded relative to its folder,
 /// and each gets its distance grid (about 0.1 to 1 s per mesh on one
 /// core, up to 1 MiB). Throws SceneError.

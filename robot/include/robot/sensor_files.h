@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "hfts_db/triangle_mesh.h"
@@ -30,6 +31,11 @@ DepthImage readDepthImage(const std::filesystem::path& path, double scale);
 /// pixels of the object to pick, left out of the obstacle). Throws
 /// hfts::InvalidArgument ("mask").
 std::vector<std::uint8_t> readMask(const std::filesystem::path& path);
+
+/// The same from a PNG's bytes (a request's inline image); errors name
+/// `field`.
+DepthImage decodeDepthPng(std::string_view bytes, double scale, const std::string& field);
+std::vector<std::uint8_t> decodeMaskPng(std::string_view bytes, const std::string& field);
 
 /// A depth image as a 16-bit PNG in millimetres (what readDepthImage reads
 /// with scale 0.001; depths beyond 65.535 m or unseen are 0), and a mask as

@@ -1,0 +1,37 @@
+#pragma once
+// Scenes a sensor saw (docs/point_clouds.md): what of its point-cloud
+// obstacles is not an obstacle. A depth camera sees the object to pick and
+// the robot itself as well as the world; the planner has models of both,
+// so their voxels leave the clouds, as a perception pipeline's self filter
+// and segmentation take their points out.
+
+#include <Eigen/Core>
+
+#include "hfts_db/distance_grid.h"
+#include "hfts_db/triangle_mesh.h"
+#include "robot/robot_model.h"
+#include "robot/scene.h"
+
+namespace hfts::robot {
+
+/// The scene with the voxels of its point-cloud obstacles that the target
+/// (`vertices` and `grid` in its frame, at scene.target_pose) may touch
+/// removed: what a sensor saw of the object to pick, or of its support
+/// where the object stands on it, belongs to the object, whose model
+/// the planner has. A voxel goes when the grid cannot prove its centre
+/// more than half its diagonal outside the object; a cloud left without
+/// voxels goes. Obstacles it does not touch are shared, not copied.
+Scene withTargetCarved(const Scene& scene, const db::DistanceGrid& grid, const Vertices& vertices);
+
+/// How far around the robot's links (m) its self filter takes voxels out.
+inline constexpr double kSelfFilterPadding = 0.02;
+
+/// The scene with the voxels of its point-cloud obstacles near the robot
+/// at `q` (where it stood when the sensor looked: the plan's start)
+/// removed: a voxel goes when its centre is within `padding` plus half
+/// its diagonal of a link's shape (FCL's distance). A cloud left without
+/// voxels goes. Obstacles it does not touch are shared, not copied.
+Scene withRobotCarved(const Scene& scene, const RobotModel& model, const Eigen::VectorXd& q,
+                      double padding = kSelfFilterPadding);
+
+}  // namespace hfts::robot
