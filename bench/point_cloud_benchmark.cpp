@@ -39,6 +39,16 @@ Vertices shelfCloud(std::int64_t n) {
   return points;
 }
 
+/// 4096 points in the clouds' region, where the checks are asked.
+std::vector<Eigen::Vector3d> queryPoints() {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Eigen::Vector3d> queries(4096);
+  for (Eigen::Vector3d& q : queries)
+    q = Eigen::Vector3d(0.4 + u(rng), -0.5 + u(rng), 0.2 + 0.8 * u(rng));
+  return queries;
+}
+
 robot::Scene sceneOf(const robot::VoxelCloud& built) {
   auto cloud = std::make_shared<robot::VoxelCloud>(built);
   robot::Obstacle o;
@@ -75,11 +85,7 @@ BENCHMARK(BM_Voxelize)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::k
 /// The sphere tier's bound at a point: the same read as its kernel's.
 void BM_SphereTierBound(benchmark::State& state) {
   const robot::VoxelCloud cloud = robot::voxelize(shelfCloud(state.range(0)));
-  std::mt19937_64 rng(3);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::vector<Eigen::Vector3d> queries(4096);
-  for (Eigen::Vector3d& q : queries)
-    q = Eigen::Vector3d(0.4 + u(rng), -0.5 + u(rng), 0.2 + 0.8 * u(rng));
+  const std::vector<Eigen::Vector3d> queries = queryPoints();
   std::size_t i = 0;
   for (auto _ : state) benchmark::DoNotOptimize(cloud.distances.lowerBound(queries[i++ & 4095]));
   state.counters["voxels"] = static_cast<double>(cloud.occupied_count);
@@ -90,11 +96,7 @@ BENCHMARK(BM_SphereTierBound)->Arg(10000)->Arg(100000)->Arg(1000000);
 void BM_FclOctreeSphere(benchmark::State& state) {
   const robot::Scene scene = sceneOf(robot::voxelize(shelfCloud(state.range(0))));
   const robot::CollisionScene collision(kr5Collision(), scene, nullptr);
-  std::mt19937_64 rng(3);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::vector<Eigen::Vector3d> queries(4096);
-  for (Eigen::Vector3d& q : queries)
-    q = Eigen::Vector3d(0.4 + u(rng), -0.5 + u(rng), 0.2 + 0.8 * u(rng));
+  const std::vector<Eigen::Vector3d> queries = queryPoints();
   std::size_t i = 0;
   for (auto _ : state)
     benchmark::DoNotOptimize(collision.sphereTouchesObstacles(queries[i++ & 4095], 0.05));

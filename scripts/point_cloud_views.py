@@ -4,6 +4,7 @@
 
   render  DIR       every bundled scene from three camera poses, with the
                     Kinect-like noise (hfts-render-depth): DIR/<scene>_<view>.json
+  summary OUT       the table of OUT, per robot, with Wilson intervals
   plan    DIR OUT   for each robot, rendered scene and seed: a plan from the
                     rendered view and one from the true meshes (one thread,
                     10 s, physics check on); the rendered view's plan checked
@@ -98,6 +99,40 @@ def plan_all(view_dir, out_path, seeds, time_limit):
     return rows
 
 
+def wilson(k, n, z=1.96):
+    if n == 0:
+        return (0.0, 1.0)
+    p = k / n
+    d = 1 + z * z / n
+    c = (p + z * z / (2 * n)) / d
+    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
+    return (max(0.0, c - h), min(1.0, c + h))
+
+
+def summary(out_path):
+    rows = [json.loads(line) for line in open(out_path) if line.strip()]
+    print("| robot | runs | planned from the view | of those, free in the true scene | "
+          "of those, held in the true scene | planned, free and held (of all runs) | "
+          "planned from the true meshes |")
+    print("| --- | --- | --- | --- | --- | --- | --- |")
+    for robot in ROBOTS + ["all"]:
+        mine = [r for r in rows if robot in ("all", r["robot"])]
+        if not mine:
+            continue
+        n = len(mine)
+        planned = [r for r in mine if r["seen_planned"]]
+        free = [r for r in planned if r.get("free_in_truth")]
+        held = [r for r in planned if r.get("held_in_truth")]
+        both = [r for r in planned if r.get("free_in_truth") and r.get("held_in_truth")]
+        truth = [r for r in mine if r["truth_planned"]]
+
+        def cell(k, m):
+            lo, hi = wilson(k, m)
+            return f"{k}/{m} [{lo:.2f}, {hi:.2f}]"
+        print(f"| {robot} | {n} | {cell(len(planned), n)} | {cell(len(free), len(planned))} | "
+              f"{cell(len(held), len(planned))} | {cell(len(both), n)} | {cell(len(truth), n)} |")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -106,6 +141,8 @@ def main():
     r.add_argument("dir")
     r.add_argument("--db", default=os.path.join(ROOT, "build", "databases"))
     r.add_argument("--seed", type=int, default=1)
+    s = sub.add_parser("summary")
+    s.add_argument("out")
     p = sub.add_parser("plan")
     p.add_argument("dir")
     p.add_argument("out")
@@ -114,6 +151,8 @@ def main():
     args = parser.parse_args()
     if args.command == "render":
         render(args.dir, args.db, args.seed)
+    elif args.command == "summary":
+        summary(args.out)
     else:
         plan_all(args.dir, args.out, args.seeds, args.time_limit)
     return 0

@@ -153,6 +153,9 @@ void checkOptions(const CloudOptions& o) {
     fail("voxel", "must be a voxel edge from 0.001 to 1 m, not " + std::to_string(o.voxel));
   if (!std::isfinite(o.radius) || o.radius < 0.0 || o.radius > 10 * o.voxel)
     fail("radius", "must be from 0 to ten voxels (m), not " + std::to_string(o.radius));
+  if (!std::isfinite(o.shadow) || o.shadow < 0.0 || o.shadow > 2.0)
+    fail("shadow", "must be from 0 to 2 m, not " + std::to_string(o.shadow));
+  if (o.viewpoint && !o.viewpoint->allFinite()) fail("viewpoint", "must be finite");
   if (o.remove_outliers && (o.outlier_neighbours < 1 || o.outlier_neighbours > 1000 ||
                             !std::isfinite(o.outlier_stddev) || o.outlier_stddev <= 0.0))
     fail("outliers", "needs 1 to 1000 neighbours and a positive number of standard deviations");
@@ -276,8 +279,20 @@ VoxelCloud voxelize(const Vertices& input, const CloudOptions& options) {
     points = std::move(survivors);
     if (points.rows() == 0) fail("points", "no point is left after outlier removal");
   }
-  const double v = options.voxel, r = options.radius;
-  const Eigen::Vector3d low = points.colwise().minCoeff(), high = points.colwise().maxCoeff();
+  const double v = options.voxel;
+  const bool shadowed = options.viewpoint && options.shadow > 0.0;
+  // With shadows every mark is at least a quarter voxel wide, so the marks
+  // half a voxel apart along a ray leave no gap.
+  const double r = shadowed ? std::max(options.radius, v / 4) : options.radius;
+  Eigen::Vector3d low = points.colwise().minCoeff(), high = points.colwise().maxCoeff();
+  if (shadowed)
+    for (Eigen::Index p = 0; p < points.rows(); ++p) {
+      const Eigen::Vector3d point = points.row(p).transpose();
+      const Eigen::Vector3d end =
+          point + options.shadow * (point - *options.viewpoint).normalized();
+      low = low.cwiseMin(end);
+      high = high.cwiseMax(end);
+    }
   if ((low.array().abs() / v > kMaxVoxelIndex).any() ||
       (high.array().abs() / v > kMaxVoxelIndex).any())
     fail("points", "lie more than 32000 voxels from the obstacle's origin");
@@ -293,17 +308,18 @@ VoxelCloud voxelize(const Vertices& input, const CloudOptions& options) {
                        " m, more than " + std::to_string(kMaxCloudVoxels) +
                        ": crop the cloud (max_depth) or choose a coarser voxel");
   cloud.occupied.assign(std::size_t(cloud.dims[0]) * cloud.dims[1] * cloud.dims[2], 0);
-  for (Eigen::Index p = 0; p < points.rows(); ++p) {
+  // Every voxel within r of the point: occupied.
+  auto mark = [&](const Eigen::Vector3d& point) {
     int from[3], to[3];
     for (int a = 0; a < 3; ++a) {
-      from[a] = static_cast<int>(std::floor((points(p, a) - r) / v));
-      to[a] = static_cast<int>(std::floor((points(p, a) + r) / v));
+      from[a] = static_cast<int>(std::floor((point[a] - r) / v));
+      to[a] = static_cast<int>(std::floor((point[a] + r) / v));
     }
     for (int k = from[2]; k <= to[2]; ++k)
       for (int j = from[1]; j <= to[1]; ++j)
         for (int i = from[0]; i <= to[0]; ++i) {
-          const double gap = axisGap(points(p, 0), i, v) + axisGap(points(p, 1), j, v) +
-                             axisGap(points(p, 2), k, v);
+          const double gap =
+              axisGap(point.x(), i, v) + axisGap(point.y(), j, v) + axisGap(point.z(), k, v);
           if (gap > r * r) continue;
           std::uint8_t& cell =
               cloud.occupied[std::size_t(i - cloud.first[0]) +
@@ -313,6 +329,16 @@ VoxelCloud voxelize(const Vertices& input, const CloudOptions& options) {
           cloud.occupied_count += cell == 0 ? 1 : 0;
           cell = 1;
         }
+  };
+  // Behind each point, as the sensor looks, up to the shadow's length: half
+  // a voxel apart, each with the radius (at least a quarter voxel: no gap).
+  const double step = v / 2;
+  for (Eigen::Index p = 0; p < points.rows(); ++p) {
+    const Eigen::Vector3d point = points.row(p).transpose();
+    mark(point);
+    if (!shadowed) continue;
+    const Eigen::Vector3d along = (point - *options.viewpoint).normalized();
+    for (double t = step; t < options.shadow + step / 2; t += step) mark(point + t * along);
   }
   cloud.distances = distanceGrid(cloud);
   cloud.mesh = boxesMesh(cloud.boxes());

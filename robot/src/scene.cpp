@@ -92,12 +92,16 @@ class Fields {
 };
 
 /// The cloud options of a points or depth_image obstacle (defaults:
-/// CloudOptions).
-CloudOptions cloudOptions(const Fields& f, const std::string& where, const std::string& source,
-                          const json& item) {
+/// CloudOptions). A depth image's camera is its viewpoint (the obstacle
+/// frame's origin); a cloud's is `viewpoint` when it gives one.
+CloudOptions cloudOptions(const Fields& f, const std::string& type, const std::string& where,
+                          const std::string& source, const json& item) {
   CloudOptions options;
   options.voxel = f.has("voxel") ? f.positive("voxel") : options.voxel;
   options.radius = f.nonNegative("radius", options.radius);
+  options.shadow = f.nonNegative("shadow", options.shadow);
+  if (type == "depth_image") options.viewpoint = Eigen::Vector3d::Zero();
+  if (type == "points" && f.has("viewpoint")) options.viewpoint = f.numbers("viewpoint", 3);
   if (f.has("outliers")) {
     const Fields o(item.at("outliers"), pathOf(where, "outliers"), source);
     options.remove_outliers = true;
@@ -200,7 +204,7 @@ Obstacle parseObstacle(const json& item, std::size_t index, const std::filesyste
     try {
       auto cloud =
           std::make_shared<VoxelCloud>(voxelize(sensedPoints(f, type, item, baseDir, where, source),
-                                                cloudOptions(f, where, source, item)));
+                                                cloudOptions(f, type, where, source, item)));
       o.mesh = cloud->mesh;
       o.distance_grid =
           std::shared_ptr<const db::DistanceGrid>(cloud, &cloud->distances);  // shares the cloud

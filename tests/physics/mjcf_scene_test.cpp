@@ -5,6 +5,7 @@
 #include "core/invalid_argument.h"
 #include "mujoco_world.h"
 #include "panda_cube.h"
+#include "robot/point_cloud.h"
 
 namespace hfts::physics {
 namespace {
@@ -108,6 +109,28 @@ TEST(MjcfScene, SoftFingerPadsGetTorsionalFrictionAndHardOnesDoNot) {
       EXPECT_EQ(model->geom_condim[g], 3);
     }
   }
+}
+
+TEST(MjcfScene, ACloudStaysOutAndAPlateStandsUnderTheObject) {
+  test::PandaCube world;
+  const ObjectBody body = cubeBody(world);
+  const ModelPtr plain = compileMjcf(mjcfObjectScene(world.scene, body));
+  EXPECT_EQ(count(*plain, mjOBJ_GEOM, "obstacle/sensed_support"), 0);
+  robot::Obstacle seen;
+  seen.name = "seen";
+  seen.type = robot::Obstacle::Type::kPoints;
+  Vertices points(2, 3);
+  points << 0.3, 0.3, 0.0, 0.5, 0.3, 0.0;
+  seen.cloud = std::make_shared<robot::VoxelCloud>(robot::voxelize(points));
+  world.scene.obstacles.push_back(seen);
+  const ModelPtr sensed = compileMjcf(mjcfObjectScene(world.scene, body));
+  EXPECT_EQ(count(*sensed, mjOBJ_GEOM, "obstacle/seen"), 0);
+  const int plate = mj_name2id(sensed.get(), mjOBJ_GEOM, "obstacle/sensed_support");
+  ASSERT_GE(plate, 0);
+  // Its top 1 mm under the cube's bottom (the cube's frame at its bottom face).
+  const double top = sensed->geom_pos[3 * plate + 2] + sensed->geom_size[3 * plate + 2];
+  EXPECT_NEAR(top, world.scene.target_pose.translation().z() - robot::kRestingClearance, 1e-9);
+  EXPECT_EQ(count(*sensed, mjOBJ_GEOM, "obstacle/"), count(*plain, mjOBJ_GEOM, "obstacle/") + 1);
 }
 
 TEST(MjcfScene, ARobotWithoutHandActuationIsRefused) {

@@ -12,8 +12,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <random>
+#include <sstream>
 #include <string>
 
 #include "core/base64.h"
@@ -83,6 +83,23 @@ TEST(PointCloud, APointOccupiesItsVoxelAndThoseWithinTheRadius) {
   // Negative coordinates: voxel -1 spans [-0.01, 0).
   options.radius = 0.0;
   EXPECT_TRUE(voxelize(rows({{-0.001, -0.019, 0.0}}), options).isOccupied(-1, -2, 0));
+}
+
+TEST(PointCloud, BehindAPointAsTheSensorLooksIsOccupiedForTheShadowsLength) {
+  CloudOptions options;
+  options.radius = 0.0;
+  options.shadow = 0.1;
+  options.viewpoint = Eigen::Vector3d::Zero();
+  // A point at the centre of voxel (0, 0, 100), seen from the origin.
+  const VoxelCloud cloud = voxelize(rows({{0.005, 0.005, 1.005}}), options);
+  for (int k = 100; k <= 110; ++k) EXPECT_TRUE(cloud.isOccupied(0, 0, k)) << k;
+  EXPECT_FALSE(cloud.isOccupied(0, 0, 99));   // in front: seen free
+  EXPECT_FALSE(cloud.isOccupied(0, 0, 111));  // beyond the shadow
+  EXPECT_EQ(cloud.occupied_count, 11u);
+  options.viewpoint.reset();  // no viewpoint, no shadow
+  EXPECT_EQ(voxelize(rows({{0.005, 0.005, 1.005}}), options).occupied_count, 1u);
+  options.shadow = -1;
+  EXPECT_THROW(voxelize(rows({{0, 0, 1}}), options), InvalidArgument);
 }
 
 TEST(PointCloud, TheDistanceGridBoundsTheDistanceToTheVoxelsFromBelow) {

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,13 @@ struct CloudOptions {
   /// The sensor's noise (m): every voxel within this distance of a point
   /// is occupied, so the obstacle holds a ball of this radius around each.
   double radius = 0.005;
+  /// What the sensor cannot see behind what it saw: from a known
+  /// `viewpoint` (obstacle frame; a depth image's camera), each point's ray
+  /// is occupied for `shadow` metres beyond the point as well, so that the
+  /// back of an obstacle seen from one side is an obstacle too (0: the
+  /// points only). Without a viewpoint there are no shadows.
+  double shadow = 0.2;
+  std::optional<Eigen::Vector3d> viewpoint;
   /// PCL's statistical outlier removal (a point whose mean distance to its
   /// `outlier_neighbours` nearest is more than `outlier_stddev` standard
   /// deviations above the cloud's mean is dropped). Off by default: it
