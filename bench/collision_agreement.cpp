@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <map>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -142,7 +143,12 @@ std::pair<Eigen::VectorXd, Eigen::VectorXd> randomMotion(const robot::RobotModel
                                                          robot::CollisionChecker& checker,
                                                          std::mt19937_64& rng) {
   Eigen::VectorXd a = uniform(m, rng);
-  while (checker.inCollision(a)) a = uniform(m, rng);
+  // A scene where (almost) nothing is free gives up instead of looping.
+  for (int tries = 1; checker.inCollision(a); ++tries) {
+    if (tries == 100000)
+      throw std::runtime_error("no free configuration in 100000 tries: no motion to compare");
+    a = uniform(m, rng);
+  }
   std::normal_distribution<double> n;
   Eigen::VectorXd direction(m.numDofs());
   for (int d = 0; d < m.numDofs(); ++d) direction(d) = n(rng);

@@ -193,10 +193,12 @@ std::string encodeGreyPng(const GreyImage& image, int bits) {
 
 /// The whole file, or InvalidArgument(field).
 std::string fileBytes(const std::filesystem::path& path, const std::string& field) {
-  std::ifstream in(path, std::ios::binary);
+  // A regular file only: opening a FIFO would wait for a writer.
   std::error_code error;
-  if (!in || !std::filesystem::is_regular_file(path, error))
+  if (!std::filesystem::is_regular_file(path, error))
     refuse(field, "cannot read '" + path.string() + "'");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) refuse(field, "cannot read '" + path.string() + "'");
   std::ostringstream bytes;
   bytes << in.rdbuf();
   return bytes.str();
@@ -244,6 +246,10 @@ std::string npyField(const std::string& header, const std::string& key) {
 }
 
 DepthImage readNpy(const std::filesystem::path& path, double scale) {
+  // A regular file only: opening a FIFO would wait for a writer.
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error))
+    refuse("file", "cannot read '" + path.string() + "'");
   std::ifstream in(path, std::ios::binary);
   if (!in) refuse("file", "cannot read '" + path.string() + "'");
   const std::string what = "'" + path.string() + "': ";
