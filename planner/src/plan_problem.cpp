@@ -92,14 +92,13 @@ std::pair<PlanFailure, std::string> checkGraspable(const Problem& p) {
   return {PlanFailure::kNoStableGraspClearOfSupport, why.str()};
 }
 
-/// The time limit (counted from `began`) or the cancel flag.
 ob::PlannerTerminationCondition terminationCondition(double timeLimit,
                                                      std::chrono::steady_clock::time_point began,
                                                      const std::atomic<bool>* cancel) {
   const double spent =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
   return ob::plannerOrTerminationCondition(
-      ob::timedPlannerTerminationCondition(std::max(0.0, timeLimit - spent)),
+      ob::timedPlannerTerminationCondition(std::max(0.0, searchTimeLimit(timeLimit) - spent)),
       ob::PlannerTerminationCondition(
           [cancel] { return cancel != nullptr && cancel->load(std::memory_order_relaxed); }));
 }

@@ -175,7 +175,7 @@ std::pair<PlanFailure, std::string> checkScene(Problem& p);
 /// Why no grasp can be stable where the object stands (kNone: one may be).
 std::pair<PlanFailure, std::string> checkGraspable(const Problem& p);
 
-/// The time limit (counted from `began`) or the cancel flag.
+/// searchTimeLimit(timeLimit) (counted from `began`) or the cancel flag.
 ob::PlannerTerminationCondition terminationCondition(double timeLimit,
                                                      std::chrono::steady_clock::time_point began,
                                                      const std::atomic<bool>* cancel);

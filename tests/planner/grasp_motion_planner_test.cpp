@@ -257,7 +257,7 @@ TEST(GraspMotionPlanner, RacingCopiesStopWhenCancelledOrOutOfTime) {
   EXPECT_FALSE(none.success);
   EXPECT_EQ(none.failure, PlanFailure::kNoValidGoal);
   EXPECT_EQ(none.seed, r.seed);
-  EXPECT_GE(none.stats.planning_time, 0.2);
+  EXPECT_GE(none.stats.planning_time, searchTimeLimit(0.2));
 }
 
 TEST(GraspMotionPlanner, TheSphereTierChangesNoPlan) {
@@ -441,7 +441,7 @@ TEST(GraspMotionPlanner, HonoursTheTimeLimit) {
   EXPECT_EQ(result.stats.goal_sampling_calls, 0u);
   EXPECT_EQ(result.message,
             "no valid goal within the time limit; of the 0 leaf grasps tried: none tried");
-  EXPECT_GE(elapsed, 0.3);
+  EXPECT_GE(elapsed, searchTimeLimit(0.3));
   // Generous bound for a loaded test machine; hfts-bench measures the
   // real overshoot (docs/performance.md).
   EXPECT_LT(elapsed, 0.3 + 0.5);
@@ -534,7 +534,7 @@ TEST(GraspMotionPlanner, FailsAtOnceWhenNoStableGraspIsClearOfTheSupport) {
   const PlanResult searched = planGrasp(world(), unmasked);
   EXPECT_FALSE(searched.success);
   EXPECT_NE(searched.failure, PlanFailure::kNoStableGraspClearOfSupport);
-  EXPECT_GE(searched.stats.planning_time, 0.5);
+  EXPECT_GE(searched.stats.planning_time, searchTimeLimit(0.5));
 }
 
 TEST(Holdability, TheKr5HoldsTheMugOnTheTableButNothingInTheSlot) {

@@ -55,8 +55,8 @@ struct PlanRequest {
   PlannerPreset preset = PlannerPreset::kDefault;
   std::optional<int> iterations;  ///< decoupled, rrtconnect: i per level (default 20)
   std::uint64_t seed = 1;
-  /// s, counted from the call; feeds the search's termination condition
-  /// (60 s: Fig. 6 of the paper).
+  /// s, counted from the call; the search stops at searchTimeLimit() of
+  /// it (60 s: Fig. 6 of the paper).
   double time_limit = 60.0;
   /// Any planner parameter by name over the settings (see
   /// plannerParameters()), value as text, e.g. {"p_max", "0.8"}: how the
@@ -101,5 +101,10 @@ PlanSettings resolveSettings(const robot::RobotModel& robot, const PlanRequest& 
 /// `seed`: copy 0 keeps the request's seed, the others get well-mixed
 /// seeds derived from it (SplitMix64).
 std::uint64_t racingSeed(std::uint64_t seed, int copy);
+
+/// The part of a request's `time_limit` the search may use: the rest (5 %
+/// of the limit, at most 0.3 s) is left for the work that follows a found
+/// plan and cannot be cut short (validating its grasp, its trajectory).
+double searchTimeLimit(double time_limit);
 
 }  // namespace hfts::planner
