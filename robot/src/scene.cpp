@@ -127,6 +127,30 @@ Vertices inlinePoints(const Fields& f, const json& points) {
   return out;
 }
 
+/// Which member of a depth_image obstacle holds its image: exactly one of
+/// `file` (beside the scene file) or, inline in base64 (a plan request's
+/// obstacles), `png_base64` or `npy_base64`.
+const char* imageKey(const Fields& f) {
+  const char* key = nullptr;
+  int given = 0;
+  for (const char* k : {"file", "png_base64", "npy_base64"})
+    if (f.has(k)) {
+      key = k;
+      ++given;
+    }
+  if (given != 1) f.fail("needs exactly one of file, png_base64 and npy_base64");
+  return key;
+}
+
+/// The depth image in `key` (imageKey), times `scale` to metres.
+DepthImage depthImage(const Fields& f, const std::string& key, const std::filesystem::path& baseDir,
+                      double scale) {
+  if (key == "file") return readDepthImage(baseDir / f.string("file"), scale);
+  const std::string bytes = core::base64Decode(f.string(key.c_str()), key);
+  return key == "png_base64" ? decodeDepthPng(bytes, scale, key)
+                             : decodeDepthNpy(bytes, scale, key);
+}
+
 /// A points or depth_image obstacle's points, in its frame.
 Vertices sensedPoints(const Fields& f, const std::string& type, const json& item,
                       const std::filesystem::path& baseDir, const std::string& where,
@@ -146,14 +170,8 @@ Vertices sensedPoints(const Fields& f, const std::string& type, const json& item
   camera.cy = k.number("cy");
   camera.min_depth = f.nonNegative("min_depth", camera.min_depth);
   camera.max_depth = f.has("max_depth") ? f.positive("max_depth") : camera.max_depth;
-  // The image and its mask from files beside the scene, or inline as a
-  // PNG's bytes in base64 (a plan request's inline scene).
-  const double scale = units == "mm" ? 0.001 : 1.0;
-  if (f.has("file") == f.has("png_base64")) f.fail("needs either file or png_base64");
-  const DepthImage image =
-      f.has("file") ? readDepthImage(baseDir / f.string("file"), scale)
-                    : decodeDepthPng(core::base64Decode(f.string("png_base64"), "png_base64"),
-                                     scale, "png_base64");
+  const char* key = imageKey(f);
+  const DepthImage image = depthImage(f, key, baseDir, units == "mm" ? 0.001 : 1.0);
   if (f.has("mask") && f.has("mask_base64")) f.fail("needs at most one of mask and mask_base64");
   std::vector<std::uint8_t> mask;
   if (f.has("mask")) mask = readMask(baseDir / f.string("mask"));
@@ -161,8 +179,7 @@ Vertices sensedPoints(const Fields& f, const std::string& type, const json& item
     mask = decodeMaskPng(core::base64Decode(f.string("mask_base64"), "mask_base64"), "mask_base64");
   const bool masked = f.has("mask") || f.has("mask_base64");
   Vertices points = depthToPoints(image, camera, masked ? &mask : nullptr);
-  if (points.rows() == 0)
-    f.failAt(f.has("file") ? "file" : "png_base64", "has no depth within [min_depth, max_depth]");
+  if (points.rows() == 0) f.failAt(key, "has no depth within [min_depth, max_depth]");
   return points;
 }
 

@@ -91,8 +91,6 @@ void pngError(png_structp png, png_const_charp message) {
 
 void pngWarning(png_structp, png_const_charp) {}
 
-/// Reads a grey PNG of `bits` (8 or 16) bits per pixel; throws
-/// InvalidArgument(field) naming the file and the problem.
 /// libpng's reader over bytes in memory.
 struct ByteSource {
   std::string_view bytes;
@@ -245,40 +243,45 @@ std::string npyField(const std::string& header, const std::string& key) {
   return value;
 }
 
-DepthImage readNpy(const std::filesystem::path& path, double scale) {
-  // A regular file only: opening a FIFO would wait for a writer.
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error))
-    refuse("file", "cannot read '" + path.string() + "'");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) refuse("file", "cannot read '" + path.string() + "'");
-  const std::string what = "'" + path.string() + "': ";
-  char magic[8] = {};
-  if (!in.read(magic, 8) || std::memcmp(magic, "\x93NUMPY", 6) != 0)
-    refuse("file", what + "not a NumPy .npy file");
-  std::uint32_t length = 0;
-  unsigned char bytes[4] = {};
-  const int lengthBytes = magic[6] == 1 ? 2 : 4;
-  if (!in.read(reinterpret_cast<char*>(bytes), lengthBytes))
-    refuse("file", what + "truncated header");
-  for (int i = lengthBytes - 1; i >= 0; --i) length = (length << 8) | bytes[i];
-  if (length > 65536) refuse("file", what + "header too long");
-  std::string header(length, '\0');
-  if (!in.read(header.data(), length)) refuse("file", what + "truncated header");
+/// Decodes a NumPy .npy array of float32 (little-endian, two dimensions, C
+/// order) from `bytes`, times `scale`; throws InvalidArgument(field) naming
+/// `what` and the problem.
+DepthImage decodeNpy(std::string_view bytes, double scale, const std::string& field,
+                     const std::string& what) {
+  const auto fail = [&](const std::string& problem) { refuse(field, what + ": " + problem); };
+  // Magic, major and minor version, then the header's length: 2 bytes in
+  // version 1, 4 in versions 2 and 3 (little-endian).
+  if (bytes.size() < 8 || bytes.substr(0, 6) != std::string_view("\x93NUMPY", 6))
+    fail("not a NumPy .npy file");
+  const std::size_t lengthBytes = bytes[6] == 1 ? 2 : 4;
+  if (bytes.size() < 8 + lengthBytes) fail("truncated header");
+  std::size_t length = 0;
+  for (std::size_t i = lengthBytes; i-- > 0;)
+    length = (length << 8) | static_cast<unsigned char>(bytes[8 + i]);
+  if (length > 65536) fail("header too long");
+  const std::size_t start = 8 + lengthBytes;
+  if (bytes.size() - start < length) fail("truncated header");
+  const std::string header(bytes.substr(start, length));
   if (npyField(header, "descr") != "'<f4'")
-    refuse("file", what + "must hold float32 ('<f4'), not " + npyField(header, "descr"));
-  if (npyField(header, "fortran_order") != "False") refuse("file", what + "must be in C order");
+    fail("must hold float32 ('<f4'), not " + npyField(header, "descr"));
+  if (npyField(header, "fortran_order") != "False") fail("must be in C order");
   const std::string shape = npyField(header, "shape");
   int height = 0, width = 0;
   if (std::sscanf(shape.c_str(), "(%d,%d)", &height, &width) != 2 || height <= 0 || width <= 0 ||
       height > 16384 || width > 16384)
-    refuse("file", what + "must be a 2-D array of 1 to 16384 rows and columns, shape " + shape);
-  DepthImage image{width, height, std::vector<float>(std::size_t(width) * height)};
-  if (!in.read(reinterpret_cast<char*>(image.depths.data()),
-               static_cast<std::streamsize>(image.depths.size() * sizeof(float))))
-    refuse("file", what + "holds fewer values than its shape " + shape);
+    fail("must be a 2-D array of 1 to 16384 rows and columns, shape " + shape);
+  const std::size_t values = std::size_t(width) * std::size_t(height);
+  const std::string_view data = bytes.substr(start + length);
+  if (data.size() < values * sizeof(float)) fail("holds fewer values than its shape " + shape);
+  DepthImage image{width, height, std::vector<float>(values)};
+  std::memcpy(image.depths.data(), data.data(), values * sizeof(float));
   for (float& d : image.depths) d = static_cast<float>(static_cast<double>(d) * scale);
   return image;
+}
+
+void checkScale(double scale) {
+  if (!std::isfinite(scale) || scale <= 0.0)
+    refuse("scale", "must be a positive factor to metres, not " + std::to_string(scale));
 }
 
 }  // namespace
@@ -317,13 +320,13 @@ Vertices readPointCloud(const std::filesystem::path& path) {
 }
 
 DepthImage readDepthImage(const std::filesystem::path& path, double scale) {
-  if (!std::isfinite(scale) || scale <= 0.0)
-    refuse("scale", "must be a positive factor to metres, not " + std::to_string(scale));
+  checkScale(scale);
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (extension == ".png") return readPng(path, scale);
-  if (extension == ".npy") return readNpy(path, scale);
+  if (extension == ".npy")
+    return decodeNpy(fileBytes(path, "file"), scale, "file", "'" + path.string() + "'");
   refuse("file", "'" + path.string() + "': must be a 16-bit .png or a float32 .npy depth image");
 }
 
@@ -332,9 +335,13 @@ std::vector<std::uint8_t> readMask(const std::filesystem::path& path) {
 }
 
 DepthImage decodeDepthPng(std::string_view bytes, double scale, const std::string& field) {
-  if (!std::isfinite(scale) || scale <= 0.0)
-    refuse("scale", "must be a positive factor to metres, not " + std::to_string(scale));
+  checkScale(scale);
   return depthOf(decodeGreyPng(bytes, 16, field, "the image"), scale);
+}
+
+DepthImage decodeDepthNpy(std::string_view bytes, double scale, const std::string& field) {
+  checkScale(scale);
+  return decodeNpy(bytes, scale, field, "the image");
 }
 
 std::vector<std::uint8_t> decodeMaskPng(std::string_view bytes, const std::string& field) {

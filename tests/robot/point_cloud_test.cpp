@@ -178,6 +178,69 @@ TEST(PointCloud, ADepthImageBecomesPointsThroughThePinhole) {
   EXPECT_THROW(depthToPoints(image, camera), InvalidArgument);
 }
 
+/// A NumPy .npy file (version 1) of `values` as float32, shape `shape`,
+/// dtype `descr` as the header says.
+std::string npyBytes(const std::string& shape, const std::vector<float>& values,
+                     const std::string& descr = "<f4") {
+  std::string header =
+      "{'descr': '" + descr + "', 'fortran_order': False, 'shape': " + shape + ", }";
+  header.resize(118, ' ');  // the data starts at 128 bytes, as numpy aligns it
+  header += '\n';
+  std::string npy("\x93NUMPY\x01\x00", 8);
+  npy += static_cast<char>(header.size() & 0xff);
+  npy += static_cast<char>(header.size() >> 8);
+  npy += header;
+  npy.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(float));
+  return npy;
+}
+
+/// The field an InvalidArgument from `decode` names, or "none".
+template <typename Decode>
+std::string refusedField(Decode&& decode) {
+  try {
+    decode();
+  } catch (const InvalidArgument& e) {
+    return e.field();
+  }
+  return "none";
+}
+
+TEST(SensorFiles, NpyBytesDecodeToDepthsInMetres) {
+  const DepthImage image = decodeDepthNpy(npyBytes("(2, 3)", {0.5f, 1.5f, 0.0f, 2.0f, 2.25f, 3.0f}),
+                                          0.001, "npy_base64");
+  ASSERT_EQ(image.width, 3);
+  ASSERT_EQ(image.height, 2);
+  EXPECT_FLOAT_EQ(image.depths[1], 0.0015f);
+  EXPECT_FLOAT_EQ(image.depths[4], 0.00225f);  // row 1, column 1
+  EXPECT_EQ(image.depths[2], 0.0f);
+  EXPECT_EQ(decodeDepthNpy(npyBytes("(1, 1)", {1.25f}), 1.0, "npy_base64").depths[0], 1.25f);
+}
+
+TEST(SensorFiles, BadNpyBytesAreRefusedNamingTheField) {
+  const std::string good = npyBytes("(2, 2)", {1, 2, 3, 4});
+  const auto fieldOf = [](const std::string& bytes) {
+    return refusedField([&] { decodeDepthNpy(bytes, 1.0, "npy_base64"); });
+  };
+  EXPECT_EQ(fieldOf(good), "none");
+  EXPECT_EQ(fieldOf(good.substr(0, good.size() - 1)), "npy_base64");  // a value short
+  EXPECT_EQ(fieldOf(good.substr(0, 9)), "npy_base64");                // within the length
+  EXPECT_EQ(fieldOf(good.substr(0, 60)), "npy_base64");               // within the header
+  EXPECT_EQ(fieldOf(""), "npy_base64");
+  EXPECT_EQ(fieldOf("\x89PNG\r\n\x1a\n and more"), "npy_base64");  // not a .npy
+  EXPECT_EQ(fieldOf(npyBytes("(2, 2)", {1, 2, 3, 4}, "<f8")), "npy_base64");
+  EXPECT_EQ(fieldOf(npyBytes("(4,)", {1, 2, 3, 4})), "npy_base64");  // one dimension
+  std::string fortran = good;
+  fortran.replace(fortran.find("False"), 5, "True ");
+  EXPECT_EQ(fieldOf(fortran), "npy_base64");
+  try {
+    decodeDepthNpy(npyBytes("(2, 2)", {1, 2, 3, 4}, "<i2"), 1.0, "npy_base64");
+    ADD_FAILURE() << "int16 accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_EQ(std::string(e.what()), "npy_base64: the image: must hold float32 ('<f4'), not '<i2'");
+  }
+  EXPECT_EQ(refusedField([&] { decodeDepthNpy(good, 0.0, "npy_base64"); }), "scale");
+}
+
 class Files : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -248,15 +311,7 @@ TEST_F(Files, DepthImagesAreReadFromPngInTheirUnitsAndFromNpy) {
   EXPECT_FLOAT_EQ(mm.depths[1], 1.0f);
   EXPECT_FLOAT_EQ(mm.depths[2], 65.535f);
   EXPECT_FLOAT_EQ(mm.depths[3], 0.001f);
-  std::string npy("\x93NUMPY\x01\x00", 8);
-  std::string header = "{'descr': '<f4', 'fortran_order': False, 'shape': (1, 3), }";
-  header.resize(118, ' ');
-  header += '\n';
-  npy += static_cast<char>(header.size() & 0xff);
-  npy += static_cast<char>(header.size() >> 8);
-  npy += header;
-  const float values[3] = {0.5f, 1.5f, 0.0f};
-  npy.append(reinterpret_cast<const char*>(values), sizeof values);
+  const std::string npy = npyBytes("(1, 3)", {0.5f, 1.5f, 0.0f});
   const DepthImage m = readDepthImage(write("d.npy", npy), 1.0);
   ASSERT_EQ(m.width, 3);
   ASSERT_EQ(m.height, 1);
@@ -300,6 +355,13 @@ TEST_F(Files, ASceneTakesCloudsAndDepthImagesAsObstacles) {
             core::base64Encode(bytes.str()) + R"(", "units": "mm",
       "intrinsics": {"fx": 4, "fy": 4, "cx": 1.5, "cy": 1.5}})");
   EXPECT_EQ(inlined.obstacles[0].cloud->occupied, wall.occupied);
+  // And as a float32 .npy in metres.
+  const std::string intrinsics = R"("intrinsics": {"fx": 4, "fy": 4, "cx": 1.5, "cy": 1.5})";
+  const Scene npy =
+      scene(R"({"name": "view", "type": "depth_image", )" + pose + R"(, "npy_base64": ")" +
+            core::base64Encode(npyBytes("(4, 4)", std::vector<float>(16, 0.8f))) +
+            R"(", "units": "m", )" + intrinsics + "}");
+  EXPECT_EQ(npy.obstacles[0].cloud->occupied, wall.occupied);
   EXPECT_NEAR(wall.points.col(2).mean(), 0.8, 0.006);
   EXPECT_GT(wall.occupied_count, 4u);
   auto fieldOf = [&](const std::string& obstacle) {
@@ -343,6 +405,16 @@ TEST_F(Files, ASceneTakesCloudsAndDepthImagesAsObstacles) {
           R"({"name": "a", "type": "depth_image", )" + pose +
           R"(, "png_base64": "AAAA", "units": "mm", "intrinsics": {"fx": 4, "fy": 4, "cx": 1, "cy": 1}})"),
       "obstacles[0].png_base64");  // not a PNG
+  EXPECT_EQ(fieldOf(R"({"name": "a", "type": "depth_image", )" + pose +
+                    R"(, "npy_base64": "AAAA", "units": "m", )" + intrinsics + "}"),
+            "obstacles[0].npy_base64");  // not a .npy
+  EXPECT_EQ(
+      fieldOf(R"({"name": "a", "type": "depth_image", )" + pose +
+              R"(, "file": "view.png", "npy_base64": "AAAA", "units": "m", )" + intrinsics + "}"),
+      "obstacles[0]");  // two images
+  EXPECT_EQ(fieldOf(R"({"name": "a", "type": "depth_image", )" + pose + R"(, "units": "m", )" +
+                    intrinsics + "}"),
+            "obstacles[0]");  // none
 }
 
 /// A table and a wall seen as noisy clouds, in front of the KR5.

@@ -32,9 +32,11 @@ DepthImage readDepthImage(const std::filesystem::path& path, double scale);
 /// hfts::InvalidArgument ("mask").
 std::vector<std::uint8_t> readMask(const std::filesystem::path& path);
 
-/// The same from a PNG's bytes (a request's inline image); errors name
-/// `field`.
+/// The same from a file's bytes (a request's inline image): a 16-bit PNG,
+/// a float32 .npy or an 8-bit mask PNG. Throws hfts::InvalidArgument
+/// (`field`, or "scale") naming the problem.
 DepthImage decodeDepthPng(std::string_view bytes, double scale, const std::string& field);
+DepthImage decodeDepthNpy(std::string_view bytes, double scale, const std::string& field);
 std::vector<std::uint8_t> decodeMaskPng(std::string_view bytes, const std::string& field);
 
 /// A depth image as a 16-bit PNG in millimetres (what readDepthImage reads
