@@ -236,6 +236,31 @@ Obstacle parseObstacle(const json& item, std::size_t index, const std::filesyste
   return o;
 }
 
+/// The obstacles of the array `obstacles` (the member "obstacles" of the
+/// source), their names unique.
+std::vector<Obstacle> parseObstacleArray(const json& obstacles,
+                                         const std::filesystem::path& baseDir,
+                                         const std::string& source) {
+  if (!obstacles.is_array()) throw SceneError(source, "obstacles", "must be an array");
+  std::vector<Obstacle> out;
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < obstacles.size(); ++i) {
+    out.push_back(parseObstacle(obstacles[i], i, baseDir, source));
+    if (!names.insert(out.back().name).second)
+      throw SceneError(source, "obstacles[" + std::to_string(i) + "].name",
+                       "'" + out.back().name + "' is used by another obstacle");
+  }
+  return out;
+}
+
+json parseJson(const std::string& text, const std::string& source) {
+  try {
+    return json::parse(text);
+  } catch (const json::exception& e) {
+    throw SceneError(source, "", std::string("not valid JSON (") + e.what() + ")");
+  }
+}
+
 /// A pose with an optional `rest_on` naming an obstacle of `scene`.
 Placement parsePlacement(const Fields& f, const Scene& scene, std::string name) {
   Placement out;
@@ -335,27 +360,14 @@ bool isSafeName(const std::string& name) {
 
 Scene parseScene(const std::string& text, const std::filesystem::path& baseDir,
                  const std::string& what) {
-  json root;
-  try {
-    root = json::parse(text);
-  } catch (const json::exception& e) {
-    throw SceneError(what, "", std::string("not valid JSON (") + e.what() + ")");
-  }
+  const json root = parseJson(text, what);
   const Fields f(root, "", what);
   Scene scene;
   scene.name = f.string("name");
   if (!isSafeName(scene.name)) f.failAt("name", "must be a simple name (letters, digits, _ - .)");
   if (f.has("description")) scene.description = f.string("description");
   scene.robot_base = f.pose("robot_base");
-  const json& obstacles = f.at("obstacles");
-  if (!obstacles.is_array()) f.failAt("obstacles", "must be an array");
-  std::set<std::string> names;
-  for (std::size_t i = 0; i < obstacles.size(); ++i) {
-    scene.obstacles.push_back(parseObstacle(obstacles[i], i, baseDir, what));
-    if (!names.insert(scene.obstacles.back().name).second)
-      f.failAt("obstacles[" + std::to_string(i) + "].name",
-               "'" + scene.obstacles.back().name + "' is used by another obstacle");
-  }
+  scene.obstacles = parseObstacleArray(f.at("obstacles"), baseDir, what);
   const Fields target(f.at("target"), "target", what);
   scene.target_object = target.string("object");
   if (!isSafeName(scene.target_object))
@@ -387,6 +399,11 @@ Scene parseScene(const std::string& text, const std::filesystem::path& baseDir,
     }
   }
   return scene;
+}
+
+std::vector<Obstacle> parseObstacles(const std::string& text, const std::filesystem::path& baseDir,
+                                     const std::string& what) {
+  return parseObstacleArray(parseJson(text, what), baseDir, what);
 }
 
 Scene loadScene(const std::filesystem::path& path) {

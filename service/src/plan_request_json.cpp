@@ -23,27 +23,59 @@ std::string joined(const std::vector<std::string>& names) {
   return out;
 }
 
+/// Refuses obstacles (the JSON array at `path`) that would make the server
+/// read a file: a client never makes it read one. `whose` names them in
+/// the message.
+void refuseFiles(const json& obstacles, const std::string& path, const std::string& whose) {
+  if (!obstacles.is_array()) return;  // the scene parser says what is wrong
+  for (std::size_t i = 0; i < obstacles.size(); ++i) {
+    const json& o = obstacles[i];
+    if (!o.is_object()) continue;
+    const std::string at = path + "[" + std::to_string(i) + "]";
+    if (o.contains("type") && o["type"] == "mesh")
+      throwInvalidParam(at, whose + " may not load mesh files (use box, cylinder or sphere)");
+    for (const char* key : {"file", "mask"})
+      if (o.contains(key))
+        throwInvalidParam(at + "." + key,
+                          whose +
+                              " may not load files (give points inline, or a depth image as "
+                              "png_base64 or npy_base64, and mask_base64)");
+  }
+}
+
 robot::Scene inlineScene(const JsonFields& f, const PlanningCatalog& catalog) {
   const json& scene = f.at("scene");
-  const auto obstacles = scene.find("obstacles");
-  if (obstacles != scene.end() && obstacles->is_array())
-    for (std::size_t i = 0; i < obstacles->size(); ++i) {
-      const json& o = (*obstacles)[i];
-      if (!o.is_object()) continue;
-      if (o.contains("type") && o["type"] == "mesh")
-        f.fail("scene.obstacles[" + std::to_string(i) + "]",
-               "inline scenes may not load mesh files (use box, cylinder or sphere)");
-      // A client never makes the server read its files.
-      for (const char* key : {"file", "mask"})
-        if (o.contains(key))
-          f.fail("scene.obstacles[" + std::to_string(i) + "]." + key,
-                 "inline scenes may not load files (give points inline, or a depth image as "
-                 "png_base64 and mask_base64)");
-    }
+  if (const auto obstacles = scene.find("obstacles"); obstacles != scene.end())
+    refuseFiles(*obstacles, "scene.obstacles", "inline scenes");
   try {
     return robot::parseScene(scene.dump(), catalog.sceneDir(), "inline scene");
   } catch (const robot::SceneError& e) {
     f.fail(e.field().empty() ? "scene" : "scene." + e.field(), e.problem());
+  }
+}
+
+/// `obstacles`: more obstacles in the scene file format, appended to the
+/// scene's; like an inline scene's, they may not name files.
+void appendObstacles(const JsonFields& f, const PlanningCatalog& catalog, robot::Scene& scene) {
+  const json& obstacles = f.at("obstacles");
+  if (!obstacles.is_array())
+    f.fail("obstacles", "must be an array of obstacles in the scene file format");
+  refuseFiles(obstacles, "obstacles", "a request's obstacles");
+  // Before the parse, which may decode images.
+  for (std::size_t i = 0; i < obstacles.size(); ++i) {
+    const json& o = obstacles[i];
+    if (o.is_object() && o.contains("name") && o["name"].is_string() &&
+        scene.obstacle(o["name"].get<std::string>()) != nullptr)
+      f.fail("obstacles[" + std::to_string(i) + "].name", "'" + o["name"].get<std::string>() +
+                                                              "' is an obstacle of scene '" +
+                                                              scene.name + "' already");
+  }
+  try {
+    for (robot::Obstacle& o :
+         robot::parseObstacles(obstacles.dump(), catalog.sceneDir(), "obstacles"))
+      scene.obstacles.push_back(std::move(o));
+  } catch (const robot::SceneError& e) {
+    f.fail(e.field().empty() ? "obstacles" : e.field(), e.problem());
   }
 }
 
@@ -243,7 +275,8 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
   f.allowOnly({"robot",           "scene",     "object",     "object_pose", "start",
                "time_limit",      "algorithm", "iterations", "seed",        "parameters",
                "trajectory_rate", "gltf",      "format",     "explored",    "validate",
-               "physics",         "goal",      "goals",      "lift",        "place"});
+               "physics",         "goal",      "goals",      "lift",        "place",
+               "obstacles"});
   const CatalogRobot& planned = requestedRobot(params, catalog);
   const bool motion = f.has("goal") || f.has("goals");
   if (!motion && !planned.model().hasHand())
@@ -251,6 +284,7 @@ planner::PlanRequest planRequestFromJson(const json& params, const PlanningCatal
                         "' has no hand: it plans motions to a goal or goals only");
   planner::PlanRequest r;
   r.scene = sceneOf(f, catalog);
+  if (f.has("obstacles")) appendObstacles(f, catalog, r.scene);
   // A motion plan needs no object: the scene's target, if it names one, is
   // an obstacle.
   if (!motion || f.has("object") || !r.scene.target_object.empty())

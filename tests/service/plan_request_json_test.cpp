@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "core/base64.h"
+#include "robot/sensor_files.h"
 #include "service/catalog_json.h"
 #include "service/rpc_error.h"
 #include "service_catalog.h"
@@ -195,6 +197,79 @@ TEST(PlanRequestJson, AcceptsAnInlineSceneOfPrimitives) {
   json broken = scene;
   broken["obstacles"][0]["size"] = {2, 2, -1};
   expectRejected({{"scene", broken}}, "scene.obstacles[0].size", "must be positive");
+}
+
+/// A depth_image obstacle: a camera 1.2 m above the table's middle looking
+/// down, seeing the table top everywhere (a 4 x 4 image, inline).
+json cameraAbove(const std::string& name) {
+  const robot::DepthImage image{4, 4, std::vector<float>(16, 1.2f)};
+  return {{"name", name},
+          {"type", "depth_image"},
+          {"png_base64", core::base64Encode(robot::encodeDepthPng(image))},
+          {"units", "mm"},
+          {"intrinsics", {{"fx", 4}, {"fy", 4}, {"cx", 1.5}, {"cy", 1.5}}},
+          {"pose", {{"position", {0.55, 0, 1.2}}, {"orientation", {1, 0, 0, 0}}}}};
+}
+
+TEST(PlanRequestJson, ObstaclesAreAppendedToTheScene) {
+  const json seen = {{"name", "seen"},
+                     {"type", "points"},
+                     {"points", {{0.3, 0.3, 0.5}, {0.31, 0.3, 0.5}}},
+                     {"pose", {{"position", {0, 0, 0}}, {"orientation", {0, 0, 0, 1}}}}};
+  const planner::PlanRequest r =
+      parse({{"scene", "table"}, {"obstacles", {cameraAbove("camera"), seen}}});
+  ASSERT_EQ(r.scene.obstacles.size(), 9u);  // the table scene's 7, then these
+  EXPECT_EQ(r.scene.obstacles[0].name, "table");
+  EXPECT_EQ(r.scene.obstacles[7].name, "camera");
+  EXPECT_EQ(r.scene.obstacles[7].type, robot::Obstacle::Type::kPoints);
+  EXPECT_NEAR(robot::topOf(r.scene.obstacles[7]), 0.0, 0.02) << "the table top, seen";
+  EXPECT_EQ(r.scene.obstacles[8].name, "seen");
+  EXPECT_EQ(r.object, "mug");
+  EXPECT_EQ(parse({{"scene", "table"}, {"obstacles", json::array()}}).scene.obstacles.size(), 7u);
+  // An inline scene takes them too.
+  const json inlineScene = {
+      {"name", "mine"},
+      {"robot_base", {{"position", {0, 0, 0}}, {"orientation", {0, 0, 0, 1}}}},
+      {"obstacles", json::array()},
+      {"target",
+       {{"object", "mug"}, {"pose", {{"position", {0.6, 0, 0}}, {"orientation", {0, 0, 0, 1}}}}}}};
+  const planner::PlanRequest mine = parse({{"scene", inlineScene}, {"obstacles", {seen}}});
+  ASSERT_EQ(mine.scene.obstacles.size(), 1u);
+  EXPECT_EQ(mine.scene.obstacles[0].name, "seen");
+}
+
+TEST(PlanRequestJson, ObstaclesMayNotNameFilesNorClashWithTheScenes) {
+  expectRejected({{"scene", "table"}, {"obstacles", cameraAbove("camera")}}, "obstacles",
+                 "must be an array");
+  json file = cameraAbove("camera");
+  file.erase("png_base64");
+  file["file"] = "/etc/hostname.png";
+  expectRejected({{"scene", "table"}, {"obstacles", {file}}}, "obstacles[0].file",
+                 "may not load files");
+  json mask = cameraAbove("camera");
+  mask["mask"] = "mask.png";
+  expectRejected({{"scene", "table"}, {"obstacles", {mask}}}, "obstacles[0].mask",
+                 "may not load files");
+  const json mesh = {{"name", "m"},
+                     {"type", "mesh"},
+                     {"mesh", "../meshes/mug.ply"},
+                     {"pose", {{"position", {0, 0, 0}}, {"orientation", {0, 0, 0, 1}}}}};
+  expectRejected({{"scene", "table"}, {"obstacles", {mesh}}}, "obstacles[0]",
+                 "may not load mesh files");
+  expectRejected({{"scene", "table"}, {"obstacles", {cameraAbove("camera"), cameraAbove("jar")}}},
+                 "obstacles[1].name", "'jar' is an obstacle of scene 'table' already");
+  expectRejected(
+      {{"scene", "table"}, {"obstacles", {cameraAbove("camera"), cameraAbove("camera")}}},
+      "obstacles[1].name", "used by another obstacle");
+  json blind = cameraAbove("camera");
+  blind["intrinsics"]["fx"] = 0;
+  expectRejected({{"scene", "table"}, {"obstacles", {blind}}}, "obstacles[0].intrinsics.fx",
+                 "must be a positive number");
+  json notNpy = cameraAbove("camera");
+  notNpy.erase("png_base64");
+  notNpy["npy_base64"] = "AAAA";
+  expectRejected({{"scene", "table"}, {"obstacles", {notNpy}}}, "obstacles[0].npy_base64",
+                 "not a NumPy .npy file");
 }
 
 TEST(PlanRequestJson, TheRobotFieldPicksWhoseJointsAndParametersCount) {

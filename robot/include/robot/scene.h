@@ -135,6 +135,13 @@ Scene loadScene(const std::filesystem::path& path);
 Scene parseScene(const std::string& json, const std::filesystem::path& baseDir,
                  const std::string& what);
 
+/// Parses a JSON array of obstacles in the scene file format (a plan
+/// request's `obstacles`) as parseScene parses a scene's: `baseDir`
+/// resolves files, errors name the member ("obstacles[1].voxel") and names
+/// must differ. Throws SceneError.
+std::vector<Obstacle> parseObstacles(const std::string& json, const std::filesystem::path& baseDir,
+                                     const std::string& what);
+
 /// True for a name that is safe as a file stem: letters, digits, '_', '-',
 /// '.', not starting with '.', at most 128 characters (no path characters).
 bool isSafeName(const std::string& name);
