@@ -32,6 +32,7 @@ it prints the JSON result.
 """
 
 import argparse
+import base64
 import itertools
 import json
 import os
@@ -174,7 +175,8 @@ class HftsClient:
         options: robot, object, object_pose, start, time_limit, algorithm, iterations, seed,
         parameters, trajectory_rate, format ("ros": also the plan as ROS messages)
         (docs/protocol.md); goal or goals (joint_goal(),
-        pose_goal()) plan a motion to them instead of a grasp."""
+        pose_goal()) plan a motion to them instead of a grasp; obstacles: more
+        obstacles for the scene, e.g. [depth_image(...)]."""
         return self.call("plan", plan_params(scene, **options))
 
     def plan_async(self, scene, **options):
@@ -213,6 +215,33 @@ def pose_goal(position, orientation, link=None, position_tolerance=None,
         if value is not None:
             goal[name] = value
     return goal
+
+
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+NPY_MAGIC = b"\x93NUMPY"
+IMAGE_KEYS = ("type", "file", "png_base64", "npy_base64", "mask", "mask_base64")
+
+
+def depth_image(image, camera, mask=None):
+    """A depth_image obstacle (plan's obstacles, docs/point_clouds.md) from the bytes of a
+    16-bit PNG or a float32 .npy (image), the camera's keys (camera: intrinsics and pose
+    required; name, default "camera"; units, default mm for a PNG, m for a .npy; min_depth,
+    max_depth, voxel, radius, shadow, outliers) and an 8-bit mask PNG's bytes (mask), as
+    hfts-client plan --depth FILE --camera JSON --mask FILE sends it. Raises ValueError."""
+    is_png = image.startswith(PNG_MAGIC)
+    if not is_png and not image.startswith(NPY_MAGIC):
+        raise ValueError("the depth image is neither a PNG nor a NumPy .npy file")
+    missing = [key for key in ("intrinsics", "pose") if key not in camera]
+    taken = [key for key in IMAGE_KEYS if key in camera]
+    if missing or taken:
+        raise ValueError(f"the camera lacks {missing} or has the image's keys {taken}")
+    view = {"type": "depth_image", "name": "camera", "units": "mm" if is_png else "m",
+            **camera, ("png_base64" if is_png else "npy_base64"): base64.b64encode(image).decode()}
+    if mask is not None:
+        if not mask.startswith(PNG_MAGIC):
+            raise ValueError("the mask is not a PNG")
+        view["mask_base64"] = base64.b64encode(mask).decode()
+    return view
 
 
 def plan_params(scene, **options):

@@ -3,11 +3,13 @@
 // saved plan as an HTML page; no server). Prints a human-readable summary,
 // or the raw result with --json; --out FILE saves the result (JSON), plan
 // --trajectory-csv / --gltf / --ros FILE its trajectory, animation and ROS
-// messages; --retries N
-// connects and sends again when the connection fails before the answer (a
-// balancer's instance died); --token-file FILE (or HFTS_TOKEN) authenticates
-// to a server with tokens; --tls [--ca-file FILE] speaks TLS. Exit codes: 0 done, 1 the server or
-// the connection failed (message on standard error), 3 the plan found no solution.
+// messages; plan --depth FILE --camera JSON [--mask FILE] sends what a depth
+// camera saw as the request's obstacles; --retries N connects and sends
+// again when the connection fails before the answer (a balancer's instance
+// died); --token-file FILE (or HFTS_TOKEN) authenticates to a server with
+// tokens; --tls [--ca-file FILE] speaks TLS. Exit codes: 0 done, 1 a usage
+// error, or the server or the connection failed (message on standard
+// error), 3 the plan found no solution.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -20,6 +22,7 @@
 #include "client/rpc_client.h"
 #include "core/atomic_file.h"
 #include "core/base64.h"
+#include "depth_view.h"
 #include "result_printer.h"
 
 namespace {
@@ -55,6 +58,8 @@ struct PlanOptions {
   std::string place, place_search;
   std::vector<double> place_area;
   bool place_upright = false;
+  /// What a depth camera sees, sent as the request's obstacles.
+  std::string depth, camera, mask;
 };
 
 struct QualityOptions {
@@ -151,6 +156,17 @@ json goalsOf(const PlanOptions& p) {
   return goals;
 }
 
+/// The request's obstacles from --depth, --camera and --mask (null: none).
+json obstaclesOf(const PlanOptions& p) {
+  if (p.depth.empty() && p.camera.empty() && p.mask.empty()) return nullptr;
+  if (p.depth.empty())
+    throw std::runtime_error(p.camera.empty() ? "--mask needs --depth and --camera"
+                                              : "--camera needs --depth (the image it took)");
+  if (p.camera.empty())
+    throw std::runtime_error("--depth needs --camera (a JSON file with its intrinsics and pose)");
+  return json::array({hfts::client::depthView(p.depth, p.camera, p.mask)});
+}
+
 json planParams(const PlanOptions& p, const CLI::App& cmd) {
   json params = {{"seed", p.seed}};
   if (!p.robot.empty()) params["robot"] = p.robot;
@@ -161,6 +177,8 @@ json planParams(const PlanOptions& p, const CLI::App& cmd) {
         {"position", {p.object_pose[0], p.object_pose[1], p.object_pose[2]}},
         {"orientation", {p.object_pose[3], p.object_pose[4], p.object_pose[5], p.object_pose[6]}}};
   if (!p.start.empty()) params["start"] = p.start;
+  if (json obstacles = obstaclesOf(p); !obstacles.is_null())
+    params["obstacles"] = std::move(obstacles);
   if (json goals = goalsOf(p); !goals.empty()) params["goals"] = std::move(goals);
   if (cmd.count("--time-limit")) params["time_limit"] = p.time_limit;
   if (!p.algorithm.empty()) params["algorithm"] = p.algorithm;
@@ -239,6 +257,18 @@ void addPlanOptions(CLI::App& cmd, PlanOptions& p) {
       ->needs(place);
   cmd.add_option("--place-search", p.place_search, "With --place: coupled (default) or decoupled")
       ->needs(place);
+  cmd.add_option("--depth", p.depth,
+                 "What a depth camera saw, as an obstacle: a 16-bit PNG (units mm unless "
+                 "--camera says) or a float32 .npy (m), sent inline; needs --camera")
+      ->type_name("FILE");
+  cmd.add_option("--camera", p.camera,
+                 "With --depth: JSON object with the camera's intrinsics {fx, fy, cx, cy} and "
+                 "pose, and optionally name, units, min_depth, max_depth, voxel, radius, shadow, "
+                 "outliers (docs/point_clouds.md)")
+      ->type_name("JSON");
+  cmd.add_option("--mask", p.mask,
+                 "With --depth: an 8-bit PNG of the image's size, not 0 on the object to pick")
+      ->type_name("FILE");
   cmd.add_option("--gltf", p.gltf, "Write the plan as an animated binary glTF to FILE (.glb)")
       ->type_name("FILE");
   cmd.add_option("--ros", p.ros,

@@ -8,11 +8,13 @@ import io
 import json
 import os
 import shutil
+import struct
 import subprocess
 import sys
 import tempfile
 import time
 import unittest
+import zlib
 
 from hfts_server_fixture import (BIN, CONFIG, FAR_AWAY, NO_PHYSICS, NO_PHYSICS_ARGS, QUALITY,
                                  QUALITY_EPSILON, RunningServer, run_tests, wait_until)
@@ -239,6 +241,109 @@ class CommandLine(ClientTest):
         self.assertIn("cannot read", unreadable.stderr)
 
 
+def png(width, height, values, bits=16):
+    """A grey PNG of values (row-major) with 8 or 16 bits per pixel."""
+    pack = ">%dH" % width if bits == 16 else "%dB" % width
+    raw = b"".join(b"\0" + struct.pack(pack, *values[y * width:(y + 1) * width])
+                   for y in range(height))
+
+    def chunk(kind, data):
+        return (struct.pack(">I", len(data)) + kind + data
+                + struct.pack(">I", zlib.crc32(kind + data)))
+    return (b"\x89PNG\r\n\x1a\n"
+            + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, bits, 0, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+def npy(width, height, values):
+    """A NumPy .npy file of float32 values, height rows of width."""
+    header = f"{{'descr': '<f4', 'fortran_order': False, 'shape': ({height}, {width}), }}"
+    header = header.ljust(117) + "\n"  # the data starts at 128 bytes, as numpy writes it
+    return (b"\x93NUMPY\x01\x00" + struct.pack("<H", len(header)) + header.encode()
+            + struct.pack(f"<{len(values)}f", *values))
+
+
+# A camera 1.2 m above the table scene's target, looking straight down: it
+# sees the table top (z = 0) everywhere, the mug in the middle (masked).
+WIDTH, HEIGHT = 32, 24
+CAMERA = {"intrinsics": {"fx": 40, "fy": 40, "cx": 15.5, "cy": 11.5},
+          "pose": {"position": [0.55, 0, 1.2], "orientation": [1, 0, 0, 0]}}
+MUG = [1 if abs(u - 15.5) < 3 and abs(v - 11.5) < 3 else 0
+       for v in range(HEIGHT) for u in range(WIDTH)]
+
+
+class DepthView(ClientTest):
+    """plan --depth FILE --camera JSON [--mask FILE]: the view goes inline in the
+    request's obstacles."""
+
+    def write(self, name, data):
+        path = os.path.join(self.tmp, name)
+        with open(path, "wb" if isinstance(data, bytes) else "w") as f:
+            f.write(data if isinstance(data, bytes) else json.dumps(data))
+        return path
+
+    def plan(self, *args):
+        return self.client("--json", "plan", "--scene", "table", "--time-limit", "5",
+                           *NO_PHYSICS_ARGS, *args)
+
+    def test_a_depth_png_or_npy_with_its_camera_is_planned_with(self):
+        depth = self.write("d.png", png(WIDTH, HEIGHT, [1200] * (WIDTH * HEIGHT)))
+        mask = self.write("m.png", png(WIDTH, HEIGHT, [255 * m for m in MUG], bits=8))
+        camera = self.write("cam.json", CAMERA)
+        glb = os.path.join(self.tmp, "seen.glb")
+        result = self.plan("--depth", depth, "--camera", camera, "--mask", mask, "--gltf", glb)
+        self.assertIn(result.returncode, (0, 3), result.stderr)  # 3: no plan in 5 s
+        self.assertIn("success", json.loads(result.stdout))
+        # The same view as a float32 .npy in metres, named, with an inline scene.
+        metres = self.write("d.npy", npy(WIDTH, HEIGHT, [1.2] * (WIDTH * HEIGHT)))
+        named = self.write("named.json", {**CAMERA, "name": "top", "voxel": 0.02})
+        scene = os.path.join(CONFIG.source_dir, "objects", "scenes", "table.json")
+        result = self.client("--json", "plan", "--scene-file", scene, "--time-limit", "5",
+                             *NO_PHYSICS_ARGS, "--depth", metres, "--camera", named)
+        self.assertIn(result.returncode, (0, 3), result.stderr)
+        self.assertIn("success", json.loads(result.stdout))
+        # The server reads the view: a camera without a focal length is its error.
+        blind = self.write("blind.json", {**CAMERA, "intrinsics": {"fx": 0, "fy": 40,
+                                                                  "cx": 15.5, "cy": 11.5}})
+        refused = self.plan("--depth", depth, "--camera", blind)
+        self.assertEqual(refused.returncode, 1)
+        self.assertIn("plan failed: obstacles[0].intrinsics.fx: must be a positive number",
+                      refused.stderr)
+        clash = self.write("clash.json", {**CAMERA, "name": "table"})
+        self.assertIn("obstacles[0].name: 'table' is an obstacle of scene 'table' already",
+                      self.plan("--depth", depth, "--camera", clash).stderr)
+
+    def test_usage_errors(self):
+        depth = self.write("u.png", png(2, 2, [1000] * 4))
+        camera = self.write("u.json", CAMERA)
+        cases = [
+            (["--depth", os.path.join(self.tmp, "missing.png"), "--camera", camera],
+             "--depth '%s': cannot read the file" % os.path.join(self.tmp, "missing.png")),
+            (["--depth", camera, "--camera", camera], "neither a PNG nor a NumPy .npy file"),
+            (["--depth", depth, "--camera", depth], "--camera '%s': not valid JSON" % depth),
+            (["--depth", depth, "--camera", self.write("list.json", [1, 2])],
+             "must be a JSON object with the camera's intrinsics and pose"),
+            (["--depth", depth, "--camera", self.write("no_pose.json",
+                                                       {"intrinsics": CAMERA["intrinsics"]})],
+             "has no 'pose'"),
+            (["--depth", depth, "--camera", self.write("no_k.json", {"pose": CAMERA["pose"]})],
+             "has no 'intrinsics'"),
+            (["--depth", depth, "--camera", self.write("file.json", {**CAMERA, "file": "x.png"})],
+             "'file' is the image's: --depth and --mask give the image"),
+            (["--depth", depth, "--camera", camera, "--mask", camera], "--mask '%s': not a PNG"
+             % camera),
+            (["--mask", depth], "--mask needs --depth and --camera"),
+            (["--camera", camera], "--camera needs --depth"),
+            (["--depth", depth], "--depth needs --camera"),
+        ]
+        for args, message in cases:
+            with self.subTest(args=args):
+                result = self.client("plan", "--scene", "table", *args)
+                self.assertEqual(result.returncode, 1, result.stderr)
+                self.assertIn(message, result.stderr)
+                self.assertEqual(result.stdout, "")
+
+
 class PythonClient(ClientTest):
     def connect(self):
         return hfts_client.HftsClient(self.server.host, self.server.port, timeout=120)
@@ -273,6 +378,26 @@ class PythonClient(ClientTest):
                 client.plan("table", goal=hfts_client.pose_goal([0, 0, 1], [0, 0, 0, 1],
                                                                 link="finger_1_distal"))
             self.assertEqual(caught.exception.field, "goal.link")
+
+    def test_a_depth_image_goes_in_the_obstacles(self):
+        image = png(WIDTH, HEIGHT, [1200] * (WIDTH * HEIGHT))
+        mask = png(WIDTH, HEIGHT, [255 * m for m in MUG], bits=8)
+        view = hfts_client.depth_image(image, CAMERA, mask=mask)
+        self.assertEqual((view["type"], view["name"], view["units"]),
+                         ("depth_image", "camera", "mm"))
+        metres = hfts_client.depth_image(npy(2, 1, [1.0, 2.0]), {**CAMERA, "name": "top"})
+        self.assertEqual((metres["name"], metres["units"]), ("top", "m"))
+        self.assertIn("npy_base64", metres)
+        with self.connect() as client:
+            plan = client.plan("table", obstacles=[view], time_limit=5, parameters=NO_PHYSICS)
+            self.assertIn("success", plan)
+            with self.assertRaises(hfts_client.RpcError) as caught:
+                client.plan("table", obstacles=[{**view, "name": "jar"}])
+            self.assertEqual(caught.exception.field, "obstacles[0].name")
+        for image, camera in ((b"GIF89a", CAMERA), (image, {"pose": CAMERA["pose"]}),
+                              (image, {**CAMERA, "file": "x.png"})):
+            with self.assertRaises(ValueError):
+                hfts_client.depth_image(image, camera)
 
     def test_errors_raise_with_code_and_field(self):
         with self.connect() as client:
