@@ -4,6 +4,9 @@
 
   render  DIR       every bundled scene from three camera poses, with the
                     Kinect-like noise (hfts-render-depth): DIR/<scene>_<view>.json
+  objects DIR       each view's target points (DIR/<scene>_<view>_object.ply)
+                    built into an object database (hfts-preprocess --viewpoint)
+                    in DIR/databases, beside links to the bundled ones
   summary OUT       the table of OUT, per robot, with Wilson intervals
   plan    DIR OUT   for each robot, rendered scene and seed: a plan from the
                     rendered view and one from the true meshes (one thread,
@@ -12,6 +15,8 @@
                     of the largest joint step; strict up to the pre-grasp, the
                     grasp rule from there) and its grasp in physics on the true
                     object. Writes OUT (JSON lines) and prints the table.
+                    With --partial, the view's plan grasps the object built
+                    from the view (objects), checked on the true object.
 
 Runs under /usr/bin/python3 with PYTHONPATH=build/python.
 """
@@ -45,6 +50,21 @@ def render(out_dir, db_dir, seed=1):
                            check=True)
 
 
+def objects(view_dir, db_dir):
+    """The objects seen in the views, and the bundled ones, in one directory."""
+    out = os.path.join(view_dir, "databases")
+    os.makedirs(out, exist_ok=True)
+    for name in os.listdir(db_dir):
+        link = os.path.join(out, name)
+        if not os.path.lexists(link):
+            os.symlink(os.path.abspath(os.path.join(db_dir, name)), link)
+    for scene in SCENES:
+        for view, eye in VIEWS.items():
+            subprocess.run([os.path.join(ROOT, "build", "bin", "hfts-preprocess"),
+                            os.path.join(view_dir, f"{scene}_{view}_object.ply"),
+                            "--viewpoint", ",".join(map(str, eye)), "-o", out, "-q"], check=True)
+
+
 def dense(path, step=0.005):
     """The path's configurations every `step` rad of the largest joint step."""
     out = [path[0]]
@@ -54,11 +74,12 @@ def dense(path, step=0.005):
     return out
 
 
-def free_in(world, scene, plan):
-    """Whether the plan's path misses the true scene: strict up to the
-    pre-grasp, the grasp rule on the closing (pre-grasp to grasp)."""
+def free_in(world, scene, plan, object_pose):
+    """Whether the plan's path misses the true scene (its object at
+    `object_pose`, None: the scene's): strict up to the pre-grasp, the
+    grasp rule on the closing (pre-grasp to grasp)."""
     import numpy as np
-    checker = world.checker(scene, object_pose=plan.object_pose)
+    checker = world.checker(scene, object_pose=object_pose)
     path = [list(map(float, row)) for row in plan.path]
     strict = np.array(dense(path[:-1]))
     closing = np.array(dense(path[-2:]))
@@ -67,27 +88,33 @@ def free_in(world, scene, plan):
     return not hits.any() and not grasp_hits.any()
 
 
-def plan_all(view_dir, out_path, seeds, time_limit):
+def plan_all(view_dir, out_path, seeds, time_limit, partial):
     import hfts
     rows = []
+    db_dir = os.path.join(view_dir, "databases") if partial else os.path.join(ROOT, "build",
+                                                                               "databases")
+    suffix = "_partial" if partial else ""
     with open(out_path, "w") as out:
         for robot in ROBOTS:
-            world = hfts.World.load(os.path.join(ROOT, "robots", robot, robot + ".json"),
-                                    os.path.join(ROOT, "build", "databases"))
+            world = hfts.World.load(os.path.join(ROOT, "robots", robot, robot + ".json"), db_dir)
             for scene_name in SCENES:
                 truth = hfts.Scene.load(os.path.join(ROOT, "objects", "scenes", scene_name + ".json"))
                 for view in VIEWS:
                     t0 = time.time()
-                    seen = hfts.Scene.load(os.path.join(view_dir, f"{scene_name}_{view}.json"))
+                    seen = hfts.Scene.load(os.path.join(view_dir,
+                                                        f"{scene_name}_{view}{suffix}.json"))
                     load_s = time.time() - t0
                     for seed in seeds:
                         row = {"robot": robot, "scene": scene_name, "view": view, "seed": seed,
-                               "scene_load_s": load_s}
+                               "scene_load_s": load_s, "partial_object": partial}
                         p = world.plan(seen, seed=seed, time_limit=time_limit)
                         row["seen_planned"] = bool(p.success)
                         row["seen_failure"] = p.failure
                         if p.success:
-                            row["free_in_truth"] = free_in(world, truth, p)
+                            # An object built from the view is where the true one is
+                            # (the world's frame); a true one where the plan had it.
+                            row["free_in_truth"] = free_in(world, truth, p,
+                                                           None if partial else p.object_pose)
                             v = world.validate(p, scene=truth)
                             row["held_in_truth"] = bool(v["holds"])
                         q = world.plan(truth, seed=seed, time_limit=time_limit)
@@ -141,6 +168,9 @@ def main():
     r.add_argument("dir")
     r.add_argument("--db", default=os.path.join(ROOT, "build", "databases"))
     r.add_argument("--seed", type=int, default=1)
+    o = sub.add_parser("objects")
+    o.add_argument("dir")
+    o.add_argument("--db", default=os.path.join(ROOT, "build", "databases"))
     s = sub.add_parser("summary")
     s.add_argument("out")
     p = sub.add_parser("plan")
@@ -148,13 +178,17 @@ def main():
     p.add_argument("out")
     p.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
     p.add_argument("--time-limit", type=float, default=10.0)
+    p.add_argument("--partial", action="store_true",
+                   help="grasp the object built from the view (run objects first)")
     args = parser.parse_args()
     if args.command == "render":
         render(args.dir, args.db, args.seed)
+    elif args.command == "objects":
+        objects(args.dir, args.db)
     elif args.command == "summary":
         summary(args.out)
     else:
-        plan_all(args.dir, args.out, args.seeds, args.time_limit)
+        plan_all(args.dir, args.out, args.seeds, args.time_limit, args.partial)
     return 0
 
 

@@ -316,6 +316,15 @@ void writeAll(hid_t file, const ObjectDatabase& db) {
     h5::writeAttribute(group.id(), "filters", h5::joinNames(names));
     h5::writeAttribute(group.id(), "removed", removed);
   }
+  if (db.partial_view) {
+    Handle group = h5::createGroup(file, "partial_view");
+    const PartialView& v = *db.partial_view;
+    h5::writeAttribute(group.id(), "viewpoint",
+                       std::vector<double>{v.viewpoint.x(), v.viewpoint.y(), v.viewpoint.z()});
+    h5::writeAttribute(group.id(), "hidden_depth", v.hidden_depth);
+    h5::writeAttribute(group.id(), "floor", v.floor);
+    h5::writeAttribute(group.id(), "points", v.points);
+  }
   writeGeometry(file, db.geometry, db.density);
   writeDistanceGrid(file, db.geometry.distance_grid);
   writeConvexParts(file, db.geometry.convex_parts);
@@ -348,6 +357,16 @@ ObjectDatabase readAll(hid_t file) {
       throw DatabaseError("preprocess: filters and removed differ in length");
     for (std::size_t i = 0; i < names.size(); ++i)
       db.filter_reports.push_back({names[i], removed[i]});
+  }
+  if (h5::exists(file, "partial_view")) {  // written since version 4 when set
+    Handle group = h5::openGroup(file, "partial_view");
+    const std::vector<double> viewpoint = h5::readDoubleAttribute(group.id(), "viewpoint");
+    if (viewpoint.size() != 3) throw DatabaseError("partial_view: viewpoint needs 3 values");
+    PartialView& v = db.partial_view.emplace();
+    v.viewpoint = {viewpoint[0], viewpoint[1], viewpoint[2]};
+    v.hidden_depth = h5::readDouble(group.id(), "hidden_depth");
+    v.floor = h5::readDouble(group.id(), "floor");
+    v.points = h5::readUInt64(group.id(), "points");
   }
   db.geometry = readGeometry(file, db.density);
   db.geometry.distance_grid = readDistanceGrid(file);

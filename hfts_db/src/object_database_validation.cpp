@@ -264,6 +264,14 @@ void validateObjectDatabase(const ObjectDatabase& db, const std::string& what) {
   c.require(std::isfinite(db.density) && db.density >= kMinDensity && db.density <= kMaxDensity,
             "density must be in [" + std::to_string(kMinDensity) + ", " +
                 std::to_string(kMaxDensity) + "] kg/m^3, got " + std::to_string(db.density));
+  if (db.partial_view) {
+    const PartialView& v = *db.partial_view;
+    c.require(v.viewpoint.allFinite(), "partial_view.viewpoint must be finite");
+    c.require(std::isfinite(v.hidden_depth) && v.hidden_depth > 0.0,
+              "partial_view.hidden_depth must be positive");
+    c.require(std::isfinite(v.floor), "partial_view.floor must be finite");
+    c.require(v.points > 0, "partial_view.points must be positive");
+  }
   checkGeometry(c, db.geometry);
   checkDistanceGrid(c, db.geometry);
   checkConvexParts(c, db.geometry);

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -183,11 +184,22 @@ void canonicalize(db::Points3& vertices, db::Faces3& faces) {
 
 }  // namespace
 
+/// The sine of a fan triangle's angle below which it is a sliver.
+constexpr double kSliverSine = 1e-9;
+
 db::ConvexPiece canonicalHull(const Vertices& points, const std::string& what) {
-  std::vector<Point> input;
-  input.reserve(static_cast<std::size_t>(points.rows()));
+  // Repeated points go first: CGAL keeps a facet's copies of one corner
+  // apart, and a fan from them has a degenerate first triangle whose plane
+  // is any plane (seen on the points and shadows of a partial view).
+  std::vector<std::array<double, 3>> unique;
+  unique.reserve(static_cast<std::size_t>(points.rows()));
   for (Eigen::Index i = 0; i < points.rows(); ++i)
-    input.emplace_back(points(i, 0), points(i, 1), points(i, 2));
+    unique.push_back({points(i, 0), points(i, 1), points(i, 2)});
+  std::sort(unique.begin(), unique.end());
+  unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
+  std::vector<Point> input;
+  input.reserve(unique.size());
+  for (const auto& p : unique) input.emplace_back(p[0], p[1], p[2]);
   HullMesh hull;
   CGAL::convex_hull_3(input.begin(), input.end(), hull);
   if (hull.number_of_faces() < 4)
@@ -221,10 +233,17 @@ ConvexHull::ConvexHull(const Vertices& points, const std::string& what) {
   planes_.resize(faces_.rows(), 4);
   for (Eigen::Index row = 0; row < faces_.rows(); ++row) {
     const Eigen::Vector3d a = vertices_.row(faces_(row, 0)).transpose();
-    const Eigen::Vector3d n = (vertices_.row(faces_(row, 1)).transpose() - a)
-                                  .cross(vertices_.row(faces_(row, 2)).transpose() - a)
-                                  .normalized();
-    planes_.row(row) << n.transpose(), -n.dot(a);
+    const Eigen::Vector3d ab = vertices_.row(faces_(row, 1)).transpose() - a;
+    const Eigen::Vector3d ac = vertices_.row(faces_(row, 2)).transpose() - a;
+    const Eigen::Vector3d n = ab.cross(ac);
+    // A sliver of a facet's fan (corners a rounding error off one line, as
+    // on the dense points and shadows of a partial view) has no plane of
+    // its own; its facet's other triangles carry the facet's.
+    if (n.norm() <= kSliverSine * ab.norm() * ac.norm()) {
+      planes_.row(row) << 0.0, 0.0, 0.0, -std::numeric_limits<double>::infinity();
+      continue;
+    }
+    planes_.row(row) << n.normalized().transpose(), -n.normalized().dot(a);
   }
   bvh_ = std::make_unique<db::TriangleBvh>(TriangleMesh{vertices_, faces_});
 }

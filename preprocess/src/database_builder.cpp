@@ -20,6 +20,7 @@
 #include "preprocess/hierarchy_builder.h"
 #include "preprocess/object_geometry.h"
 #include "preprocess/object_sidecar.h"
+#include "preprocess/partial_view.h"
 #include "preprocess/surface_sampler.h"
 
 #ifndef HFTS_VERSION
@@ -65,6 +66,62 @@ db::Points3 reordered(const Vertices& m, const std::vector<std::uint32_t>& order
   for (std::size_t i = 0; i < order.size(); ++i)
     out.row(static_cast<Eigen::Index>(i)) = m.row(order[i]);
   return out;
+}
+
+/// What the mesh or the view gave: the surface the contacts lie on and
+/// the solid the object is taken to be.
+struct Shape {
+  const TriangleMesh& mesh;
+  bool closed;
+  bool capped;  ///< decomposed as mesh + boundaryCaps(mesh)
+  const ConvexHull& hull;
+};
+
+/// The stages every database shares once its geometry and its contacts'
+/// normals are known: the filters, the hierarchy, the distance grid, the
+/// convex parts; the times summed and the database validated.
+void completeDatabase(ContactSet contacts, const Shape& shape, const db::BuildParameters& params,
+                      BuildResult& result, Stopwatch& watch, const std::string& what) {
+  db::ObjectDatabase& db = result.database;
+  const db::BuildParameters& resolved = db.parameters;
+  const db::TriangleBvh surface(shape.mesh);
+  db.filter_reports = applyFilters(contacts, resolved, {shape.hull, surface});
+  result.times.filter = watch.lap();
+  if (contacts.size() == 0) {
+    std::string detail;
+    for (const db::FilterReport& r : db.filter_reports)
+      detail += (detail.empty() ? "" : ", ") + r.name + " removed " + std::to_string(r.removed);
+    throw MeshError(what + ": no contacts left after filtering " + std::to_string(db.num_samples) +
+                    " samples (" + detail + ")");
+  }
+
+  HierarchyOptions options;
+  options.branching = params.branching;
+  options.length_scale = params.length_scale > 0.0 ? params.length_scale : db.geometry.rho;
+  options.normal_weight = params.normal_weight;
+  options.iterations = params.kmeans_iterations;
+  options.seed = params.seed;
+  const Hierarchy hierarchy = buildHierarchy(contacts.positions, contacts.normals, options);
+  db.positions = reordered(contacts.positions, hierarchy.order);
+  db.normals = reordered(contacts.normals, hierarchy.order);
+  db.curvature.resize(static_cast<Eigen::Index>(hierarchy.order.size()));
+  for (std::size_t i = 0; i < hierarchy.order.size(); ++i)
+    db.curvature(static_cast<Eigen::Index>(i)) = contacts.curvature(hierarchy.order[i]);
+  db.levels = hierarchy.levels;
+  result.times.hierarchy = watch.lap();
+  db.geometry.distance_grid = distanceGrid(shape.mesh, shape.closed, params);
+  result.times.distance_grid = watch.lap();
+  db.geometry.convex_parts =
+      decomposeConvex(
+          shape.capped ? withCaps(shape.mesh, boundaryCaps(shape.mesh).caps) : shape.mesh,
+          shape.closed || shape.capped, {params.convex_parts_max, params.convex_parts_tolerance},
+          what)
+          .parts;
+  result.times.convex_parts = watch.lap();
+  result.times.total = result.times.load + result.times.sample + result.times.normals +
+                       result.times.filter + result.times.hierarchy + result.times.distance_grid +
+                       result.times.convex_parts;
+  db::validateObjectDatabase(db, what);
 }
 
 }  // namespace
@@ -157,46 +214,10 @@ BuildResult buildObjectDatabase(const TriangleMesh& input, bool closed,
 
   ContactSet contacts = estimateNormals(samples.positions, samples.normals, resolved.patch_radius);
   result.times.normals = watch.lap();
-
-  const db::TriangleBvh surface(mesh);
-  db.filter_reports = applyFilters(contacts, resolved, {hull, surface});
-  result.times.filter = watch.lap();
-  if (contacts.size() == 0) {
-    std::string detail;
-    for (const db::FilterReport& r : db.filter_reports)
-      detail += (detail.empty() ? "" : ", ") + r.name + " removed " + std::to_string(r.removed);
-    throw MeshError(what + ": no contacts left after filtering " + std::to_string(db.num_samples) +
-                    " samples (" + detail + ")");
-  }
-
-  HierarchyOptions options;
-  options.branching = params.branching;
-  options.length_scale = params.length_scale > 0.0 ? params.length_scale : db.geometry.rho;
-  options.normal_weight = params.normal_weight;
-  options.iterations = params.kmeans_iterations;
-  options.seed = params.seed;
-  const Hierarchy hierarchy = buildHierarchy(contacts.positions, contacts.normals, options);
-  db.positions = reordered(contacts.positions, hierarchy.order);
-  db.normals = reordered(contacts.normals, hierarchy.order);
-  db.curvature.resize(static_cast<Eigen::Index>(hierarchy.order.size()));
-  for (std::size_t i = 0; i < hierarchy.order.size(); ++i)
-    db.curvature(static_cast<Eigen::Index>(i)) = contacts.curvature(hierarchy.order[i]);
-  db.levels = hierarchy.levels;
-  result.times.hierarchy = watch.lap();
-  db.geometry.distance_grid = distanceGrid(mesh, closed, params);
-  result.times.distance_grid = watch.lap();
   // A repaired scan is decomposed as the solid its capped mesh bounds (its
   // own mesh bounds none), as its centre of mass was found.
   const bool capped = !closed && com.method == db::CenterOfMassMethod::kRepairedMesh;
-  db.geometry.convex_parts =
-      decomposeConvex(capped ? withCaps(mesh, boundaryCaps(mesh).caps) : mesh, closed || capped,
-                      {params.convex_parts_max, params.convex_parts_tolerance}, what)
-          .parts;
-  result.times.convex_parts = watch.lap();
-  result.times.total = result.times.sample + result.times.normals + result.times.filter +
-                       result.times.hierarchy + result.times.distance_grid +
-                       result.times.convex_parts;
-  db::validateObjectDatabase(db, what);
+  completeDatabase(std::move(contacts), {mesh, closed, capped, hull}, params, result, watch, what);
   return result;
 }
 
@@ -218,6 +239,78 @@ BuildResult buildObjectDatabaseFromFile(const std::filesystem::path& meshPath,
   db.source_mesh = meshPath.filename().string();
   db.source_sha256 = sha256File(meshPath);
   db.density = sidecar.density.value_or(density);
+  return result;
+}
+
+BuildResult buildObjectDatabaseFromView(const Vertices& points, const Vertices* normals,
+                                        const ViewOptions& view, const db::BuildParameters& params,
+                                        const std::string& what) {
+  checkBuildParameters(params);
+  if (normals != nullptr && (normals->rows() != points.rows() || !normals->allFinite()))
+    throw InvalidArgument("normals", "need one finite normal per point (" +
+                                         std::to_string(points.rows()) + "), got " +
+                                         std::to_string(normals->rows()));
+  BuildResult result;
+  Stopwatch watch;
+  db::ObjectDatabase& db = result.database;
+  db.producer = producerName();
+  // The sensor's noise smoothed first: a hull over noisy points is as
+  // rough as the noise, and so are normals from them.
+  Vertices observed = points;
+  Vertices sensorNormals;
+  if (normals != nullptr) sensorNormals = *normals;
+  Vertices sides;
+  if (view.smoothing > 0.0) {
+    SmoothedView smoothed = smoothView(points, view.viewpoint, view.smoothing);
+    observed = std::move(smoothed.points);
+    sides = std::move(smoothed.normals);
+    if (normals != nullptr)
+      for (std::size_t i = 0; i < smoothed.source.size(); ++i)
+        sensorNormals.row(static_cast<Eigen::Index>(i)) = normals->row(smoothed.source[i]);
+    sensorNormals.conservativeResize(normals != nullptr ? observed.rows() : 0, 3);
+  } else {
+    sides.resize(observed.rows(), 3);
+    for (Eigen::Index i = 0; i < observed.rows(); ++i)
+      sides.row(i) = (view.viewpoint - observed.row(i).transpose()).normalized().transpose();
+  }
+  // The conservative solid: the hull of the points and their shadows.
+  const HiddenSide hidden = hiddenSide(observed, view);
+  const ConvexHull hull(hidden.corners, what);
+  const TriangleMesh mesh{hull.vertices(), hull.faces()};
+  db.geometry = objectGeometry(mesh, true, hull, centerOfMass(mesh, true, hull));
+  db.partial_view = db::PartialView{view.viewpoint, hidden.hidden_depth, hidden.floor,
+                                    static_cast<std::uint64_t>(points.rows())};
+  result.warnings.push_back(
+      what + ": a partial view; its shape is the hull of the points and their shadows (" +
+      std::to_string(1000.0 * hidden.hidden_depth) +
+      " mm behind each point), its centre of mass that hull's centroid");
+
+  // The contacts: observed points at the sampling density, each seen from
+  // the camera (the side its normal is turned to).
+  const std::vector<std::uint32_t> kept =
+      onePerVoxel(observed, 1.0 / std::sqrt(params.sample_density));
+  Vertices positions(static_cast<Eigen::Index>(kept.size()), 3);
+  Vertices keptSides(static_cast<Eigen::Index>(kept.size()), 3);
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    positions.row(static_cast<Eigen::Index>(i)) = observed.row(kept[i]);
+    keptSides.row(static_cast<Eigen::Index>(i)) = sides.row(kept[i]);
+  }
+  db.num_samples = kept.size();
+  result.times.sample = watch.lap();
+  db.parameters = resolveFilterScales(params, params.sample_density);
+  ContactSet contacts =
+      estimateNormals(positions, keptSides, {observed, sides}, db.parameters.patch_radius);
+  if (normals != nullptr)  // the sensor's own normals, turned towards the camera
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      Eigen::Vector3d n = sensorNormals.row(kept[i]).transpose();
+      if (n.norm() < 1e-9) continue;
+      n.normalize();
+      const Eigen::Index row = static_cast<Eigen::Index>(i);
+      if (n.dot(contacts.normals.row(row).transpose()) < 0.0) n = -n;
+      contacts.normals.row(row) = n.transpose();
+    }
+  result.times.normals = watch.lap();
+  completeDatabase(std::move(contacts), {mesh, true, false, hull}, params, result, watch, what);
   return result;
 }
 

@@ -63,14 +63,7 @@ BatchOutcome buildOne(const std::filesystem::path& mesh, const std::filesystem::
   try {
     const BuildResult result = buildObjectDatabaseFromFile(mesh, params, density);
     db::saveObjectDatabase(result.database, outDir / (outcome.name + ".h5"));
-    outcome.warnings = result.warnings;
-    outcome.samples = result.database.num_samples;
-    outcome.contacts = result.database.numContacts();
-    for (const auto& level : result.database.levels)
-      outcome.nodes_per_level.push_back(level.size());
-    outcome.convex_parts = result.database.geometry.convex_parts.size();
-    outcome.convex_parts_seconds = result.times.convex_parts;
-    outcome.ok = true;
+    describeBuild(result, outcome);
   } catch (const std::exception& e) {
     outcome.error = e.what();
   }
@@ -79,6 +72,16 @@ BatchOutcome buildOne(const std::filesystem::path& mesh, const std::filesystem::
 }
 
 }  // namespace
+
+void describeBuild(const BuildResult& result, BatchOutcome& outcome) {
+  outcome.warnings = result.warnings;
+  outcome.samples = result.database.num_samples;
+  outcome.contacts = result.database.numContacts();
+  for (const auto& level : result.database.levels) outcome.nodes_per_level.push_back(level.size());
+  outcome.convex_parts = result.database.geometry.convex_parts.size();
+  outcome.convex_parts_seconds = result.times.convex_parts;
+  outcome.ok = true;
+}
 
 std::vector<std::filesystem::path> collectMeshes(const std::filesystem::path& input) {
   std::error_code ec;

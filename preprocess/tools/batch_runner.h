@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hfts_db/object_database.h"
+#include "preprocess/database_builder.h"
 
 namespace hfts::preprocess {
 
@@ -24,6 +25,9 @@ struct BatchOutcome {
   double convex_parts_seconds = 0.0;  ///< the convex decomposition's share of `seconds`
   double seconds = 0.0;
 };
+
+/// `outcome` filled from a finished build (ok, its counts and warnings).
+void describeBuild(const BuildResult& result, BatchOutcome& outcome);
 
 /// The meshes to process: `input` itself if it is a file, else the files of
 /// the directory (not recursive) with an extension assimp can import, sorted

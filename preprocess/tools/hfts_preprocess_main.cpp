@@ -17,6 +17,7 @@
 #include "robot/robot_model.h"
 #include "robot_check.h"
 #include "scene_export_command.h"
+#include "view_command.h"
 
 namespace {
 
@@ -128,7 +129,6 @@ double padRadiusOf(const std::string& robotConfig, bool quiet) {
 
 int build(const std::string& input, const std::string& outDir, BuildParameters params,
           double density, unsigned jobs, bool quiet) {
-  if (params.filters.size() == 1 && params.filters[0] == "none") params.filters.clear();
   hfts::preprocess::checkBuildParameters(params);
   hfts::preprocess::checkDensity(density, "density");
   const auto meshes = hfts::preprocess::collectMeshes(input);
@@ -150,6 +150,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "Builds Hierarchical Fingertip Space databases (HDF5) from object meshes.\n"
       "  hfts-preprocess MESH_OR_DIR -o OUTDIR [options]\n"
+      "  hfts-preprocess CLOUD.pcd|.ply --viewpoint X,Y,Z -o OUTDIR [options]\n"
       "  hfts-preprocess --inspect FILE.h5 [--json]\n"
       "  hfts-preprocess --export-ply FILE.h5 OUT.ply\n"
       "  hfts-preprocess --check-robot ROBOT.json",
@@ -195,6 +196,24 @@ int main(int argc, char** argv) {
   app.add_option("--db", sceneOptions.databases,
                  "With --export-scene: directory of object databases (default build/databases)")
       ->needs(sceneOpt);
+  std::vector<double> viewpoint;
+  hfts::preprocess::ViewOptions view;
+  auto* viewOpt =
+      app.add_option("--viewpoint", viewpoint,
+                     "The input is one segmented view of the object (PCD or PLY points, z up) "
+                     "seen from this camera centre x,y,z (docs/point_clouds.md)")
+          ->delimiter(',')
+          ->expected(3);
+  app.add_option("--hidden-depth", view.hidden_depth,
+                 "With --viewpoint: how far behind each point the unseen side may reach (m); "
+                 "0 = the largest edge of the points' bounding box")
+      ->check(CLI::NonNegativeNumber)
+      ->needs(viewOpt)
+      ->capture_default_str();
+  auto* floorOpt = app.add_option(
+      "--floor", view.floor,
+      "With --viewpoint: height (z) the object stands on (default: its lowest point)");
+  floorOpt->needs(viewOpt);
   addBuildOptions(app, params);
   app.add_option("--density", density,
                  "Density of the objects' material (kg/m^3); a <mesh stem>.json sidecar with "
@@ -232,6 +251,11 @@ int main(int argc, char** argv) {
       return 2;
     }
     if (!sceneOptions.robot.empty()) params.pad_radius = padRadiusOf(sceneOptions.robot, quiet);
+    if (params.filters.size() == 1 && params.filters[0] == "none") params.filters.clear();
+    if (!viewpoint.empty()) {
+      view.viewpoint = {viewpoint[0], viewpoint[1], viewpoint[2]};
+      return hfts::preprocess::viewCommand(input, outDir, params, density, view, quiet);
+    }
     return build(input, outDir, params, density, jobs, quiet);
   } catch (const std::invalid_argument& e) {
     std::cerr << "hfts-preprocess: " << e.what() << "\n";

@@ -1,7 +1,8 @@
 // hfts-render-depth: what a depth camera would see of a scene
 // (docs/point_clouds.md). Writes the depth image (16-bit PNG, mm), the
-// target's segmentation mask (8-bit PNG) and a scene that has the view in
-// place of the obstacles, to plan from what the camera saw.
+// target's segmentation mask (8-bit PNG), a scene that has the view in
+// place of the obstacles, to plan from what the camera saw, the target's
+// points (PLY) and a scene whose target is the object built from them.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -93,14 +94,40 @@ int run(const Options& o, const char* argv0) {
   out["target"] = {{"object", scene.target_object}, {"pose", poseJson(targetPose)}};
   out.erase("placements");
   core::writeFileAtomically(fs::path(o.output) / (stem + ".json"), out.dump(2) + "\n");
+  // What the camera saw of the target alone (world frame, metres): the
+  // segmented cloud hfts-preprocess --viewpoint builds an object from, and
+  // a scene with that object where it stood (its frame is the world's).
+  std::vector<std::uint8_t> offTarget(rendered.target_mask.size());
+  for (std::size_t i = 0; i < offTarget.size(); ++i)
+    offTarget[i] = rendered.target_mask[i] != 0 ? 0 : 1;
+  const Vertices seenOfTarget = robot::depthToPoints(rendered.image, view.camera, &offTarget);
+  std::ostringstream ply;
+  ply << "ply\nformat ascii 1.0\ncomment hfts-render-depth: the target seen from " << o.eye[0]
+      << "," << o.eye[1] << "," << o.eye[2] << "\nelement vertex " << seenOfTarget.rows()
+      << "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+  ply.precision(7);
+  for (Eigen::Index i = 0; i < seenOfTarget.rows(); ++i) {
+    const Eigen::Vector3d p = view.pose * Eigen::Vector3d(seenOfTarget.row(i).transpose());
+    ply << p.x() << " " << p.y() << " " << p.z() << "\n";
+  }
+  core::writeFileAtomically(fs::path(o.output) / (stem + "_object.ply"), ply.str());
+  json partial = out;
+  partial["name"] = stem + "_partial";
+  partial["description"] = "scene '" + scene.name + "' seen by hfts-render-depth, its target " +
+                           "built from the view alone";
+  partial["target"] = {{"object", stem + "_object"},
+                       {"pose", poseJson(Eigen::Isometry3d::Identity())}};
+  core::writeFileAtomically(fs::path(o.output) / (stem + "_partial.json"), partial.dump(2) + "\n");
+
   std::size_t seen = 0, onTarget = 0;
   for (std::size_t i = 0; i < rendered.image.depths.size(); ++i) {
     seen += rendered.image.depths[i] > 0 ? 1 : 0;
     onTarget += rendered.target_mask[i];
   }
-  std::cout << "wrote " << stem << ".png, " << stem << "_mask.png and " << stem << ".json to "
-            << o.output << ": " << seen << " of " << rendered.image.depths.size()
-            << " pixels with a depth, " << onTarget << " on the target\n";
+  std::cout << "wrote " << stem << ".png, " << stem << "_mask.png, " << stem << ".json, " << stem
+            << "_object.ply and " << stem << "_partial.json to " << o.output << ": " << seen
+            << " of " << rendered.image.depths.size() << " pixels with a depth, " << onTarget
+            << " on the target\n";
   return 0;
 }
 

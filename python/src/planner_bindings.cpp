@@ -259,19 +259,26 @@ Plan plan(std::shared_ptr<PlanningWorld> world, const robot::Scene& scene,
   return out;
 }
 
-py::object validate(const Plan& p, const std::optional<physics::SimulationOptions>& simulation,
+py::object validate(const PlanningWorld& world, const Plan& p,
+                    const std::optional<physics::SimulationOptions>& simulation,
                     const std::optional<robot::Scene>& scene) {
   planner::PlanRequest request = p.request;
   if (simulation) request.simulation = *simulation;
-  if (scene) {  // the plan in another scene (the true one of a sensed scene), the object where it
-                // was
+  if (scene) {  // the plan in another scene: the true one of a sensed scene
     request.scene = *scene;
-    request.object_pose = p.result.object_pose;
+    const std::string planned =
+        p.request.object.empty() ? p.request.scene.target_object : p.request.object;
+    if (scene->target_object == planned) {
+      request.object_pose = p.result.object_pose;  // the object where the plan had it
+    } else {  // the true object of one built from a view, where it truly is
+      request.object = scene->target_object;
+      request.object_pose.reset();
+    }
   }
   planner::Validation v;
   {
     py::gil_scoped_release release;
-    v = planner::validatePlan(*p.world, request, p.result);
+    v = planner::validatePlan(world, request, p.result);
   }
   nlohmann::json out = {{"holds", v.holds()}, {"check", service::graspCheckToJson(v.check)}};
   if (v.physics) out["physics"] = service::physicsToJson(*v.physics, /*motion=*/true);
@@ -534,15 +541,13 @@ void bindPlanner(py::module_& m) {
            "retreat (docs/placement.md). The GIL "
            "is released while it plans. Raises InvalidArgument naming the field for a malformed "
            "request.")
-      .def(
-          "validate",
-          [](const PlanningWorld&, const Plan& p,
-             const std::optional<physics::SimulationOptions>& simulation,
-             const std::optional<robot::Scene>& scene) { return validate(p, simulation, scene); },
-          py::arg("plan"), py::arg("simulation") = py::none(), py::arg("scene") = py::none(),
-          "A successful plan's grasp checked again and simulated in MuJoCo: {holds, check, "
-          "physics}; with `scene`, in that scene instead of the plan's (the object where the "
-          "plan had it), e.g. the true scene of a plan made from a depth image.");
+      .def("validate", &validate, py::arg("plan"), py::arg("simulation") = py::none(),
+           py::arg("scene") = py::none(),
+           "A successful plan's grasp checked again and simulated in MuJoCo, in this world: "
+           "{holds, check, physics}; with `scene`, in that scene instead of the plan's, e.g. the "
+           "true scene of a plan made from a depth image: the object where the plan had it, or, "
+           "when the scene's target is another object (the true one of an object built from a "
+           "view), that object where the scene has it.");
 
   m.def("time_parameterize", &timeParameterize, py::arg("robot"), py::arg("path"),
         py::arg("rate") = 100.0,

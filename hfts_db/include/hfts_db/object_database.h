@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -167,6 +168,17 @@ struct HierarchyNode {
   Eigen::Vector3d mean_normal = Eigen::Vector3d::UnitZ();  ///< normalised, outward
 };
 
+/// How a database built from one partial view of the object (a segmented
+/// point cloud, hfts-preprocess --viewpoint) was made: its contacts are
+/// observed points only, and its mesh is a conservative stand-in for the
+/// unseen side (docs/point_clouds.md#objects-from-a-partial-view).
+struct PartialView {
+  Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  ///< camera centre, object frame
+  double hidden_depth = 0.0;  ///< m the unseen side may reach behind each point
+  double floor = 0.0;         ///< z (object frame) below which it does not reach
+  std::uint64_t points = 0;   ///< points of the view used
+};
+
 /// A complete object database.
 struct ObjectDatabase {
   std::string name;           ///< object name (the mesh file stem)
@@ -178,6 +190,8 @@ struct ObjectDatabase {
   /// a physical property, not a build parameter. Its mass is density *
   /// geometry.volume (not stored: derived).
   double density = kDefaultDensity;
+  /// Set when the database comes from a partial view, not a mesh.
+  std::optional<PartialView> partial_view;
   std::uint64_t num_samples = 0;  ///< surface samples before filtering
   std::vector<FilterReport> filter_reports;
   ObjectGeometry geometry;

@@ -8,6 +8,7 @@
 
 #include "hfts_db/object_database.h"
 #include "hfts_db/triangle_mesh.h"
+#include "preprocess/partial_view.h"
 
 namespace hfts::preprocess {
 
@@ -47,6 +48,20 @@ BuildResult buildObjectDatabase(const TriangleMesh& mesh, bool closed,
 BuildResult buildObjectDatabaseFromFile(const std::filesystem::path& meshPath,
                                         const db::BuildParameters& params,
                                         double density = db::kDefaultDensity);
+
+/// Builds the database of an object seen from one side (a segmented point
+/// cloud in metres, in a frame whose z is up): its solid is the hull of the
+/// points and their shadows (hiddenSide), its contacts are observed
+/// points only, one per cube of 1/sqrt(sample_density), with PCL's normals
+/// turned towards the camera, or the sensor's `normals` (one per point,
+/// either sign) when given; the usual filters, hierarchy and grids follow.
+/// The database's partial_view records the view; name and source are the
+/// caller's to fill. Throws hfts::InvalidArgument ("points", "normals",
+/// "viewpoint", "hidden_depth", "floor", build parameters) and MeshError
+/// when no contact survives the filters.
+BuildResult buildObjectDatabaseFromView(const Vertices& points, const Vertices* normals,
+                                        const ViewOptions& view, const db::BuildParameters& params,
+                                        const std::string& what);
 
 /// SHA-256 of a file's bytes as lowercase hex (OpenSSL).
 std::string sha256File(const std::filesystem::path& path);
