@@ -89,6 +89,7 @@ Builder::Builder() {
   scene_.mMaterials[kTarget] = material("target", 0.1f, 0.55f, 0.95f);
   scene_.mMaterials[kMarker] = material("contact", 0.9f, 0.1f, 0.1f);
   scene_.mMaterials[kPath] = material("path", 0.1f, 0.8f, 0.2f);
+  scene_.mMaterials[kPoints] = material("points", 0.55f, 0.15f, 0.75f);
   // glTF is y-up: turn the z-up world so viewers show it standing.
   scene_.mRootNode->mTransformation = aiMatrix4x4(1, 0, 0, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1);
 }
@@ -103,37 +104,64 @@ unsigned Builder::addMesh(aiMesh* mesh) {
   return static_cast<unsigned>(meshes_.size() - 1);
 }
 
-aiNode* Builder::addNode(const std::string& name, const std::vector<Part>& parts) {
+aiNode* Builder::addNodeOf(const std::string& name, const std::vector<aiMesh*>& meshes) {
   auto* node = new aiNode(name);
   node->mParent = scene_.mRootNode;
-  node->mNumMeshes = static_cast<unsigned>(parts.size());
-  node->mMeshes = new unsigned[parts.size()];
-  for (std::size_t i = 0; i < parts.size(); ++i) node->mMeshes[i] = addMesh(toAiMesh(parts[i]));
+  node->mNumMeshes = static_cast<unsigned>(meshes.size());
+  node->mMeshes = new unsigned[meshes.size()];
+  for (std::size_t i = 0; i < meshes.size(); ++i) node->mMeshes[i] = addMesh(meshes[i]);
   nodes_.push_back(node);
   return node;
 }
 
-aiNode* Builder::addLines(const std::string& name, const std::vector<Eigen::Vector3d>& points,
-                          unsigned material) {
+aiNode* Builder::addNode(const std::string& name, const std::vector<Part>& parts) {
+  std::vector<aiMesh*> meshes;
+  for (const Part& part : parts) meshes.push_back(toAiMesh(part));
+  return addNodeOf(name, meshes);
+}
+
+aiNode* Builder::addPrimitives(const std::string& name, std::vector<aiVector3D> vertices,
+                               unsigned perFace, aiPrimitiveType type, unsigned material) {
   auto* mesh = new aiMesh;
   mesh->mName = name;
-  mesh->mPrimitiveTypes = aiPrimitiveType_LINE;
+  mesh->mPrimitiveTypes = type;
   mesh->mMaterialIndex = material;
-  mesh->mNumVertices = static_cast<unsigned>(points.size());
-  mesh->mVertices = new aiVector3D[points.size()];
-  for (std::size_t v = 0; v < points.size(); ++v) mesh->mVertices[v] = point(points[v]);
-  mesh->mNumFaces = static_cast<unsigned>(points.size() / 2);
+  mesh->mNumVertices = static_cast<unsigned>(vertices.size());
+  mesh->mVertices = new aiVector3D[vertices.size()];
+  std::copy(vertices.begin(), vertices.end(), mesh->mVertices);
+  mesh->mNumFaces = static_cast<unsigned>(vertices.size() / perFace);
   mesh->mFaces = new aiFace[mesh->mNumFaces];
   for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
-    mesh->mFaces[f].mNumIndices = 2;
-    mesh->mFaces[f].mIndices = new unsigned[2]{2 * f, 2 * f + 1};
+    mesh->mFaces[f].mNumIndices = perFace;
+    mesh->mFaces[f].mIndices = new unsigned[perFace];
+    for (unsigned k = 0; k < perFace; ++k) mesh->mFaces[f].mIndices[k] = perFace * f + k;
   }
-  auto* node = new aiNode(name);
-  node->mParent = scene_.mRootNode;
-  node->mNumMeshes = 1;
-  node->mMeshes = new unsigned[1]{addMesh(mesh)};
-  nodes_.push_back(node);
-  return node;
+  return addNodeOf(name, {mesh});
+}
+
+aiNode* Builder::addLines(const std::string& name, const std::vector<Eigen::Vector3d>& points,
+                          unsigned material) {
+  std::vector<aiVector3D> vertices;
+  for (const Eigen::Vector3d& p : points) vertices.push_back(point(p));
+  return addPrimitives(name, std::move(vertices), 2, aiPrimitiveType_LINE, material);
+}
+
+aiNode* Builder::addPoints(const std::string& name, const Vertices& points, unsigned material) {
+  std::vector<aiVector3D> vertices;
+  for (Eigen::Index v = 0; v < points.rows(); ++v)
+    vertices.push_back(point(points.row(v).transpose()));
+  return addPrimitives(name, std::move(vertices), 1, aiPrimitiveType_POINT, material);
+}
+
+void addSensedPoints(Builder& builder, const Scene& scene) {
+  for (const Obstacle& o : scene.obstacles) {
+    if (o.type != Obstacle::Type::kPoints || o.cloud == nullptr || o.cloud->points.rows() == 0)
+      continue;
+    Vertices world = o.cloud->points;
+    for (Eigen::Index v = 0; v < world.rows(); ++v)
+      world.row(v) = (o.pose * Eigen::Vector3d(world.row(v))).transpose();
+    builder.addPoints(o.name + ".points", world, kPoints);
+  }
 }
 
 std::string Builder::glb(const std::string& what) {

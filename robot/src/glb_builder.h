@@ -1,7 +1,7 @@
 #pragma once
 // What the scene and plan exports share: triangle parts with one of a few
-// materials, one named node per part, written with assimp's glTF 2
-// exporter (robot/scene_export.h, robot/plan_export.h).
+// materials, one named node per part, lines and points, written with
+// assimp's glTF 2 exporter (robot/scene_export.h, robot/plan_export.h).
 
 #include <assimp/scene.h>
 
@@ -23,6 +23,7 @@ enum Material : unsigned {
   kTarget,
   kMarker,
   kPath,
+  kPoints,  ///< what a sensor saw: a cloud's points
   kMaterials
 };
 
@@ -45,6 +46,14 @@ unsigned linkMaterial(const RobotModel& model, std::size_t l);
 std::vector<Part> environmentParts(const Scene& scene, const db::ObjectGeometry* target,
                                    const Eigen::Isometry3d& targetPose);
 
+class Builder;
+
+/// For each sensed obstacle (Obstacle::Type::kPoints) of `scene`, a node
+/// "<obstacle name>.points" of its cloud's points in the world frame, beside
+/// the voxels environmentParts draws: the voxels are what the planner
+/// avoids, the points what the sensor saw.
+void addSensedPoints(Builder& builder, const Scene& scene);
+
 /// An assimp scene under construction: the materials, a root node turned
 /// from the world's z up to glTF's y up, and the parts added to it.
 class Builder {
@@ -59,6 +68,8 @@ class Builder {
   /// A node of line segments (pairs of points, world frame).
   aiNode* addLines(const std::string& name, const std::vector<Eigen::Vector3d>& points,
                    unsigned material);
+  /// A node of points (one per row, world frame): glTF's mode POINTS.
+  aiNode* addPoints(const std::string& name, const Vertices& points, unsigned material);
   aiScene& scene() { return scene_; }
   /// The binary glTF; throws std::runtime_error naming `what` if assimp fails.
   std::string glb(const std::string& what);
@@ -68,6 +79,12 @@ class Builder {
   std::vector<aiMesh*> meshes_;
   std::vector<aiNode*> nodes_;
   unsigned addMesh(aiMesh* mesh);
+  /// A node under the root holding `meshes` (added to the scene).
+  aiNode* addNodeOf(const std::string& name, const std::vector<aiMesh*>& meshes);
+  /// A node of one mesh of `vertices` taken `perFace` at a time as
+  /// primitives of `type` (lines, points).
+  aiNode* addPrimitives(const std::string& name, std::vector<aiVector3D> vertices, unsigned perFace,
+                        aiPrimitiveType type, unsigned material);
 };
 
 }  // namespace hfts::robot::glb

@@ -156,6 +156,7 @@ std::string planGlb(const RobotModel& model, const Scene& scene, const db::Objec
   Builder builder;
   for (const Part& part : environmentParts(scene, target, plan.object_pose))
     builder.addNode(part.name, {part});
+  addSensedPoints(builder, scene);
   // The robot: one node per link with geometry, at the first pose (the
   // animation moves it from there).
   const LinkPoses first = forwardKinematics(model, plan.configurations.front());

@@ -58,6 +58,7 @@ void exportSceneGlb(const RobotModel& model, const Scene& scene, const db::Objec
   // One named node per part, so viewers list links and obstacles by name.
   Builder builder;
   for (const Part& part : parts) builder.addNode(part.name, {part});
+  addSensedPoints(builder, scene);
   core::writeFileAtomically(path, builder.glb("'" + path.string() + "'"));
 }
 

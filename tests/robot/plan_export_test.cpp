@@ -1,14 +1,20 @@
 #include "robot/plan_export.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <assimp/scene.h>
 #include <assimp/Importer.hpp>
 
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "core/invalid_argument.h"
 #include "robot/kinematics.h"
+#include "robot/point_cloud.h"
+#include "robot/scene_export.h"
 
 #include "robot_fixture.h"
 #include "test_meshes.h"
@@ -134,6 +140,75 @@ TEST(PlanExport, AnObjectThePlanCarriesMovesInThePlansAnimation) {
     // Moved from where its mesh stands: 8 cm up at the end.
     EXPECT_NEAR(cube->mPositionKeys[4].mValue.z, 0.08, 1e-6);
     EXPECT_NEAR(cube->mPositionKeys[0].mValue.Length(), 0.0, 1e-6);
+  }
+}
+
+/// The JSON chunk of a binary glTF: the first, after the 12-byte header
+/// and its own length and type.
+nlohmann::json gltfJson(const std::string& glb) {
+  std::uint32_t length = 0;
+  std::memcpy(&length, glb.data() + 12, sizeof length);
+  EXPECT_EQ(glb.substr(16, 4), "JSON");
+  return nlohmann::json::parse(glb.substr(20, length));
+}
+
+/// The primitive of the mesh of the node named `name` in `gltf`, or null.
+nlohmann::json primitiveOf(const nlohmann::json& gltf, const std::string& name) {
+  for (const nlohmann::json& node : gltf.at("nodes"))
+    if (node.contains("name") && node.at("name") == name)
+      return gltf.at("meshes").at(node.at("mesh").get<std::size_t>()).at("primitives").at(0);
+  return nullptr;
+}
+
+/// A scene with one obstacle seen as a cloud of three points, 0.5 m ahead.
+Scene sensedScene() {
+  CloudOptions options;
+  options.radius = 0.0;
+  Vertices points(3, 3);
+  points << 0, 0, 0, 0.1, 0, 0, 0, 0.1, 0.05;
+  auto cloud = std::make_shared<VoxelCloud>(voxelize(points, options));
+  Obstacle seen;
+  seen.name = "seen";
+  seen.type = Obstacle::Type::kPoints;
+  seen.pose = Eigen::Translation3d(0.5, 0.0, 0.2) * Eigen::Isometry3d::Identity();
+  seen.cloud = cloud;
+  seen.mesh = cloud->mesh;
+  seen.distance_grid = std::shared_ptr<const db::DistanceGrid>(cloud, &cloud->distances);
+  Scene scene;
+  scene.obstacles.push_back(seen);
+  return scene;
+}
+
+TEST(PlanExport, ASensedObstacleIsItsVoxelsAndItsPointsInTheWorld) {
+  const RobotModel& robot = test::kr5Sdh();
+  const Scene scene = sensedScene();
+  const std::filesystem::path sceneGlb =
+      std::filesystem::temp_directory_path() /
+      ("hfts-sensed-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + ".glb");
+  exportSceneGlb(robot, scene, nullptr, robot.home(), sceneGlb);
+  std::ostringstream sceneBytes;
+  sceneBytes << std::ifstream(sceneGlb, std::ios::binary).rdbuf();
+  std::filesystem::remove(sceneGlb);
+  for (const std::string& glb : {planGlb(robot, scene, nullptr, moveA1(robot)), sceneBytes.str()}) {
+    const nlohmann::json gltf = gltfJson(glb);
+    const nlohmann::json voxels = primitiveOf(gltf, "seen");
+    ASSERT_FALSE(voxels.is_null());
+    EXPECT_TRUE(!voxels.contains("mode") || voxels.at("mode") == 4)
+        << "the voxels' boxes: triangles";
+    const nlohmann::json points = primitiveOf(gltf, "seen.points");
+    ASSERT_FALSE(points.is_null());
+    EXPECT_EQ(points.at("mode"), 0) << "POINTS";
+    const nlohmann::json& position =
+        gltf.at("accessors").at(points.at("attributes").at("POSITION").get<std::size_t>());
+    EXPECT_EQ(position.at("count"), 3);
+    // In the world frame (the root node turns it to glTF's y up).
+    const std::vector<double> low = position.at("min"), high = position.at("max");
+    EXPECT_NEAR(low[0], 0.5, 1e-6);
+    EXPECT_NEAR(low[1], 0.0, 1e-6);
+    EXPECT_NEAR(low[2], 0.2, 1e-6);
+    EXPECT_NEAR(high[0], 0.6, 1e-6);
+    EXPECT_NEAR(high[1], 0.1, 1e-6);
+    EXPECT_NEAR(high[2], 0.25, 1e-6);
   }
 }
 
