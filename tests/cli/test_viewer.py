@@ -9,8 +9,10 @@ Run by ctest with /usr/bin/python3; standard library only."""
 
 import json
 import os
+import struct
 import subprocess
 
+from depth_files import CAMERA, HEIGHT, MUG, WIDTH, png
 from hfts_server_fixture import CONFIG, NO_PHYSICS_ARGS, ServerTest, run_tests
 
 
@@ -77,6 +79,34 @@ class Viewer(ServerTest):
         report = self.check(html)
         self.assertEqual(report["consoleErrors"], [])
         self.assertEqual(report["explored"], 3 * len(plan["explored"]))
+
+    def test_what_a_depth_camera_saw_is_drawn_as_points(self):
+        files = {}
+        for name, data in (("depth.png", png(WIDTH, HEIGHT, [1200] * (WIDTH * HEIGHT))),
+                           ("mask.png", png(WIDTH, HEIGHT, [255 * m for m in MUG], bits=8)),
+                           ("camera.json", json.dumps(CAMERA).encode())):
+            files[name] = os.path.join(self.tmp, name)
+            with open(files[name], "wb") as f:
+                f.write(data)
+        plan_path, glb = os.path.join(self.tmp, "seen.json"), os.path.join(self.tmp, "seen.glb")
+        result = self.client("--out", plan_path, "plan", "--scene", "table", "--time-limit", "20",
+                             *NO_PHYSICS_ARGS, "--depth", files["depth.png"], "--camera",
+                             files["camera.json"], "--mask", files["mask.png"], "--gltf", glb)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(glb, "rb") as f:
+            data = f.read()
+        gltf = json.loads(data[20:20 + struct.unpack("<I", data[12:16])[0]])
+        node = next(n for n in gltf["nodes"] if n.get("name") == "camera.points")
+        primitive = gltf["meshes"][node["mesh"]]["primitives"][0]
+        self.assertEqual(primitive["mode"], 0)
+        seen = gltf["accessors"][primitive["attributes"]["POSITION"]]["count"]
+        self.assertGreater(seen, WIDTH * HEIGHT // 2)  # all but the mask and the robot's
+        html = os.path.join(self.tmp, "seen.html")
+        self.assertEqual(self.client("view", plan_path, "-o", html).returncode, 0)
+        report = self.check(html)
+        self.assertEqual(report["consoleErrors"], [])
+        self.assertEqual(report["points"], seen)
+        self.assertGreater(report["violetPixels"], 1000, report)
 
     def test_view_needs_a_successful_plan_with_its_gltf(self):
         failed = os.path.join(self.tmp, "failed.json")

@@ -1,8 +1,9 @@
 // The plan viewer (docs/viewer.md): a plan's animated glTF (robot, scene,
 // object, path) with its plan JSON (grasp, statistics). Play, pause and
 // scrub the trajectory, orbit the camera, see the contacts with their
-// normals and friction cones; with a physics verdict, play the simulated
-// lift (the glTF's second animation) instead. `hfts-client view PLAN.json -o plan.html`
+// normals and friction cones, and what a depth camera or a point cloud saw;
+// with a physics verdict, play the simulated lift (the glTF's second
+// animation) instead. `hfts-client view PLAN.json -o plan.html`
 // embeds everything in one page (window.HFTS_PLAN, window.HFTS_GLB_BASE64);
 // without them the page asks for the two files.
 import * as THREE from 'three';
@@ -11,6 +12,8 @@ import {OrbitControls} from 'three/examples/jsm/controls/OrbitControls.js';
 
 const FRICTION = 0.5;  // the planner's default (docs/grasp_quality.md)
 const CONE_HEIGHT = 0.03;
+const POINT_PIXELS = 4;
+const VOXEL_OPACITY = 0.3;
 
 /// World (z up, the planner's frame) to the glTF's y up.
 function toView([x, y, z]) {
@@ -81,7 +84,31 @@ function exploredMarkers(plan) {
   return group;
 }
 
-function statsTable(plan) {
+/// Sensed obstacles (docs/point_clouds.md): the glTF holds each one's
+/// voxels (node "<name>") and the points the sensor saw ("<name>.points",
+/// glTF's POINTS, which three.js draws one pixel wide). The points grow to
+/// POINT_PIXELS and their voxels, which hold them and would hide them, turn
+/// translucent; the points are drawn after them, not tinted by them.
+/// Returns the number of points.
+function showSensedPoints(root) {
+  const clouds = [];
+  root.traverse((o) => { if (o.isPoints) clouds.push(o); });
+  let count = 0;
+  for (const cloud of clouds) {
+    Object.assign(cloud.material, {size: POINT_PIXELS, sizeAttenuation: false, transparent: true});
+    cloud.renderOrder = 1;
+    count += cloud.geometry.attributes.position.count;
+    const obstacle = (cloud.userData.name || '').replace(/\.points$/, '');
+    root.traverse((o) => {
+      if (!o.isMesh || o.userData.name !== obstacle) return;
+      o.material = o.material.clone();  // obstacles share one material
+      Object.assign(o.material, {transparent: true, opacity: VOXEL_OPACITY, depthWrite: false});
+    });
+  }
+  return count;
+}
+
+function statsTable(plan, points) {
   const s = plan.stats, g = plan.grasp, t = plan.trajectory;
   const rows = [
     ['scene', plan.scene], ['object', plan.object], ['algorithm', `${plan.algorithm}, seed ${plan.seed}`],
@@ -95,6 +122,7 @@ function statsTable(plan) {
     ['friction cones', `mu = ${FRICTION}`],
   ];
   if (plan.explored) rows.push(['explored nodes', `${plan.explored.length} (blue: low, red: high Eq. 1 value)`]);
+  if (points) rows.push(['sensed points', `${points} (violet; their voxels translucent)`]);
   const p = plan.physics;
   if (p) {
     const held = p.trials.filter((trial) => trial.held).length;
@@ -145,6 +173,7 @@ function show(plan, glb) {
 
   new GLTFLoader().parse(glb, '', (gltf) => {
     scene.add(gltf.scene);
+    const points = showSensedPoints(gltf.scene);
     const markers = contactMarkers(plan.grasp);
     scene.add(markers);
     const explored = exploredMarkers(plan);
@@ -222,7 +251,7 @@ function show(plan, glb) {
       setPlaying(false);
       setTime(parseFloat(slider.value));
     };
-    document.getElementById('stats').innerHTML = statsTable(plan);
+    document.getElementById('stats').innerHTML = statsTable(plan, points);
     const frame = (now) => {
       if (playing) {
         const t = mixer.time + (now - last) / 1000;
@@ -242,6 +271,7 @@ function show(plan, glb) {
       contacts: plan.grasp.contacts_world.length,
       markers: markers.children.length,
       explored: explored.children.length,
+      points,
       get animatedNodes() { return new Set(clip.tracks.map((t) => t.name.split('.')[0])).size; },
       clips: [...clips.keys()],
       selectClip,

@@ -4,7 +4,8 @@
 // console errors, what the viewer drew (contacts, markers, animated
 // nodes), how many pixels change between the first and the last frame
 // near the palm's two screen positions, and the red (contact) pixels of
-// the first frame (the fingers cover the contacts in the last). With a
+// the first frame (the fingers cover the contacts in the last), the sensed
+// points drawn (and the violet pixels of the first frame). With a
 // simulated lift (the glTF's "simulated" animation), also how far the
 // object's node moves from its start to the end of the lift (m) and the
 // phase shown there. Writes first.png and last.png (and lifted.png) to OUTDIR.
@@ -49,7 +50,7 @@ async function main() {
     const viewer = await page.evaluate(() => ({
       duration: window.viewer.duration, contacts: window.viewer.contacts,
       markers: window.viewer.markers, explored: window.viewer.explored,
-      animatedNodes: window.viewer.animatedNodes}));
+      points: window.viewer.points, animatedNodes: window.viewer.animatedNodes}));
     // Pixels of the canvas at both ends, compared in the page.
     const comparison = await page.evaluate(() => {
       const canvas = document.querySelector('#view canvas');
@@ -69,7 +70,7 @@ async function main() {
       window.viewer.setTime(window.viewer.duration);
       const end = window.viewer.screenPosition('palm');
       const last = pixels(window.viewer.duration);
-      let changed = 0, nearPalm = 0, red = 0;
+      let changed = 0, nearPalm = 0, red = 0, violet = 0;
       const near = (x, y, p) => Math.abs(x - p.x * ratio) < 60 * ratio && Math.abs(y - p.y * ratio) < 60 * ratio;
       for (let i = 0; i < first.length; i += 4) {
         const d = Math.abs(first[i] - last[i]) + Math.abs(first[i + 1] - last[i + 1]) +
@@ -80,8 +81,10 @@ async function main() {
           if (near(x, y, start) || near(x, y, end)) ++nearPalm;
         }
         if (first[i] > 170 && first[i + 1] < 90 && first[i + 2] < 90) ++red;
+        if (first[i] > 120 && first[i + 2] > 160 && first[i + 1] < 0.6 * first[i + 2]) ++violet;
       }
       return {pixels: first.length / 4, changed, changedNearPalm: nearPalm, redPixels: red,
+              violetPixels: violet,
               palmStart: start, palmEnd: end};
     });
     await grab(0, 'first.png');
