@@ -129,12 +129,16 @@ aiNode* Builder::addPrimitives(const std::string& name, std::vector<aiVector3D> 
   mesh->mNumVertices = static_cast<unsigned>(vertices.size());
   mesh->mVertices = new aiVector3D[vertices.size()];
   std::copy(vertices.begin(), vertices.end(), mesh->mVertices);
-  mesh->mNumFaces = static_cast<unsigned>(vertices.size() / perFace);
-  mesh->mFaces = new aiFace[mesh->mNumFaces];
-  for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
-    mesh->mFaces[f].mNumIndices = perFace;
-    mesh->mFaces[f].mIndices = new unsigned[perFace];
-    for (unsigned k = 0; k < perFace; ++k) mesh->mFaces[f].mIndices[k] = perFace * f + k;
+  // Points need no faces: without them the exporter writes no indices
+  // (glTF draws every vertex), a quarter of a cloud's bytes.
+  if (perFace > 1) {
+    mesh->mNumFaces = static_cast<unsigned>(vertices.size() / perFace);
+    mesh->mFaces = new aiFace[mesh->mNumFaces];
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      mesh->mFaces[f].mNumIndices = perFace;
+      mesh->mFaces[f].mIndices = new unsigned[perFace];
+      for (unsigned k = 0; k < perFace; ++k) mesh->mFaces[f].mIndices[k] = perFace * f + k;
+    }
   }
   return addNodeOf(name, {mesh});
 }

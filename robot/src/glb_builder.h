@@ -68,7 +68,8 @@ class Builder {
   /// A node of line segments (pairs of points, world frame).
   aiNode* addLines(const std::string& name, const std::vector<Eigen::Vector3d>& points,
                    unsigned material);
-  /// A node of points (one per row, world frame): glTF's mode POINTS.
+  /// A node of points (one per row, world frame): glTF's mode POINTS,
+  /// without indices.
   aiNode* addPoints(const std::string& name, const Vertices& points, unsigned material);
   aiScene& scene() { return scene_; }
   /// The binary glTF; throws std::runtime_error naming `what` if assimp fails.

@@ -198,6 +198,7 @@ TEST(PlanExport, ASensedObstacleIsItsVoxelsAndItsPointsInTheWorld) {
     const nlohmann::json points = primitiveOf(gltf, "seen.points");
     ASSERT_FALSE(points.is_null());
     EXPECT_EQ(points.at("mode"), 0) << "POINTS";
+    EXPECT_FALSE(points.contains("indices")) << "every vertex is a point";
     const nlohmann::json& position =
         gltf.at("accessors").at(points.at("attributes").at("POSITION").get<std::size_t>());
     EXPECT_EQ(position.at("count"), 3);
