@@ -6,7 +6,10 @@
                     Kinect-like noise (hfts-render-depth): DIR/<scene>_<view>.json
   objects DIR       each view's target points (DIR/<scene>_<view>_object.ply)
                     built into an object database (hfts-preprocess --viewpoint)
-                    in DIR/databases, beside links to the bundled ones
+                    in DIR/databases, beside links to the bundled ones; and
+                    each scene's three views fused: one object from the
+                    three clouds (<scene>_fused_object) and a scene with the
+                    three depth images (DIR/<scene>_fused.json)
   summary OUT       the table of OUT, per robot, with Wilson intervals
   plan    DIR OUT   for each robot, rendered scene and seed: a plan from the
                     rendered view and one from the true meshes (one thread,
@@ -16,7 +19,8 @@
                     grasp rule from there) and its grasp in physics on the true
                     object. Writes OUT (JSON lines) and prints the table.
                     With --partial, the view's plan grasps the object built
-                    from the view (objects), checked on the true object.
+                    from the view (objects), checked on the true object;
+                    with --fused, the three views' object and scene.
 
 Runs under /usr/bin/python3 with PYTHONPATH=build/python.
 """
@@ -58,11 +62,31 @@ def objects(view_dir, db_dir):
         link = os.path.join(out, name)
         if not os.path.lexists(link):
             os.symlink(os.path.abspath(os.path.join(db_dir, name)), link)
+    preprocess = os.path.join(ROOT, "build", "bin", "hfts-preprocess")
     for scene in SCENES:
         for view, eye in VIEWS.items():
-            subprocess.run([os.path.join(ROOT, "build", "bin", "hfts-preprocess"),
-                            os.path.join(view_dir, f"{scene}_{view}_object.ply"),
+            subprocess.run([preprocess, os.path.join(view_dir, f"{scene}_{view}_object.ply"),
                             "--viewpoint", ",".join(map(str, eye)), "-o", out, "-q"], check=True)
+        # The three views fused: one object from the three clouds, a scene
+        # with the three depth images.
+        clouds = [os.path.join(view_dir, f"{scene}_{v}_object.ply") for v in VIEWS]
+        command = [preprocess] + clouds + ["--name", f"{scene}_fused_object", "-o", out, "-q"]
+        for eye in VIEWS.values():
+            command += ["--viewpoint", ",".join(map(str, eye))]
+        subprocess.run(command, check=True)
+        merged = None
+        for view in VIEWS:
+            one = json.load(open(os.path.join(view_dir, f"{scene}_{view}_partial.json")))
+            for o in one["obstacles"]:
+                o["name"] = f"{o['name']}_{view}"
+            if merged is None:
+                merged = one
+            else:
+                merged["obstacles"] += one["obstacles"]
+        merged["name"] = f"{scene}_fused"
+        merged["target"]["object"] = f"{scene}_fused_object"
+        with open(os.path.join(view_dir, f"{scene}_fused.json"), "w") as f:
+            json.dump(merged, f, indent=2)
 
 
 def dense(path, step=0.005):
@@ -88,25 +112,28 @@ def free_in(world, scene, plan, object_pose):
     return not hits.any() and not grasp_hits.any()
 
 
-def plan_all(view_dir, out_path, seeds, time_limit, partial):
+def plan_all(view_dir, out_path, seeds, time_limit, partial, fused):
     import hfts
     rows = []
+    partial = partial or fused
     db_dir = os.path.join(view_dir, "databases") if partial else os.path.join(ROOT, "build",
                                                                                "databases")
     suffix = "_partial" if partial else ""
+    views = ["fused"] if fused else list(VIEWS)
     with open(out_path, "w") as out:
         for robot in ROBOTS:
             world = hfts.World.load(os.path.join(ROOT, "robots", robot, robot + ".json"), db_dir)
             for scene_name in SCENES:
                 truth = hfts.Scene.load(os.path.join(ROOT, "objects", "scenes", scene_name + ".json"))
-                for view in VIEWS:
+                for view in views:
                     t0 = time.time()
-                    seen = hfts.Scene.load(os.path.join(view_dir,
-                                                        f"{scene_name}_{view}{suffix}.json"))
+                    name = f"{scene_name}_fused" if fused else f"{scene_name}_{view}{suffix}"
+                    seen = hfts.Scene.load(os.path.join(view_dir, name + ".json"))
                     load_s = time.time() - t0
                     for seed in seeds:
                         row = {"robot": robot, "scene": scene_name, "view": view, "seed": seed,
-                               "scene_load_s": load_s, "partial_object": partial}
+                               "scene_load_s": load_s, "partial_object": partial,
+                               "fused": fused}
                         p = world.plan(seen, seed=seed, time_limit=time_limit)
                         row["seen_planned"] = bool(p.success)
                         row["seen_failure"] = p.failure
@@ -180,6 +207,8 @@ def main():
     p.add_argument("--time-limit", type=float, default=10.0)
     p.add_argument("--partial", action="store_true",
                    help="grasp the object built from the view (run objects first)")
+    p.add_argument("--fused", action="store_true",
+                   help="plan in the three views' scene for the object built from them")
     args = parser.parse_args()
     if args.command == "render":
         render(args.dir, args.db, args.seed)
@@ -188,7 +217,7 @@ def main():
     elif args.command == "summary":
         summary(args.out)
     else:
-        plan_all(args.dir, args.out, args.seeds, args.time_limit, args.partial)
+        plan_all(args.dir, args.out, args.seeds, args.time_limit, args.partial, args.fused)
     return 0
 
 

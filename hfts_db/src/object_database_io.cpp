@@ -319,10 +319,12 @@ void writeAll(hid_t file, const ObjectDatabase& db) {
   if (db.partial_view) {
     Handle group = h5::createGroup(file, "partial_view");
     const PartialView& v = *db.partial_view;
-    h5::writeAttribute(group.id(), "viewpoint",
-                       std::vector<double>{v.viewpoint.x(), v.viewpoint.y(), v.viewpoint.z()});
-    h5::writeAttribute(group.id(), "hidden_depth", v.hidden_depth);
-    h5::writeAttribute(group.id(), "floor", v.floor);
+    std::vector<double> viewpoints;
+    for (Eigen::Index i = 0; i < v.viewpoints.rows(); ++i)
+      for (int k = 0; k < 3; ++k) viewpoints.push_back(v.viewpoints(i, k));
+    h5::writeAttribute(group.id(), "viewpoints", viewpoints);
+    h5::writeAttribute(group.id(), "hidden_depths", v.hidden_depths);
+    h5::writeAttribute(group.id(), "floors", v.floors);
     h5::writeAttribute(group.id(), "points", v.points);
   }
   writeGeometry(file, db.geometry, db.density);
@@ -358,15 +360,24 @@ ObjectDatabase readAll(hid_t file) {
     for (std::size_t i = 0; i < names.size(); ++i)
       db.filter_reports.push_back({names[i], removed[i]});
   }
-  if (h5::exists(file, "partial_view")) {  // written since version 4 when set
+  if (h5::exists(file, "partial_view")) {  // only in a database built from views
     Handle group = h5::openGroup(file, "partial_view");
-    const std::vector<double> viewpoint = h5::readDoubleAttribute(group.id(), "viewpoint");
-    if (viewpoint.size() != 3) throw DatabaseError("partial_view: viewpoint needs 3 values");
+    const std::vector<double> viewpoints = h5::readDoubleAttribute(group.id(), "viewpoints");
     PartialView& v = db.partial_view.emplace();
-    v.viewpoint = {viewpoint[0], viewpoint[1], viewpoint[2]};
-    v.hidden_depth = h5::readDouble(group.id(), "hidden_depth");
-    v.floor = h5::readDouble(group.id(), "floor");
-    v.points = h5::readUInt64(group.id(), "points");
+    v.hidden_depths = h5::readDoubleAttribute(group.id(), "hidden_depths");
+    v.floors = h5::readDoubleAttribute(group.id(), "floors");
+    v.points = h5::readUInt64Attribute(group.id(), "points");
+    const std::size_t views = v.points.size();
+    if (viewpoints.size() != 3 * views || v.hidden_depths.size() != views ||
+        v.floors.size() != views)
+      throw DatabaseError(
+          "partial_view: viewpoints, hidden_depths, floors and points disagree "
+          "in their number of views");
+    v.viewpoints.resize(static_cast<Eigen::Index>(views), 3);
+    for (std::size_t i = 0; i < views; ++i)
+      for (int k = 0; k < 3; ++k)
+        v.viewpoints(static_cast<Eigen::Index>(i), k) =
+            viewpoints[3 * i + static_cast<std::size_t>(k)];
   }
   db.geometry = readGeometry(file, db.density);
   db.geometry.distance_grid = readDistanceGrid(file);

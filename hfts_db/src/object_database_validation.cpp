@@ -266,11 +266,17 @@ void validateObjectDatabase(const ObjectDatabase& db, const std::string& what) {
                 std::to_string(kMaxDensity) + "] kg/m^3, got " + std::to_string(db.density));
   if (db.partial_view) {
     const PartialView& v = *db.partial_view;
-    c.require(v.viewpoint.allFinite(), "partial_view.viewpoint must be finite");
-    c.require(std::isfinite(v.hidden_depth) && v.hidden_depth > 0.0,
-              "partial_view.hidden_depth must be positive");
-    c.require(std::isfinite(v.floor), "partial_view.floor must be finite");
-    c.require(v.points > 0, "partial_view.points must be positive");
+    const auto views = static_cast<std::size_t>(v.viewpoints.rows());
+    c.require(views > 0 && v.hidden_depths.size() == views && v.floors.size() == views &&
+                  v.points.size() == views,
+              "partial_view needs one viewpoint, hidden depth, floor and point count per view");
+    c.require(v.viewpoints.allFinite(), "partial_view.viewpoints must be finite");
+    for (std::size_t i = 0; i < v.hidden_depths.size(); ++i) {
+      c.require(std::isfinite(v.hidden_depths[i]) && v.hidden_depths[i] > 0.0,
+                "partial_view.hidden_depths must be positive");
+      c.require(std::isfinite(v.floors[i]), "partial_view.floors must be finite");
+      c.require(v.points[i] > 0, "partial_view.points must be positive");
+    }
   }
   checkGeometry(c, db.geometry);
   checkDistanceGrid(c, db.geometry);

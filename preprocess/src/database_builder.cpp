@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "core/invalid_argument.h"
@@ -242,51 +243,120 @@ BuildResult buildObjectDatabaseFromFile(const std::filesystem::path& meshPath,
   return result;
 }
 
-BuildResult buildObjectDatabaseFromView(const Vertices& points, const Vertices* normals,
-                                        const ViewOptions& view, const db::BuildParameters& params,
-                                        const std::string& what) {
-  checkBuildParameters(params);
-  if (normals != nullptr && (normals->rows() != points.rows() || !normals->allFinite()))
+namespace {
+
+/// One view as the builder uses it: smoothed, with the side each point was
+/// seen from and the sensor's normals (zero where it gave none).
+struct PreparedView {
+  Vertices points, sides, normals;
+};
+
+PreparedView prepared(const SensedView& view) {
+  PreparedView out;
+  const Vertices& raw = view.points;
+  checkViewPoints(raw);
+  if (view.normals && (view.normals->rows() != raw.rows() || !view.normals->allFinite()))
     throw InvalidArgument("normals", "need one finite normal per point (" +
-                                         std::to_string(points.rows()) + "), got " +
-                                         std::to_string(normals->rows()));
+                                         std::to_string(raw.rows()) + "), got " +
+                                         std::to_string(view.normals->rows()));
+  const Vertices given = view.normals ? *view.normals : Vertices::Zero(raw.rows(), 3);
+  if (view.options.smoothing > 0.0) {
+    // A hull over noisy points is as rough as the noise, and so are
+    // normals from them.
+    SmoothedView smoothed = smoothView(raw, view.options.viewpoint, view.options.smoothing);
+    out.points = std::move(smoothed.points);
+    out.sides = std::move(smoothed.normals);
+    out.normals.resize(out.points.rows(), 3);
+    for (std::size_t i = 0; i < smoothed.source.size(); ++i)
+      out.normals.row(static_cast<Eigen::Index>(i)) = given.row(smoothed.source[i]);
+    return out;
+  }
+  out.points = raw;
+  out.normals = given;
+  out.sides.resize(raw.rows(), 3);
+  for (Eigen::Index i = 0; i < raw.rows(); ++i)
+    out.sides.row(i) = (view.options.viewpoint - raw.row(i).transpose()).normalized().transpose();
+  return out;
+}
+
+/// `rows` appended to `all`.
+void append(Vertices& all, const Vertices& rows) {
+  const Eigen::Index before = all.rows();
+  all.conservativeResize(before + rows.rows(), 3);
+  all.bottomRows(rows.rows()) = rows;
+}
+
+}  // namespace
+
+BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
+                                         const db::BuildParameters& params,
+                                         const std::string& what) {
+  checkBuildParameters(params);
+  if (views.empty()) throw InvalidArgument("views", "needs at least one view");
   BuildResult result;
   Stopwatch watch;
   db::ObjectDatabase& db = result.database;
   db.producer = producerName();
-  // The sensor's noise smoothed first: a hull over noisy points is as
-  // rough as the noise, and so are normals from them.
-  Vertices observed = points;
-  Vertices sensorNormals;
-  if (normals != nullptr) sensorNormals = *normals;
-  Vertices sides;
-  if (view.smoothing > 0.0) {
-    SmoothedView smoothed = smoothView(points, view.viewpoint, view.smoothing);
-    observed = std::move(smoothed.points);
-    sides = std::move(smoothed.normals);
-    if (normals != nullptr)
-      for (std::size_t i = 0; i < smoothed.source.size(); ++i)
-        sensorNormals.row(static_cast<Eigen::Index>(i)) = normals->row(smoothed.source[i]);
-    sensorNormals.conservativeResize(normals != nullptr ? observed.rows() : 0, 3);
-  } else {
-    sides.resize(observed.rows(), 3);
-    for (Eigen::Index i = 0; i < observed.rows(); ++i)
-      sides.row(i) = (view.viewpoint - observed.row(i).transpose()).normalized().transpose();
+  db::PartialView& record = db.partial_view.emplace();
+  record.viewpoints.resize(static_cast<Eigen::Index>(views.size()), 3);
+  // The solid: each view's hull of its points and their shadows holds the
+  // object, so does what they have in common.
+  Vertices observed(0, 3), sides(0, 3), normals(0, 3);
+  std::optional<ConvexHull> solid;
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    const std::string field = views.size() > 1 ? "views[" + std::to_string(v) + "]." : "";
+    try {
+      const PreparedView view = prepared(views[v]);
+      const HiddenSide hidden = hiddenSide(view.points, views[v].options);
+      ConvexHull hull(hidden.corners, what);
+      if (solid) {
+        const Vertices common = intersectionCorners(*solid, hull);
+        if (common.rows() < 4)
+          throw MeshError(what + ": the solids of views 0 to " + std::to_string(v) +
+                          " have nothing in common (views of one object? viewpoints right?)");
+        solid.emplace(common, what + ": the solid the views have in common");
+      } else {
+        solid.emplace(std::move(hull));
+      }
+      append(observed, view.points);
+      append(sides, view.sides);
+      append(normals, view.normals);
+      record.viewpoints.row(static_cast<Eigen::Index>(v)) = views[v].options.viewpoint.transpose();
+      record.hidden_depths.push_back(hidden.hidden_depth);
+      record.floors.push_back(hidden.floor);
+      record.points.push_back(static_cast<std::uint64_t>(views[v].points.rows()));
+    } catch (const InvalidArgument& e) {
+      if (field.empty()) throw;
+      throw InvalidArgument(field + e.field(), e.problem());
+    }
   }
-  // The conservative solid: the hull of the points and their shadows.
-  const HiddenSide hidden = hiddenSide(observed, view);
-  const ConvexHull hull(hidden.corners, what);
-  const TriangleMesh mesh{hull.vertices(), hull.faces()};
-  db.geometry = objectGeometry(mesh, true, hull, centerOfMass(mesh, true, hull));
-  db.partial_view = db::PartialView{view.viewpoint, hidden.hidden_depth, hidden.floor,
-                                    static_cast<std::uint64_t>(points.rows())};
-  result.warnings.push_back(
-      what + ": a partial view; its shape is the hull of the points and their shadows (" +
-      std::to_string(1000.0 * hidden.hidden_depth) +
-      " mm behind each point), its centre of mass that hull's centroid");
+  const TriangleMesh mesh{solid->vertices(), solid->faces()};
+  db.geometry = objectGeometry(mesh, true, *solid, centerOfMass(mesh, true, *solid));
+  // A point one view saw where another saw through (outside the common
+  // solid: noise left at an edge, or a segmentation error) is no contact.
+  const double slack = 1e-6 * (db.geometry.bbox_max - db.geometry.bbox_min).norm();
+  Eigen::Index inside = 0;
+  for (Eigen::Index i = 0; i < observed.rows(); ++i) {
+    if (solid->depth(observed.row(i).transpose()) < -slack) continue;
+    observed.row(inside) = observed.row(i);
+    sides.row(inside) = sides.row(i);
+    normals.row(inside) = normals.row(i);
+    ++inside;
+  }
+  if (inside < observed.rows())
+    result.warnings.push_back(what + ": " + std::to_string(observed.rows() - inside) +
+                              " observed points lie outside the solid the views have in " +
+                              "common and are no contacts");
+  observed.conservativeResize(inside, 3);
+  sides.conservativeResize(inside, 3);
+  normals.conservativeResize(inside, 3);
+  result.warnings.push_back(what + ": " + std::to_string(views.size()) +
+                            " partial view(s); the solid is what their hulls of the points " +
+                            "and their shadows have in common, its centre of mass that " +
+                            "solid's centroid");
 
   // The contacts: observed points at the sampling density, each seen from
-  // the camera (the side its normal is turned to).
+  // a camera (the side its normal is turned to).
   const std::vector<std::uint32_t> kept =
       onePerVoxel(observed, 1.0 / std::sqrt(params.sample_density));
   Vertices positions(static_cast<Eigen::Index>(kept.size()), 3);
@@ -300,17 +370,16 @@ BuildResult buildObjectDatabaseFromView(const Vertices& points, const Vertices* 
   db.parameters = resolveFilterScales(params, params.sample_density);
   ContactSet contacts =
       estimateNormals(positions, keptSides, {observed, sides}, db.parameters.patch_radius);
-  if (normals != nullptr)  // the sensor's own normals, turned towards the camera
-    for (std::size_t i = 0; i < kept.size(); ++i) {
-      Eigen::Vector3d n = sensorNormals.row(kept[i]).transpose();
-      if (n.norm() < 1e-9) continue;
-      n.normalize();
-      const Eigen::Index row = static_cast<Eigen::Index>(i);
-      if (n.dot(contacts.normals.row(row).transpose()) < 0.0) n = -n;
-      contacts.normals.row(row) = n.transpose();
-    }
+  for (std::size_t i = 0; i < kept.size(); ++i) {  // the sensor's own, turned to the camera
+    Eigen::Vector3d n = normals.row(kept[i]).transpose();
+    if (n.norm() < 1e-9) continue;
+    n.normalize();
+    const auto row = static_cast<Eigen::Index>(i);
+    if (n.dot(contacts.normals.row(row).transpose()) < 0.0) n = -n;
+    contacts.normals.row(row) = n.transpose();
+  }
   result.times.normals = watch.lap();
-  completeDatabase(std::move(contacts), {mesh, true, false, hull}, params, result, watch, what);
+  completeDatabase(std::move(contacts), {mesh, true, false, *solid}, params, result, watch, what);
   return result;
 }
 

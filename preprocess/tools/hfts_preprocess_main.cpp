@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <sstream>
 #include <thread>
 
 #include "batch_runner.h"
@@ -144,25 +145,39 @@ int build(const std::string& input, const std::string& outDir, BuildParameters p
   return 0;
 }
 
+/// "x,y,z" as a point; throws std::invalid_argument naming `option`.
+Eigen::Vector3d pointOf(const std::string& text, const char* option) {
+  std::istringstream in(text);
+  Eigen::Vector3d p;
+  char comma1 = 0, comma2 = 0;
+  if (!(in >> p.x() >> comma1 >> p.y() >> comma2 >> p.z()) || comma1 != ',' || comma2 != ',' ||
+      !(in >> std::ws).eof() || !p.allFinite())
+    throw std::invalid_argument(std::string(option) +
+                                " expects X,Y,Z (three finite numbers), got '" + text + "'");
+  return p;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
       "Builds Hierarchical Fingertip Space databases (HDF5) from object meshes.\n"
       "  hfts-preprocess MESH_OR_DIR -o OUTDIR [options]\n"
-      "  hfts-preprocess CLOUD.pcd|.ply --viewpoint X,Y,Z -o OUTDIR [options]\n"
+      "  hfts-preprocess CLOUD.pcd|.ply... --viewpoint X,Y,Z... -o OUTDIR [options]\n"
       "  hfts-preprocess --inspect FILE.h5 [--json]\n"
       "  hfts-preprocess --export-ply FILE.h5 OUT.ply\n"
       "  hfts-preprocess --check-robot ROBOT.json",
       "hfts-preprocess"};
-  std::string input, outDir, inspectFile, handConfig, checkConfig;
+  std::vector<std::string> inputs;
+  std::string outDir, inspectFile, handConfig, checkConfig;
   std::vector<std::string> plyArgs, sceneArgs;
   hfts::preprocess::SceneExportOptions sceneOptions;
   bool json = false, quiet = false;
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
   BuildParameters params;
   double density = hfts::db::kDefaultDensity;
-  app.add_option("input", input, "Mesh file or directory of meshes");
+  app.add_option("input", inputs,
+                 "Mesh file or directory of meshes; or, with --viewpoint, the views of one object");
   app.add_option("-o,--output", outDir, "Directory for the <mesh stem>.h5 databases");
   app.add_option("-j,--jobs", jobs, "Objects built in parallel")
       ->check(CLI::Range(1u, 256u))
@@ -196,17 +211,28 @@ int main(int argc, char** argv) {
   app.add_option("--db", sceneOptions.databases,
                  "With --export-scene: directory of object databases (default build/databases)")
       ->needs(sceneOpt);
-  std::vector<double> viewpoint;
+  std::vector<std::string> viewpoints;
   hfts::preprocess::ViewOptions view;
   auto* viewOpt =
-      app.add_option("--viewpoint", viewpoint,
-                     "The input is one segmented view of the object (PCD or PLY points, z up) "
-                     "seen from this camera centre x,y,z (docs/point_clouds.md)")
-          ->delimiter(',')
-          ->expected(3);
+      app.add_option("--viewpoint", viewpoints,
+                     "The inputs are segmented views of one object (PCD or PLY points, z up), "
+                     "the first seen from the first camera centre X,Y,Z given, and so on "
+                     "(repeat it; docs/point_clouds.md)")
+          ->type_name("X,Y,Z");
   app.add_option("--hidden-depth", view.hidden_depth,
                  "With --viewpoint: how far behind each point the unseen side may reach (m); "
                  "0 = the largest edge of the points' bounding box")
+      ->check(CLI::NonNegativeNumber)
+      ->needs(viewOpt)
+      ->capture_default_str();
+  std::string objectName;
+  app.add_option("--name", objectName,
+                 "With --viewpoint: the object's name, and its database's stem (default: the "
+                 "first cloud's stem)")
+      ->needs(viewOpt);
+  app.add_option("--smoothing", view.smoothing,
+                 "With --viewpoint: radius (m) of the moving-least-squares smoothing of the "
+                 "sensor's noise; 0 = none")
       ->check(CLI::NonNegativeNumber)
       ->needs(viewOpt)
       ->capture_default_str();
@@ -246,17 +272,23 @@ int main(int argc, char** argv) {
     }
     if (!sceneArgs.empty())
       return hfts::preprocess::exportSceneCommand(sceneArgs, sceneOptions, argv[0]);
-    if (input.empty() || outDir.empty()) {
+    if (inputs.empty() || outDir.empty()) {
       std::cerr << "hfts-preprocess: give a mesh or directory and -o OUTDIR (see --help)\n";
       return 2;
     }
     if (!sceneOptions.robot.empty()) params.pad_radius = padRadiusOf(sceneOptions.robot, quiet);
     if (params.filters.size() == 1 && params.filters[0] == "none") params.filters.clear();
-    if (!viewpoint.empty()) {
-      view.viewpoint = {viewpoint[0], viewpoint[1], viewpoint[2]};
-      return hfts::preprocess::viewCommand(input, outDir, params, density, view, quiet);
+    if (!viewpoints.empty()) {
+      std::vector<Eigen::Vector3d> centres;
+      for (const std::string& text : viewpoints) centres.push_back(pointOf(text, "--viewpoint"));
+      return hfts::preprocess::viewCommand(inputs, centres, objectName, outDir, params, density,
+                                           view, quiet);
     }
-    return build(input, outDir, params, density, jobs, quiet);
+    if (inputs.size() != 1)
+      throw std::invalid_argument(
+          "give one mesh or directory (several inputs are the views "
+          "of one object, with --viewpoint)");
+    return build(inputs.front(), outDir, params, density, jobs, quiet);
   } catch (const std::invalid_argument& e) {
     std::cerr << "hfts-preprocess: " << e.what() << "\n";
     return 2;

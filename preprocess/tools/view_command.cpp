@@ -12,34 +12,52 @@
 
 namespace hfts::preprocess {
 
-int viewCommand(const std::string& cloud, const std::string& outDir,
-                const db::BuildParameters& params, double density, const ViewOptions& view,
-                bool quiet) {
-  const std::filesystem::path path(cloud);
+int viewCommand(const std::vector<std::string>& clouds,
+                const std::vector<Eigen::Vector3d>& viewpoints, const std::string& name,
+                const std::string& outDir, const db::BuildParameters& params, double density,
+                const ViewOptions& view, bool quiet) {
+  if (clouds.size() != viewpoints.size())
+    throw std::invalid_argument("give one --viewpoint per cloud (" + std::to_string(clouds.size()) +
+                                " clouds, " + std::to_string(viewpoints.size()) + " viewpoints)");
+  const std::filesystem::path first(clouds.front());
   BatchOutcome outcome;
-  outcome.mesh = path;
-  outcome.name = path.stem().string();
+  outcome.mesh = first;
+  outcome.name = name.empty() ? first.stem().string() : name;
+  if (outcome.name.empty() || outcome.name.find('/') != std::string::npos)
+    throw std::invalid_argument("--name '" + outcome.name + "' is no file stem");
   const auto start = std::chrono::steady_clock::now();
   try {
-    const Vertices points = robot::readPointCloud(path) * params.scale;
+    std::vector<SensedView> views;
+    std::string sources;
+    for (std::size_t i = 0; i < clouds.size(); ++i) {
+      SensedView& v = views.emplace_back();
+      v.points = robot::readPointCloud(clouds[i]) * params.scale;
+      v.options = view;
+      v.options.viewpoint = viewpoints[i];
+      sources += (i ? "," : "") + std::filesystem::path(clouds[i]).filename().string();
+    }
     BuildResult result =
-        buildObjectDatabaseFromView(points, nullptr, view, params, "view '" + path.string() + "'");
+        buildObjectDatabaseFromViews(views, params, "views of '" + outcome.name + "'");
     db::ObjectDatabase& db = result.database;
     db.name = outcome.name;
-    db.source_mesh = path.filename().string();
-    db.source_sha256 = sha256File(path);
+    db.source_mesh = sources;
+    db.source_sha256 = sha256File(first);
     db.density = density;
     std::filesystem::create_directories(outDir);
     db::saveObjectDatabase(db, std::filesystem::path(outDir) / (outcome.name + ".h5"));
     describeBuild(result, outcome);
   } catch (const InvalidArgument& e) {
-    // The view's options are usage errors; the cloud's problems fail the build.
-    for (const char* option : {"viewpoint", "hidden_depth", "floor"})
-      if (e.field() == option) {
+    // The views' options are usage errors; the clouds' problems fail the build.
+    for (const char* option : {"viewpoint", "hidden_depth", "floor", "smoothing"}) {
+      const std::string field = e.field();
+      if (field.size() >= std::string(option).size() &&
+          field.compare(field.size() - std::string(option).size(), std::string::npos, option) ==
+              0) {
         std::string flag = std::string("--") + option;
         std::replace(flag.begin(), flag.end(), '_', '-');
-        throw std::invalid_argument(flag + ": " + e.problem());
+        throw std::invalid_argument(flag + " (" + field + "): " + e.problem());
       }
+    }
     outcome.error = e.what();
   } catch (const std::exception& e) {
     outcome.error = e.what();

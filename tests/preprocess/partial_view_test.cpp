@@ -72,6 +72,14 @@ View viewOf(const Box& box, const Eigen::Vector3d& eye, double spacing, double s
 
 const Eigen::Vector3d kEye(0.5, 0.2, 0.4);
 
+/// Seen from `eye`, the other options their defaults but hidden_depth.
+ViewOptions from(const Eigen::Vector3d& eye, double hiddenDepth = 0.0) {
+  ViewOptions o;
+  o.viewpoint = eye;
+  o.hidden_depth = hiddenDepth;
+  return o;
+}
+
 TEST(PartialView, TheHullOfPointsAndShadowsHoldsTheWholeObject) {
   const Box box;
   const View view = viewOf(box, kEye, 0.002, 0.0);
@@ -182,8 +190,9 @@ TEST(PartialView, SmoothingTakesTheNoiseOut) {
 /// The database of a view of the box, as hfts-preprocess builds it.
 BuildResult boxDatabase(const View& view, const Vertices* normals = nullptr,
                         double smoothing = ViewOptions{}.smoothing) {
-  return buildObjectDatabaseFromView(view.points, normals, {kEye, 0.0, std::nullopt, smoothing},
-                                     db::BuildParameters{}, "box view");
+  SensedView sensed{view.points, std::nullopt, {kEye, 0.0, std::nullopt, smoothing}};
+  if (normals != nullptr) sensed.normals = *normals;
+  return buildObjectDatabaseFromViews({sensed}, db::BuildParameters{}, "box view");
 }
 
 TEST(PartialView, ContactsAreObservedPointsFacingTheCamera) {
@@ -194,8 +203,9 @@ TEST(PartialView, ContactsAreObservedPointsFacingTheCamera) {
   const db::ObjectDatabase& db = r.database;
   EXPECT_NO_THROW(db::validateObjectDatabase(db, "box view"));
   ASSERT_TRUE(db.partial_view.has_value());
-  EXPECT_EQ(db.partial_view->viewpoint, kEye);
-  EXPECT_EQ(db.partial_view->points, static_cast<std::uint64_t>(view.points.rows()));
+  EXPECT_EQ(db.partial_view->viewpoints.row(0).transpose(), kEye);
+  EXPECT_EQ(db.partial_view->points,
+            std::vector<std::uint64_t>{static_cast<std::uint64_t>(view.points.rows())});
   EXPECT_GT(db.numContacts(), 500u);
   EXPECT_EQ(db.levels.front().size(), 20u);
   // Each contact is one of the view's points, smoothed (moved by no more
@@ -252,14 +262,62 @@ TEST(PartialView, TheViewIsRecordedInTheFile) {
   db::saveObjectDatabase(db, path);
   const db::ObjectDatabase read = db::loadObjectDatabase(path);
   ASSERT_TRUE(read.partial_view.has_value());
-  EXPECT_EQ(read.partial_view->viewpoint, kEye);
-  EXPECT_EQ(read.partial_view->hidden_depth, db.partial_view->hidden_depth);
-  EXPECT_EQ(read.partial_view->floor, db.partial_view->floor);
+  EXPECT_EQ(read.partial_view->viewpoints, db.partial_view->viewpoints);
+  EXPECT_EQ(read.partial_view->hidden_depths, db.partial_view->hidden_depths);
+  EXPECT_EQ(read.partial_view->floors, db.partial_view->floors);
   EXPECT_EQ(read.partial_view->points, db.partial_view->points);
+  // A record whose views disagree in number is refused.
+  db.partial_view->floors.push_back(0.0);
+  EXPECT_THROW(db::saveObjectDatabase(db, path), db::DatabaseError);
   // A database from a mesh records none.
   db.partial_view.reset();
   db::saveObjectDatabase(db, path);
   EXPECT_FALSE(db::loadObjectDatabase(path).partial_view.has_value());
+}
+
+TEST(PartialView, ViewsFromTwoSidesShareOneSolidAndGiveOpposedContacts) {
+  const Box box;
+  const Eigen::Vector3d other(-0.5, -0.2, 0.4);
+  const View front = viewOf(box, kEye, 0.001, 0.0), back = viewOf(box, other, 0.001, 0.0);
+  const std::vector<SensedView> views{{front.points, std::nullopt, from(kEye)},
+                                      {back.points, std::nullopt, from(other)}};
+  const db::ObjectDatabase both =
+      buildObjectDatabaseFromViews(views, db::BuildParameters{}, "two views").database;
+  const db::ObjectDatabase one = boxDatabase(front, nullptr, ViewOptions{}.smoothing).database;
+  ASSERT_EQ(both.partial_view->viewpoints.rows(), 2);
+  // What both hulls hold: the box, but for its sharp corners, which the
+  // smoothing rounds (by 2.3 mm here), and less than either view's hull.
+  const ConvexHull solid(both.geometry.hull_vertices, "solid");
+  for (const Eigen::Vector3d& corner : box.corners()) EXPECT_GE(solid.depth(corner), -0.003);
+  EXPECT_LT(both.geometry.volume, 0.8 * one.geometry.volume);
+  EXPECT_LT(both.geometry.volume, 1.2 * box.size.prod());
+  // Contacts on both sides: some normals point each way along x.
+  double most = -1.0, least = 1.0;
+  for (Eigen::Index c = 0; c < both.normals.rows(); ++c) {
+    most = std::max(most, both.normals(c, 0));
+    least = std::min(least, both.normals(c, 0));
+  }
+  EXPECT_GT(most, 0.9);
+  EXPECT_LT(least, -0.9);
+}
+
+TEST(PartialView, ViewsOfDifferentThingsHaveNothingInCommon) {
+  const View front = viewOf(Box{}, kEye, 0.002, 0.0);
+  Vertices away = front.points;
+  away.col(0).array() += 1.0;  // a metre along x: another object
+  const std::vector<SensedView> views{{front.points, std::nullopt, from(kEye)},
+                                      {away, std::nullopt, from(kEye + Eigen::Vector3d(1, 0, 0))}};
+  EXPECT_THROW(buildObjectDatabaseFromViews(views, db::BuildParameters{}, "two"), MeshError);
+  // A bad option of the second view is named with its index.
+  std::vector<SensedView> bad{{front.points, std::nullopt, from(kEye)},
+                              {front.points, std::nullopt, from(kEye, -1.0)}};
+  try {
+    buildObjectDatabaseFromViews(bad, db::BuildParameters{}, "two");
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidArgument& e) {
+    EXPECT_EQ(e.field(), "views[1].hidden_depth");
+  }
+  EXPECT_THROW(buildObjectDatabaseFromViews({}, db::BuildParameters{}, "none"), InvalidArgument);
 }
 
 }  // namespace

@@ -168,15 +168,16 @@ struct HierarchyNode {
   Eigen::Vector3d mean_normal = Eigen::Vector3d::UnitZ();  ///< normalised, outward
 };
 
-/// How a database built from one partial view of the object (a segmented
-/// point cloud, hfts-preprocess --viewpoint) was made: its contacts are
-/// observed points only, and its mesh is a conservative stand-in for the
-/// unseen side (docs/point_clouds.md#objects-from-a-partial-view).
+/// How a database built from partial views of the object (segmented point
+/// clouds, hfts-preprocess --viewpoint) was made: its contacts are observed
+/// points only, and its mesh is a conservative stand-in for what no camera
+/// saw (docs/point_clouds.md#objects-from-a-partial-view). One entry per
+/// view.
 struct PartialView {
-  Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  ///< camera centre, object frame
-  double hidden_depth = 0.0;  ///< m the unseen side may reach behind each point
-  double floor = 0.0;         ///< z (object frame) below which it does not reach
-  std::uint64_t points = 0;   ///< points of the view used
+  Points3 viewpoints;                 ///< camera centres, object frame
+  std::vector<double> hidden_depths;  ///< m the unseen side may reach behind each point
+  std::vector<double> floors;         ///< z (object frame) below which it does not reach
+  std::vector<std::uint64_t> points;  ///< points of each view
 };
 
 /// A complete object database.

@@ -49,19 +49,22 @@ BuildResult buildObjectDatabaseFromFile(const std::filesystem::path& meshPath,
                                         const db::BuildParameters& params,
                                         double density = db::kDefaultDensity);
 
-/// Builds the database of an object seen from one side (a segmented point
-/// cloud in metres, in a frame whose z is up): its solid is the hull of the
-/// points and their shadows (hiddenSide), its contacts are observed
-/// points only, one per cube of 1/sqrt(sample_density), with PCL's normals
-/// turned towards the camera, or the sensor's `normals` (one per point,
-/// either sign) when given; the usual filters, hierarchy and grids follow.
-/// The database's partial_view records the view; name and source are the
-/// caller's to fill. Throws hfts::InvalidArgument ("points", "normals",
-/// "viewpoint", "hidden_depth", "floor", build parameters) and MeshError
-/// when no contact survives the filters.
-BuildResult buildObjectDatabaseFromView(const Vertices& points, const Vertices* normals,
-                                        const ViewOptions& view, const db::BuildParameters& params,
-                                        const std::string& what);
+/// Builds the database of an object seen from one or more sides (segmented
+/// point clouds in metres, in a frame whose z is up). Each view is first
+/// smoothed (smoothView, unless its options' smoothing is 0); the solid is
+/// what the views' hulls of their points and shadows (hiddenSide) have in
+/// common; the contacts are observed points only, one per cube of
+/// 1/sqrt(sample_density), with PCL's normals turned towards the camera,
+/// or the sensor's normals where a view gives them; the usual filters,
+/// hierarchy and grids follow. The database's partial_view records the
+/// views; name and source are the caller's to fill. Throws
+/// hfts::InvalidArgument ("points", "normals", "viewpoint",
+/// "hidden_depth", "floor", "smoothing", prefixed "views[i]." when there
+/// are several; build parameters) and MeshError when the views' solids
+/// have nothing in common or no contact survives the filters.
+BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
+                                         const db::BuildParameters& params,
+                                         const std::string& what);
 
 /// SHA-256 of a file's bytes as lowercase hex (OpenSSL).
 std::string sha256File(const std::filesystem::path& path);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "hfts_db/triangle_mesh.h"
+#include "preprocess/convex_hull.h"
 
 namespace hfts::preprocess {
 
@@ -65,6 +66,21 @@ struct HiddenSide {
 /// "hidden_depth" for a negative or non-finite one, "floor" for a
 /// non-finite one or one above every point).
 HiddenSide hiddenSide(const Vertices& points, const ViewOptions& options);
+
+/// The corners of the solid two convex solids have in common (each
+/// conservative, so is their intersection): the corners of each inside the
+/// other and where the edges of each cross the faces of the other. Empty
+/// when they do not overlap.
+Vertices intersectionCorners(const ConvexHull& a, const ConvexHull& b);
+
+/// One segmented view of the object: its points (metres, z up), the
+/// sensor's normals if it gave them (one per point, either sign), and how
+/// it was seen.
+struct SensedView {
+  Vertices points;
+  std::optional<Vertices> normals;
+  ViewOptions options;
+};
 
 /// Indices of one point per occupied cube of edge `voxel` (the first in
 /// the input's order, so a point keeps its own normal), in input order.
