@@ -332,12 +332,16 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
   }
   const TriangleMesh mesh{solid->vertices(), solid->faces()};
   db.geometry = objectGeometry(mesh, true, *solid, centerOfMass(mesh, true, *solid));
-  // A point one view saw where another saw through (outside the common
-  // solid: noise left at an edge, or a segmentation error) is no contact.
+  // A contact is on the solid's surface, where a finger closing on the
+  // solid touches it. A point outside (one view saw where another saw
+  // through: noise left at an edge, or a segmentation error) or deeper
+  // inside than kMaxViewContactDepth (the inside of a mug seen from above,
+  // a pocket the hull fills) is none.
   const double slack = 1e-6 * (db.geometry.bbox_max - db.geometry.bbox_min).norm();
   Eigen::Index inside = 0;
   for (Eigen::Index i = 0; i < observed.rows(); ++i) {
-    if (solid->depth(observed.row(i).transpose()) < -slack) continue;
+    const double depth = solid->depth(observed.row(i).transpose());
+    if (depth < -slack || depth > kMaxViewContactDepth) continue;
     observed.row(inside) = observed.row(i);
     sides.row(inside) = sides.row(i);
     normals.row(inside) = normals.row(i);
@@ -346,7 +350,9 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
   if (inside < observed.rows())
     result.warnings.push_back(what + ": " + std::to_string(observed.rows() - inside) +
                               " observed points lie outside the solid the views have in " +
-                              "common and are no contacts");
+                              "common or deeper in it than " +
+                              std::to_string(1000.0 * kMaxViewContactDepth) +
+                              " mm and are no contacts");
   observed.conservativeResize(inside, 3);
   sides.conservativeResize(inside, 3);
   normals.conservativeResize(inside, 3);

@@ -91,7 +91,19 @@ nlohmann::json databaseSummaryJson(const db::ObjectDatabase& db,
   for (const db::FilterReport& r : db.filter_reports)
     filters.push_back({{"name", r.name}, {"removed", r.removed}});
   const db::ObjectGeometry& g = db.geometry;
+  nlohmann::json views = nullptr;  // null: built from a mesh
+  if (const auto& v = db.partial_view) {
+    views = nlohmann::json::array();
+    for (Eigen::Index i = 0; i < v->viewpoints.rows(); ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      views.push_back({{"viewpoint", vec3(v->viewpoints.row(i).transpose())},
+                       {"hidden_depth", v->hidden_depths[k]},
+                       {"floor", v->floors[k]},
+                       {"points", v->points[k]}});
+    }
+  }
   return {{"name", db.name},
+          {"partial_views", views},
           {"format", db::kObjectFormatName},
           {"format_version", db::kObjectFormatVersion},
           {"producer", db.producer},
@@ -127,8 +139,11 @@ std::string databaseSummaryText(const db::ObjectDatabase& db,
   out << "object          " << db.name << " (from " << db.source_mesh << ")\n"
       << "format          " << db::kObjectFormatName << " v" << db::kObjectFormatVersion
       << ", written by " << db.producer << "\n"
-      << "mesh sha256     " << db.source_sha256 << "\n"
-      << "contacts        " << db.numContacts() << " kept of " << db.num_samples << " samples";
+      << "mesh sha256     " << db.source_sha256 << "\n";
+  if (const auto& v = db.partial_view)
+    out << "partial views   " << v->viewpoints.rows()
+        << ": contacts on observed points only, the solid a stand-in for the unseen side\n";
+  out << "contacts        " << db.numContacts() << " kept of " << db.num_samples << " samples";
   for (const db::FilterReport& r : db.filter_reports) out << "; " << r.name << " -" << r.removed;
   out << "\nbranching       ";
   for (std::size_t l = 0; l < db.parameters.branching.size(); ++l)

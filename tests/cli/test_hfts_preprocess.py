@@ -218,6 +218,71 @@ class PreprocessCli(unittest.TestCase):
         self.assertIn("empty.obj': the file is empty", result.stderr)
         self.assertIn("1 built, 2 failed", result.stdout)
 
+    def write_box_view(self, name, eye, spacing=0.002):
+        """A PLY of what a camera at `eye` sees of a 6 x 4 x 10 cm box on
+        z = 0 (the faces turned towards it), as hfts-render-depth writes one."""
+        size = (0.06, 0.04, 0.10)
+        centre = (0.0, 0.0, 0.05)
+        points = []
+        for axis in range(3):
+            for sign in (-1.0, 1.0):
+                face = list(centre)
+                face[axis] += sign * size[axis] / 2
+                if sign * (eye[axis] - face[axis]) <= 0:
+                    continue  # turned away
+                u, v = (axis + 1) % 3, (axis + 2) % 3
+                nu, nv = int(round(size[u] / spacing)), int(round(size[v] / spacing))
+                for i in range(nu + 1):
+                    for j in range(nv + 1):
+                        p = list(face)
+                        p[u] += -size[u] / 2 + i * spacing
+                        p[v] += -size[v] / 2 + j * spacing
+                        points.append(p)
+        path = os.path.join(self.tmp, name)
+        with open(path, "w") as f:
+            f.write("ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\n"
+                    "property float y\nproperty float z\nend_header\n" % len(points))
+            f.writelines("%.6f %.6f %.6f\n" % tuple(p) for p in points)
+        return path
+
+    def test_views_of_an_object_build_its_database(self):
+        front = self.write_box_view("box_front.ply", (0.5, 0.2, 0.4))
+        back = self.write_box_view("box_back.ply", (-0.5, -0.2, 0.4))
+        out = os.path.join(self.tmp, "views")
+        one = run(front, "--viewpoint", "0.5,0.2,0.4", "-o", out, check=0)
+        self.assertRegex(one.stdout, r"box_front\s+\d+\s+\d+\s+20/\d+/\d+\s+1\s.*ok")
+        self.assertIn("partial view", one.stderr)  # the warning: a stand-in solid
+        both = run(front, back, "--viewpoint", "0.5,0.2,0.4", "--viewpoint", "-0.5,-0.2,0.4",
+                   "--name", "box_seen", "-o", out, check=0)
+        self.assertIn("box_seen", both.stdout)
+        summary = json.loads(run("--inspect", os.path.join(out, "box_seen.h5"), "--json",
+                                 check=0).stdout)
+        self.assertEqual([v["viewpoint"] for v in summary["partial_views"]],
+                         [[0.5, 0.2, 0.4], [-0.5, -0.2, 0.4]])
+        self.assertEqual(summary["source_mesh"], "box_front.ply,box_back.ply")
+        # The two views' common solid is about the box (6 x 4 x 10 cm).
+        self.assertLess(summary["volume"], 1.2 * 0.06 * 0.04 * 0.10)
+        self.assertGreater(summary["volume"], 0.9 * 0.06 * 0.04 * 0.10)
+        self.assertIn("partial views   2",
+                      run("--inspect", os.path.join(out, "box_seen.h5"), check=0).stdout)
+        self.assertIsNone(json.loads(run("--inspect", os.path.join(self.out, "mug.h5"), "--json",
+                                         check=0).stdout)["partial_views"])
+        # Usage errors (exit 2) name the option; a cloud that cannot be read fails (exit 1).
+        for args, message in [
+                ((front, back, "--viewpoint", "0.5,0.2,0.4"), "one --viewpoint per cloud"),
+                ((front, "--viewpoint", "0.5,0.2"), "--viewpoint expects X,Y,Z"),
+                ((front, "--viewpoint", "0.5,0.2,nan"), "--viewpoint expects X,Y,Z"),
+                ((front, "--viewpoint", "0.5,0.2,0.4", "--hidden-depth", "-1"), "--hidden-depth"),
+                ((front, "--viewpoint", "0.5,0.2,0.4", "--floor", "1"), "--floor"),
+                ((front, "--hidden-depth", "0.1"), "--viewpoint"),
+                ((front, back), "several inputs")]:
+            result = run(*args, "-o", out)
+            self.assertEqual(result.returncode, 2, (args, result.stderr))
+            self.assertIn(message, result.stderr)
+        missing = run(os.path.join(self.tmp, "nothing.ply"), "--viewpoint", "0,0,1", "-o", out)
+        self.assertEqual(missing.returncode, 1, missing.stderr)
+        self.assertIn("nothing.ply", missing.stderr)
+
     def test_bad_arguments_get_clear_errors(self):
         result = run(self.meshes, "-o", self.tmp, "--filters", "curvature,magic")
         self.assertEqual(result.returncode, 2)
@@ -300,7 +365,7 @@ class PreprocessCli(unittest.TestCase):
             self.assertTrue(any(n.startswith("palm") for n in names), names)
             self.assertTrue(any(n.startswith("thumb_distal") for n in names), names)
             self.assertGreaterEqual(len(doc["meshes"]), 40)
-            self.assertEqual(len(doc["materials"]), 7)
+            self.assertEqual(len(doc["materials"]), 8)  # arm .. path, points
 
     def test_export_scene_rejects_bad_configurations_and_missing_databases(self):
         scene = os.path.join(SOURCE_DIR, "objects", "scenes", "table.json")

@@ -16,6 +16,12 @@
 
 namespace hfts::preprocess {
 
+/// How far inside the solid built from views an observed point may lie
+/// and still be a contact (m): about the noise left after smoothing.
+/// Deeper points (the inside of a mug seen from above, any pocket the
+/// convex solid fills) are where no finger closing on the solid can touch.
+inline constexpr double kMaxViewContactDepth = 0.003;
+
 struct ViewOptions {
   /// The camera's centre in the cloud's frame (whose z is up: the frame of
   /// the world the object stands in).
