@@ -242,8 +242,10 @@ int main(int argc, char** argv) {
       const db::ObjectDatabase target =
           db::loadObjectDatabase(fs::path(dbDir) / (scene.target_object + ".h5"));
       scene.target_pose = robot::targetPose(scene, target.geometry.mesh_vertices);
-      // A sensed scene as the planner sees it: without what the camera saw
-      // of the target and of the robot at its start (docs/point_clouds.md).
+      // A sensed scene as the planner sees it: without what another view
+      // saw through, what the camera saw of the target and of the robot at
+      // its start (docs/point_clouds.md).
+      scene = robot::withSeenSpaceCarved(scene);
       scene = robot::withTargetCarved(scene, target.geometry.distance_grid,
                                       target.geometry.mesh_vertices);
       scene =

@@ -3,9 +3,14 @@
 #include <fcl/narrowphase/distance.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
+#include <string>
+#include <unordered_set>
 
 #include "fcl_query.h"
 #include "robot/kinematics.h"
@@ -45,6 +50,86 @@ Eigen::Vector3d voxelCentre(const Obstacle& o, int i, int j, int k) {
 }
 
 }  // namespace
+
+namespace {
+
+/// A voxel's absolute index as one key (kMaxVoxelIndex bounds each).
+std::uint64_t voxelKey(int i, int j, int k) {
+  const auto part = [](int x) { return static_cast<std::uint64_t>(x + (1 << 20)) & 0x1fffff; };
+  return (part(i) << 42) | (part(j) << 21) | part(k);
+}
+
+std::array<int, 3> voxelOf(const Eigen::Vector3d& p, double voxel) {
+  return {static_cast<int>(std::floor(p.x() / voxel)), static_cast<int>(std::floor(p.y() / voxel)),
+          static_cast<int>(std::floor(p.z() / voxel))};
+}
+
+/// The occupied voxels of `target` (its frame) that `viewer`'s camera saw
+/// through: along the ray to each of its points, up to the point less its
+/// radius and half of target's voxel diagonal.
+void appendSeenThrough(const Obstacle& target, const Obstacle& viewer,
+                       std::unordered_set<std::uint64_t>& seen) {
+  const VoxelCloud& to = *target.cloud;
+  const VoxelCloud& from = *viewer.cloud;
+  const double v = to.options.voxel;
+  const Eigen::Isometry3d toTarget = target.pose.inverse() * viewer.pose;
+  const Eigen::Vector3d eye = toTarget * *from.options.viewpoint;
+  const double margin = from.options.radius + 0.5 * std::sqrt(3.0) * v;
+  for (Eigen::Index p = 0; p < from.points.rows(); ++p) {
+    const Eigen::Vector3d point = toTarget * Eigen::Vector3d(from.points.row(p).transpose());
+    const Eigen::Vector3d ray = point - eye;
+    const double length = ray.norm() - margin;
+    if (!(length > 0.0)) continue;
+    const Eigen::Vector3d along = ray.normalized();
+    for (double t = 0.0; t < length; t += v / 2) {
+      const auto [i, j, k] = voxelOf(eye + t * along, v);
+      if (to.isOccupied(i, j, k)) seen.insert(voxelKey(i, j, k));
+    }
+  }
+}
+
+/// The voxels of `cloud` within its radius of one of its own points.
+std::unordered_set<std::uint64_t> observedVoxels(const VoxelCloud& cloud) {
+  std::unordered_set<std::uint64_t> out;
+  const double v = cloud.options.voxel, r = cloud.options.radius;
+  for (Eigen::Index p = 0; p < cloud.points.rows(); ++p) {
+    const Eigen::Vector3d point = cloud.points.row(p).transpose();
+    const auto from = voxelOf(point - Eigen::Vector3d::Constant(r), v);
+    const auto to = voxelOf(point + Eigen::Vector3d::Constant(r), v);
+    for (int k = from[2]; k <= to[2]; ++k)
+      for (int j = from[1]; j <= to[1]; ++j)
+        for (int i = from[0]; i <= to[0]; ++i) {
+          const Eigen::Vector3d low = Eigen::Vector3d(i, j, k) * v;
+          const Eigen::Vector3d gap =
+              (low - point).cwiseMax(point - low - Eigen::Vector3d::Constant(v)).cwiseMax(0.0);
+          if (gap.squaredNorm() <= r * r) out.insert(voxelKey(i, j, k));
+        }
+  }
+  return out;
+}
+
+}  // namespace
+
+Scene withSeenSpaceCarved(const Scene& scene) {
+  std::vector<const Obstacle*> views;
+  for (const Obstacle& o : scene.obstacles)
+    if (o.type == Obstacle::Type::kPoints && o.cloud->options.viewpoint &&
+        o.cloud->points.rows() > 0)
+      views.push_back(&o);
+  if (views.size() < 2) return scene;
+  std::map<std::string, std::unordered_set<std::uint64_t>> carve;
+  for (const Obstacle* target : views) {
+    std::unordered_set<std::uint64_t> seen;
+    for (const Obstacle* viewer : views)
+      if (viewer != target) appendSeenThrough(*target, *viewer, seen);
+    for (const std::uint64_t key : observedVoxels(*target->cloud)) seen.erase(key);
+    carve[target->name] = std::move(seen);
+  }
+  return carved(scene, [&](const Obstacle& o, int i, int j, int k) {
+    const auto found = carve.find(o.name);
+    return found != carve.end() && found->second.count(voxelKey(i, j, k)) > 0;
+  });
+}
 
 Scene withTargetCarved(const Scene& scene, const db::DistanceGrid& grid, const Vertices& vertices) {
   if (vertices.rows() == 0 || grid.empty()) return scene;

@@ -566,5 +566,58 @@ TEST(PointCloudScene, TheRobotAtItsStartIsCarvedOutOfTheCloud) {
   EXPECT_EQ(carved.obstacles[0].cloud->occupied_count, scene.obstacles[0].cloud->occupied_count);
 }
 
+/// A cloud obstacle of `points` (world frame) seen from `eye`, with shadows.
+Obstacle viewObstacle(const std::string& name, const Vertices& points,
+                      const Eigen::Vector3d& eye) {
+  Obstacle o;
+  o.name = name;
+  o.type = Obstacle::Type::kPoints;
+  CloudOptions options;
+  options.viewpoint = eye;
+  options.shadow = 0.5;
+  auto cloud = std::make_shared<VoxelCloud>(voxelize(points, options));
+  o.cloud = cloud;
+  o.mesh = cloud->mesh;
+  o.distance_grid = std::shared_ptr<const db::DistanceGrid>(cloud, &cloud->distances);
+  return o;
+}
+
+/// Points on the plane x = `x`, |y|, |z| <= `half`, `spacing` apart.
+Vertices wallAt(double x, double half, double spacing) {
+  std::vector<Eigen::Vector3d> points;
+  for (double y = -half; y <= half + 1e-9; y += spacing)
+    for (double z = -half; z <= half + 1e-9; z += spacing) points.emplace_back(x, y, z);
+  Vertices out(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    out.row(static_cast<Eigen::Index>(i)) = points[i].transpose();
+  return out;
+}
+
+TEST(SensedScene, AnotherViewClearsTheShadowsItSawThrough) {
+  // Camera A sees a wall at x = 1 and leaves 0.5 m of shadow behind it;
+  // camera B, beside it, looks across that shadow at a wall of its own.
+  Scene scene;
+  scene.obstacles.push_back(viewObstacle("a", wallAt(1.0, 0.1, 0.005), {0, 0, 0}));
+  Vertices across = wallAt(0.0, 0.1, 0.005);
+  for (Eigen::Index i = 0; i < across.rows(); ++i)
+    across.row(i) = Eigen::Vector3d(1.25 + across(i, 2), -1.0, across(i, 1)).transpose();
+  scene.obstacles.push_back(viewObstacle("b", across, {1.25, 2.0, 0.0}));
+  const VoxelCloud& a = *scene.obstacles[0].cloud;
+  ASSERT_TRUE(a.isOccupied(125, 0, 0));  // in A's shadow: x = 1.25
+  const Scene fused = withSeenSpaceCarved(scene);
+  ASSERT_EQ(fused.obstacles.size(), 2u);
+  const VoxelCloud& carvedA = *fused.obstacles[0].cloud;
+  EXPECT_LT(carvedA.occupied_count, a.occupied_count);
+  EXPECT_FALSE(carvedA.isOccupied(125, 0, 0));  // B saw through it
+  EXPECT_TRUE(carvedA.isOccupied(100, 0, 0));   // A's wall itself stays
+  EXPECT_TRUE(carvedA.isOccupied(149, 0, 0));   // beyond B's rays (x 1.15 .. 1.35)
+  // B's own wall is seen by B: it stays whole (A's rays end at x = 1).
+  EXPECT_EQ(fused.obstacles[1].cloud->occupied_count, scene.obstacles[1].cloud->occupied_count);
+  // One view alone clears nothing.
+  Scene one;
+  one.obstacles.push_back(scene.obstacles[0]);
+  EXPECT_EQ(withSeenSpaceCarved(one).obstacles[0].cloud->occupied_count, a.occupied_count);
+}
+
 }  // namespace
 }  // namespace hfts::robot

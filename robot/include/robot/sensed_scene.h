@@ -14,6 +14,16 @@
 
 namespace hfts::robot {
 
+/// The scene with what its views saw through taken out of its other
+/// views: a voxel of one point-cloud obstacle goes when a camera of another
+/// (a cloud with a viewpoint: a depth image's) saw a point beyond it along
+/// the same ray, and no point of its own lies within its radius. So the
+/// shadows one camera leaves behind what it saw (space it cannot know is
+/// free) are cleared where another camera looked through them, as
+/// occupancy maps fuse views; what a camera saw itself is kept. A scene
+/// with fewer than two clouds with viewpoints is returned as it is.
+Scene withSeenSpaceCarved(const Scene& scene);
+
 /// The scene with the voxels of its point-cloud obstacles that the target
 /// (`vertices` and `grid` in its frame, at scene.target_pose) may touch
 /// removed: what a sensor saw of the object to pick, or of its support
