@@ -31,7 +31,9 @@ int viewCommand(const std::vector<std::string>& clouds,
     std::string sources;
     for (std::size_t i = 0; i < clouds.size(); ++i) {
       SensedView& v = views.emplace_back();
-      v.points = robot::readPointCloud(clouds[i]) * params.scale;
+      robot::SensedPoints read = robot::readPointCloudWithNormals(clouds[i]);
+      v.points = read.points * params.scale;
+      v.normals = std::move(read.normals);
       v.options = view;
       v.options.viewpoint = viewpoints[i];
       sources += (i ? "," : "") + std::filesystem::path(clouds[i]).filename().string();

@@ -1,6 +1,7 @@
 #include "robot/sensor_files.h"
 
 #include <pcl/console/print.h>
+#include <pcl/conversions.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 #include <pcl/point_types.h>
@@ -286,7 +287,7 @@ void checkScale(double scale) {
 
 }  // namespace
 
-Vertices readPointCloud(const std::filesystem::path& path) {
+SensedPoints readPointCloudWithNormals(const std::filesystem::path& path) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error))
     refuse("file", "cannot read '" + path.string() + "'");
@@ -298,25 +299,48 @@ Vertices readPointCloud(const std::filesystem::path& path) {
   const std::string problem = headerProblem(path, extension == ".pcd");
   if (!problem.empty()) refuse("file", "'" + path.string() + "': " + problem);
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);  // errors come back as ours
-  pcl::PointCloud<pcl::PointXYZ> cloud;
+  pcl::PCLPointCloud2 blob;
   int status = -1;
   if (extension == ".pcd") {
     pcl::PCDReader reader;
-    status = reader.read(path.string(), cloud);
-  } else if (extension == ".ply") {
+    status = reader.read(path.string(), blob);
+  } else {
     pcl::PLYReader reader;
-    status = reader.read(path.string(), cloud);
+    status = reader.read(path.string(), blob);
   }
   if (status < 0) refuse("file", "'" + path.string() + "': not a readable point cloud");
-  Vertices points(static_cast<Eigen::Index>(cloud.size()), 3);
+  // PCL names a PLY's nx, ny, nz normal_x, normal_y, normal_z too.
+  const auto has = [&](const char* name) {
+    return std::any_of(blob.fields.begin(), blob.fields.end(),
+                       [&](const pcl::PCLPointField& f) { return f.name == name; });
+  };
+  const bool withNormals = has("normal_x") && has("normal_y") && has("normal_z");
+  pcl::PointCloud<pcl::PointNormal> cloud;
+  pcl::fromPCLPointCloud2(blob, cloud);
+  SensedPoints out;
+  out.points.resize(static_cast<Eigen::Index>(cloud.size()), 3);
+  Vertices normals(static_cast<Eigen::Index>(cloud.size()), 3);
   Eigen::Index n = 0;
-  for (const pcl::PointXYZ& p : cloud)
-    if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
-      points.row(n++) << static_cast<double>(p.x), static_cast<double>(p.y),
-          static_cast<double>(p.z);
-  points.conservativeResize(n, 3);
-  if (points.rows() == 0) refuse("file", "'" + path.string() + "': holds no finite point");
-  return points;
+  for (const pcl::PointNormal& p : cloud) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
+    out.points.row(n) << static_cast<double>(p.x), static_cast<double>(p.y),
+        static_cast<double>(p.z);
+    const Eigen::Vector3d normal(static_cast<double>(p.normal_x), static_cast<double>(p.normal_y),
+                                 static_cast<double>(p.normal_z));
+    normals.row(n) = (normal.allFinite() ? normal : Eigen::Vector3d::Zero()).transpose();
+    ++n;
+  }
+  out.points.conservativeResize(n, 3);
+  if (out.points.rows() == 0) refuse("file", "'" + path.string() + "': holds no finite point");
+  if (withNormals) {
+    normals.conservativeResize(n, 3);
+    out.normals = std::move(normals);
+  }
+  return out;
+}
+
+Vertices readPointCloud(const std::filesystem::path& path) {
+  return readPointCloudWithNormals(path).points;
 }
 
 DepthImage readDepthImage(const std::filesystem::path& path, double scale) {

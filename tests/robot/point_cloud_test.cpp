@@ -303,6 +303,33 @@ TEST_F(Files, PcdAndPlyCloudsAreRead) {
   EXPECT_THROW(readPointCloud(dir_ / "missing.pcd"), InvalidArgument);
 }
 
+TEST_F(Files, CloudsKeepTheirNormalsWhenTheyHaveThem) {
+  const SensedPoints pcd = readPointCloudWithNormals(
+      write("n.pcd",
+            "VERSION .7\nFIELDS x y z normal_x normal_y normal_z\nSIZE 4 4 4 4 4 4\n"
+            "TYPE F F F F F F\nCOUNT 1 1 1 1 1 1\nWIDTH 3\nHEIGHT 1\n"
+            "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA ascii\n0.1 0.2 0.3 0 0 1\n"
+            "nan nan nan 1 0 0\n1 2 3 nan 0 0\n"));
+  ASSERT_EQ(pcd.points.rows(), 2);
+  ASSERT_TRUE(pcd.normals.has_value());
+  ASSERT_EQ(pcd.normals->rows(), 2);  // one per point kept, in order
+  EXPECT_TRUE(pcd.normals->row(0).isApprox(Eigen::RowVector3d(0, 0, 1)));
+  EXPECT_TRUE(pcd.normals->row(1).isZero());  // not finite: none
+  const SensedPoints ply = readPointCloudWithNormals(
+      write("n.ply",
+            "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+            "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+            "end_header\n0.5 0.25 -1 0 -1 0\n"));
+  ASSERT_TRUE(ply.normals.has_value());
+  EXPECT_TRUE(ply.normals->row(0).isApprox(Eigen::RowVector3d(0, -1, 0)));
+  // Without normals in the file, none.
+  EXPECT_FALSE(
+      readPointCloudWithNormals(write("p.ply",
+                                      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"
+                                      "property float y\nproperty float z\nend_header\n1 2 3\n"))
+          .normals.has_value());
+}
+
 TEST_F(Files, DepthImagesAreReadFromPngInTheirUnitsAndFromNpy) {
   const DepthImage mm = readDepthImage(png("d.png", 2, 2, {0, 1000, 65535, 1}), 0.001);
   ASSERT_EQ(mm.width, 2);
@@ -567,8 +594,7 @@ TEST(PointCloudScene, TheRobotAtItsStartIsCarvedOutOfTheCloud) {
 }
 
 /// A cloud obstacle of `points` (world frame) seen from `eye`, with shadows.
-Obstacle viewObstacle(const std::string& name, const Vertices& points,
-                      const Eigen::Vector3d& eye) {
+Obstacle viewObstacle(const std::string& name, const Vertices& points, const Eigen::Vector3d& eye) {
   Obstacle o;
   o.name = name;
   o.type = Obstacle::Type::kPoints;

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,6 +21,17 @@ namespace hfts::robot {
 /// for a file that cannot be read, holds no points or has non-finite ones
 /// only (non-finite points are dropped).
 Vertices readPointCloud(const std::filesystem::path& path);
+
+/// A cloud's points and, when the file has them (PCD normal_x, normal_y,
+/// normal_z; PLY nx, ny, nz), its normals, one per point (zero where a
+/// point's normal is not finite).
+struct SensedPoints {
+  Vertices points;
+  std::optional<Vertices> normals;
+};
+
+/// readPointCloud with the file's normals; the same errors.
+SensedPoints readPointCloudWithNormals(const std::filesystem::path& path);
 
 /// Reads a depth image: a 16-bit single-channel PNG (values times
 /// `scale` give metres: 0.001 for millimetres) or a NumPy .npy file of
