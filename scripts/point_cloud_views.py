@@ -50,7 +50,8 @@ def render(out_dir, db_dir, seed=1):
         for view, eye in VIEWS.items():
             subprocess.run([os.path.join(ROOT, "build", "bin", "hfts-render-depth"), path,
                             "-o", out_dir, "--db", db_dir, "--eye", ",".join(map(str, eye)),
-                            "--look-at", look, "--name", f"{scene}_{view}", "--seed", str(seed)],
+                            "--look-at", look, "--name", f"{scene}_{view}", "--seed", str(seed),
+                            "--partial"],
                            check=True)
 
 

@@ -1,8 +1,9 @@
 // hfts-render-depth: what a depth camera would see of a scene
 // (docs/point_clouds.md). Writes the depth image (16-bit PNG, mm), the
-// target's segmentation mask (8-bit PNG), a scene that has the view in
-// place of the obstacles, to plan from what the camera saw, the target's
-// points (PLY) and a scene whose target is the object built from them.
+// target's segmentation mask (8-bit PNG) and a scene that has the view in
+// place of the obstacles, to plan from what the camera saw; with
+// --partial, the target's points (PLY) and a scene whose target is the
+// object built from them.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -45,7 +46,12 @@ struct Options {
   std::string noise = "kinect";
   std::uint64_t seed = 1;
   double voxel = robot::CloudOptions{}.voxel, radius = robot::CloudOptions{}.radius;
+  bool partial = false;  ///< also the target's points and a scene to grasp them
 };
+
+void writePartial(const Options& o, const std::string& stem, const robot::DepthView& view,
+                  const robot::RenderedDepth& rendered, const json& out,
+                  const std::string& sceneName);
 
 int run(const Options& o, const char* argv0) {
   const robot::Scene all = robot::loadScene(o.scene);
@@ -94,9 +100,25 @@ int run(const Options& o, const char* argv0) {
   out["target"] = {{"object", scene.target_object}, {"pose", poseJson(targetPose)}};
   out.erase("placements");
   core::writeFileAtomically(fs::path(o.output) / (stem + ".json"), out.dump(2) + "\n");
-  // What the camera saw of the target alone (world frame, metres): the
-  // segmented cloud hfts-preprocess --viewpoint builds an object from, and
-  // a scene with that object where it stood (its frame is the world's).
+  std::size_t seen = 0, onTarget = 0;
+  for (std::size_t i = 0; i < rendered.image.depths.size(); ++i) {
+    seen += rendered.image.depths[i] > 0 ? 1 : 0;
+    onTarget += rendered.target_mask[i];
+  }
+  std::cout << "wrote " << stem << ".png, " << stem << "_mask.png, " << stem << ".json";
+  if (o.partial) writePartial(o, stem, view, rendered, out, scene.name);
+  std::cout << " to " << o.output << ": " << seen << " of " << rendered.image.depths.size()
+            << " pixels with a depth, " << onTarget << " on the target\n";
+  return 0;
+}
+
+/// What the camera saw of the target alone (world frame, metres): the
+/// segmented cloud hfts-preprocess --viewpoint builds an object from, and
+/// the view's scene with that object where it stood (its frame is the
+/// world's).
+void writePartial(const Options& o, const std::string& stem, const robot::DepthView& view,
+                  const robot::RenderedDepth& rendered, const json& out,
+                  const std::string& sceneName) {
   std::vector<std::uint8_t> offTarget(rendered.target_mask.size());
   for (std::size_t i = 0; i < offTarget.size(); ++i)
     offTarget[i] = rendered.target_mask[i] != 0 ? 0 : 1;
@@ -113,22 +135,12 @@ int run(const Options& o, const char* argv0) {
   core::writeFileAtomically(fs::path(o.output) / (stem + "_object.ply"), ply.str());
   json partial = out;
   partial["name"] = stem + "_partial";
-  partial["description"] = "scene '" + scene.name + "' seen by hfts-render-depth, its target " +
-                           "built from the view alone";
+  partial["description"] =
+      "scene '" + sceneName + "' seen by hfts-render-depth, its target built from the view alone";
   partial["target"] = {{"object", stem + "_object"},
                        {"pose", poseJson(Eigen::Isometry3d::Identity())}};
   core::writeFileAtomically(fs::path(o.output) / (stem + "_partial.json"), partial.dump(2) + "\n");
-
-  std::size_t seen = 0, onTarget = 0;
-  for (std::size_t i = 0; i < rendered.image.depths.size(); ++i) {
-    seen += rendered.image.depths[i] > 0 ? 1 : 0;
-    onTarget += rendered.target_mask[i];
-  }
-  std::cout << "wrote " << stem << ".png, " << stem << "_mask.png, " << stem << ".json, " << stem
-            << "_object.ply and " << stem << "_partial.json to " << o.output << ": " << seen
-            << " of " << rendered.image.depths.size() << " pixels with a depth, " << onTarget
-            << " on the target\n";
-  return 0;
+  std::cout << ", " << stem << "_object.ply, " << stem << "_partial.json";
 }
 
 }  // namespace
@@ -163,6 +175,10 @@ int main(int argc, char** argv) {
   app.add_option("--voxel", o.voxel, "The written scene's voxel (m)")->capture_default_str();
   app.add_option("--radius", o.radius, "The written scene's noise radius (m)")
       ->capture_default_str();
+  app.add_flag("--partial", o.partial,
+               "Also write the target's points (<stem>_object.ply, world frame) and a scene "
+               "whose target is the object hfts-preprocess --viewpoint builds from them "
+               "(<stem>_partial.json)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

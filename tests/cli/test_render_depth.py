@@ -66,6 +66,29 @@ class RenderDepth(unittest.TestCase):
         self.assertEqual(disagree, 0)
         self.assertEqual(mdisagree, 0)
 
+    def test_partial_writes_the_targets_points_and_a_scene_to_grasp_them(self):
+        out = os.path.join(self.tmp, "partial")
+        result = run(ARGS.render, self.scene, "-o", out, "--db", self.db, "--eye", "0.15,0.75,0.95",
+                     "--look-at", "0.55,0,0.1", "--width", 160, "--height", 120, "--name", "left",
+                     "--partial")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        on_target = int(result.stdout.split(": ")[1].split()[7])
+        with open(os.path.join(out, "left_object.ply")) as f:
+            header = f.read().split("end_header\n")
+        count = int(header[0].split("element vertex ")[1].split()[0])
+        self.assertEqual(count, len(header[1].splitlines()))
+        self.assertGreater(count, 0.8 * on_target)  # the target's pixels, but dropouts
+        # The points lie where the target stands (the table's mug at x 0.55).
+        xs = [float(line.split()[0]) for line in header[1].splitlines()]
+        self.assertTrue(all(0.45 < x < 0.7 for x in xs), (min(xs), max(xs)))
+        with open(os.path.join(out, "left_partial.json")) as f:
+            scene = json.load(f)
+        self.assertEqual(scene["target"]["object"], "left_object")
+        self.assertEqual(scene["target"]["pose"]["position"], [0.0, 0.0, 0.0])
+        self.assertNotIn("rest_on", scene["target"])
+        # Without --partial, neither.
+        self.assertFalse(os.path.exists(os.path.join(self.views, "behind_object.ply")))
+
     def test_bad_arguments_are_refused(self):
         result = self.render("--eye", "0,0", "--look-at", "1,0,0")
         self.assertEqual(result.returncode, 2)
