@@ -52,24 +52,6 @@ HiddenSide hiddenSide(const Vertices& points, const ViewOptions& options) {
 
 namespace {
 
-/// Each face's outward plane (n, d: n.p + d <= 0 inside); slivers, whose
-/// plane is a rounding error, left out.
-std::vector<Eigen::Vector4d> facePlanes(const ConvexHull& hull) {
-  std::vector<Eigen::Vector4d> planes;
-  const db::Points3& v = hull.vertices();
-  const db::Faces3& f = hull.faces();
-  for (Eigen::Index t = 0; t < f.rows(); ++t) {
-    const Eigen::Vector3d a = v.row(f(t, 0)).transpose();
-    const Eigen::Vector3d ab = v.row(f(t, 1)).transpose() - a;
-    const Eigen::Vector3d ac = v.row(f(t, 2)).transpose() - a;
-    const Eigen::Vector3d n = ab.cross(ac);
-    if (n.norm() <= 1e-9 * ab.norm() * ac.norm()) continue;
-    const Eigen::Vector3d u = n.normalized();
-    planes.emplace_back(u.x(), u.y(), u.z(), -u.dot(a));
-  }
-  return planes;
-}
-
 /// What of `a` lies in `b`: a's corners inside b and where a's edges
 /// cross b's planes, inside b.
 void appendCornersIn(const ConvexHull& a, const ConvexHull& b, std::vector<Eigen::Vector3d>& out) {
@@ -77,13 +59,14 @@ void appendCornersIn(const ConvexHull& a, const ConvexHull& b, std::vector<Eigen
   const db::Points3& v = a.vertices();
   for (Eigen::Index i = 0; i < v.rows(); ++i)
     if (b.depth(v.row(i).transpose()) >= -kTolerance) out.push_back(v.row(i).transpose());
-  const std::vector<Eigen::Vector4d> planes = facePlanes(b);
   const db::Faces3& f = a.faces();
   for (Eigen::Index t = 0; t < f.rows(); ++t)
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector3d p = v.row(f(t, k)).transpose();
       const Eigen::Vector3d q = v.row(f(t, (k + 1) % 3)).transpose();
-      for (const Eigen::Vector4d& plane : planes) {
+      for (Eigen::Index row = 0; row < b.planes().rows(); ++row) {
+        const Eigen::Vector4d plane = b.planes().row(row).transpose();
+        if (!std::isfinite(plane[3])) continue;  // a sliver's
         const double sp = plane.head<3>().dot(p) + plane[3];
         const double sq = plane.head<3>().dot(q) + plane[3];
         if ((sp < 0.0) == (sq < 0.0) || sp == sq) continue;

@@ -38,6 +38,11 @@ class ConvexHull {
   /// logarithmic time (the concavity filter's query). Precondition: p is
   /// not farther than `limit` outside the hull.
   bool isShallow(const Eigen::Vector3d& p, double limit) const;
+  /// One outward plane per face (n.x, n.y, n.z, d: n.p + d <= 0 inside);
+  /// a sliver's row is (0, 0, 0, -infinity), never the nearest.
+  const Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>& planes() const {
+    return planes_;
+  }
   /// Centroid of the solid hull.
   Eigen::Vector3d centroid() const;
 
