@@ -5,7 +5,7 @@
 
 find_package(Threads REQUIRED)
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
-find_package(PCL 1.13 REQUIRED COMPONENTS common kdtree search features filters)
+find_package(PCL 1.13 REQUIRED COMPONENTS common kdtree search features filters sample_consensus)
 find_package(CGAL 5.5 REQUIRED)
 find_package(embree 3.13 REQUIRED)
 find_package(assimp 5.2 REQUIRED)

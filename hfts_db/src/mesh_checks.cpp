@@ -113,4 +113,16 @@ SolidProperties solidProperties(const TriangleMesh& mesh) {
   return out;
 }
 
+TriangleMesh boxMesh(const Eigen::Vector3d& size) {
+  TriangleMesh mesh;
+  mesh.vertices.resize(8, 3);
+  for (int i = 0; i < 8; ++i)
+    mesh.vertices.row(i) << ((i & 1) ? 0.5 : -0.5) * size.x(), ((i & 2) ? 0.5 : -0.5) * size.y(),
+        ((i & 4) ? 0.5 : -0.5) * size.z();
+  mesh.triangles.resize(12, 3);
+  mesh.triangles << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2,
+      2, 4, 6, 1, 3, 5, 3, 7, 5;
+  return mesh;
+}
+
 }  // namespace hfts

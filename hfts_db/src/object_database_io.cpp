@@ -326,6 +326,11 @@ void writeAll(hid_t file, const ObjectDatabase& db) {
     h5::writeAttribute(group.id(), "hidden_depths", v.hidden_depths);
     h5::writeAttribute(group.id(), "floors", v.floors);
     h5::writeAttribute(group.id(), "points", v.points);
+    if (v.hidden_low.rows() > 0) {
+      const auto n = v.hidden_low.rows();
+      h5::writeDataset(group.id(), "hidden_low", v.hidden_low.data(), shapeOf(n, 3));
+      h5::writeDataset(group.id(), "hidden_high", v.hidden_high.data(), shapeOf(n, 3));
+    }
   }
   writeGeometry(file, db.geometry, db.density);
   writeDistanceGrid(file, db.geometry.distance_grid);
@@ -373,6 +378,10 @@ ObjectDatabase readAll(hid_t file) {
       throw DatabaseError(
           "partial_view: viewpoints, hidden_depths, floors and points disagree "
           "in their number of views");
+    if (h5::exists(group.id(), "hidden_low")) {
+      v.hidden_low = toMatrix<Points3>(h5::readDoubles(group.id(), "hidden_low"), "hidden_low");
+      v.hidden_high = toMatrix<Points3>(h5::readDoubles(group.id(), "hidden_high"), "hidden_high");
+    }
     v.viewpoints.resize(static_cast<Eigen::Index>(views), 3);
     for (std::size_t i = 0; i < views; ++i)
       for (int k = 0; k < 3; ++k)

@@ -78,8 +78,9 @@ struct SharedProblem {
   /// The request's object where the request puts it: at object_pose, or
   /// at the scene's target pose (resting on its support when it has one);
   /// sensed obstacles without what another view saw through, what the
-  /// sensor saw of the object and of the robot at its start
-  /// (docs/point_clouds.md).
+  /// sensor saw of the object and of the robot at its start; an object
+  /// built from views with the space they could not see free beside it as
+  /// an obstacle (docs/point_clouds.md).
   static robot::Scene sceneOf(const PlanRequest& request, const db::ObjectDatabase& object,
                               const robot::RobotModel& robot) {
     robot::Scene s = request.scene;
@@ -90,6 +91,7 @@ struct SharedProblem {
     s.target_rest_on.clear();  // placed
     s = robot::withSeenSpaceCarved(s);
     s = robot::withTargetCarved(s, object.geometry.distance_grid, object.geometry.mesh_vertices);
+    if (object.partial_view) s = robot::withHiddenSide(s, *object.partial_view);
     return robot::withRobotCarved(s, robot, startOf(robot, request));
   }
 

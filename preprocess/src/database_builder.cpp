@@ -286,6 +286,79 @@ void append(Vertices& all, const Vertices& rows) {
   all.bottomRows(rows.rows()) = rows;
 }
 
+/// The carving of the views' depth images (carveViews) when every view
+/// has one; its occlusions as warnings.
+std::optional<Carving> carvedViews(const std::vector<SensedView>& views, const std::string& what,
+                                   std::vector<std::string>& warnings) {
+  if (std::any_of(views.begin(), views.end(), [](const SensedView& v) { return !v.depth; }))
+    return std::nullopt;
+  std::vector<DepthEvidence> images;
+  Vertices points(0, 3);
+  double reach = views.front().options.hidden_depth;
+  for (const SensedView& view : views) {
+    images.push_back(*view.depth);
+    checkViewPoints(view.points);
+    append(points, view.points);
+    if (view.options.hidden_depth <= 0.0)
+      reach = std::max(
+          reach, (view.points.colwise().maxCoeff() - view.points.colwise().minCoeff()).maxCoeff());
+  }
+  Carving carving = carveViews(images, points, reach, views.front().options.floor);
+  bool hidden = false;
+  for (std::size_t v = 0; v < views.size(); ++v)
+    if (static_cast<double>(carving.occluded[v]) >
+        kOccludedOutline * static_cast<double>(carving.outline[v])) {
+      hidden = true;
+      warnings.push_back(what + ": view " + std::to_string(v) + ": " +
+                         std::to_string(carving.occluded[v]) + " of the " +
+                         std::to_string(carving.outline[v]) +
+                         " pixels of the object's outline border a nearer surface, an unseen " +
+                         "pixel or the image's edge: part of it may be hidden there");
+    }
+  if (hidden && views.front().options.hidden_depth <= 0.0 && reach < kOccludedReach) {
+    // What is seen of a hidden object bounds nothing: carve again with the
+    // assumed size.
+    carving = carveViews(images, points, kOccludedReach, views.front().options.floor);
+    warnings.push_back(what + ": the solid holds what may lie hidden up to " +
+                       std::to_string(kOccludedReach) +
+                       " m beyond the observed points (--hidden-depth to bound it)");
+  }
+  if (views.front().options.floor)
+    warnings.push_back(what +
+                       ": carved above the floor given, z = " + std::to_string(carving.floor));
+  else if (carving.floor_fitted)
+    warnings.push_back(what + ": carved above the support plane seen under the object, z = " +
+                       std::to_string(carving.floor) + " (--floor to give it)");
+  else
+    warnings.push_back(what + ": no support plane seen under the object; carved above its " +
+                       "lowest observed point, z = " + std::to_string(carving.floor) +
+                       " (--floor to give it)");
+  warnings.push_back(what + ": " + std::to_string(carving.centres.rows()) + " voxels of " +
+                     std::to_string(carving.voxel) + " m no camera saw free");
+  return carving;
+}
+
+/// The voxels the cameras could not see free outside `solid`, as boxes.
+std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> carvedOutside(const ConvexHull& solid,
+                                                                       const Carving& carving) {
+  std::vector<Eigen::Index> outside;
+  for (Eigen::Index i = 0; i < carving.centres.rows(); ++i)
+    if (solid.depth(carving.centres.row(i).transpose()) < 0.0) outside.push_back(i);
+  Vertices centres(static_cast<Eigen::Index>(outside.size()), 3);
+  for (std::size_t i = 0; i < outside.size(); ++i)
+    centres.row(static_cast<Eigen::Index>(i)) = carving.centres.row(outside[i]);
+  return mergedVoxels(centres, carving.voxel);
+}
+
+/// How deep `p` lies in the boxes (0 outside all of them).
+double boxDepth(const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& boxes,
+                const Eigen::Vector3d& p) {
+  double deepest = 0.0;
+  for (const auto& [low, high] : boxes)
+    deepest = std::max(deepest, std::min((p - low).minCoeff(), (high - p).minCoeff()));
+  return deepest;
+}
+
 }  // namespace
 
 BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
@@ -299,6 +372,9 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
   db.producer = producerName();
   db::PartialView& record = db.partial_view.emplace();
   record.viewpoints.resize(static_cast<Eigen::Index>(views.size()), 3);
+  // With the depth images, where the cameras saw through first: it gives
+  // the support the shadows stop at and what the shadows miss.
+  const std::optional<Carving> carving = carvedViews(views, what, result.warnings);
   // The solid: each view's hull of its points and their shadows holds the
   // object, so does what they have in common.
   Vertices observed(0, 3), sides(0, 3), normals(0, 3);
@@ -307,7 +383,9 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
     const std::string field = views.size() > 1 ? "views[" + std::to_string(v) + "]." : "";
     try {
       const PreparedView view = prepared(views[v]);
-      const HiddenSide hidden = hiddenSide(view.points, views[v].options);
+      ViewOptions options = views[v].options;
+      if (carving) options.floor = std::min(carving->floor, view.points.col(2).maxCoeff());
+      const HiddenSide hidden = hiddenSide(view.points, options);
       ConvexHull hull(hidden.corners, what);
       if (solid) {
         const Vertices common = intersectionCorners(*solid, hull);
@@ -330,6 +408,18 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
       throw InvalidArgument(field + e.field(), e.problem());
     }
   }
+  // What the cameras could not see free beyond that solid: boxes beside
+  // it, kept apart (the hull of both would bury the observed surface
+  // wherever an occluder stands near it); the planner keeps out of them.
+  const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> boxes =
+      carving ? carvedOutside(*solid, *carving)
+              : std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>{};
+  record.hidden_low.resize(static_cast<Eigen::Index>(boxes.size()), 3);
+  record.hidden_high.resize(static_cast<Eigen::Index>(boxes.size()), 3);
+  for (std::size_t b = 0; b < boxes.size(); ++b) {
+    record.hidden_low.row(static_cast<Eigen::Index>(b)) = boxes[b].first.transpose();
+    record.hidden_high.row(static_cast<Eigen::Index>(b)) = boxes[b].second.transpose();
+  }
   const TriangleMesh mesh{solid->vertices(), solid->faces()};
   db.geometry = objectGeometry(mesh, true, *solid, centerOfMass(mesh, true, *solid));
   // A contact is on the solid's surface, where a finger closing on the
@@ -339,9 +429,11 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
   // a pocket the hull fills) is none.
   const double slack = 1e-6 * (db.geometry.bbox_max - db.geometry.bbox_min).norm();
   Eigen::Index inside = 0;
+  const Eigen::Index observedCount = observed.rows();
   for (Eigen::Index i = 0; i < observed.rows(); ++i) {
     const double depth = solid->depth(observed.row(i).transpose());
     if (depth < -slack || depth > kMaxViewContactDepth) continue;
+    if (boxDepth(boxes, observed.row(i).transpose()) > kMaxViewContactDepth) continue;
     observed.row(inside) = observed.row(i);
     sides.row(inside) = sides.row(i);
     normals.row(inside) = normals.row(i);
@@ -356,10 +448,13 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
   observed.conservativeResize(inside, 3);
   sides.conservativeResize(inside, 3);
   normals.conservativeResize(inside, 3);
-  result.warnings.push_back(what + ": " + std::to_string(views.size()) +
-                            " partial view(s); the solid is what their hulls of the points " +
-                            "and their shadows have in common, its centre of mass that " +
-                            "solid's centroid");
+  result.warnings.push_back(
+      what + ": " + std::to_string(views.size()) +
+      " partial view(s); the solid is what their hulls of the points and their shadows have in " +
+      "common" + ", its centre of mass that solid's centroid" +
+      (carving ? "; beside it " + std::to_string(boxes.size()) +
+                     " boxes of space no camera saw free, an obstacle to the planner"
+               : std::string()));
 
   // The contacts: observed points at the sampling density, each seen from
   // a camera (the side its normal is turned to).
@@ -385,7 +480,17 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
     contacts.normals.row(row) = n.transpose();
   }
   result.times.normals = watch.lap();
-  completeDatabase(std::move(contacts), {mesh, true, false, *solid}, params, result, watch, what);
+  try {
+    completeDatabase(std::move(contacts), {mesh, true, false, *solid}, params, result, watch, what);
+  } catch (const MeshError& e) {
+    if (!carving || 4 * inside >= observedCount) throw;
+    throw MeshError(
+        std::string(e.what()) + "; only " + std::to_string(inside) + " of " +
+        std::to_string(observedCount) +
+        " observed points lie on the solid's surface: what no camera saw free (behind " +
+        "other objects, beyond the views) closes around the object (more views, a " +
+        "smaller --hidden-depth if the object is known to be smaller)");
+  }
   return result;
 }
 

@@ -164,6 +164,7 @@ int main(int argc, char** argv) {
       "Builds Hierarchical Fingertip Space databases (HDF5) from object meshes.\n"
       "  hfts-preprocess MESH_OR_DIR -o OUTDIR [options]\n"
       "  hfts-preprocess CLOUD.pcd|.ply... --viewpoint X,Y,Z... -o OUTDIR [options]\n"
+      "  hfts-preprocess SCENE.json --depth-views -o OUTDIR [options]\n"
       "  hfts-preprocess --inspect FILE.h5 [--json]\n"
       "  hfts-preprocess --export-ply FILE.h5 OUT.ply\n"
       "  hfts-preprocess --check-robot ROBOT.json",
@@ -219,27 +220,31 @@ int main(int argc, char** argv) {
                      "the first seen from the first camera centre X,Y,Z given, and so on "
                      "(repeat it; docs/point_clouds.md)")
           ->type_name("X,Y,Z");
+  bool depthViews = false;
+  auto* depthViewsOpt = app.add_flag(
+      "--depth-views", depthViews,
+      "The input is a scene file whose depth_image obstacles with a mask are views of one "
+      "object (the masked pixels); their whole images carve where it may be "
+      "(docs/point_clouds.md)");
+  depthViewsOpt->excludes(viewOpt);
+  const std::vector<std::string> viewOnly{"--hidden-depth", "--name", "--smoothing", "--floor"};
   app.add_option("--hidden-depth", view.hidden_depth,
-                 "With --viewpoint: how far behind each point the unseen side may reach (m); "
-                 "0 = the largest edge of the points' bounding box")
+                 "With --viewpoint or --depth-views: how far beyond the observed points the "
+                 "unseen side may reach (m); 0 = the largest edge of the points' bounding box")
       ->check(CLI::NonNegativeNumber)
-      ->needs(viewOpt)
       ->capture_default_str();
   std::string objectName;
   app.add_option("--name", objectName,
-                 "With --viewpoint: the object's name, and its database's stem (default: the "
-                 "first cloud's stem)")
-      ->needs(viewOpt);
+                 "With --viewpoint or --depth-views: the object's name, and its database's "
+                 "stem (default: the first input's stem)");
   app.add_option("--smoothing", view.smoothing,
-                 "With --viewpoint: radius (m) of the moving-least-squares smoothing of the "
-                 "sensor's noise; 0 = none")
+                 "With --viewpoint or --depth-views: radius (m) of the moving-least-squares "
+                 "smoothing of the sensor's noise; 0 = none")
       ->check(CLI::NonNegativeNumber)
-      ->needs(viewOpt)
       ->capture_default_str();
-  auto* floorOpt = app.add_option(
-      "--floor", view.floor,
-      "With --viewpoint: height (z) the object stands on (default: its lowest point)");
-  floorOpt->needs(viewOpt);
+  app.add_option("--floor", view.floor,
+                 "With --viewpoint or --depth-views: height (z) the object stands on (default: "
+                 "its lowest point; with --depth-views the highest horizontal plane seen there)");
   addBuildOptions(app, params);
   app.add_option("--density", density,
                  "Density of the objects' material (kg/m^3); a <mesh stem>.json sidecar with "
@@ -272,6 +277,9 @@ int main(int argc, char** argv) {
     }
     if (!sceneArgs.empty())
       return hfts::preprocess::exportSceneCommand(sceneArgs, sceneOptions, argv[0]);
+    for (const std::string& option : viewOnly)
+      if (app.count(option) > 0 && viewpoints.empty() && !depthViews)
+        throw std::invalid_argument(option + " needs --viewpoint or --depth-views");
     if (inputs.empty() || outDir.empty()) {
       std::cerr << "hfts-preprocess: give a mesh or directory and -o OUTDIR (see --help)\n";
       return 2;
@@ -283,6 +291,11 @@ int main(int argc, char** argv) {
       for (const std::string& text : viewpoints) centres.push_back(pointOf(text, "--viewpoint"));
       return hfts::preprocess::viewCommand(inputs, centres, objectName, outDir, params, density,
                                            view, quiet);
+    }
+    if (depthViews) {
+      if (inputs.size() != 1) throw std::invalid_argument("--depth-views takes one scene file");
+      return hfts::preprocess::depthViewCommand(inputs.front(), objectName, outDir, params, density,
+                                                view, quiet);
     }
     if (inputs.size() != 1)
       throw std::invalid_argument(

@@ -3,23 +3,27 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 
 #include "batch_runner.h"
 #include "core/invalid_argument.h"
 #include "preprocess/database_builder.h"
+#include "robot/point_cloud.h"
+#include "robot/scene.h"
 #include "robot/sensor_files.h"
 
 namespace hfts::preprocess {
 
-int viewCommand(const std::vector<std::string>& clouds,
-                const std::vector<Eigen::Vector3d>& viewpoints, const std::string& name,
-                const std::string& outDir, const db::BuildParameters& params, double density,
-                const ViewOptions& view, bool quiet) {
-  if (clouds.size() != viewpoints.size())
-    throw std::invalid_argument("give one --viewpoint per cloud (" + std::to_string(clouds.size()) +
-                                " clouds, " + std::to_string(viewpoints.size()) + " viewpoints)");
-  const std::filesystem::path first(clouds.front());
+namespace {
+
+/// Builds the views `read` gives into DIR/<name>.h5 (`sources` and the
+/// hash of `first` recorded as the database's source) and reports as
+/// viewCommand.
+int buildViews(const std::function<std::vector<SensedView>()>& read, const std::string& sources,
+               const std::filesystem::path& first, const std::string& name,
+               const std::string& outDir, const db::BuildParameters& params, double density,
+               bool quiet) {
   BatchOutcome outcome;
   outcome.mesh = first;
   outcome.name = name.empty() ? first.stem().string() : name;
@@ -27,19 +31,8 @@ int viewCommand(const std::vector<std::string>& clouds,
     throw std::invalid_argument("--name '" + outcome.name + "' is no file stem");
   const auto start = std::chrono::steady_clock::now();
   try {
-    std::vector<SensedView> views;
-    std::string sources;
-    for (std::size_t i = 0; i < clouds.size(); ++i) {
-      SensedView& v = views.emplace_back();
-      robot::SensedPoints read = robot::readPointCloudWithNormals(clouds[i]);
-      v.points = read.points * params.scale;
-      v.normals = std::move(read.normals);
-      v.options = view;
-      v.options.viewpoint = viewpoints[i];
-      sources += (i ? "," : "") + std::filesystem::path(clouds[i]).filename().string();
-    }
     BuildResult result =
-        buildObjectDatabaseFromViews(views, params, "views of '" + outcome.name + "'");
+        buildObjectDatabaseFromViews(read(), params, "views of '" + outcome.name + "'");
     db::ObjectDatabase& db = result.database;
     db.name = outcome.name;
     db.source_mesh = sources;
@@ -70,6 +63,69 @@ int viewCommand(const std::vector<std::string>& clouds,
   if (!outcome.ok) std::cerr << "hfts-preprocess: " << outcome.error << "\n";
   printSummaryTable(std::cout, {outcome});
   return outcome.ok ? 0 : 1;
+}
+
+}  // namespace
+
+int viewCommand(const std::vector<std::string>& clouds,
+                const std::vector<Eigen::Vector3d>& viewpoints, const std::string& name,
+                const std::string& outDir, const db::BuildParameters& params, double density,
+                const ViewOptions& view, bool quiet) {
+  if (clouds.size() != viewpoints.size())
+    throw std::invalid_argument("give one --viewpoint per cloud (" + std::to_string(clouds.size()) +
+                                " clouds, " + std::to_string(viewpoints.size()) + " viewpoints)");
+  std::string sources;
+  for (std::size_t i = 0; i < clouds.size(); ++i)
+    sources += (i ? "," : "") + std::filesystem::path(clouds[i]).filename().string();
+  const auto read = [&] {
+    std::vector<SensedView> views;
+    for (std::size_t i = 0; i < clouds.size(); ++i) {
+      SensedView& v = views.emplace_back();
+      robot::SensedPoints points = robot::readPointCloudWithNormals(clouds[i]);
+      v.points = points.points * params.scale;
+      v.normals = std::move(points.normals);
+      v.options = view;
+      v.options.viewpoint = viewpoints[i];
+    }
+    return views;
+  };
+  return buildViews(read, sources, clouds.front(), name, outDir, params, density, quiet);
+}
+
+int depthViewCommand(const std::string& scene, const std::string& name, const std::string& outDir,
+                     const db::BuildParameters& params, double density, const ViewOptions& view,
+                     bool quiet) {
+  const auto read = [&] {
+    std::vector<SensedView> views;
+    for (robot::TargetView& seen : robot::loadTargetViews(scene)) {
+      // The target's pixels, seen from the camera's centre.
+      std::vector<std::uint8_t> others(seen.mask.size());
+      for (std::size_t i = 0; i < others.size(); ++i) others[i] = seen.mask[i] == 0;
+      const Vertices local = robot::depthToPoints(seen.image, seen.camera, &others);
+      if (local.rows() < 4)
+        throw InvalidArgument("points", "view '" + seen.name + "' sees " +
+                                            std::to_string(local.rows()) +
+                                            " pixels of the target (its mask), fewer than 4");
+      SensedView& v = views.emplace_back();
+      v.points =
+          (local * seen.pose.linear().transpose()).rowwise() + seen.pose.translation().transpose();
+      v.options = view;
+      v.options.viewpoint = seen.pose.translation();
+      DepthEvidence& depth = v.depth.emplace();
+      depth.camera = seen.pose;
+      depth.fx = seen.camera.fx;
+      depth.fy = seen.camera.fy;
+      depth.cx = seen.camera.cx;
+      depth.cy = seen.camera.cy;
+      depth.width = seen.image.width;
+      depth.height = seen.image.height;
+      depth.depths = std::move(seen.image.depths);
+      depth.target = std::move(seen.mask);
+    }
+    return views;
+  };
+  const std::filesystem::path path(scene);
+  return buildViews(read, path.filename().string(), path, name, outDir, params, density, quiet);
 }
 
 }  // namespace hfts::preprocess

@@ -24,4 +24,12 @@ int viewCommand(const std::vector<std::string>& clouds,
                 const std::string& outDir, const db::BuildParameters& params, double density,
                 const ViewOptions& view, bool quiet);
 
+/// hfts-preprocess SCENE.json --depth-views: the same from the scene's
+/// depth_image obstacles with a mask (robot::loadTargetViews), the masked
+/// pixels the object's points and the whole images carved (carveViews).
+/// `name` empty: the scene file's stem.
+int depthViewCommand(const std::string& scene, const std::string& name, const std::string& outDir,
+                     const db::BuildParameters& params, double density, const ViewOptions& view,
+                     bool quiet);
+
 }  // namespace hfts::preprocess

@@ -151,6 +151,37 @@ DepthImage depthImage(const Fields& f, const std::string& key, const std::filesy
                              : decodeDepthNpy(bytes, scale, key);
 }
 
+/// What a depth_image obstacle gives: its camera, image and mask (empty
+/// when it has none).
+struct SensedImage {
+  DepthCamera camera;
+  DepthImage image;
+  std::vector<std::uint8_t> mask;
+  const char* key = nullptr;  ///< the member that held the image
+};
+
+SensedImage sensedImage(const Fields& f, const std::filesystem::path& baseDir,
+                        const std::string& where, const std::string& source) {
+  SensedImage out;
+  const std::string units = f.string("units");
+  if (units != "m" && units != "mm") f.failAt("units", "must be m or mm, got '" + units + "'");
+  const Fields k(f.at("intrinsics"), pathOf(where, "intrinsics"), source);
+  out.camera.fx = k.positive("fx");
+  out.camera.fy = k.positive("fy");
+  out.camera.cx = k.number("cx");
+  out.camera.cy = k.number("cy");
+  out.camera.min_depth = f.nonNegative("min_depth", out.camera.min_depth);
+  out.camera.max_depth = f.has("max_depth") ? f.positive("max_depth") : out.camera.max_depth;
+  out.key = imageKey(f);
+  out.image = depthImage(f, out.key, baseDir, units == "mm" ? 0.001 : 1.0);
+  if (f.has("mask") && f.has("mask_base64")) f.fail("needs at most one of mask and mask_base64");
+  if (f.has("mask")) out.mask = readMask(baseDir / f.string("mask"));
+  if (f.has("mask_base64"))
+    out.mask =
+        decodeMaskPng(core::base64Decode(f.string("mask_base64"), "mask_base64"), "mask_base64");
+  return out;
+}
+
 /// A points or depth_image obstacle's points, in its frame.
 Vertices sensedPoints(const Fields& f, const std::string& type, const json& item,
                       const std::filesystem::path& baseDir, const std::string& where,
@@ -160,26 +191,10 @@ Vertices sensedPoints(const Fields& f, const std::string& type, const json& item
     return f.has("points") ? inlinePoints(f, item.at("points"))
                            : readPointCloud(baseDir / f.string("file"));
   }
-  const std::string units = f.string("units");
-  if (units != "m" && units != "mm") f.failAt("units", "must be m or mm, got '" + units + "'");
-  DepthCamera camera;
-  const Fields k(f.at("intrinsics"), pathOf(where, "intrinsics"), source);
-  camera.fx = k.positive("fx");
-  camera.fy = k.positive("fy");
-  camera.cx = k.number("cx");
-  camera.cy = k.number("cy");
-  camera.min_depth = f.nonNegative("min_depth", camera.min_depth);
-  camera.max_depth = f.has("max_depth") ? f.positive("max_depth") : camera.max_depth;
-  const char* key = imageKey(f);
-  const DepthImage image = depthImage(f, key, baseDir, units == "mm" ? 0.001 : 1.0);
-  if (f.has("mask") && f.has("mask_base64")) f.fail("needs at most one of mask and mask_base64");
-  std::vector<std::uint8_t> mask;
-  if (f.has("mask")) mask = readMask(baseDir / f.string("mask"));
-  if (f.has("mask_base64"))
-    mask = decodeMaskPng(core::base64Decode(f.string("mask_base64"), "mask_base64"), "mask_base64");
+  const SensedImage sensed = sensedImage(f, baseDir, where, source);
   const bool masked = f.has("mask") || f.has("mask_base64");
-  Vertices points = depthToPoints(image, camera, masked ? &mask : nullptr);
-  if (points.rows() == 0) f.failAt(key, "has no depth within [min_depth, max_depth]");
+  Vertices points = depthToPoints(sensed.image, sensed.camera, masked ? &sensed.mask : nullptr);
+  if (points.rows() == 0) f.failAt(sensed.key, "has no depth within [min_depth, max_depth]");
   return points;
 }
 
@@ -404,6 +419,44 @@ Scene parseScene(const std::string& text, const std::filesystem::path& baseDir,
 std::vector<Obstacle> parseObstacles(const std::string& text, const std::filesystem::path& baseDir,
                                      const std::string& what) {
   return parseObstacleArray(parseJson(text, what), baseDir, what);
+}
+
+std::vector<TargetView> loadTargetViews(const std::filesystem::path& path) {
+  const std::string what = "scene '" + path.string() + "'";
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(what, "", "cannot read the file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  const json root = parseJson(text.str(), what);
+  const Fields f(root, "", what);
+  const json& obstacles = f.at("obstacles");
+  if (!obstacles.is_array()) f.failAt("obstacles", "must be an array");
+  std::vector<TargetView> out;
+  for (std::size_t i = 0; i < obstacles.size(); ++i) {
+    const std::string where = "obstacles[" + std::to_string(i) + "]";
+    const Fields o(obstacles[i], where, what);
+    if (o.string("type") != "depth_image" || !(o.has("mask") || o.has("mask_base64"))) continue;
+    TargetView& view = out.emplace_back();
+    view.name = o.string("name");
+    view.pose = o.pose("pose");
+    try {
+      SensedImage sensed = sensedImage(o, path.parent_path(), where, what);
+      // Checks the camera and the sizes as the obstacle's reading would.
+      depthToPoints(sensed.image, sensed.camera, &sensed.mask);
+      for (float& depth : sensed.image.depths)
+        if (!(static_cast<double>(depth) >= sensed.camera.min_depth &&
+              static_cast<double>(depth) <= sensed.camera.max_depth))
+          depth = 0.0f;
+      view.camera = sensed.camera;
+      view.image = std::move(sensed.image);
+      view.mask = std::move(sensed.mask);
+    } catch (const InvalidArgument& e) {
+      o.failAt(e.field(), e.problem());
+    }
+  }
+  if (out.empty())
+    throw SceneError(what, "obstacles", "has no depth_image with a mask (the target's pixels)");
+  return out;
 }
 
 Scene loadScene(const std::filesystem::path& path) {

@@ -12,6 +12,7 @@
 #include <string>
 #include <unordered_set>
 
+#include "core/invalid_argument.h"
 #include "fcl_query.h"
 #include "robot/kinematics.h"
 
@@ -143,6 +144,48 @@ Scene withTargetCarved(const Scene& scene, const db::DistanceGrid& grid, const V
       return false;
     return grid.lowerBound(centre) <= halfDiagonal;
   });
+}
+
+Scene withHiddenSide(const Scene& scene, const db::PartialView& view) {
+  if (view.hidden_low.rows() == 0) return scene;
+  // Points a lattice of kHiddenVoxel apart on and in every box: each point
+  // of a box lies within half the lattice cell's diagonal of one.
+  std::vector<Eigen::Vector3d> lattice;
+  for (Eigen::Index b = 0; b < view.hidden_low.rows(); ++b) {
+    const Eigen::Vector3d low = view.hidden_low.row(b).transpose();
+    const Eigen::Vector3d high = view.hidden_high.row(b).transpose();
+    std::array<int, 3> steps{};
+    for (int a = 0; a < 3; ++a)
+      steps[a] = static_cast<int>(std::ceil((high[a] - low[a]) / kHiddenVoxel - 1e-9));
+    for (int k = 0; k <= steps[2]; ++k)
+      for (int j = 0; j <= steps[1]; ++j)
+        for (int i = 0; i <= steps[0]; ++i)
+          lattice.push_back(
+              low.cwiseMax(high.cwiseMin(low + kHiddenVoxel * Eigen::Vector3d(i, j, k))));
+  }
+  Vertices points(static_cast<Eigen::Index>(lattice.size()), 3);
+  for (std::size_t i = 0; i < lattice.size(); ++i)
+    points.row(static_cast<Eigen::Index>(i)) = lattice[i].transpose();
+  CloudOptions options;
+  options.voxel = kHiddenVoxel;
+  options.radius = 0.5 * std::sqrt(3.0) * kHiddenVoxel;
+  options.shadow = 0.0;
+  Obstacle o;
+  o.name = scene.target_object + ".hidden";
+  o.type = Obstacle::Type::kPoints;
+  o.pose = scene.target_pose;
+  try {
+    auto cloud = std::make_shared<VoxelCloud>(voxelize(points, options));
+    o.mesh = cloud->mesh;
+    o.distance_grid = std::shared_ptr<const db::DistanceGrid>(cloud, &cloud->distances);
+    o.cloud = std::move(cloud);
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument("partial_view",
+                          "the hidden space of '" + scene.target_object + "': " + e.problem());
+  }
+  Scene out = scene;
+  out.obstacles.push_back(std::move(o));
+  return out;
 }
 
 Scene withRobotCarved(const Scene& scene, const RobotModel& model, const Eigen::VectorXd& q,

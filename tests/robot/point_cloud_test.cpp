@@ -645,5 +645,43 @@ TEST(SensedScene, AnotherViewClearsTheShadowsItSawThrough) {
   EXPECT_EQ(withSeenSpaceCarved(one).obstacles[0].cloud->occupied_count, a.occupied_count);
 }
 
+TEST(SensedScene, TheHiddenSideOfAnObjectFromViewsIsAnObstacle) {
+  Scene scene;
+  scene.target_object = "seen";
+  scene.target_pose.translation() = Eigen::Vector3d(0.5, 0.0, 0.1);
+  db::PartialView view;
+  view.hidden_low.resize(2, 3);
+  view.hidden_high.resize(2, 3);
+  view.hidden_low << 0.0, 0.0, 0.0, 0.02, -0.013, 0.0;
+  view.hidden_high << 0.012, 0.03, 0.021, 0.05, 0.0, 0.004;
+  const Scene out = withHiddenSide(scene, view);
+  ASSERT_EQ(out.obstacles.size(), 1u);
+  const Obstacle& hidden = out.obstacles[0];
+  EXPECT_EQ(hidden.name, "seen.hidden");
+  ASSERT_EQ(hidden.type, Obstacle::Type::kPoints);
+  EXPECT_TRUE(hidden.pose.isApprox(scene.target_pose));
+  // Every point of each box lies in an occupied voxel (obstacle frame).
+  const VoxelCloud& cloud = *hidden.cloud;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (Eigen::Index b = 0; b < 2; ++b)
+    for (int i = 0; i < 2000; ++i) {
+      const Eigen::Vector3d low = view.hidden_low.row(b).transpose();
+      const Eigen::Vector3d high = view.hidden_high.row(b).transpose();
+      Eigen::Vector3d p = low;
+      for (int a = 0; a < 3; ++a) p[a] += unit(rng) * (high[a] - low[a]);
+      const Eigen::Vector3d cell = (p / kHiddenVoxel).array().floor();
+      EXPECT_TRUE(cloud.isOccupied(static_cast<int>(cell.x()), static_cast<int>(cell.y()),
+                                   static_cast<int>(cell.z())))
+          << p.transpose();
+    }
+  // Not far beyond them: within a voxel and the lattice's half diagonal.
+  const double grown = kHiddenVoxel * (1.0 + std::sqrt(3.0) / 2) + 1e-9;
+  EXPECT_TRUE((cloud.low().array() >= Eigen::Array3d(0.0, -0.013, 0.0) - grown).all());
+  EXPECT_TRUE((cloud.high().array() <= Eigen::Array3d(0.05, 0.03, 0.021) + grown).all());
+  // No boxes: the scene as it is.
+  EXPECT_TRUE(withHiddenSide(scene, db::PartialView{}).obstacles.empty());
+}
+
 }  // namespace
 }  // namespace hfts::robot

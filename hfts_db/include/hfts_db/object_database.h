@@ -173,11 +173,20 @@ struct HierarchyNode {
 /// points only, and its mesh is a conservative stand-in for what no camera
 /// saw (docs/point_clouds.md#objects-from-a-partial-view). One entry per
 /// view.
+/// Most boxes a partial view's hidden space may hold.
+inline constexpr Eigen::Index kMaxHiddenBoxes = 1'000'000;
+
 struct PartialView {
   Points3 viewpoints;                 ///< camera centres, object frame
   std::vector<double> hidden_depths;  ///< m the unseen side may reach behind each point
   std::vector<double> floors;         ///< z (object frame) below which it does not reach
   std::vector<std::uint64_t> points;  ///< points of each view
+  /// Space beside the solid that no camera saw free, so the object may
+  /// reach into it: boxes (object frame, lowest and highest corners, one
+  /// per row; none when the views came without their depth images). The
+  /// planner keeps everything out of it, as an obstacle
+  /// (robot::withHiddenSide); no contact lies in it.
+  Points3 hidden_low, hidden_high;
 };
 
 /// A complete object database.

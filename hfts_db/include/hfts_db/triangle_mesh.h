@@ -86,4 +86,8 @@ struct SolidProperties {
 };
 SolidProperties solidProperties(const TriangleMesh& mesh);
 
+/// A closed box of the given size centred at the origin, its triangles
+/// turned outwards (12 triangles on 8 corners).
+TriangleMesh boxMesh(const Eigen::Vector3d& size);
+
 }  // namespace hfts

@@ -5,10 +5,12 @@
 // (docs/point_clouds.md#objects-from-a-partial-view).
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hfts_db/triangle_mesh.h"
@@ -79,14 +81,83 @@ HiddenSide hiddenSide(const Vertices& points, const ViewOptions& options);
 /// when they do not overlap.
 Vertices intersectionCorners(const ConvexHull& a, const ConvexHull& b);
 
+/// The whole depth image a view's points came from: where the camera saw
+/// through, and so where the object is not. With it the builder carves
+/// (carveViews) instead of trusting the points' shadows alone, which miss
+/// what another object hid and what lies below the lowest observed point.
+struct DepthEvidence {
+  /// The optical frame (x right, y down, z along the view) in the world.
+  Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();
+  double fx = 0.0, fy = 0.0, cx = 0.0, cy = 0.0;  ///< pinhole (pixels)
+  int width = 0;
+  int height = 0;
+  /// Depths (m, along the optical axis), row-major; 0 or NaN: no reading.
+  std::vector<float> depths;
+  /// 1 where the pixel sees the object (the segmentation), as depths.
+  std::vector<std::uint8_t> target;
+};
+
 /// One segmented view of the object: its points (metres, z up), the
-/// sensor's normals if it gave them (one per point, either sign), and how
-/// it was seen.
+/// sensor's normals if it gave them (one per point, either sign), how it
+/// was seen and, when known, the whole image it came from.
 struct SensedView {
   Vertices points;
   std::optional<Vertices> normals;
   ViewOptions options;
+  std::optional<DepthEvidence> depth = std::nullopt;
 };
+
+/// The depth noise (m) a reading of another surface may hide the object
+/// behind: a point up to this much nearer than a non-object pixel's depth
+/// is not seen free.
+inline constexpr double kCarvingMargin = 0.005;
+
+/// Where the object may be, given the depth images (carveViews).
+struct Carving {
+  /// Centres of the voxels no camera saw free that connect to the
+  /// object's observed points (26-neighbours).
+  Vertices centres;
+  double voxel = 0.0;         ///< edge (m)
+  double floor = 0.0;         ///< the support's height: nothing of the object lies below it
+  bool floor_fitted = false;  ///< floor from a horizontal plane the cameras saw
+  double reach = 0.0;         ///< how far beyond its observed points the object may extend
+  /// Per view, the pixels of the object's outline, and those of them next
+  /// to a nearer surface, an unseen pixel or the image's border: where
+  /// another object (or the frame) hides part of it.
+  std::vector<std::size_t> outline, occluded;
+};
+
+/// A view whose object outline is hidden along more than this share of
+/// its pixels may hide much of the object: its observed extent bounds
+/// nothing, and without a given --hidden-depth the carving reaches
+/// kOccludedReach beyond the points.
+inline constexpr double kOccludedOutline = 0.05;
+/// What the carving assumes of an object some view hides (m): no part of
+/// it lies farther than this beyond its observed points (household
+/// objects; a larger one needs --hidden-depth).
+inline constexpr double kOccludedReach = 0.3;
+
+/// Space carving around `points` (the object's observed points, world)
+/// within `reach` of their box, above `floor` (unset: the highest
+/// horizontal plane the cameras saw at or below the lowest observed
+/// point, fitted by PCL's RANSAC among the other pixels; none found: that
+/// point). A voxel centre is seen free by a camera when its pixel's reading
+/// lies behind it: beyond it for an object pixel, more than kCarvingMargin
+/// beyond it for another surface, or anywhere on the support for a pixel
+/// whose ray comes down on the support (the object stands on it). Pixels
+/// without a reading take the nearest reading within two pixels; where
+/// there is none, and outside the image, nothing is seen free. The voxel's
+/// edge is 3 mm, or larger so that the block holds at most 8e6 of them.
+/// Throws hfts::InvalidArgument ("depth" for an image whose size, camera
+/// or mask is inconsistent; "reach", "floor").
+Carving carveViews(const std::vector<DepthEvidence>& views, const Vertices& points, double reach,
+                   std::optional<double> floor);
+
+/// Axis-aligned boxes (lowest and highest corner) that together are the
+/// cubes of edge `voxel` centred on `centres` (centres on one grid of that
+/// spacing), neighbours merged greedily: along x, then y, then z.
+std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> mergedVoxels(const Vertices& centres,
+                                                                      double voxel);
 
 /// Indices of one point per occupied cube of edge `voxel` (the first in
 /// the input's order, so a point keeps its own normal), in input order.

@@ -9,7 +9,7 @@
 
 namespace hfts::robot {
 
-TriangleMesh boxMesh(const Eigen::Vector3d& size);
+using hfts::boxMesh;  // hfts_db/triangle_mesh.h
 TriangleMesh cylinderMesh(double radius, double length, int segments = 32);
 TriangleMesh sphereMesh(double radius, int segments = 24);
 

@@ -142,6 +142,25 @@ Scene parseScene(const std::string& json, const std::filesystem::path& baseDir,
 std::vector<Obstacle> parseObstacles(const std::string& json, const std::filesystem::path& baseDir,
                                      const std::string& what);
 
+/// A depth_image obstacle of a scene file that has a mask: one camera's
+/// view of the scene's target (the masked pixels) and of what is around it.
+struct TargetView {
+  std::string name;  ///< the obstacle's
+  /// The camera's optical frame (x right, y down, z along the view) in the
+  /// world: the obstacle's pose.
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  DepthCamera camera;
+  /// Depths in metres; 0 where the camera read nothing in [min_depth,
+  /// max_depth].
+  DepthImage image;
+  std::vector<std::uint8_t> mask;  ///< 1 where the pixel sees the target
+};
+
+/// The target views of a scene file (its depth_image obstacles with a
+/// mask), read as the obstacles are. Throws SceneError naming the member,
+/// or when the scene has none.
+std::vector<TargetView> loadTargetViews(const std::filesystem::path& path);
+
 /// True for a name that is safe as a file stem: letters, digits, '_', '-',
 /// '.', not starting with '.', at most 128 characters (no path characters).
 bool isSafeName(const std::string& name);
