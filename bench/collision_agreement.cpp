@@ -244,12 +244,10 @@ int main(int argc, char** argv) {
       scene.target_pose = robot::targetPose(scene, target.geometry.mesh_vertices);
       // A sensed scene as the planner sees it: without what another view
       // saw through, what the camera saw of the target and of the robot at
-      // its start (docs/point_clouds.md).
-      scene = robot::withSeenSpaceCarved(scene);
-      scene = robot::withTargetCarved(scene, target.geometry.distance_grid,
-                                      target.geometry.mesh_vertices);
-      scene =
-          robot::withRobotCarved(scene, model, scene.startFor(model.name()).value_or(model.home()));
+      // its start, with an object from views' hidden space
+      // (docs/point_clouds.md).
+      scene = robot::asPlannerSees(scene, target, model,
+                                   scene.startFor(model.name()).value_or(model.home()));
       const Eigen::Vector3d centre =
           scene.target_pose * (0.5 * (target.geometry.bbox_min + target.geometry.bbox_max));
       Comparison c(*collision, scene, target.geometry);

@@ -89,10 +89,7 @@ struct SharedProblem {
                         ? *request.object_pose
                         : robot::targetPose(request.scene, object.geometry.mesh_vertices);
     s.target_rest_on.clear();  // placed
-    s = robot::withSeenSpaceCarved(s);
-    s = robot::withTargetCarved(s, object.geometry.distance_grid, object.geometry.mesh_vertices);
-    if (object.partial_view) s = robot::withHiddenSide(s, *object.partial_view);
-    return robot::withRobotCarved(s, robot, startOf(robot, request));
+    return robot::asPlannerSees(s, object, robot, startOf(robot, request));
   }
 
   const PlanningWorld& world;

@@ -82,9 +82,13 @@ Vertices intersectionCorners(const ConvexHull& a, const ConvexHull& b) {
   std::vector<Eigen::Vector3d> corners;
   appendCornersIn(a, b, corners);
   appendCornersIn(b, a, corners);
+  // To the micrometre: a corner found twice (where edges of both solids
+  // meet) is one point, not two a rounding error apart, whose hull would
+  // hold slivers no convexity check passes.
   Vertices out(static_cast<Eigen::Index>(corners.size()), 3);
   for (std::size_t i = 0; i < corners.size(); ++i)
-    out.row(static_cast<Eigen::Index>(i)) = corners[i].transpose();
+    out.row(static_cast<Eigen::Index>(i)) =
+        (corners[i] * 1e6).array().round().matrix().transpose() / 1e6;
   return out;
 }
 

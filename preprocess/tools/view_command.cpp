@@ -102,10 +102,14 @@ int depthViewCommand(const std::string& scene, const std::string& name, const st
       std::vector<std::uint8_t> others(seen.mask.size());
       for (std::size_t i = 0; i < others.size(); ++i) others[i] = seen.mask[i] == 0;
       const Vertices local = robot::depthToPoints(seen.image, seen.camera, &others);
-      if (local.rows() < 4)
-        throw InvalidArgument("points", "view '" + seen.name + "' sees " +
-                                            std::to_string(local.rows()) +
-                                            " pixels of the target (its mask), fewer than 4");
+      if (local.rows() < 4) {
+        // Hidden or out of the frame here: a view that tells nothing of
+        // the object's surface is left out (its carving would only help).
+        if (!quiet)
+          std::cerr << "warning: view '" << seen.name << "' sees " << local.rows()
+                    << " pixels of the target (its mask), fewer than 4: left out\n";
+        continue;
+      }
       SensedView& v = views.emplace_back();
       v.points =
           (local * seen.pose.linear().transpose()).rowwise() + seen.pose.translation().transpose();
@@ -122,6 +126,8 @@ int depthViewCommand(const std::string& scene, const std::string& name, const st
       depth.depths = std::move(seen.image.depths);
       depth.target = std::move(seen.mask);
     }
+    if (views.empty())
+      throw InvalidArgument("points", "no view sees 4 or more pixels of the target (its mask)");
     return views;
   };
   const std::filesystem::path path(scene);

@@ -222,4 +222,12 @@ Scene withRobotCarved(const Scene& scene, const RobotModel& model, const Eigen::
   });
 }
 
+Scene asPlannerSees(const Scene& scene, const db::ObjectDatabase& target, const RobotModel& model,
+                    const Eigen::VectorXd& start) {
+  Scene s = withSeenSpaceCarved(scene);
+  s = withTargetCarved(s, target.geometry.distance_grid, target.geometry.mesh_vertices);
+  if (target.partial_view) s = withHiddenSide(s, *target.partial_view);
+  return withRobotCarved(s, model, start);
+}
+
 }  // namespace hfts::robot

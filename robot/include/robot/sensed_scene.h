@@ -57,4 +57,11 @@ inline constexpr double kSelfFilterPadding = 0.02;
 Scene withRobotCarved(const Scene& scene, const RobotModel& model, const Eigen::VectorXd& q,
                       double padding = kSelfFilterPadding);
 
+/// The scene as the planner checks it for `target` (at scene.target_pose)
+/// with the robot starting at `start`: withSeenSpaceCarved, withTargetCarved,
+/// withHiddenSide (for an object from views), withRobotCarved, in that
+/// order.
+Scene asPlannerSees(const Scene& scene, const db::ObjectDatabase& target, const RobotModel& model,
+                    const Eigen::VectorXd& start);
+
 }  // namespace hfts::robot
