@@ -330,6 +330,7 @@ void writeAll(hid_t file, const ObjectDatabase& db) {
       const auto n = v.hidden_low.rows();
       h5::writeDataset(group.id(), "hidden_low", v.hidden_low.data(), shapeOf(n, 3));
       h5::writeDataset(group.id(), "hidden_high", v.hidden_high.data(), shapeOf(n, 3));
+      h5::writeAttribute(group.id(), "hidden_voxel", v.hidden_voxel);
     }
   }
   writeGeometry(file, db.geometry, db.density);
@@ -381,6 +382,7 @@ ObjectDatabase readAll(hid_t file) {
     if (h5::exists(group.id(), "hidden_low")) {
       v.hidden_low = toMatrix<Points3>(h5::readDoubles(group.id(), "hidden_low"), "hidden_low");
       v.hidden_high = toMatrix<Points3>(h5::readDoubles(group.id(), "hidden_high"), "hidden_high");
+      v.hidden_voxel = h5::readDouble(group.id(), "hidden_voxel");
     }
     v.viewpoints.resize(static_cast<Eigen::Index>(views), 3);
     for (std::size_t i = 0; i < views; ++i)

@@ -139,6 +139,8 @@ void checkHidden(const Checker& c, const PartialView& v) {
   c.requireFinite(v.hidden_high, "partial_view.hidden_high");
   c.require((v.hidden_low.array() < v.hidden_high.array()).all(),
             "partial_view: every hidden box needs hidden_low < hidden_high");
+  c.require(v.hidden_low.rows() == 0 || (std::isfinite(v.hidden_voxel) && v.hidden_voxel > 0.0),
+            "partial_view.hidden_voxel must be positive when there are hidden boxes");
   c.require(v.hidden_low.rows() <= kMaxHiddenBoxes,
             "partial_view holds more than " + std::to_string(kMaxHiddenBoxes) + " hidden boxes");
 }

@@ -414,6 +414,7 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
   const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> boxes =
       carving ? carvedOutside(*solid, *carving)
               : std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>{};
+  record.hidden_voxel = boxes.empty() ? 0.0 : carving->voxel;
   record.hidden_low.resize(static_cast<Eigen::Index>(boxes.size()), 3);
   record.hidden_high.resize(static_cast<Eigen::Index>(boxes.size()), 3);
   for (std::size_t b = 0; b < boxes.size(); ++b) {

@@ -247,10 +247,14 @@ Carving carveViews(const std::vector<DepthEvidence>& views, const Vertices& poin
   }
 
   // The block: the points' box grown by the reach, from the floor up.
-  const Eigen::Vector3d start(low.x() - reach, low.y() - reach, out.floor);
-  const Eigen::Vector3d extent =
-      Eigen::Vector3d(high.x() + reach, high.y() + reach, high.z() + reach) - start;
-  out.voxel = std::max(kFinestVoxel, std::cbrt(extent.prod() / kMostVoxels));
+  // Its voxels on the grid of the points' frame (multiples of the edge),
+  // so that a cloud of the same edge holds them exactly
+  // (robot::withHiddenSide); the lowest layer may reach below the floor.
+  const Eigen::Vector3d first(low.x() - reach, low.y() - reach, out.floor);
+  const Eigen::Vector3d last(high.x() + reach, high.y() + reach, high.z() + reach);
+  out.voxel = std::max(kFinestVoxel, std::cbrt((last - first).prod() / kMostVoxels));
+  const Eigen::Vector3d start = (first / out.voxel).array().floor().matrix() * out.voxel;
+  const Eigen::Vector3d extent = last - start;
   std::array<int, 3> dims{};
   for (int a = 0; a < 3; ++a)
     dims[a] = std::max(1, static_cast<int>(std::ceil(extent[a] / out.voxel)));

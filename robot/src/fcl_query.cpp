@@ -155,7 +155,7 @@ bool objectDistanceCallback(Object* o1, Object* o2, void* raw, double& minimum) 
 bool targetCallback(Object* o1, Object* o2, void* raw) {
   const Tag& a = *static_cast<const Tag*>(o1->getUserData());
   const Tag& b = *static_cast<const Tag*>(o2->getUserData());
-  if (a.target == b.target) return false;
+  if (a.target == b.target || a.beside_target || b.beside_target) return false;
   fcl::CollisionRequestd request;
   fcl::CollisionResultd result;
   if (fcl::collide(o1, o2, request, result) == 0) return false;

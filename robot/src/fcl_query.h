@@ -48,6 +48,9 @@ struct Tag {
   /// A mesh's bounding box, placed with it (owned by the scene): its
   /// distance bounds the mesh's from below at a fraction of the cost.
   const fcl::CollisionObjectd* bound = nullptr;
+  /// The space beside the target no camera saw free (withHiddenSide): it
+  /// touches the target by construction, which is no collision.
+  bool beside_target = false;
 };
 
 /// `type`: a CollisionShape::Type or Obstacle::Type value (they agree, see

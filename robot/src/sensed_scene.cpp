@@ -146,32 +146,33 @@ Scene withTargetCarved(const Scene& scene, const db::DistanceGrid& grid, const V
   });
 }
 
+std::string hiddenSideName(const std::string& target) {
+  return target + ".hidden";
+}
+
 Scene withHiddenSide(const Scene& scene, const db::PartialView& view) {
   if (view.hidden_low.rows() == 0) return scene;
-  // Points a lattice of kHiddenVoxel apart on and in every box: each point
-  // of a box lies within half the lattice cell's diagonal of one.
-  std::vector<Eigen::Vector3d> lattice;
+  // The centre of every voxel of every box: a cloud of the same voxel and
+  // no radius holds exactly the boxes.
+  const double v = view.hidden_voxel;
+  std::vector<Eigen::Vector3d> centres;
   for (Eigen::Index b = 0; b < view.hidden_low.rows(); ++b) {
-    const Eigen::Vector3d low = view.hidden_low.row(b).transpose();
-    const Eigen::Vector3d high = view.hidden_high.row(b).transpose();
-    std::array<int, 3> steps{};
-    for (int a = 0; a < 3; ++a)
-      steps[a] = static_cast<int>(std::ceil((high[a] - low[a]) / kHiddenVoxel - 1e-9));
-    for (int k = 0; k <= steps[2]; ++k)
-      for (int j = 0; j <= steps[1]; ++j)
-        for (int i = 0; i <= steps[0]; ++i)
-          lattice.push_back(
-              low.cwiseMax(high.cwiseMin(low + kHiddenVoxel * Eigen::Vector3d(i, j, k))));
+    const Eigen::Array3d first = (view.hidden_low.row(b).transpose().array() / v).round();
+    const Eigen::Array3d end = (view.hidden_high.row(b).transpose().array() / v).round();
+    for (double k = first.z(); k < end.z(); ++k)
+      for (double j = first.y(); j < end.y(); ++j)
+        for (double i = first.x(); i < end.x(); ++i)
+          centres.emplace_back(v * (i + 0.5), v * (j + 0.5), v * (k + 0.5));
   }
-  Vertices points(static_cast<Eigen::Index>(lattice.size()), 3);
-  for (std::size_t i = 0; i < lattice.size(); ++i)
-    points.row(static_cast<Eigen::Index>(i)) = lattice[i].transpose();
+  Vertices points(static_cast<Eigen::Index>(centres.size()), 3);
+  for (std::size_t i = 0; i < centres.size(); ++i)
+    points.row(static_cast<Eigen::Index>(i)) = centres[i].transpose();
   CloudOptions options;
-  options.voxel = kHiddenVoxel;
-  options.radius = 0.5 * std::sqrt(3.0) * kHiddenVoxel;
+  options.voxel = v;
+  options.radius = 0.0;
   options.shadow = 0.0;
   Obstacle o;
-  o.name = scene.target_object + ".hidden";
+  o.name = hiddenSideName(scene.target_object);
   o.type = Obstacle::Type::kPoints;
   o.pose = scene.target_pose;
   try {

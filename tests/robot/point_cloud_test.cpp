@@ -649,38 +649,41 @@ TEST(SensedScene, TheHiddenSideOfAnObjectFromViewsIsAnObstacle) {
   Scene scene;
   scene.target_object = "seen";
   scene.target_pose.translation() = Eigen::Vector3d(0.5, 0.0, 0.1);
+  // Two boxes of 3 mm voxels: 4 x 10 x 7 and 10 x 4 x 1.
   db::PartialView view;
+  view.hidden_voxel = 0.003;
   view.hidden_low.resize(2, 3);
   view.hidden_high.resize(2, 3);
-  view.hidden_low << 0.0, 0.0, 0.0, 0.02, -0.013, 0.0;
-  view.hidden_high << 0.012, 0.03, 0.021, 0.05, 0.0, 0.004;
+  view.hidden_low << 0.0, 0.0, 0.0, 0.021, -0.012, 0.0;
+  view.hidden_high << 0.012, 0.03, 0.021, 0.051, 0.0, 0.003;
   const Scene out = withHiddenSide(scene, view);
   ASSERT_EQ(out.obstacles.size(), 1u);
   const Obstacle& hidden = out.obstacles[0];
   EXPECT_EQ(hidden.name, "seen.hidden");
+  EXPECT_EQ(hidden.name, hiddenSideName("seen"));
   ASSERT_EQ(hidden.type, Obstacle::Type::kPoints);
   EXPECT_TRUE(hidden.pose.isApprox(scene.target_pose));
-  // Every point of each box lies in an occupied voxel (obstacle frame).
+  // Exactly the boxes' voxels (obstacle frame), none around them.
   const VoxelCloud& cloud = *hidden.cloud;
-  std::mt19937_64 rng(3);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  for (Eigen::Index b = 0; b < 2; ++b)
-    for (int i = 0; i < 2000; ++i) {
-      const Eigen::Vector3d low = view.hidden_low.row(b).transpose();
-      const Eigen::Vector3d high = view.hidden_high.row(b).transpose();
-      Eigen::Vector3d p = low;
-      for (int a = 0; a < 3; ++a) p[a] += unit(rng) * (high[a] - low[a]);
-      const Eigen::Vector3d cell = (p / kHiddenVoxel).array().floor();
-      EXPECT_TRUE(cloud.isOccupied(static_cast<int>(cell.x()), static_cast<int>(cell.y()),
-                                   static_cast<int>(cell.z())))
-          << p.transpose();
-    }
-  // Not far beyond them: within a voxel and the lattice's half diagonal.
-  const double grown = kHiddenVoxel * (1.0 + std::sqrt(3.0) / 2) + 1e-9;
-  EXPECT_TRUE((cloud.low().array() >= Eigen::Array3d(0.0, -0.013, 0.0) - grown).all());
-  EXPECT_TRUE((cloud.high().array() <= Eigen::Array3d(0.05, 0.03, 0.021) + grown).all());
+  EXPECT_EQ(cloud.occupied_count, 4u * 10u * 7u + 10u * 4u * 1u);
+  EXPECT_TRUE(cloud.isOccupied(0, 0, 0));
+  EXPECT_TRUE(cloud.isOccupied(3, 9, 6));
+  EXPECT_FALSE(cloud.isOccupied(4, 0, 0));
+  EXPECT_TRUE(cloud.isOccupied(7, -4, 0));
+  EXPECT_FALSE(cloud.isOccupied(7, -4, 1));
+  EXPECT_TRUE(cloud.low().isApprox(Eigen::Vector3d(0.0, -0.012, 0.0)));
+  EXPECT_TRUE(cloud.high().isApprox(Eigen::Vector3d(0.051, 0.03, 0.021)));
   // No boxes: the scene as it is.
   EXPECT_TRUE(withHiddenSide(scene, db::PartialView{}).obstacles.empty());
+  // The planner's scene has it for an object from views, and not for one
+  // from a mesh (its target carving needs a mesh: none here).
+  const RobotModel& model = test::kr5Sdh();
+  db::ObjectDatabase fromViews;
+  fromViews.partial_view = view;
+  const Scene planned = asPlannerSees(scene, fromViews, model, model.home());
+  ASSERT_EQ(planned.obstacles.size(), 1u);
+  EXPECT_EQ(planned.obstacles[0].name, "seen.hidden");
+  EXPECT_TRUE(asPlannerSees(scene, db::ObjectDatabase{}, model, model.home()).obstacles.empty());
 }
 
 }  // namespace

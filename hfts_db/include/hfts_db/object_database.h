@@ -187,6 +187,9 @@ struct PartialView {
   /// planner keeps everything out of it, as an obstacle
   /// (robot::withHiddenSide); no contact lies in it.
   Points3 hidden_low, hidden_high;
+  /// The voxel (m) the boxes are made of: their corners are multiples of
+  /// it, so a cloud of this voxel holds them exactly. 0 without boxes.
+  double hidden_voxel = 0.0;
 };
 
 /// A complete object database.

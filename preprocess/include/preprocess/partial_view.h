@@ -117,7 +117,8 @@ struct Carving {
   /// Centres of the voxels no camera saw free that connect to the
   /// object's observed points (26-neighbours).
   Vertices centres;
-  double voxel = 0.0;         ///< edge (m)
+  /// Edge (m); voxel (i, j, k) spans [i, i + 1) edges along each axis.
+  double voxel = 0.0;
   double floor = 0.0;         ///< the support's height: nothing of the object lies below it
   bool floor_fitted = false;  ///< floor from a horizontal plane the cameras saw
   double reach = 0.0;         ///< how far beyond its observed points the object may extend

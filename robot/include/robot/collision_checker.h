@@ -117,7 +117,8 @@ class CollisionScene {
   double clearance() const;
 
   /// True when the target object intersects an obstacle (a scene that
-  /// places the object inside something).
+  /// places the object inside something); the space beside it that its
+  /// views could not see free (withHiddenSide) does not count.
   bool targetTouchesObstacles(CollisionPair* pair = nullptr) const;
 
   /// True when a sphere (world frame) intersects an obstacle (touching

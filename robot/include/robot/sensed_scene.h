@@ -34,16 +34,18 @@ Scene withSeenSpaceCarved(const Scene& scene);
 /// voxels goes. Obstacles it does not touch are shared, not copied.
 Scene withTargetCarved(const Scene& scene, const db::DistanceGrid& grid, const Vertices& vertices);
 
-/// The voxel edge (m) of the obstacle withHiddenSide makes.
-inline constexpr double kHiddenVoxel = 0.005;
+/// The name of the obstacle withHiddenSide makes for `target`:
+/// "<target>.hidden". The checker does not count it touching the target
+/// (CollisionScene::targetTouchesObstacles).
+std::string hiddenSideName(const std::string& target);
 
 /// The scene with the space its target's views could not see free (the
 /// database's partial_view boxes, target frame, at scene.target_pose) as
-/// an obstacle, "<target>.hidden": voxels of kHiddenVoxel that cover
-/// every box, which no link may touch, so that no finger closes through a
-/// side of the object no camera saw. The scene as it is for a target
-/// without such boxes. Throws InvalidArgument ("partial_view") for boxes
-/// whose voxels exceed kMaxCloudVoxels.
+/// an obstacle, hiddenSideName(target): the boxes' voxels
+/// (partial_view.hidden_voxel), which no link may touch, so that no
+/// finger closes through a side of the object no camera saw. The scene as
+/// it is for a target without such boxes. Throws InvalidArgument
+/// ("partial_view") for boxes whose voxels exceed kMaxCloudVoxels.
 Scene withHiddenSide(const Scene& scene, const db::PartialView& view);
 
 /// How far around the robot's links (m) its self filter takes voxels out.
