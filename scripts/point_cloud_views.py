@@ -3,7 +3,9 @@
 (docs/point_clouds.md, issue "Plan from what a camera sees").
 
   render  DIR       every bundled scene from three camera poses, with the
-                    Kinect-like noise (hfts-render-depth): DIR/<scene>_<view>.json
+                    Kinect-like noise (hfts-render-depth): DIR/<scene>_<view>.json;
+                    with --ring from four all round the target (objects --ring,
+                    plan --fused then use them)
   objects DIR       each view's target built into an object database from its
                     depth image (hfts-preprocess --depth-views) in
                     DIR/databases, beside links to the bundled ones; and each
@@ -48,13 +50,27 @@ VIEWS = {"behind": (-0.35, 0.0, 0.95), "left": (0.15, 0.75, 0.95), "right": (0.1
 ROBOTS = ["kr5_sdh", "panda_gripper", "ur5e_allegro"]
 
 
-def render(out_dir, db_dir, seed=1):
+def ring(scene):
+    """Four cameras around `scene`'s target, 0.8 m from it and 0.95 m
+    high, a quarter turn apart (the far side too: a cell with cameras all
+    round)."""
+    target = json.load(open(os.path.join(ROOT, "objects", "scenes", scene + ".json")))
+    x, y, _ = target["target"]["pose"]["position"]
+    return {f"ring{k}": (x - 0.8 * math.cos(k * math.pi / 2), y - 0.8 * math.sin(k * math.pi / 2),
+                         0.95) for k in range(4)}
+
+
+def views_of(scene, around):
+    return ring(scene) if around else VIEWS
+
+
+def render(out_dir, db_dir, seed=1, around=False):
     os.makedirs(out_dir, exist_ok=True)
     for scene in SCENES:
         path = os.path.join(ROOT, "objects", "scenes", scene + ".json")
         target = json.load(open(path))["target"]["pose"]["position"]
         look = f"{target[0]},{target[1]},{target[2] + 0.05}"
-        for view, eye in VIEWS.items():
+        for view, eye in views_of(scene, around).items():
             subprocess.run([os.path.join(ROOT, "build", "bin", "hfts-render-depth"), path,
                             "-o", out_dir, "--db", db_dir, "--eye", ",".join(map(str, eye)),
                             "--look-at", look, "--name", f"{scene}_{view}", "--seed", str(seed),
@@ -119,14 +135,15 @@ def build_views(view_dir, out, scene, views, method):
     return errors
 
 
-def objects(view_dir, db_dir, method="depth"):
+def objects(view_dir, db_dir, method="depth", around=False):
     """The objects seen in the views, and the bundled ones, in one directory
     (DIR/databases; DIR/databases_clouds for the method "clouds")."""
     out = os.path.join(view_dir, "databases" if method == "depth" else "databases_clouds")
     link_databases(out, db_dir)
     for scene in SCENES:
-        fuse(view_dir, scene, VIEWS)
-        for name, error in build_views(view_dir, out, scene, VIEWS, method).items():
+        views = views_of(scene, around)
+        fuse(view_dir, scene, views)
+        for name, error in build_views(view_dir, out, scene, views, method).items():
             if error:
                 print(f"{name}: {error}", file=sys.stderr)
 
@@ -481,11 +498,14 @@ def main():
     r.add_argument("dir")
     r.add_argument("--db", default=os.path.join(ROOT, "build", "databases"))
     r.add_argument("--seed", type=int, default=1)
+    r.add_argument("--ring", action="store_true",
+                   help="four cameras all round each target instead of the three")
     o = sub.add_parser("objects")
     o.add_argument("dir")
     o.add_argument("--db", default=os.path.join(ROOT, "build", "databases"))
     o.add_argument("--clouds", action="store_true",
                    help="build from the target's points alone (--viewpoint)")
+    o.add_argument("--ring", action="store_true", help="the views render --ring made")
     c = sub.add_parser("containment")
     c.add_argument("dir")
     c.add_argument("out")
@@ -507,9 +527,9 @@ def main():
                    help="plan in the three views' scene for the object built from them")
     args = parser.parse_args()
     if args.command == "render":
-        render(args.dir, args.db, args.seed)
+        render(args.dir, args.db, args.seed, args.ring)
     elif args.command == "objects":
-        objects(args.dir, args.db, "clouds" if args.clouds else "depth")
+        objects(args.dir, args.db, "clouds" if args.clouds else "depth", args.ring)
     elif args.command == "containment":
         if args.held_out:
             cases = held_out(args.dir, args.held_out, args.seed, args.db)

@@ -376,7 +376,9 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
   // the support the shadows stop at and what the shadows miss.
   const std::optional<Carving> carving = carvedViews(views, what, result.warnings);
   // The solid: each view's hull of its points and their shadows holds the
-  // object, so does what they have in common.
+  // object, so does what they have in common. Not the hull of a view that
+  // another object hides part of the object from: the carving holds what
+  // it misses, but the common solid would lose the other views' contacts.
   Vertices observed(0, 3), sides(0, 3), normals(0, 3);
   std::optional<ConvexHull> solid;
   for (std::size_t v = 0; v < views.size(); ++v) {
@@ -386,8 +388,13 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
       ViewOptions options = views[v].options;
       if (carving) options.floor = std::min(carving->floor, view.points.col(2).maxCoeff());
       const HiddenSide hidden = hiddenSide(view.points, options);
+      const bool occluded =
+          carving && static_cast<double>(carving->occluded[v]) >
+                         kOccludedOutline * static_cast<double>(carving->outline[v]);
       ConvexHull hull(hidden.corners, what);
-      if (solid) {
+      if (occluded) {
+        // Its points only; they join the solid below when no view is clear.
+      } else if (solid) {
         const Vertices common = intersectionCorners(*solid, hull);
         if (common.rows() < 4)
           throw MeshError(what + ": the solids of views 0 to " + std::to_string(v) +
@@ -407,6 +414,11 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
       if (field.empty()) throw;
       throw InvalidArgument(field + e.field(), e.problem());
     }
+  }
+  if (!solid) {  // every view hides part of the object: the hull of what they saw
+    solid.emplace(observed, what + ": the hull of the views' points");
+    result.warnings.push_back(what + ": every view hides part of the object; the solid is the " +
+                              "hull of the points they saw, the carving's hidden space the rest");
   }
   // What the cameras could not see free beyond that solid: boxes beside
   // it, kept apart (the hull of both would bury the observed surface
