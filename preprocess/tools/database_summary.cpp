@@ -92,7 +92,18 @@ nlohmann::json databaseSummaryJson(const db::ObjectDatabase& db,
     filters.push_back({{"name", r.name}, {"removed", r.removed}});
   const db::ObjectGeometry& g = db.geometry;
   nlohmann::json views = nullptr;  // null: built from a mesh
+  nlohmann::json hidden = nullptr;  // null: no space beside the solid that no camera saw free
   if (const auto& v = db.partial_view) {
+    if (v->hidden_low.rows() > 0) {
+      double volume = 0.0;
+      for (Eigen::Index b = 0; b < v->hidden_low.rows(); ++b)
+        volume += (v->hidden_high.row(b) - v->hidden_low.row(b)).prod();
+      hidden = {{"boxes", v->hidden_low.rows()},
+                {"voxel", v->hidden_voxel},
+                {"volume", volume},
+                {"min", vec3(v->hidden_low.colwise().minCoeff().transpose())},
+                {"max", vec3(v->hidden_high.colwise().maxCoeff().transpose())}};
+    }
     views = nlohmann::json::array();
     for (Eigen::Index i = 0; i < v->viewpoints.rows(); ++i) {
       const auto k = static_cast<std::size_t>(i);
@@ -104,6 +115,7 @@ nlohmann::json databaseSummaryJson(const db::ObjectDatabase& db,
   }
   return {{"name", db.name},
           {"partial_views", views},
+          {"hidden_space", hidden},
           {"format", db::kObjectFormatName},
           {"format_version", db::kObjectFormatVersion},
           {"producer", db.producer},
@@ -142,7 +154,11 @@ std::string databaseSummaryText(const db::ObjectDatabase& db,
       << "mesh sha256     " << db.source_sha256 << "\n";
   if (const auto& v = db.partial_view)
     out << "partial views   " << v->viewpoints.rows()
-        << ": contacts on observed points only, the solid a stand-in for the unseen side\n";
+        << ": contacts on observed points only, the solid a stand-in for the unseen side"
+        << (v->hidden_low.rows() > 0 ? "; " + std::to_string(v->hidden_low.rows()) +
+                                           " boxes beside it no camera saw free"
+                                     : std::string())
+        << "\n";
   out << "contacts        " << db.numContacts() << " kept of " << db.num_samples << " samples";
   for (const db::FilterReport& r : db.filter_reports) out << "; " << r.name << " -" << r.removed;
   out << "\nbranching       ";

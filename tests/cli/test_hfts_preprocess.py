@@ -283,6 +283,39 @@ class PreprocessCli(unittest.TestCase):
         self.assertEqual(missing.returncode, 1, missing.stderr)
         self.assertIn("nothing.ply", missing.stderr)
 
+    def test_depth_views_carve_what_the_cameras_saw_through(self):
+        # The bundled table from one camera, the mug's pixels masked.
+        render = os.path.join(os.path.dirname(BINARY), "hfts-render-depth")
+        scene = os.path.join(SOURCE_DIR, "objects", "scenes", "table.json")
+        seen = os.path.join(self.tmp, "seen")
+        subprocess.run([render, scene, "-o", seen, "--db", self.out, "--eye", "0.15,-0.75,0.95",
+                        "--look-at", "0.55,0,0.05", "--name", "right", "--partial"],
+                       check=True, capture_output=True)
+        out = os.path.join(self.tmp, "carved")
+        built = run(os.path.join(seen, "right_partial.json"), "--depth-views", "--name", "mug_seen",
+                    "-o", out, check=0)
+        self.assertIn("mug_seen", built.stdout)
+        self.assertIn("support plane", built.stderr)  # the floor it carved above
+        summary = json.loads(run("--inspect", os.path.join(out, "mug_seen.h5"), "--json",
+                                 check=0).stdout)
+        self.assertEqual(len(summary["partial_views"]), 1)
+        self.assertEqual(summary["source_mesh"], "right_partial.json")
+        # The far side no camera saw is hidden space beside the solid, on the
+        # table (z = -0.001) and within the view's reach.
+        hidden = summary["hidden_space"]
+        self.assertGreater(hidden["boxes"], 0)
+        self.assertGreater(hidden["volume"], 0.0)
+        self.assertGreaterEqual(hidden["min"][2], -0.001 - 3 * hidden["voxel"])
+        self.assertLess(hidden["max"][2], 0.5)
+        self.assertIn("no camera saw free",
+                      run("--inspect", os.path.join(out, "mug_seen.h5"), check=0).stdout)
+        # A scene without a masked depth image has no views of the object.
+        none = run(scene, "--depth-views", "-o", out)
+        self.assertEqual(none.returncode, 1, none.stderr)
+        self.assertIn("has no depth_image with a mask", none.stderr)
+        both = run(scene, "--depth-views", "--viewpoint", "0,0,1", "-o", out)
+        self.assertEqual(both.returncode, 2, both.stderr)
+
     def test_bad_arguments_get_clear_errors(self):
         result = run(self.meshes, "-o", self.tmp, "--filters", "curvature,magic")
         self.assertEqual(result.returncode, 2)
