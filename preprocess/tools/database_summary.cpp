@@ -91,7 +91,7 @@ nlohmann::json databaseSummaryJson(const db::ObjectDatabase& db,
   for (const db::FilterReport& r : db.filter_reports)
     filters.push_back({{"name", r.name}, {"removed", r.removed}});
   const db::ObjectGeometry& g = db.geometry;
-  nlohmann::json views = nullptr;  // null: built from a mesh
+  nlohmann::json views = nullptr;   // null: built from a mesh
   nlohmann::json hidden = nullptr;  // null: no space beside the solid that no camera saw free
   if (const auto& v = db.partial_view) {
     if (v->hidden_low.rows() > 0) {
