@@ -102,33 +102,28 @@ void checkGeometry(const Checker& c, const ObjectGeometry& g) {
             "mesh_triangles index a vertex that does not exist");
 }
 
-/// A distance grid `name` that covers [low, high].
-void checkGrid(const Checker& c, const DistanceGrid& grid, const Eigen::Vector3d& low,
-               const Eigen::Vector3d& high, const std::string& name) {
+void checkDistanceGrid(const Checker& c, const ObjectGeometry& g) {
+  const DistanceGrid& grid = g.distance_grid;
   c.require(grid.dims[0] >= 2 && grid.dims[1] >= 2 && grid.dims[2] >= 2,
-            name + ".dims must be at least 2 along each axis");
+            "distance_grid.dims must be at least 2 along each axis");
   c.require(std::isfinite(grid.spacing) && grid.spacing > 0.0,
-            name + ".spacing must be positive and finite");
-  c.requireFinite(grid.origin, name + ".origin");
+            "distance_grid.spacing must be positive and finite");
+  c.requireFinite(grid.origin, "distance_grid.origin");
   const std::uint64_t nodes = std::uint64_t{grid.dims[0]} * grid.dims[1] * grid.dims[2];
   c.require(nodes <= kMaxGridNodes,
-            name + ".dims give more than " + std::to_string(kMaxGridNodes) + " nodes");
-  c.require(grid.values.size() == nodes, name + ".values holds " +
+            "distance_grid.dims give more than " + std::to_string(kMaxGridNodes) + " nodes");
+  c.require(grid.values.size() == nodes, "distance_grid.values holds " +
                                              std::to_string(grid.values.size()) +
                                              " values, dims need " + std::to_string(nodes));
   c.require(
       std::all_of(grid.values.begin(), grid.values.end(), [](float v) { return std::isfinite(v); }),
-      name + ".values holds non-finite values");
+      "distance_grid.values holds non-finite values");
   c.require(grid.boundary_min <= boundaryMinimum(grid),
-            name + ".boundary_min exceeds the smallest value on the grid's faces");
-  c.require(
-      (grid.origin.array() <= low.array()).all() && (grid.boxMax().array() >= high.array()).all(),
-      name + " does not cover the bounding box");
-}
-
-void checkDistanceGrid(const Checker& c, const ObjectGeometry& g) {
-  checkGrid(c, g.distance_grid, g.bbox_min, g.bbox_max, "distance_grid");
-  c.require(g.distance_grid.is_signed == g.closed, "distance_grid.signed must equal closed");
+            "distance_grid.boundary_min exceeds the smallest value on the grid's faces");
+  c.require((grid.origin.array() <= g.bbox_min.array()).all() &&
+                (grid.boxMax().array() >= g.bbox_max.array()).all(),
+            "distance_grid does not cover the bounding box");
+  c.require(grid.is_signed == g.closed, "distance_grid.signed must equal closed");
 }
 
 /// The space no camera saw free: boxes.
