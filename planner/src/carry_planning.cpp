@@ -8,13 +8,14 @@
 
 #include "motion_goal_sampler.h"
 #include "robot/kinematics.h"
+#include "robot/sensed_scene.h"
 
 namespace hfts::planner {
 
-robot::Scene obstaclesOf(robot::Scene scene) {
-  scene.target_object.clear();
-  scene.target_rest_on.clear();
-  return scene;
+robot::Scene obstaclesOf(const robot::Scene& scene) {
+  robot::Scene out = robot::heldScene(scene);
+  out.target_rest_on.clear();
+  return out;
 }
 
 CarryPlanning::CarryPlanning(const Problem& p, const Hold& hold, const Eigen::VectorXd& grasp,

@@ -43,7 +43,7 @@ class CarryPlanning {
 
 /// The scene's obstacles: its target and what the target rests on named
 /// no more (the object is in the hand).
-robot::Scene obstaclesOf(robot::Scene scene);
+robot::Scene obstaclesOf(const robot::Scene& scene);
 
 /// How long a planned lift may search (s) within the plan's time limit.
 inline constexpr double kPlannedLiftTime = 1.0;

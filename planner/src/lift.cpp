@@ -7,6 +7,7 @@
 #include "physics/lift_path.h"
 #include "robot/kinematics.h"
 #include "robot/motion_bound.h"
+#include "robot/sensed_scene.h"
 
 namespace hfts::planner {
 
@@ -38,15 +39,13 @@ Eigen::Isometry3d palmPose(const robot::RobotModel& robot, const Eigen::Isometry
 /// and `check` with the proofs' bound of that robot.
 struct HeldChecker {
   HeldChecker(const Hold& hold, const robot::Scene& scene, const MotionCheck& check)
-      : checker(*hold.model, withoutTarget(scene), nullptr), bound(hold.model->robot), held(check) {
+      : checker(*hold.model, robot::heldScene(scene), nullptr),
+        bound(hold.model->robot),
+        held(check) {
     if (held.certifies()) held.bound = &bound;
     // The object starts 1 mm above its support: like the closing motion,
     // the lift is free but keeps no clearance.
     held.clearance = 0.0;
-  }
-  static robot::Scene withoutTarget(robot::Scene scene) {
-    scene.target_object.clear();
-    return scene;
   }
   robot::CollisionChecker checker;
   const robot::MotionBound bound;

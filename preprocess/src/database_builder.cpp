@@ -350,6 +350,37 @@ std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> carvedOutside(const Con
   return mergedVoxels(centres, carving.voxel);
 }
 
+/// What the hulls of `corners` have in common (only those `use` marks, all
+/// when it is empty); none when none is used. Throws MeshError when they
+/// have nothing in common.
+std::optional<ConvexHull> commonSolid(const std::vector<Vertices>& corners,
+                                      const std::vector<bool>& use, const std::string& what) {
+  std::optional<ConvexHull> solid;
+  for (std::size_t v = 0; v < corners.size(); ++v) {
+    if (!use.empty() && !use[v]) continue;
+    ConvexHull hull(corners[v], what);
+    if (!solid) {
+      solid.emplace(std::move(hull));
+      continue;
+    }
+    const Vertices common = intersectionCorners(*solid, hull);
+    if (common.rows() < 4)
+      throw MeshError(what + ": the solids of views 0 to " + std::to_string(v) +
+                      " have nothing in common (views of one object? viewpoints right?)");
+    solid.emplace(common, what + ": the solid the views have in common");
+  }
+  return solid;
+}
+
+/// `p`, inside `solid` or on it, moved out along the nearest facet's normal
+/// onto that facet's plane: where a fingertip closing on the solid meets it.
+Eigen::Vector3d ontoSurface(const ConvexHull& solid, const Eigen::Vector3d& p) {
+  Eigen::Index nearest = 0;
+  const double height =
+      (solid.planes().leftCols<3>() * p + solid.planes().col(3)).maxCoeff(&nearest);
+  return p - height * solid.planes().row(nearest).head<3>().transpose();
+}
+
 /// How deep `p` lies in the boxes (0 outside all of them).
 double boxDepth(const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& boxes,
                 const Eigen::Vector3d& p) {
@@ -376,11 +407,12 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
   // the support the shadows stop at and what the shadows miss.
   const std::optional<Carving> carving = carvedViews(views, what, result.warnings);
   // The solid: each view's hull of its points and their shadows holds the
-  // object, so does what they have in common. Not the hull of a view that
-  // another object hides part of the object from: the carving holds what
-  // it misses, but the common solid would lose the other views' contacts.
+  // object unless another object hides part of it from that camera; with
+  // every view's points added it holds what the others saw of that part
+  // too. What the views' hulls have in common holds every observed point;
+  // what it may still miss, no camera saw free: the carving's boxes below.
   Vertices observed(0, 3), sides(0, 3), normals(0, 3);
-  std::optional<ConvexHull> solid;
+  std::vector<Vertices> shadows;
   for (std::size_t v = 0; v < views.size(); ++v) {
     const std::string field = views.size() > 1 ? "views[" + std::to_string(v) + "]." : "";
     try {
@@ -388,21 +420,7 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
       ViewOptions options = views[v].options;
       if (carving) options.floor = std::min(carving->floor, view.points.col(2).maxCoeff());
       const HiddenSide hidden = hiddenSide(view.points, options);
-      const bool occluded =
-          carving && static_cast<double>(carving->occluded[v]) >
-                         kOccludedOutline * static_cast<double>(carving->outline[v]);
-      ConvexHull hull(hidden.corners, what);
-      if (occluded) {
-        // Its points only; they join the solid below when no view is clear.
-      } else if (solid) {
-        const Vertices common = intersectionCorners(*solid, hull);
-        if (common.rows() < 4)
-          throw MeshError(what + ": the solids of views 0 to " + std::to_string(v) +
-                          " have nothing in common (views of one object? viewpoints right?)");
-        solid.emplace(common, what + ": the solid the views have in common");
-      } else {
-        solid.emplace(std::move(hull));
-      }
+      shadows.push_back(hidden.corners);
       append(observed, view.points);
       append(sides, view.sides);
       append(normals, view.normals);
@@ -415,11 +433,14 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
       throw InvalidArgument(field + e.field(), e.problem());
     }
   }
-  if (!solid) {  // every view hides part of the object: the hull of what they saw
-    solid.emplace(observed, what + ": the hull of the views' points");
-    result.warnings.push_back(what + ": every view hides part of the object; the solid is the " +
-                              "hull of the points they saw, the carving's hidden space the rest");
-  }
+  std::vector<bool> clear;
+  for (std::size_t v = 0; v < views.size(); ++v)
+    clear.push_back(!carving || static_cast<double>(carving->occluded[v]) <=
+                                    kOccludedOutline * static_cast<double>(carving->outline[v]));
+  // Views of one object: the hulls of the clear views meet by themselves.
+  commonSolid(shadows, clear, what);
+  for (Vertices& corners : shadows) append(corners, observed);
+  const std::optional<ConvexHull> solid = commonSolid(shadows, {}, what);
   // What the cameras could not see free beyond that solid: boxes beside
   // it, kept apart (the hull of both would bury the observed surface
   // wherever an occluder stands near it); the planner keeps out of them.
@@ -446,7 +467,8 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
   for (Eigen::Index i = 0; i < observed.rows(); ++i) {
     const double depth = solid->depth(observed.row(i).transpose());
     if (depth < -slack || depth > kMaxViewContactDepth) continue;
-    if (boxDepth(boxes, observed.row(i).transpose()) > kMaxViewContactDepth) continue;
+    if (boxDepth(boxes, ontoSurface(*solid, observed.row(i).transpose())) > kMaxViewContactDepth)
+      continue;
     observed.row(inside) = observed.row(i);
     sides.row(inside) = sides.row(i);
     normals.row(inside) = normals.row(i);
@@ -476,7 +498,10 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
   Vertices positions(static_cast<Eigen::Index>(kept.size()), 3);
   Vertices keptSides(static_cast<Eigen::Index>(kept.size()), 3);
   for (std::size_t i = 0; i < kept.size(); ++i) {
-    positions.row(static_cast<Eigen::Index>(i)) = observed.row(kept[i]);
+    // The observed surface lies up to the noise inside the hull of the
+    // noisy points: a finger closing on the solid touches it above.
+    positions.row(static_cast<Eigen::Index>(i)) =
+        ontoSurface(*solid, observed.row(kept[i]).transpose()).transpose();
     keptSides.row(static_cast<Eigen::Index>(i)) = sides.row(kept[i]);
   }
   db.num_samples = kept.size();

@@ -132,17 +132,29 @@ Scene withSeenSpaceCarved(const Scene& scene) {
   });
 }
 
+namespace {
+
+/// Whether a voxel of edge `voxel` centred at `centre` (the object's
+/// frame) may touch the object of `grid` and `vertices`: the grid cannot
+/// prove the centre more than half the voxel's diagonal outside it.
+bool mayTouchObject(const db::DistanceGrid& grid, const Vertices& vertices,
+                    const Eigen::Vector3d& centre, double voxel) {
+  const double halfDiagonal = 0.5 * std::sqrt(3.0) * voxel;
+  // Outside the object's box by more than the half diagonal: clear.
+  if ((centre.transpose().array() < vertices.colwise().minCoeff().array() - halfDiagonal).any() ||
+      (centre.transpose().array() > vertices.colwise().maxCoeff().array() + halfDiagonal).any())
+    return false;
+  return grid.lowerBound(centre) <= halfDiagonal;
+}
+
+}  // namespace
+
 Scene withTargetCarved(const Scene& scene, const db::DistanceGrid& grid, const Vertices& vertices) {
   if (vertices.rows() == 0 || grid.empty()) return scene;
-  const Eigen::Vector3d low = vertices.colwise().minCoeff(), high = vertices.colwise().maxCoeff();
   return carved(scene, [&](const Obstacle& o, int i, int j, int k) {
-    const double halfDiagonal = 0.5 * std::sqrt(3.0) * o.cloud->options.voxel;
-    const Eigen::Vector3d centre = scene.target_pose.inverse() * o.pose * voxelCentre(o, i, j, k);
-    // Outside the object's box by more than the half diagonal: clear.
-    if ((centre.array() < low.array() - halfDiagonal).any() ||
-        (centre.array() > high.array() + halfDiagonal).any())
-      return false;
-    return grid.lowerBound(centre) <= halfDiagonal;
+    return mayTouchObject(grid, vertices,
+                          scene.target_pose.inverse() * o.pose * voxelCentre(o, i, j, k),
+                          o.cloud->options.voxel);
   });
 }
 
@@ -150,43 +162,76 @@ std::string hiddenSideName(const std::string& target) {
   return target + ".hidden";
 }
 
-Scene withHiddenSide(const Scene& scene, const db::PartialView& view) {
-  if (view.hidden_low.rows() == 0) return scene;
-  // The centre of every voxel of every box: a cloud of the same voxel and
-  // no radius holds exactly the boxes.
-  const double v = view.hidden_voxel;
-  std::vector<Eigen::Vector3d> centres;
-  for (Eigen::Index b = 0; b < view.hidden_low.rows(); ++b) {
-    const Eigen::Array3d first = (view.hidden_low.row(b).transpose().array() / v).round();
-    const Eigen::Array3d end = (view.hidden_high.row(b).transpose().array() / v).round();
-    for (double k = first.z(); k < end.z(); ++k)
-      for (double j = first.y(); j < end.y(); ++j)
-        for (double i = first.x(); i < end.x(); ++i)
-          centres.emplace_back(v * (i + 0.5), v * (j + 0.5), v * (k + 0.5));
-  }
+std::string hiddenSkinName(const std::string& target) {
+  return target + ".hidden_skin";
+}
+
+namespace {
+
+/// An obstacle of the voxels of edge `voxel` centred at `centres` (the
+/// target's frame, at `pose`): exactly those voxels, no radius.
+Obstacle hiddenVoxels(const std::string& name, const std::vector<Eigen::Vector3d>& centres,
+                      double voxel, const Eigen::Isometry3d& pose) {
   Vertices points(static_cast<Eigen::Index>(centres.size()), 3);
   for (std::size_t i = 0; i < centres.size(); ++i)
     points.row(static_cast<Eigen::Index>(i)) = centres[i].transpose();
   CloudOptions options;
-  options.voxel = v;
+  options.voxel = voxel;
   options.radius = 0.0;
   options.shadow = 0.0;
   Obstacle o;
-  o.name = hiddenSideName(scene.target_object);
+  o.name = name;
   o.type = Obstacle::Type::kPoints;
-  o.pose = scene.target_pose;
+  o.pose = pose;
   try {
     auto cloud = std::make_shared<VoxelCloud>(voxelize(points, options));
     o.mesh = cloud->mesh;
     o.distance_grid = std::shared_ptr<const db::DistanceGrid>(cloud, &cloud->distances);
     o.cloud = std::move(cloud);
   } catch (const InvalidArgument& e) {
-    throw InvalidArgument("partial_view",
-                          "the hidden space of '" + scene.target_object + "': " + e.problem());
+    throw InvalidArgument("partial_view", "the hidden space of '" + name + "': " + e.problem());
+  }
+  return o;
+}
+
+}  // namespace
+
+Scene withHiddenSide(const Scene& scene, const db::ObjectDatabase& target) {
+  if (!target.partial_view || target.partial_view->hidden_low.rows() == 0) return scene;
+  const db::PartialView& view = *target.partial_view;
+  const db::ObjectGeometry& geometry = target.geometry;
+  const bool split = !geometry.distance_grid.empty() && geometry.mesh_vertices.rows() > 0;
+  // The centre of every voxel of every box: a cloud of the same voxel and
+  // no radius holds exactly the boxes.
+  const double v = view.hidden_voxel;
+  std::vector<Eigen::Vector3d> apart, skin;
+  for (Eigen::Index b = 0; b < view.hidden_low.rows(); ++b) {
+    const Eigen::Array3d first = (view.hidden_low.row(b).transpose().array() / v).round();
+    const Eigen::Array3d end = (view.hidden_high.row(b).transpose().array() / v).round();
+    for (double k = first.z(); k < end.z(); ++k)
+      for (double j = first.y(); j < end.y(); ++j)
+        for (double i = first.x(); i < end.x(); ++i) {
+          const Eigen::Vector3d centre(v * (i + 0.5), v * (j + 0.5), v * (k + 0.5));
+          const bool touches =
+              split && mayTouchObject(geometry.distance_grid, geometry.mesh_vertices, centre, v);
+          (touches ? skin : apart).push_back(centre);
+        }
   }
   Scene out = scene;
-  out.obstacles.push_back(std::move(o));
+  for (const auto& [name, centres] : {std::pair{hiddenSideName(scene.target_object), &apart},
+                                      std::pair{hiddenSkinName(scene.target_object), &skin}})
+    if (!centres->empty())
+      out.obstacles.push_back(hiddenVoxels(name, *centres, v, scene.target_pose));
   return out;
+}
+
+Scene heldScene(Scene scene) {
+  const std::string skin = hiddenSkinName(scene.target_object);
+  scene.obstacles.erase(std::remove_if(scene.obstacles.begin(), scene.obstacles.end(),
+                                       [&](const Obstacle& o) { return o.name == skin; }),
+                        scene.obstacles.end());
+  scene.target_object.clear();
+  return scene;
 }
 
 Scene withRobotCarved(const Scene& scene, const RobotModel& model, const Eigen::VectorXd& q,
@@ -227,7 +272,7 @@ Scene asPlannerSees(const Scene& scene, const db::ObjectDatabase& target, const 
                     const Eigen::VectorXd& start) {
   Scene s = withSeenSpaceCarved(scene);
   s = withTargetCarved(s, target.geometry.distance_grid, target.geometry.mesh_vertices);
-  if (target.partial_view) s = withHiddenSide(s, *target.partial_view);
+  s = withHiddenSide(s, target);
   return withRobotCarved(s, model, start);
 }
 

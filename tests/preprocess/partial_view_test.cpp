@@ -225,6 +225,13 @@ TEST(PartialView, ContactsAreObservedPointsFacingTheCamera) {
   // The solid holds the whole box, up to the sensor's noise.
   const ConvexHull hull(db.geometry.hull_vertices, "hull");
   for (const Eigen::Vector3d& corner : box.corners()) EXPECT_GE(hull.depth(corner), -3 * sigma);
+  // Every contact lies on the solid's surface, where a finger closing on
+  // it touches it (the noisy points' hull lies outside their mean).
+  double deepest = 0.0;
+  for (std::size_t c = 0; c < db.numContacts(); ++c)
+    deepest = std::max(
+        deepest, std::abs(hull.depth(db.positions.row(static_cast<Eigen::Index>(c)).transpose())));
+  EXPECT_LT(deepest, 1e-4);
   EXPECT_TRUE(db.geometry.closed);
   EXPECT_EQ(db.geometry.convex_parts.size(), 1u);
   EXPECT_FALSE(r.warnings.empty());  // says the shape is a stand-in

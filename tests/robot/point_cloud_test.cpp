@@ -656,7 +656,9 @@ TEST(SensedScene, TheHiddenSideOfAnObjectFromViewsIsAnObstacle) {
   view.hidden_high.resize(2, 3);
   view.hidden_low << 0.0, 0.0, 0.0, 0.021, -0.012, 0.0;
   view.hidden_high << 0.012, 0.03, 0.021, 0.051, 0.0, 0.003;
-  const Scene out = withHiddenSide(scene, view);
+  db::ObjectDatabase fromViews;
+  fromViews.partial_view = view;
+  const Scene out = withHiddenSide(scene, fromViews);
   ASSERT_EQ(out.obstacles.size(), 1u);
   const Obstacle& hidden = out.obstacles[0];
   EXPECT_EQ(hidden.name, "seen.hidden");
@@ -674,16 +676,68 @@ TEST(SensedScene, TheHiddenSideOfAnObjectFromViewsIsAnObstacle) {
   EXPECT_TRUE(cloud.low().isApprox(Eigen::Vector3d(0.0, -0.012, 0.0)));
   EXPECT_TRUE(cloud.high().isApprox(Eigen::Vector3d(0.051, 0.03, 0.021)));
   // No boxes: the scene as it is.
-  EXPECT_TRUE(withHiddenSide(scene, db::PartialView{}).obstacles.empty());
+  EXPECT_TRUE(withHiddenSide(scene, db::ObjectDatabase{}).obstacles.empty());
   // The planner's scene has it for an object from views, and not for one
   // from a mesh (its target carving needs a mesh: none here).
   const RobotModel& model = test::kr5Sdh();
-  db::ObjectDatabase fromViews;
-  fromViews.partial_view = view;
   const Scene planned = asPlannerSees(scene, fromViews, model, model.home());
   ASSERT_EQ(planned.obstacles.size(), 1u);
   EXPECT_EQ(planned.obstacles[0].name, "seen.hidden");
   EXPECT_TRUE(asPlannerSees(scene, db::ObjectDatabase{}, model, model.home()).obstacles.empty());
+}
+
+TEST(SensedScene, HiddenSpaceTouchingTheObjectGoesWithItWhenHeld) {
+  // A 6 cm cube known from views; hidden space beside it: a slab of 3 mm
+  // voxels against its +x face (overlapping it by half a voxel) and a
+  // column 3 cm away from it.
+  Scene scene;
+  scene.target_object = "seen";
+  scene.target_pose.translation() = Eigen::Vector3d(0.5, 0.0, 0.1);
+  db::ObjectDatabase target;
+  const TriangleMesh mesh = [] {
+    TriangleMesh m;
+    m.vertices.resize(8, 3);
+    for (int c = 0; c < 8; ++c)
+      m.vertices.row(c) << ((c & 1) ? 0.03 : -0.03), ((c & 2) ? 0.03 : -0.03),
+          ((c & 4) ? 0.06 : 0.0);
+    m.triangles.resize(12, 3);
+    m.triangles << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2,
+        2, 4, 6, 1, 3, 5, 3, 7, 5;
+    return m;
+  }();
+  target.geometry.mesh_vertices = mesh.vertices;
+  target.geometry.mesh_triangles = mesh.triangles;
+  target.geometry.distance_grid = db::buildDistanceGrid(mesh, true);
+  db::PartialView& view = target.partial_view.emplace();
+  view.hidden_voxel = 0.003;
+  view.hidden_low.resize(2, 3);
+  view.hidden_high.resize(2, 3);
+  view.hidden_low << 0.027, -0.03, 0.0, 0.06, -0.003, 0.0;
+  view.hidden_high << 0.033, 0.03, 0.06, 0.066, 0.003, 0.06;
+  const Scene planned = withHiddenSide(scene, target);
+  ASSERT_EQ(planned.obstacles.size(), 2u);
+  const Obstacle& apart = planned.obstacles[0];
+  const Obstacle& skin = planned.obstacles[1];
+  EXPECT_EQ(apart.name, hiddenSideName("seen"));
+  EXPECT_EQ(skin.name, hiddenSkinName("seen"));
+  // Both voxel layers of the slab touch the cube (their centres 1.5 and
+  // 4.5 mm from its face, within half a diagonal, 2.6 mm, plus the grid's
+  // bound); the column, 3 cm away, does not.
+  EXPECT_EQ(skin.cloud->occupied_count + apart.cloud->occupied_count,
+            2u * 20u * 20u + 2u * 2u * 20u);
+  EXPECT_GE(skin.cloud->occupied_count, 20u * 20u);
+  EXPECT_TRUE(skin.cloud->isOccupied(9, 0, 0));    // the slab's first layer, x in [27, 30] mm
+  EXPECT_TRUE(apart.cloud->isOccupied(20, 0, 0));  // the column, x in [60, 63] mm
+  EXPECT_FALSE(skin.cloud->isOccupied(20, 0, 0));
+  // Both are beside the target: it may touch them.
+  const RobotModel& model = test::kr5Sdh();
+  EXPECT_FALSE(
+      CollisionScene(test::collisionOf(model), planned, &target.geometry).targetTouchesObstacles());
+  // Held, the object takes the skin with it; the rest stays an obstacle.
+  const Scene held = heldScene(planned);
+  EXPECT_TRUE(held.target_object.empty());
+  ASSERT_EQ(held.obstacles.size(), 1u);
+  EXPECT_EQ(held.obstacles[0].name, hiddenSideName("seen"));
 }
 
 }  // namespace

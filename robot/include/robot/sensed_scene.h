@@ -34,19 +34,28 @@ Scene withSeenSpaceCarved(const Scene& scene);
 /// voxels goes. Obstacles it does not touch are shared, not copied.
 Scene withTargetCarved(const Scene& scene, const db::DistanceGrid& grid, const Vertices& vertices);
 
-/// The name of the obstacle withHiddenSide makes for `target`:
-/// "<target>.hidden". The checker does not count it touching the target
-/// (CollisionScene::targetTouchesObstacles).
+/// The names of the obstacles withHiddenSide makes for `target`:
+/// "<target>.hidden" and "<target>.hidden_skin". The checker does not
+/// count them touching the target (CollisionScene::targetTouchesObstacles).
 std::string hiddenSideName(const std::string& target);
+std::string hiddenSkinName(const std::string& target);
 
 /// The scene with the space its target's views could not see free (the
 /// database's partial_view boxes, target frame, at scene.target_pose) as
-/// an obstacle, hiddenSideName(target): the boxes' voxels
-/// (partial_view.hidden_voxel), which no link may touch, so that no
-/// finger closes through a side of the object no camera saw. The scene as
-/// it is for a target without such boxes. Throws InvalidArgument
+/// obstacles: the boxes' voxels (partial_view.hidden_voxel), which no link
+/// may touch, so that no finger closes through a side of the object no
+/// camera saw. The voxels that may touch the object's solid (as
+/// withTargetCarved decides) are their own obstacle, hiddenSkinName: what
+/// lies there may be the unseen rest of the object, which goes with it
+/// when it is lifted (heldScene); the others are hiddenSideName. The scene
+/// as it is for a target without such boxes. Throws InvalidArgument
 /// ("partial_view") for boxes whose voxels exceed kMaxCloudVoxels.
-Scene withHiddenSide(const Scene& scene, const db::PartialView& view);
+Scene withHiddenSide(const Scene& scene, const db::ObjectDatabase& target);
+
+/// The obstacles of `scene` for the robot holding its target: no target,
+/// and none of the hidden space touching it (hiddenSkinName), which the
+/// object carries with it. What it rests on stays.
+Scene heldScene(Scene scene);
 
 /// How far around the robot's links (m) its self filter takes voxels out.
 inline constexpr double kSelfFilterPadding = 0.02;
