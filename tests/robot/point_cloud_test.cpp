@@ -515,26 +515,28 @@ TEST(PointCloudScene, ASphereTouchesTheCloudWhereItsVoxelsAre) {
   }
 }
 
+/// A 6 cm cube standing on z = 0 (its frame), with its distance grid.
+db::ObjectGeometry cubeGeometry() {
+  TriangleMesh m;
+  m.vertices.resize(8, 3);
+  for (int c = 0; c < 8; ++c)
+    m.vertices.row(c) << ((c & 1) ? 0.03 : -0.03), ((c & 2) ? 0.03 : -0.03), ((c & 4) ? 0.06 : 0.0);
+  m.triangles.resize(12, 3);
+  m.triangles << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2,
+      4, 6, 1, 3, 5, 3, 7, 5;
+  db::ObjectGeometry cube;
+  cube.mesh_vertices = m.vertices;
+  cube.mesh_triangles = m.triangles;
+  cube.distance_grid = db::buildDistanceGrid(m, true);
+  return cube;
+}
+
 TEST(PointCloudScene, TheTargetIsCarvedOutOfTheCloudItStandsIn) {
   // A 6 cm cube standing on a table seen as a noisy cloud: the cloud's
   // voxels reach into the cube's bottom (noise, radius, voxels).
   Scene scene = cloudScene();
   const Obstacle& table = scene.obstacles[0];
-  db::ObjectGeometry cube;
-  const TriangleMesh mesh = [] {
-    TriangleMesh m;
-    m.vertices.resize(8, 3);
-    for (int c = 0; c < 8; ++c)
-      m.vertices.row(c) << ((c & 1) ? 0.03 : -0.03), ((c & 2) ? 0.03 : -0.03),
-          ((c & 4) ? 0.06 : 0.0);
-    m.triangles.resize(12, 3);
-    m.triangles << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2,
-        2, 4, 6, 1, 3, 5, 3, 7, 5;
-    return m;
-  }();
-  cube.mesh_vertices = mesh.vertices;
-  cube.mesh_triangles = mesh.triangles;
-  cube.distance_grid = db::buildDistanceGrid(mesh, true);
+  const db::ObjectGeometry cube = cubeGeometry();
   scene.target_object = "cube";
   scene.target_pose = Eigen::Isometry3d::Identity();
   scene.target_pose.translation() = Eigen::Vector3d(0.6, 0.0, 0.25 + 0.02);  // on the table's top
@@ -694,20 +696,7 @@ TEST(SensedScene, HiddenSpaceTouchingTheObjectGoesWithItWhenHeld) {
   scene.target_object = "seen";
   scene.target_pose.translation() = Eigen::Vector3d(0.5, 0.0, 0.1);
   db::ObjectDatabase target;
-  const TriangleMesh mesh = [] {
-    TriangleMesh m;
-    m.vertices.resize(8, 3);
-    for (int c = 0; c < 8; ++c)
-      m.vertices.row(c) << ((c & 1) ? 0.03 : -0.03), ((c & 2) ? 0.03 : -0.03),
-          ((c & 4) ? 0.06 : 0.0);
-    m.triangles.resize(12, 3);
-    m.triangles << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2,
-        2, 4, 6, 1, 3, 5, 3, 7, 5;
-    return m;
-  }();
-  target.geometry.mesh_vertices = mesh.vertices;
-  target.geometry.mesh_triangles = mesh.triangles;
-  target.geometry.distance_grid = db::buildDistanceGrid(mesh, true);
+  target.geometry = cubeGeometry();
   db::PartialView& view = target.partial_view.emplace();
   view.hidden_voxel = 0.003;
   view.hidden_low.resize(2, 3);
@@ -738,6 +727,45 @@ TEST(SensedScene, HiddenSpaceTouchingTheObjectGoesWithItWhenHeld) {
   EXPECT_TRUE(held.target_object.empty());
   ASSERT_EQ(held.obstacles.size(), 1u);
   EXPECT_EQ(held.obstacles[0].name, hiddenSideName("seen"));
+}
+
+TEST(SensedScene, ThePlannersSceneIsTheCarvingsOneAfterTheOther) {
+  // Two views (the shadows of one seen through by the other), a 6 cm cube
+  // known from views standing in the first view's wall, its hidden space
+  // beside it, and the robot at home: asPlannerSees carves each cloud once,
+  // with the same voxels as the carvings in turn.
+  Scene scene;
+  scene.obstacles.push_back(viewObstacle("a", wallAt(1.0, 0.1, 0.005), {0, 0, 0}));
+  Vertices across = wallAt(0.0, 0.1, 0.005);
+  for (Eigen::Index i = 0; i < across.rows(); ++i)
+    across.row(i) = Eigen::Vector3d(1.25 + across(i, 2), -1.0, across(i, 1)).transpose();
+  scene.obstacles.push_back(viewObstacle("b", across, {1.25, 2.0, 0.0}));
+  scene.target_object = "seen";
+  scene.target_pose.translation() = Eigen::Vector3d(1.0, 0.0, -0.03);
+  db::ObjectDatabase target;
+  target.geometry = cubeGeometry();
+  db::PartialView& view = target.partial_view.emplace();
+  view.hidden_voxel = 0.003;
+  view.hidden_low.resize(1, 3);
+  view.hidden_high.resize(1, 3);
+  view.hidden_low << 0.027, -0.03, 0.0;
+  view.hidden_high << 0.06, 0.03, 0.06;
+  const RobotModel& model = test::kr5Sdh();
+  const Scene once = asPlannerSees(scene, target, model, model.home());
+  const Scene inTurn = withRobotCarved(
+      withHiddenSide(withTargetCarved(withSeenSpaceCarved(scene), target.geometry.distance_grid,
+                                      target.geometry.mesh_vertices),
+                     target),
+      model, model.home());
+  ASSERT_EQ(once.obstacles.size(), inTurn.obstacles.size());
+  ASSERT_EQ(once.obstacles.size(), 4u);
+  for (std::size_t o = 0; o < once.obstacles.size(); ++o) {
+    EXPECT_EQ(once.obstacles[o].name, inTurn.obstacles[o].name);
+    EXPECT_EQ(once.obstacles[o].cloud->occupied, inTurn.obstacles[o].cloud->occupied);
+    EXPECT_EQ(once.obstacles[o].cloud->points, inTurn.obstacles[o].cloud->points);
+  }
+  // Each carving took something: the shadow, the cube's voxels in the wall.
+  EXPECT_LT(once.obstacles[0].cloud->occupied_count, scene.obstacles[0].cloud->occupied_count);
 }
 
 }  // namespace
