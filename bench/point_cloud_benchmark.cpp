@@ -2,7 +2,9 @@
 // What building the obstacle costs against the number of points and from a
 // 640 x 480 depth image, and what a check against it costs: the sphere
 // tier's bound (one grid read, whatever the number of points), FCL's octree
-// for one sphere, and the KR5 checked whole with and without the sphere tier.
+// for one sphere, the KR5 checked whole with and without the sphere tier,
+// and the planner's scene from three views (asPlannerSees against its
+// carvings applied one after the other).
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -16,6 +18,7 @@
 #include "robot/point_cloud.h"
 #include "robot/robot_model.h"
 #include "robot/scene.h"
+#include "robot/sensed_scene.h"
 #include "robot/sensor_files.h"
 
 namespace {
@@ -151,6 +154,71 @@ void BM_DepthImage640x480(benchmark::State& state) {
   std::filesystem::remove(file);
 }
 BENCHMARK(BM_DepthImage640x480)->Unit(benchmark::kMillisecond);
+
+/// The shelf cloud seen by three 640 x 480 cameras (left, front, right),
+/// each view an obstacle with its shadows, as a scene file's depth images
+/// become; and a 6 cm box standing on the table as the target.
+struct ThreeViews {
+  robot::Scene scene;
+  db::ObjectDatabase target;
+};
+const ThreeViews& threeViews() {
+  static const ThreeViews views = [] {
+    ThreeViews out;
+    const robot::Scene shelf = sceneOf(robot::voxelize(shelfCloud(200000)));
+    const Eigen::Vector3d centre(0.9, 0.0, 0.4);
+    const Eigen::Vector3d eyes[3] = {{0.4, -1.0, 1.2}, {-0.2, 0.0, 1.3}, {0.4, 1.0, 1.2}};
+    for (int v = 0; v < 3; ++v) {
+      robot::DepthView view =
+          robot::DepthView::withFieldOfView(640, 480, 58.0 * 3.14159265358979 / 180);
+      view.pose = robot::lookAt(eyes[v], centre);
+      const robot::RenderedDepth rendered = robot::renderDepth(
+          shelf, nullptr, Eigen::Isometry3d::Identity(), view, robot::DepthNoise{});
+      robot::CloudOptions options;
+      options.viewpoint = eyes[v];
+      const Vertices seen = robot::depthToPoints(rendered.image, view.camera);
+      const Vertices world = (view.pose * seen.transpose()).transpose();
+      auto cloud = std::make_shared<robot::VoxelCloud>(robot::voxelize(world, options));
+      robot::Obstacle o;
+      o.name = "view" + std::to_string(v);
+      o.type = robot::Obstacle::Type::kPoints;
+      o.mesh = cloud->mesh;
+      o.distance_grid = std::shared_ptr<const db::DistanceGrid>(cloud, &cloud->distances);
+      o.cloud = std::move(cloud);
+      out.scene.obstacles.push_back(std::move(o));
+    }
+    TriangleMesh box = hfts::boxMesh(Eigen::Vector3d(0.06, 0.06, 0.06));
+    box.vertices.col(2).array() += 0.03;
+    out.target.geometry.mesh_vertices = box.vertices;
+    out.target.geometry.mesh_triangles = box.triangles;
+    out.target.geometry.distance_grid = db::buildDistanceGrid(box, true);
+    out.scene.target_object = "box";
+    out.scene.target_pose.translation() = Eigen::Vector3d(0.7, 0.0, 0.3);
+    return out;
+  }();
+  return views;
+}
+
+/// The planner's scene from the three views: argument 1, asPlannerSees
+/// (each cloud carved once); 0, the carvings one after the other.
+void BM_PlannerSceneFromThreeViews(benchmark::State& state) {
+  const ThreeViews& views = threeViews();
+  const robot::RobotModel& model = kr5();
+  const db::ObjectGeometry& box = views.target.geometry;
+  for (auto _ : state) {
+    if (state.range(0) != 0) {
+      benchmark::DoNotOptimize(
+          robot::asPlannerSees(views.scene, views.target, model, model.home()));
+    } else {
+      benchmark::DoNotOptimize(robot::withRobotCarved(
+          robot::withHiddenSide(robot::withTargetCarved(robot::withSeenSpaceCarved(views.scene),
+                                                        box.distance_grid, box.mesh_vertices),
+                                views.target),
+          model, model.home()));
+    }
+  }
+}
+BENCHMARK(BM_PlannerSceneFromThreeViews)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
