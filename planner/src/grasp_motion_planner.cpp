@@ -244,12 +244,13 @@ physics::PlaceMotion placeMotion(const PlanResult& plan) {
 
 namespace {
 
-/// The scene the plan was made in: its object where the plan had it, and
-/// sensed obstacles as the planner saw them (SharedProblem::sceneOf).
+/// The scene the plan was made in: its object where the request puts it,
+/// else where the plan had it, and sensed obstacles as the planner saw
+/// them (SharedProblem::sceneOf).
 robot::Scene sceneOfPlan(const PlanningWorld& world, const PlanRequest& request,
                          const PlanResult& plan) {
   PlanRequest made = request;
-  made.object_pose = plan.object_pose;
+  if (!made.object_pose) made.object_pose = plan.object_pose;
   made.start = plan.path.front();
   const db::ObjectDatabase* object = world.object(objectNameOf(request));
   if (object == nullptr) throw InvalidArgument("plan", "its object is not in the world");

@@ -14,6 +14,7 @@
 #include "core/invalid_argument.h"
 #include "planner/grasp_motion_planner.h"
 #include "planner/time_parameterization.h"
+#include "robot/scene.h"
 #include "service/plan_result_json.h"
 #include "service/ros_messages.h"
 #include "service/validation_json.h"
@@ -272,7 +273,11 @@ py::object validate(const PlanningWorld& world, const Plan& p,
       request.object_pose = p.result.object_pose;  // the object where the plan had it
     } else {  // the true object of one built from a view, where it truly is
       request.object = scene->target_object;
-      request.object_pose.reset();
+      const db::ObjectDatabase* truth = world.object(scene->target_object);
+      if (truth == nullptr)
+        throw InvalidArgument(
+            "scene", "its target '" + scene->target_object + "' is not an object of this world");
+      request.object_pose = robot::targetPose(*scene, truth->geometry.mesh_vertices);
     }
   }
   planner::Validation v;

@@ -13,6 +13,7 @@ blob and the KR5 + SDH hand map are built once into a temporary folder.
 """
 import argparse
 import io
+import json
 import os
 import shutil
 import signal
@@ -504,6 +505,22 @@ class Results(unittest.TestCase):
         light = hfts.SimulationOptions()
         light.perturb = False
         self.assertEqual(len(WORLD.validate(self.plan, light)["physics"]["trials"]), 1)
+
+    def test_validation_in_another_scene_puts_its_object_where_that_scene_has_it(self):
+        """A true scene whose target is another object (the true one of an
+        object built from views): that object where that scene has it, here
+        45 cm beside the mug the plan grasps, so the hand closes on nothing."""
+        with open(scene_file("table")) as f:
+            truth = json.load(f)
+        truth["target"] = {"object": "blob", "rest_on": "table",
+                           "pose": {"position": [0.55, 0.45, 0], "orientation": [0, 0, 0, 1]}}
+        verdict = WORLD.validate(self.plan, scene=hfts.Scene.from_json(json.dumps(truth)))
+        self.assertFalse(verdict["check"]["pads_touch"])
+        self.assertFalse(verdict["holds"])
+        # Where the mug was, the hand closes on the blob.
+        truth["target"]["pose"]["position"] = [0.55, 0, 0]
+        verdict = WORLD.validate(self.plan, scene=hfts.Scene.from_json(json.dumps(truth)))
+        self.assertTrue(verdict["check"]["pads_touch"])
 
 
 def round_trip(message_class, shaped):
