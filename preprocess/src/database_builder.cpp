@@ -372,6 +372,24 @@ std::optional<ConvexHull> commonSolid(const std::vector<Vertices>& corners,
   return solid;
 }
 
+/// `solid` with every corner within kFootHeight above `floor` also put on
+/// it: the object stands on the floor, but its foot is where the views
+/// see least (pixels mixed with the support, the smoothing, shadows cut
+/// short by the points they start from), and a solid whose foot is cut
+/// away on one side tips over in physics. The solid only grows.
+ConvexHull standingOnFloor(const ConvexHull& solid, double floor, const std::string& what) {
+  const db::Points3& corners = solid.vertices();
+  Vertices grown(corners.rows(), 3);
+  grown.topRows(corners.rows()) = corners;
+  Eigen::Index added = corners.rows();
+  for (Eigen::Index v = 0; v < corners.rows(); ++v)
+    if (corners(v, 2) > floor && corners(v, 2) <= floor + kFootHeight) {
+      grown.conservativeResize(added + 1, 3);
+      grown.row(added++) << corners(v, 0), corners(v, 1), floor;
+    }
+  return ConvexHull(grown, what + ": the solid standing on the floor");
+}
+
 /// `p`, inside `solid` or on it, moved out along the nearest facet's normal
 /// onto that facet's plane: where a fingertip closing on the solid meets it.
 Eigen::Vector3d ontoSurface(const ConvexHull& solid, const Eigen::Vector3d& p) {
@@ -440,7 +458,12 @@ BuildResult buildObjectDatabaseFromViews(const std::vector<SensedView>& views,
   // Views of one object: the hulls of the clear views meet by themselves.
   commonSolid(shadows, clear, what);
   for (Vertices& corners : shadows) append(corners, observed);
-  const std::optional<ConvexHull> solid = commonSolid(shadows, {}, what);
+  std::optional<ConvexHull> solid = commonSolid(shadows, {}, what);
+  // Known to stand on the floor when the floor is known: the support the
+  // images show, or one given.
+  if (carving || views.front().options.floor)
+    solid.emplace(standingOnFloor(
+        *solid, *std::min_element(record.floors.begin(), record.floors.end()), what));
   // What the cameras could not see free beyond that solid: boxes beside
   // it, kept apart (the hull of both would bury the observed surface
   // wherever an occluder stands near it); the planner keeps out of them.

@@ -183,8 +183,20 @@ TEST(ViewCarving, WhatAWallHidesIsHeldBesideTheSolid) {
   ASSERT_GT(db.partial_view->hidden_low.rows(), 0);
   for (const Eigen::Vector3d& p : objectSurface(0.005)) EXPECT_LE(outside(db, p), 0.0026) << p;
   // The floor the shadows stop at is the support seen, not the lowest
-  // point.
-  EXPECT_NEAR(db.partial_view->floors[0], 0.0, 0.003);
+  // point; the solid stands on it: no corner is left just above it.
+  const double floor = db.partial_view->floors[0];
+  EXPECT_NEAR(floor, 0.0, 0.003);
+  const ConvexHull solid(db.geometry.hull_vertices, "solid");
+  int feet = 0;
+  for (Eigen::Index v = 0; v < db.geometry.hull_vertices.rows(); ++v) {
+    Eigen::Vector3d corner = db.geometry.hull_vertices.row(v).transpose();
+    EXPECT_GE(corner.z(), floor - 1e-9);
+    if (corner.z() > floor + kFootHeight) continue;
+    corner.z() = floor;
+    EXPECT_GE(solid.depth(corner), -1e-6) << corner.transpose();
+    ++feet;
+  }
+  EXPECT_GT(feet, 2);
   // No contact lies in the hidden space; the occlusion is reported.
   for (Eigen::Index c = 0; c < db.positions.rows(); ++c)
     for (Eigen::Index b = 0; b < db.partial_view->hidden_low.rows(); ++b) {

@@ -24,6 +24,11 @@ namespace hfts::preprocess {
 /// convex solid fills) are where no finger closing on the solid can touch.
 inline constexpr double kMaxViewContactDepth = 0.003;
 
+/// How far above the floor a corner of the solid built from views is put
+/// down on it too (buildObjectDatabaseFromViews): the object's foot, which
+/// the views see least.
+inline constexpr double kFootHeight = 0.01;
+
 struct ViewOptions {
   /// The camera's centre in the cloud's frame (whose z is up: the frame of
   /// the world the object stands in).
