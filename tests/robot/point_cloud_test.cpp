@@ -621,15 +621,20 @@ Vertices wallAt(double x, double half, double spacing) {
   return out;
 }
 
-TEST(SensedScene, AnotherViewClearsTheShadowsItSawThrough) {
-  // Camera A sees a wall at x = 1 and leaves 0.5 m of shadow behind it;
-  // camera B, beside it, looks across that shadow at a wall of its own.
+/// Camera A sees a wall at x = 1 and leaves 0.5 m of shadow behind it;
+/// camera B, beside it, looks across that shadow at a wall of its own.
+Scene twoWalls() {
   Scene scene;
   scene.obstacles.push_back(viewObstacle("a", wallAt(1.0, 0.1, 0.005), {0, 0, 0}));
   Vertices across = wallAt(0.0, 0.1, 0.005);
   for (Eigen::Index i = 0; i < across.rows(); ++i)
     across.row(i) = Eigen::Vector3d(1.25 + across(i, 2), -1.0, across(i, 1)).transpose();
   scene.obstacles.push_back(viewObstacle("b", across, {1.25, 2.0, 0.0}));
+  return scene;
+}
+
+TEST(SensedScene, AnotherViewClearsTheShadowsItSawThrough) {
+  Scene scene = twoWalls();
   const VoxelCloud& a = *scene.obstacles[0].cloud;
   ASSERT_TRUE(a.isOccupied(125, 0, 0));  // in A's shadow: x = 1.25
   const Scene fused = withSeenSpaceCarved(scene);
@@ -688,6 +693,18 @@ TEST(SensedScene, TheHiddenSideOfAnObjectFromViewsIsAnObstacle) {
   EXPECT_TRUE(asPlannerSees(scene, db::ObjectDatabase{}, model, model.home()).obstacles.empty());
 }
 
+/// The 6 cm cube as if known from views, with hidden boxes of 3 mm voxels
+/// from `low` to `high` (its frame).
+db::ObjectDatabase cubeFromViews(const Vertices& low, const Vertices& high) {
+  db::ObjectDatabase target;
+  target.geometry = cubeGeometry();
+  db::PartialView& view = target.partial_view.emplace();
+  view.hidden_voxel = 0.003;
+  view.hidden_low = low;
+  view.hidden_high = high;
+  return target;
+}
+
 TEST(SensedScene, HiddenSpaceTouchingTheObjectGoesWithItWhenHeld) {
   // A 6 cm cube known from views; hidden space beside it: a slab of 3 mm
   // voxels against its +x face (overlapping it by half a voxel) and a
@@ -695,14 +712,10 @@ TEST(SensedScene, HiddenSpaceTouchingTheObjectGoesWithItWhenHeld) {
   Scene scene;
   scene.target_object = "seen";
   scene.target_pose.translation() = Eigen::Vector3d(0.5, 0.0, 0.1);
-  db::ObjectDatabase target;
-  target.geometry = cubeGeometry();
-  db::PartialView& view = target.partial_view.emplace();
-  view.hidden_voxel = 0.003;
-  view.hidden_low.resize(2, 3);
-  view.hidden_high.resize(2, 3);
-  view.hidden_low << 0.027, -0.03, 0.0, 0.06, -0.003, 0.0;
-  view.hidden_high << 0.033, 0.03, 0.06, 0.066, 0.003, 0.06;
+  Vertices low(2, 3), high(2, 3);
+  low << 0.027, -0.03, 0.0, 0.06, -0.003, 0.0;
+  high << 0.033, 0.03, 0.06, 0.066, 0.003, 0.06;
+  const db::ObjectDatabase target = cubeFromViews(low, high);
   const Scene planned = withHiddenSide(scene, target);
   ASSERT_EQ(planned.obstacles.size(), 2u);
   const Obstacle& apart = planned.obstacles[0];
@@ -734,22 +747,13 @@ TEST(SensedScene, ThePlannersSceneIsTheCarvingsOneAfterTheOther) {
   // known from views standing in the first view's wall, its hidden space
   // beside it, and the robot at home: asPlannerSees carves each cloud once,
   // with the same voxels as the carvings in turn.
-  Scene scene;
-  scene.obstacles.push_back(viewObstacle("a", wallAt(1.0, 0.1, 0.005), {0, 0, 0}));
-  Vertices across = wallAt(0.0, 0.1, 0.005);
-  for (Eigen::Index i = 0; i < across.rows(); ++i)
-    across.row(i) = Eigen::Vector3d(1.25 + across(i, 2), -1.0, across(i, 1)).transpose();
-  scene.obstacles.push_back(viewObstacle("b", across, {1.25, 2.0, 0.0}));
+  Scene scene = twoWalls();
   scene.target_object = "seen";
   scene.target_pose.translation() = Eigen::Vector3d(1.0, 0.0, -0.03);
-  db::ObjectDatabase target;
-  target.geometry = cubeGeometry();
-  db::PartialView& view = target.partial_view.emplace();
-  view.hidden_voxel = 0.003;
-  view.hidden_low.resize(1, 3);
-  view.hidden_high.resize(1, 3);
-  view.hidden_low << 0.027, -0.03, 0.0;
-  view.hidden_high << 0.06, 0.03, 0.06;
+  Vertices low(1, 3), high(1, 3);
+  low << 0.027, -0.03, 0.0;
+  high << 0.06, 0.03, 0.06;
+  const db::ObjectDatabase target = cubeFromViews(low, high);
   const RobotModel& model = test::kr5Sdh();
   const Scene once = asPlannerSees(scene, target, model, model.home());
   const Scene inTurn = withRobotCarved(
