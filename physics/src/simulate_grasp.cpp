@@ -1,5 +1,3 @@
-#include <cstdlib>
-#include <fstream>
 // simulateGrasp: the inputs checked, the world built once, every
 // perturbation's trial run on its own copy of it, the verdict.
 #include "physics/simulate_grasp.h"
@@ -205,8 +203,6 @@ GraspVerdict simulateGrasp(const robot::CollisionModel& collision, const robot::
   }
   if (stopped()) return verdict;
 
-  const std::string xmlDebug = mjcfScene(robot, scene, body, modelSettings(robot, options));
-  if (std::getenv("HFTS_DUMP_MJCF")) { std::ofstream(std::getenv("HFTS_DUMP_MJCF")) << xmlDebug; }
   const std::shared_ptr<const mjModel> nominal =
       compiledScene(mjcfScene(robot, scene, body, modelSettings(robot, options)));
   const TrialPlan plan =
