@@ -50,10 +50,6 @@ Eigen::Vector3d voxelCentre(const Obstacle& o, int i, int j, int k) {
   return Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5) * o.cloud->options.voxel;
 }
 
-}  // namespace
-
-namespace {
-
 std::array<int, 3> voxelOf(const Eigen::Vector3d& p, double voxel) {
   return {static_cast<int>(std::floor(p.x() / voxel)), static_cast<int>(std::floor(p.y() / voxel)),
           static_cast<int>(std::floor(p.z() / voxel))};
@@ -141,10 +137,6 @@ void clearObserved(const VoxelCloud& cloud, std::vector<std::uint8_t>& seen) {
         }
   }
 }
-
-}  // namespace
-
-namespace {
 
 /// Which voxel (obstacle, absolute index) a carving takes out.
 using CarveRule = std::function<bool(const Obstacle&, int, int, int)>;
