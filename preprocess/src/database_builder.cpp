@@ -379,14 +379,13 @@ std::optional<ConvexHull> commonSolid(const std::vector<Vertices>& corners,
 /// away on one side tips over in physics. The solid only grows.
 ConvexHull standingOnFloor(const ConvexHull& solid, double floor, const std::string& what) {
   const db::Points3& corners = solid.vertices();
-  Vertices grown(corners.rows(), 3);
+  Vertices grown(2 * corners.rows(), 3);
   grown.topRows(corners.rows()) = corners;
-  Eigen::Index added = corners.rows();
+  Eigen::Index count = corners.rows();
   for (Eigen::Index v = 0; v < corners.rows(); ++v)
-    if (corners(v, 2) > floor && corners(v, 2) <= floor + kFootHeight) {
-      grown.conservativeResize(added + 1, 3);
-      grown.row(added++) << corners(v, 0), corners(v, 1), floor;
-    }
+    if (corners(v, 2) > floor && corners(v, 2) <= floor + kFootHeight)
+      grown.row(count++) << corners(v, 0), corners(v, 1), floor;
+  grown.conservativeResize(count, 3);
   return ConvexHull(grown, what + ": the solid standing on the floor");
 }
 

@@ -104,8 +104,7 @@ CollisionScene::CollisionScene(const CollisionModel& model, const Scene& scene,
   impl_->sharedSurface = target != nullptr ? targetSurface : nullptr;
   for (const Obstacle& o : scene.obstacles) {
     Tag tag{-1, false, false, "obstacle '" + o.name + "'"};
-    tag.beside_target = o.name == hiddenSideName(scene.target_object) ||
-                        o.name == hiddenSkinName(scene.target_object);
+    tag.beside_target = isHiddenSpaceOf(o.name, scene.target_object);
     if (o.type == Obstacle::Type::kMesh) {
       impl_->addEnvironment(meshGeometry(o.mesh), o.pose, std::move(tag), nullptr, o.mesh.vertices);
     } else if (o.type == Obstacle::Type::kPoints) {

@@ -252,6 +252,10 @@ std::string hiddenSkinName(const std::string& target) {
   return target + ".hidden_skin";
 }
 
+bool isHiddenSpaceOf(const std::string& obstacle, const std::string& target) {
+  return obstacle == hiddenSideName(target) || obstacle == hiddenSkinName(target);
+}
+
 namespace {
 
 /// An obstacle of the voxels of edge `voxel` centred at `centres` (the
@@ -333,18 +337,16 @@ Scene asPlannerSees(const Scene& scene, const db::ObjectDatabase& target, const 
   // The carvings of withSeenSpaceCarved, withTargetCarved (not of the
   // hidden space, which may touch the object) and withRobotCarved, as one:
   // each cloud rebuilt once.
-  const CarveRule seen = seenSpaceRule(scene);
-  const CarveRule touching =
-      targetRule(scene, target.geometry.distance_grid, target.geometry.mesh_vertices);
   const Scene withHidden = withHiddenSide(scene, target);
-  const CarveRule robot = robotRule(withHidden, model, start, kSelfFilterPadding);
-  const std::string hidden = hiddenSideName(scene.target_object);
-  const std::string skin = hiddenSkinName(scene.target_object);
   if (std::none_of(withHidden.obstacles.begin(), withHidden.obstacles.end(),
                    [](const Obstacle& o) { return o.type == Obstacle::Type::kPoints; }))
     return withHidden;
+  const CarveRule seen = seenSpaceRule(scene);
+  const CarveRule touching =
+      targetRule(scene, target.geometry.distance_grid, target.geometry.mesh_vertices);
+  const CarveRule robot = robotRule(withHidden, model, start, kSelfFilterPadding);
   return carved(withHidden, [&](const Obstacle& o, int i, int j, int k) {
-    if (o.name != hidden && o.name != skin &&
+    if (!isHiddenSpaceOf(o.name, scene.target_object) &&
         ((seen && seen(o, i, j, k)) || (touching && touching(o, i, j, k))))
       return true;
     return robot(o, i, j, k);

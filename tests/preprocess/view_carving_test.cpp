@@ -219,9 +219,9 @@ TEST(ViewCarving, TwoCamerasCarveWhatOneLeavesOpen) {
   const db::BuildParameters params;
   const db::ObjectDatabase one =
       buildObjectDatabaseFromViews({sensed(front, true)}, params, "one").database;
-  const db::ObjectDatabase two =
-      buildObjectDatabaseFromViews({sensed(front, true), sensed(side, true)}, params, "two")
-          .database;
+  const BuildResult built =
+      buildObjectDatabaseFromViews({sensed(front, true), sensed(side, true)}, params, "two");
+  const db::ObjectDatabase& two = built.database;
   const auto hiddenVolume = [](const db::ObjectDatabase& db) {
     double sum = 0.0;
     for (Eigen::Index b = 0; b < db.partial_view->hidden_low.rows(); ++b)
@@ -230,6 +230,22 @@ TEST(ViewCarving, TwoCamerasCarveWhatOneLeavesOpen) {
   };
   EXPECT_LT(hiddenVolume(two), 0.5 * hiddenVolume(one));
   for (const Eigen::Vector3d& p : objectSurface(0.005)) EXPECT_LE(outside(two, p), 0.0026) << p;
+  // The wall hides part of the object from the front camera (view 0); its hull,
+  // with the side camera's points added, still cuts the side camera's
+  // solid down, and the solid holds every point either camera saw.
+  const db::ObjectDatabase side_only =
+      buildObjectDatabaseFromViews({sensed(side, true)}, params, "side").database;
+  EXPECT_TRUE(std::any_of(built.warnings.begin(), built.warnings.end(), [](const std::string& w) {
+    return w.find("view 0: ") != std::string::npos &&
+           w.find("outline border a nearer surface") != std::string::npos;
+  }));
+  EXPECT_LT(two.geometry.volume, 0.8 * side_only.geometry.volume);
+  const ConvexHull solid(two.geometry.hull_vertices, "solid");
+  for (const DepthEvidence* view : {&front, &side}) {
+    const Vertices seen = objectPoints(*view);
+    for (Eigen::Index i = 0; i < seen.rows(); ++i)
+      EXPECT_GE(solid.depth(seen.row(i).transpose()), -1e-6);
+  }
 }
 
 TEST(ViewCarving, BadImagesAreNamed) {

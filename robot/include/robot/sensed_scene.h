@@ -39,6 +39,8 @@ Scene withTargetCarved(const Scene& scene, const db::DistanceGrid& grid, const V
 /// count them touching the target (CollisionScene::targetTouchesObstacles).
 std::string hiddenSideName(const std::string& target);
 std::string hiddenSkinName(const std::string& target);
+/// Whether `obstacle` names one of them.
+bool isHiddenSpaceOf(const std::string& obstacle, const std::string& target);
 
 /// The scene with the space its target's views could not see free (the
 /// database's partial_view boxes, target frame, at scene.target_pose) as
